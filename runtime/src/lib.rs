@@ -1,0 +1,13 @@
+//! # strata-runtime
+//!
+//! The light, embeddable half of strata: material stacks, the layered surface
+//! compliance S(ρ), and (later) surrogate tables and the rough-contact solvers.
+//! It has no dense linear-algebra dependency.
+//!
+//! Units are SI throughout: metres, pascals, newtons; wavenumbers ρ in 1/m.
+
+pub mod compliance;
+pub mod stack;
+
+pub use compliance::Compliance;
+pub use stack::{Base, Layer, Stack, StackError};

@@ -1,0 +1,592 @@
+//! Material stacks: N bonded elastic layers on an elastic half-space or a rigid base.
+//!
+//! A stack is read from TOML (SI units):
+//!
+//! ```toml
+//! name = "coating on steel"
+//! [[layer]]
+//! thickness = 100e-6   # m
+//! young = 4e9          # Pa
+//! poisson = 0.15       # -
+//! [base]
+//! kind = "rigid"       # or kind = "elastic" with young and poisson
+//! ```
+//!
+//! Layer 1 is the top layer (the contact surface). Validation names the offending
+//! field and the layer index (1-based, as a user counts them). Poisson ratios are
+//! accepted in (−1, 0.5]: ν = 0.5 is an exactly incompressible material, which the
+//! transfer-matrix formulation handles without special cases (all its coefficients,
+//! 1−2ν, 3−4ν, 1−ν, stay finite); E* = E/(1−ν²) stays finite too.
+
+use std::fmt;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// One elastic layer (SI units).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Layer {
+    /// Thickness h (m), > 0.
+    pub thickness: f64,
+    /// Young modulus E (Pa), > 0.
+    pub young: f64,
+    /// Poisson ratio ν, in (−1, 0.5].
+    pub poisson: f64,
+}
+
+/// What lies below the last layer.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Base {
+    /// The last layer is bonded to a rigid base (zero displacement).
+    Rigid,
+    /// An elastic half-space with Young modulus `young` (Pa) and Poisson ratio `poisson`.
+    Elastic { young: f64, poisson: f64 },
+}
+
+/// A validated material stack. Construct with [`Stack::new`] or [`Stack::from_toml_str`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Stack {
+    /// Optional human-readable name.
+    pub name: Option<String>,
+    layers: Vec<Layer>,
+    base: Base,
+}
+
+/// Errors from reading or validating a stack. Each names the field, and the layer
+/// (1-based) where one is concerned.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum StackError {
+    #[error("cannot read stack file {path}: {message}")]
+    Io { path: String, message: String },
+    #[error("stack is not valid TOML: {0}")]
+    Syntax(String),
+    #[error("{location}: missing field `{field}`")]
+    Missing {
+        location: Location,
+        field: &'static str,
+    },
+    #[error("{location}: unknown key `{key}` (expected one of: {expected})")]
+    UnknownKey {
+        location: Location,
+        key: String,
+        expected: &'static str,
+    },
+    #[error("{location}: field `{field}` must be {expected}, found {found}")]
+    WrongType {
+        location: Location,
+        field: String,
+        expected: &'static str,
+        found: String,
+    },
+    #[error("{location}: field `{field}` = {value} is invalid: {reason}")]
+    Invalid {
+        location: Location,
+        field: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+    #[error("base: unknown kind `{0}` (expected \"rigid\" or \"elastic\")")]
+    UnknownBaseKind(String),
+    #[error("stack has no layers: a rigid base needs at least one layer on top")]
+    NoLayersOnRigid,
+    #[error("stack has no layers and no base: give [[layer]] tables and/or an elastic [base]")]
+    Empty,
+}
+
+/// Where in the stack file an error is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Location {
+    /// The top level of the file.
+    Top,
+    /// `[[layer]]` number i (1-based).
+    Layer(usize),
+    /// The `[base]` table.
+    Base,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Top => write!(f, "stack"),
+            Location::Layer(i) => write!(f, "layer {i}"),
+            Location::Base => write!(f, "base"),
+        }
+    }
+}
+
+/// Plane-strain modulus E* = E/(1−ν²) (Pa).
+pub fn plane_strain_modulus(young: f64, poisson: f64) -> f64 {
+    young / (1.0 - poisson * poisson)
+}
+
+/// Shear modulus μ = E/(2(1+ν)) (Pa).
+pub fn shear_modulus(young: f64, poisson: f64) -> f64 {
+    young / (2.0 * (1.0 + poisson))
+}
+
+fn check_young(location: Location, value: f64) -> Result<(), StackError> {
+    if !value.is_finite() {
+        return Err(StackError::Invalid {
+            location,
+            field: "young",
+            value,
+            reason: "must be a finite number (Pa)",
+        });
+    }
+    if value <= 0.0 {
+        return Err(StackError::Invalid {
+            location,
+            field: "young",
+            value,
+            reason: "Young modulus must be > 0 (Pa)",
+        });
+    }
+    Ok(())
+}
+
+fn check_poisson(location: Location, value: f64) -> Result<(), StackError> {
+    if !value.is_finite() {
+        return Err(StackError::Invalid {
+            location,
+            field: "poisson",
+            value,
+            reason: "must be a finite number",
+        });
+    }
+    if value <= -1.0 || value > 0.5 {
+        return Err(StackError::Invalid {
+            location,
+            field: "poisson",
+            value,
+            reason: "Poisson ratio must lie in (-1, 0.5]",
+        });
+    }
+    Ok(())
+}
+
+fn check_thickness(location: Location, value: f64) -> Result<(), StackError> {
+    if !value.is_finite() {
+        return Err(StackError::Invalid {
+            location,
+            field: "thickness",
+            value,
+            reason: "must be a finite number (m)",
+        });
+    }
+    if value <= 0.0 {
+        return Err(StackError::Invalid {
+            location,
+            field: "thickness",
+            value,
+            reason: "thickness must be > 0 (m)",
+        });
+    }
+    Ok(())
+}
+
+impl Stack {
+    /// Builds and validates a stack. Layer 1 (index 0) is the top layer.
+    pub fn new(layers: Vec<Layer>, base: Base) -> Result<Self, StackError> {
+        for (i, l) in layers.iter().enumerate() {
+            let loc = Location::Layer(i + 1);
+            check_thickness(loc, l.thickness)?;
+            check_young(loc, l.young)?;
+            check_poisson(loc, l.poisson)?;
+        }
+        match base {
+            Base::Rigid => {
+                if layers.is_empty() {
+                    return Err(StackError::NoLayersOnRigid);
+                }
+            }
+            Base::Elastic { young, poisson } => {
+                check_young(Location::Base, young)?;
+                check_poisson(Location::Base, poisson)?;
+            }
+        }
+        Ok(Stack {
+            name: None,
+            layers,
+            base,
+        })
+    }
+
+    /// A homogeneous elastic half-space (zero layers on an elastic base).
+    pub fn half_space(young: f64, poisson: f64) -> Result<Self, StackError> {
+        Stack::new(Vec::new(), Base::Elastic { young, poisson })
+    }
+
+    /// Sets the name (builder style).
+    pub fn with_name(mut self, name: impl Into<String>) -> Self {
+        self.name = Some(name.into());
+        self
+    }
+
+    /// The layers, top first.
+    pub fn layers(&self) -> &[Layer] {
+        &self.layers
+    }
+
+    /// The base below the last layer.
+    pub fn base(&self) -> Base {
+        self.base
+    }
+
+    /// Young modulus and Poisson ratio of the surface material (layer 1, or the
+    /// base of a zero-layer half-space).
+    pub fn top_material(&self) -> (f64, f64) {
+        match (self.layers.first(), self.base) {
+            (Some(l), _) => (l.young, l.poisson),
+            (None, Base::Elastic { young, poisson }) => (young, poisson),
+            (None, Base::Rigid) => unreachable!("validated: a rigid base has layers"),
+        }
+    }
+
+    /// E*₁ = E₁/(1−ν₁²) of the surface material (Pa).
+    pub fn top_plane_strain_modulus(&self) -> f64 {
+        let (e, nu) = self.top_material();
+        plane_strain_modulus(e, nu)
+    }
+
+    /// α = −E*₁/2 (Pa), the paper's lim 1/F11 (physics.md §2).
+    pub fn alpha(&self) -> f64 {
+        -0.5 * self.top_plane_strain_modulus()
+    }
+
+    /// The reference length h₁: the top layer's thickness (m). `None` for a
+    /// half-space, which has no length scale.
+    pub fn top_thickness(&self) -> Option<f64> {
+        self.layers.first().map(|l| l.thickness)
+    }
+
+    /// Total thickness of the layers (m).
+    pub fn total_thickness(&self) -> f64 {
+        self.layers.iter().map(|l| l.thickness).sum()
+    }
+
+    /// True when the solid is mechanically a homogeneous half-space: an elastic base
+    /// and every layer of the same material as the base (k_z ≡ 0).
+    pub fn is_homogeneous(&self) -> bool {
+        match self.base {
+            Base::Rigid => false,
+            Base::Elastic { young, poisson } => self
+                .layers
+                .iter()
+                .all(|l| l.young == young && l.poisson == poisson),
+        }
+    }
+
+    /// Reads a stack from a TOML file. See the module docs for the format.
+    pub fn from_toml_file(path: &Path) -> Result<Self, StackError> {
+        let text = std::fs::read_to_string(path).map_err(|e| StackError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Stack::from_toml_str(&text)
+    }
+
+    /// Parses a stack from TOML text. See the module docs for the format.
+    pub fn from_toml_str(text: &str) -> Result<Self, StackError> {
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| StackError::Syntax(one_line(&e.to_string())))?;
+        Stack::from_toml_table(&table)
+    }
+
+    /// Builds a stack from an already parsed TOML table (used for inline stacks in scenes).
+    pub fn from_toml_table(table: &toml::Table) -> Result<Self, StackError> {
+        for key in table.keys() {
+            if !["name", "layer", "base"].contains(&key.as_str()) {
+                return Err(StackError::UnknownKey {
+                    location: Location::Top,
+                    key: key.clone(),
+                    expected: "name, layer, base",
+                });
+            }
+        }
+        let name = match table.get("name") {
+            None => None,
+            Some(toml::Value::String(s)) => Some(s.clone()),
+            Some(v) => {
+                return Err(StackError::WrongType {
+                    location: Location::Top,
+                    field: "name".into(),
+                    expected: "a string",
+                    found: v.type_str().into(),
+                });
+            }
+        };
+        let mut layers = Vec::new();
+        match table.get("layer") {
+            None => {}
+            Some(toml::Value::Array(items)) => {
+                for (i, item) in items.iter().enumerate() {
+                    let loc = Location::Layer(i + 1);
+                    let t = item.as_table().ok_or_else(|| StackError::WrongType {
+                        location: loc,
+                        field: "layer".into(),
+                        expected: "a table ([[layer]])",
+                        found: item.type_str().into(),
+                    })?;
+                    layers.push(parse_layer(loc, t)?);
+                }
+            }
+            Some(v) => {
+                return Err(StackError::WrongType {
+                    location: Location::Top,
+                    field: "layer".into(),
+                    expected: "an array of tables ([[layer]])",
+                    found: v.type_str().into(),
+                });
+            }
+        }
+        let base = match table.get("base") {
+            None => {
+                if layers.is_empty() {
+                    return Err(StackError::Empty);
+                }
+                return Err(StackError::Missing {
+                    location: Location::Top,
+                    field: "base",
+                });
+            }
+            Some(toml::Value::Table(t)) => parse_base(t)?,
+            Some(v) => {
+                return Err(StackError::WrongType {
+                    location: Location::Top,
+                    field: "base".into(),
+                    expected: "a table ([base])",
+                    found: v.type_str().into(),
+                });
+            }
+        };
+        let mut stack = Stack::new(layers, base)?;
+        stack.name = name;
+        Ok(stack)
+    }
+
+    /// Serialises the stack back to the TOML format it is read from.
+    pub fn to_toml_string(&self) -> String {
+        let mut s = String::new();
+        if let Some(n) = &self.name {
+            s.push_str(&format!("name = {}\n", toml::Value::String(n.clone())));
+        }
+        for l in &self.layers {
+            s.push_str(&format!(
+                "[[layer]]\nthickness = {:e}\nyoung = {:e}\npoisson = {:e}\n",
+                l.thickness, l.young, l.poisson
+            ));
+        }
+        match self.base {
+            Base::Rigid => s.push_str("[base]\nkind = \"rigid\"\n"),
+            Base::Elastic { young, poisson } => s.push_str(&format!(
+                "[base]\nkind = \"elastic\"\nyoung = {young:e}\npoisson = {poisson:e}\n"
+            )),
+        }
+        s
+    }
+}
+
+fn one_line(s: &str) -> String {
+    s.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+fn get_number(
+    location: Location,
+    table: &toml::Table,
+    field: &'static str,
+) -> Result<f64, StackError> {
+    match table.get(field) {
+        None => Err(StackError::Missing { location, field }),
+        Some(toml::Value::Float(x)) => Ok(*x),
+        Some(toml::Value::Integer(i)) => Ok(*i as f64),
+        Some(v) => Err(StackError::WrongType {
+            location,
+            field: field.into(),
+            expected: "a number",
+            found: format!("{} {}", v.type_str(), v),
+        }),
+    }
+}
+
+fn check_keys(
+    location: Location,
+    table: &toml::Table,
+    allowed: &[&str],
+    expected: &'static str,
+) -> Result<(), StackError> {
+    for key in table.keys() {
+        if !allowed.contains(&key.as_str()) {
+            return Err(StackError::UnknownKey {
+                location,
+                key: key.clone(),
+                expected,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn parse_layer(location: Location, t: &toml::Table) -> Result<Layer, StackError> {
+    check_keys(
+        location,
+        t,
+        &["thickness", "young", "poisson"],
+        "thickness, young, poisson",
+    )?;
+    let thickness = get_number(location, t, "thickness")?;
+    check_thickness(location, thickness)?;
+    let young = get_number(location, t, "young")?;
+    check_young(location, young)?;
+    let poisson = get_number(location, t, "poisson")?;
+    check_poisson(location, poisson)?;
+    Ok(Layer {
+        thickness,
+        young,
+        poisson,
+    })
+}
+
+fn parse_base(t: &toml::Table) -> Result<Base, StackError> {
+    let loc = Location::Base;
+    let kind = match t.get("kind") {
+        None => {
+            return Err(StackError::Missing {
+                location: loc,
+                field: "kind",
+            });
+        }
+        Some(toml::Value::String(s)) => s.as_str(),
+        Some(v) => {
+            return Err(StackError::WrongType {
+                location: loc,
+                field: "kind".into(),
+                expected: "a string (\"rigid\" or \"elastic\")",
+                found: v.type_str().into(),
+            });
+        }
+    };
+    match kind {
+        "rigid" => {
+            check_keys(loc, t, &["kind"], "kind (a rigid base has no properties)")?;
+            Ok(Base::Rigid)
+        }
+        "elastic" => {
+            check_keys(
+                loc,
+                t,
+                &["kind", "young", "poisson"],
+                "kind, young, poisson",
+            )?;
+            let young = get_number(loc, t, "young")?;
+            check_young(loc, young)?;
+            let poisson = get_number(loc, t, "poisson")?;
+            check_poisson(loc, poisson)?;
+            Ok(Base::Elastic { young, poisson })
+        }
+        other => Err(StackError::UnknownBaseKind(other.to_string())),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const PAPER: &str = r#"
+name = "paper"
+[[layer]]
+thickness = 100e-6
+young = 4e9
+poisson = 0.15
+[[layer]]
+thickness = 900e-6
+young = 20e9
+poisson = 0.15
+[base]
+kind = "rigid"
+"#;
+
+    #[test]
+    fn parses_paper_stack() {
+        let s = Stack::from_toml_str(PAPER).unwrap();
+        assert_eq!(s.layers().len(), 2);
+        assert_eq!(s.base(), Base::Rigid);
+        assert_eq!(s.name.as_deref(), Some("paper"));
+        assert!((s.total_thickness() - 1e-3).abs() < 1e-18);
+        let round = Stack::from_toml_str(&s.to_toml_string()).unwrap();
+        assert_eq!(round, s);
+    }
+
+    #[test]
+    fn half_space_needs_no_layers() {
+        let s =
+            Stack::from_toml_str("[base]\nkind = \"elastic\"\nyoung = 1e9\npoisson = 0.3").unwrap();
+        assert!(s.layers().is_empty());
+        assert!(s.is_homogeneous());
+        assert_eq!(s.top_thickness(), None);
+        assert!((s.top_plane_strain_modulus() - 1e9 / 0.91).abs() < 1e-3);
+    }
+
+    fn err(text: &str) -> String {
+        Stack::from_toml_str(text).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn errors_name_field_and_layer() {
+        let e = err(
+            "[[layer]]\nthickness = 1e-4\nyoung = 4e9\npoisson = 0.15\n[[layer]]\nthickness = -1\nyoung = 4e9\npoisson = 0.15\n[base]\nkind = \"rigid\"",
+        );
+        assert!(e.contains("layer 2") && e.contains("thickness"), "{e}");
+        let e = err("[[layer]]\nthickness = 1e-4\npoisson = 0.15\n[base]\nkind = \"rigid\"");
+        assert!(e.contains("layer 1") && e.contains("young"), "{e}");
+        let e = err(
+            "[[layer]]\nthickness = 1e-4\nyoung = nan\npoisson = 0.15\n[base]\nkind = \"rigid\"",
+        );
+        assert!(
+            e.contains("layer 1") && e.contains("young") && e.contains("finite"),
+            "{e}"
+        );
+        let e =
+            err("[[layer]]\nthickness = 1e-4\nyoung = 0\npoisson = 0.15\n[base]\nkind = \"rigid\"");
+        assert!(e.contains("young") && e.contains("> 0"), "{e}");
+        let e = err(
+            "[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.51\n[base]\nkind = \"rigid\"",
+        );
+        assert!(e.contains("poisson") && e.contains("(-1, 0.5]"), "{e}");
+        let e =
+            err("[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = -1\n[base]\nkind = \"rigid\"");
+        assert!(e.contains("poisson"), "{e}");
+        let e = err(
+            "[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.2\nyoungs = 3\n[base]\nkind = \"rigid\"",
+        );
+        assert!(e.contains("layer 1") && e.contains("youngs"), "{e}");
+        let e = err("[base]\nkind = \"rigid\"");
+        assert!(e.contains("no layers"), "{e}");
+        let e = err("[base]\nkind = \"elastic\"\nyoung = 1e9");
+        assert!(e.contains("base") && e.contains("poisson"), "{e}");
+        let e = err("[base]\nkind = \"granite\"");
+        assert!(e.contains("granite"), "{e}");
+        let e = err("colour = 3\n[base]\nkind = \"rigid\"");
+        assert!(e.contains("colour"), "{e}");
+        let e = err(
+            "[[layer]]\nthickness = \"thin\"\nyoung = 1e9\npoisson = 0.2\n[base]\nkind = \"rigid\"",
+        );
+        assert!(e.contains("thickness") && e.contains("number"), "{e}");
+        let e = err("[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.2\n");
+        assert!(e.contains("base"), "{e}");
+        for text in ["", "[[layer]", "layer = 3\n[base]\nkind=\"rigid\""] {
+            let e = err(text);
+            assert!(!e.contains('\n'), "one line: {e}");
+        }
+    }
+
+    #[test]
+    fn incompressible_is_accepted() {
+        let s = Stack::from_toml_str(
+            "[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.5\n[base]\nkind = \"rigid\"",
+        )
+        .unwrap();
+        assert!((s.top_plane_strain_modulus() - 1e9 / 0.75).abs() < 1e-3);
+    }
+}

@@ -1,0 +1,84 @@
+//! Parsing of list-valued CLI arguments.
+
+use anyhow::{Result, bail};
+
+fn parse_number(flag: &str, s: &str) -> Result<f64> {
+    let v: f64 = s
+        .trim()
+        .parse()
+        .map_err(|_| anyhow::anyhow!("{flag}: `{s}` is not a number"))?;
+    if !v.is_finite() {
+        bail!("{flag}: `{s}` is not a finite number");
+    }
+    Ok(v)
+}
+
+/// Parses `a,b,c` or `LO:HI:N`. `log` selects log spacing for the range form
+/// (LO, HI > 0), else linear spacing. N ≥ 1; N = 1 gives LO.
+pub fn parse_list(flag: &str, s: &str, log: bool) -> Result<Vec<f64>> {
+    let s = s.trim();
+    if s.is_empty() {
+        bail!("{flag}: empty list");
+    }
+    if s.contains(':') {
+        let parts: Vec<&str> = s.split(':').collect();
+        if parts.len() != 3 {
+            bail!("{flag}: range `{s}` must be LO:HI:N");
+        }
+        let lo = parse_number(flag, parts[0])?;
+        let hi = parse_number(flag, parts[1])?;
+        let n: usize = parts[2]
+            .trim()
+            .parse()
+            .map_err(|_| anyhow::anyhow!("{flag}: N in `{s}` must be a positive integer"))?;
+        if n == 0 {
+            bail!("{flag}: N in `{s}` must be at least 1");
+        }
+        if n > 10_000_000 {
+            bail!("{flag}: N in `{s}` is too large (at most 10000000)");
+        }
+        if log && (lo <= 0.0 || hi <= 0.0) {
+            bail!("{flag}: a log-spaced range needs LO > 0 and HI > 0, got `{s}`");
+        }
+        let f = |i: usize| {
+            if n == 1 {
+                return lo;
+            }
+            let u = i as f64 / (n - 1) as f64;
+            if log {
+                (lo.ln() + (hi.ln() - lo.ln()) * u).exp()
+            } else {
+                lo + (hi - lo) * u
+            }
+        };
+        let mut v: Vec<f64> = (0..n).map(f).collect();
+        // Exact end points despite exp/ln round-off.
+        v[n - 1] = if n == 1 { lo } else { hi };
+        return Ok(v);
+    }
+    s.split(',').map(|p| parse_number(flag, p)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lists_and_ranges() {
+        assert_eq!(
+            parse_list("--x", "1,2.5,3e-3", false).unwrap(),
+            vec![1.0, 2.5, 3e-3]
+        );
+        let v = parse_list("--x", "0.01:100:5", true).unwrap();
+        assert_eq!(v.len(), 5);
+        assert_eq!(v[0], 0.01);
+        assert_eq!(v[4], 100.0);
+        assert!((v[2] - 1.0).abs() < 1e-14);
+        let v = parse_list("--x", "0:1:3", false).unwrap();
+        assert_eq!(v, vec![0.0, 0.5, 1.0]);
+        for bad in ["", "a", "1,,2", "1:2", "0:1:3x", "1:2:0", "nan", "inf,1"] {
+            assert!(parse_list("--x", bad, false).is_err(), "{bad}");
+        }
+        assert!(parse_list("--x", "0:1:3", true).is_err());
+    }
+}

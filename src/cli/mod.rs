@@ -1,0 +1,27 @@
+//! Command-line interface: argument definitions and one module per subcommand.
+
+pub mod args;
+pub mod compliance;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+
+/// strata: normal contact of rough surfaces on multi-layered elastic solids (SI units).
+#[derive(Debug, Parser)]
+#[command(name = "strata", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Print the surface compliance k_z(ρ) = S(ρ) − 1 of a stack as CSV (`rho_h,k_z`).
+    Compliance(compliance::Args),
+}
+
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Compliance(a) => compliance::run(a),
+    }
+}

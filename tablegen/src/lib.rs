@@ -1,0 +1,6 @@
+//! # strata-tablegen
+//!
+//! The offline half of strata: full Fredholm solves of the axisymmetric asperity on
+//! a layered solid and the generation of surrogate tables (χ, ζ, g) for the runtime.
+
+pub use strata_runtime as runtime;
