@@ -7,6 +7,7 @@
 //! Units are SI throughout: metres, pascals, newtons; wavenumbers ρ in 1/m.
 
 pub mod compliance;
+pub mod law;
 pub mod stack;
 
 pub use compliance::Compliance;
