@@ -53,7 +53,10 @@ pub fn parse_list(flag: &str, s: &str, log: bool) -> Result<Vec<f64>> {
         };
         let mut v: Vec<f64> = (0..n).map(f).collect();
         // Exact end points despite exp/ln round-off.
-        v[n - 1] = if n == 1 { lo } else { hi };
+        v[0] = lo;
+        if n > 1 {
+            v[n - 1] = hi;
+        }
         return Ok(v);
     }
     s.split(',').map(|p| parse_number(flag, p)).collect()
