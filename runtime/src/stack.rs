@@ -582,6 +582,34 @@ kind = "rigid"
     }
 
     #[test]
+    fn thousand_layer_file() {
+        let mut text = String::from("name = \"graded\"\n");
+        for i in 0..1000 {
+            text.push_str(&format!(
+                "[[layer]]\nthickness = 1e-6\nyoung = {:e}\npoisson = 0.3\n",
+                4e9 * (1.0 + i as f64 / 100.0)
+            ));
+        }
+        text.push_str("[base]\nkind = \"elastic\"\nyoung = 5e10\npoisson = 0.3\n");
+        let s = Stack::from_toml_str(&text).unwrap();
+        assert_eq!(s.layers().len(), 1000);
+        assert!((s.total_thickness() - 1e-3).abs() < 1e-15);
+        // The error in layer 1000 names it.
+        let bad = text.replacen("young = 4e9\n", "young = -4e9\n", 1);
+        assert!(
+            Stack::from_toml_str(&bad)
+                .unwrap_err()
+                .to_string()
+                .contains("layer 1")
+        );
+        let last = text.rfind("poisson = 0.3\n[base]").unwrap();
+        let mut bad = text.clone();
+        bad.replace_range(last..last + 13, "poisson = 0.6");
+        let e = Stack::from_toml_str(&bad).unwrap_err().to_string();
+        assert!(e.contains("layer 1000") && e.contains("poisson"), "{e}");
+    }
+
+    #[test]
     fn incompressible_is_accepted() {
         let s = Stack::from_toml_str(
             "[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.5\n[base]\nkind = \"rigid\"",
