@@ -242,6 +242,9 @@ impl Stack {
 pub fn single_layer_on_rigid(t: f64, nu: f64) -> f64 {
     let f = 3.0 - 4.0 * nu;
     let c0 = 5.0 - 12.0 * nu + 8.0 * nu * nu;
+    if t == 0.0 {
+        return 0.0;
+    }
     if t < 1.0 {
         // N = (f−1)·sinh 2t + (sinh 2t − 2t), the bracket by its Taylor series, so
         // that S ~ t (and ~ t³ at ν = 0.5) keeps full relative precision.
@@ -250,7 +253,7 @@ pub fn single_layer_on_rigid(t: f64, nu: f64) -> f64 {
         loop {
             term *= x * x / ((2.0 * k) * (2.0 * k + 1.0));
             tail += term;
-            if term < 1e-18 * tail {
+            if term <= 1e-18 * tail || k > 60.0 {
                 break;
             }
             k += 1.0;
@@ -351,6 +354,8 @@ mod tests {
             for t in log_grid(50.0, 1e4, 20) {
                 assert!((c.s(t / h) - 1.0).abs() < 1e-14);
             }
+            assert_eq!(single_layer_on_rigid(0.0, nu), 0.0);
+            assert_eq!(c.s(0.0), 0.0);
         }
     }
 

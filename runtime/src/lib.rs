@@ -6,9 +6,16 @@
 //!
 //! Units are SI throughout: metres, pascals, newtons; wavenumbers ρ in 1/m.
 
+pub mod bem;
 pub mod compliance;
 pub mod law;
+pub mod output;
+pub mod rough;
+pub mod scene;
 pub mod stack;
+pub mod summits;
+pub mod surface;
+pub mod table;
 
 pub use compliance::Compliance;
 pub use stack::{Base, Layer, Stack, StackError};

@@ -1,7 +1,10 @@
 //! Command-line interface: argument definitions and one module per subcommand.
 
 pub mod args;
+pub mod asperity;
 pub mod compliance;
+pub mod solve;
+pub mod table;
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -18,10 +21,19 @@ pub struct Cli {
 pub enum Command {
     /// Print the surface compliance k_z(ρ) = S(ρ) − 1 of a stack as CSV (`rho_h,k_z`).
     Compliance(compliance::Args),
+    /// A paraboloidal asperity pressed into the stack: CSV `delta,a,force` (full solution).
+    Asperity(asperity::Args),
+    /// Surrogate tables of χ, ζ, g: build, info, check, export.
+    Table(table::Args),
+    /// Load curve of a rough contact described by a scene: DIR/curve.csv, curve.json, plots.
+    Solve(solve::Args),
 }
 
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Compliance(a) => compliance::run(a),
+        Command::Asperity(a) => asperity::run(a),
+        Command::Table(a) => table::run(a),
+        Command::Solve(a) => solve::run(a),
     }
 }

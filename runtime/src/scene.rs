@@ -1,0 +1,662 @@
+//! Scenes (TOML): the stack, the surface, the model and the load of one rough-contact
+//! case (issue 5). Paths are relative to the scene file. SI units.
+//!
+//! ```toml
+//! [stack]
+//! file = "stacks/paper.toml"   # or inline [[stack.layer]] / [stack.base] (+ name);
+//! table = "paper.strata"       # optional surrogate table for a layered stack
+//! [surface]
+//! file = "surface.npy"         # .npy (2-D f64, m) or a plain-text matrix; or [surface.generate]
+//! size = 1e-3                  # physical length of the first axis (m)
+//! periodic = true              # default: true for generated surfaces, false for files
+//! [surface.generate]           # size, grid, fractal_dimension, k_min, k_max, rms, seed
+//! [model]
+//! kind = "interacting"         # "independent" | "interacting" | "bem" (not yet)
+//! images = "periodic"          # "periodic" | "isolated"; default periodic on a periodic surface
+//! image_cells = 2              # periodic images on the (2m+1)² block, default m = 2 (5×5)
+//! [load]
+//! separations = [9e-6, 8e-6]   # or approach = { from = 1e-6, to = 9e-6, steps = 20 }
+//!                              # or mean_pressures = [1e5, 1e6]  (Pa, solved for)
+//! ```
+//!
+//! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
+
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+use toml::{Table, Value};
+
+use crate::rough::Images;
+use crate::stack::{Stack, StackError};
+use crate::surface::{GenerateParams, Surface, SurfaceError};
+
+/// Errors of scene reading and validation.
+#[derive(Debug, Error)]
+pub enum SceneError {
+    #[error("cannot read scene {path}: {message}")]
+    Io { path: String, message: String },
+    #[error("scene is not valid TOML: {0}")]
+    Syntax(String),
+    #[error("scene: unknown key `{key}` (expected one of: {expected})")]
+    UnknownKey { key: String, expected: &'static str },
+    #[error("scene: missing field `{0}`")]
+    Missing(String),
+    #[error("scene: field `{field}` must be {expected}")]
+    WrongType {
+        field: String,
+        expected: &'static str,
+    },
+    #[error("scene: field `{field}` is invalid: {reason}")]
+    Invalid { field: String, reason: String },
+    #[error("scene: field `stack`: {0}")]
+    Stack(#[from] StackError),
+    #[error("scene: field `surface`: {0}")]
+    Surface(#[from] SurfaceError),
+}
+
+/// Where the surface comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SurfaceSource {
+    /// A `.npy` or text file (absolute, resolved against the scene directory).
+    File(PathBuf),
+    /// A generated self-affine surface.
+    Generate(GenerateParams),
+}
+
+/// The `[surface]` table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceSpec {
+    pub source: SurfaceSource,
+    /// Physical length L of the first axis (m).
+    pub size: f64,
+    pub periodic: bool,
+}
+
+/// The model kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ModelKind {
+    Independent,
+    Interacting,
+    /// Full boundary-element solution (another module; not yet wired here).
+    Bem,
+}
+
+/// The `[model]` table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ModelSpec {
+    pub kind: ModelKind,
+    pub images: Images,
+}
+
+/// The `[load]` table.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LoadSpec {
+    /// Separations g_n (m).
+    Separations(Vec<f64>),
+    /// Approaches δ (m), `steps` values evenly from `from` to `to`.
+    Approach { from: f64, to: f64, steps: usize },
+    /// Mean pressures p_n (Pa), solved for.
+    MeanPressures(Vec<f64>),
+}
+
+/// A validated scene.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub stack: Stack,
+    /// Optional table file (absolute).
+    pub table: Option<PathBuf>,
+    pub surface: SurfaceSpec,
+    pub model: ModelSpec,
+    pub load: LoadSpec,
+}
+
+fn check_keys(
+    t: &Table,
+    prefix: &str,
+    allowed: &[&str],
+    expected: &'static str,
+) -> Result<(), SceneError> {
+    for k in t.keys() {
+        if !allowed.contains(&k.as_str()) {
+            return Err(SceneError::UnknownKey {
+                key: format!("{prefix}{k}"),
+                expected,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn table<'a>(t: &'a Table, key: &str, field: &str) -> Result<&'a Table, SceneError> {
+    match t.get(key) {
+        None => Err(SceneError::Missing(field.into())),
+        Some(Value::Table(x)) => Ok(x),
+        Some(_) => Err(SceneError::WrongType {
+            field: field.into(),
+            expected: "a table",
+        }),
+    }
+}
+
+fn number(v: &Value, field: &str) -> Result<f64, SceneError> {
+    let x = match v {
+        Value::Float(f) => *f,
+        Value::Integer(i) => *i as f64,
+        _ => {
+            return Err(SceneError::WrongType {
+                field: field.into(),
+                expected: "a number",
+            });
+        }
+    };
+    if !x.is_finite() {
+        return Err(SceneError::Invalid {
+            field: field.into(),
+            reason: format!("{x} is not finite"),
+        });
+    }
+    Ok(x)
+}
+
+fn positive(t: &Table, key: &str, field: &str) -> Result<f64, SceneError> {
+    let v = t
+        .get(key)
+        .ok_or_else(|| SceneError::Missing(field.into()))?;
+    let x = number(v, field)?;
+    if x <= 0.0 {
+        return Err(SceneError::Invalid {
+            field: field.into(),
+            reason: format!("{x} must be > 0"),
+        });
+    }
+    Ok(x)
+}
+
+fn integer(t: &Table, key: &str, field: &str) -> Result<i64, SceneError> {
+    match t.get(key) {
+        None => Err(SceneError::Missing(field.into())),
+        Some(Value::Integer(i)) => Ok(*i),
+        Some(_) => Err(SceneError::WrongType {
+            field: field.into(),
+            expected: "an integer",
+        }),
+    }
+}
+
+fn string<'a>(t: &'a Table, key: &str, field: &str) -> Result<Option<&'a str>, SceneError> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(Value::String(s)) => Ok(Some(s)),
+        Some(_) => Err(SceneError::WrongType {
+            field: field.into(),
+            expected: "a string",
+        }),
+    }
+}
+
+fn boolean(t: &Table, key: &str, field: &str) -> Result<Option<bool>, SceneError> {
+    match t.get(key) {
+        None => Ok(None),
+        Some(Value::Boolean(b)) => Ok(Some(*b)),
+        Some(_) => Err(SceneError::WrongType {
+            field: field.into(),
+            expected: "true or false",
+        }),
+    }
+}
+
+fn numbers(v: &Value, field: &str) -> Result<Vec<f64>, SceneError> {
+    let arr = v.as_array().ok_or_else(|| SceneError::WrongType {
+        field: field.into(),
+        expected: "an array of numbers",
+    })?;
+    if arr.is_empty() {
+        return Err(SceneError::Invalid {
+            field: field.into(),
+            reason: "must not be empty".into(),
+        });
+    }
+    arr.iter()
+        .enumerate()
+        .map(|(i, x)| number(x, &format!("{field}[{i}]")))
+        .collect()
+}
+
+fn resolve(dir: &Path, p: &str) -> PathBuf {
+    let p = Path::new(p);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        dir.join(p)
+    }
+}
+
+impl Scene {
+    /// Reads and validates a scene file; relative paths resolve against its directory.
+    pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        Scene::from_str_in(&text, dir)
+    }
+
+    /// Parses a scene from TOML text, resolving relative paths against `dir`.
+    pub fn from_str_in(text: &str, dir: &Path) -> Result<Scene, SceneError> {
+        let top: Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| SceneError::Syntax(e.to_string()))?;
+        check_keys(
+            &top,
+            "",
+            &["stack", "surface", "model", "load"],
+            "stack, surface, model, load",
+        )?;
+        // [stack]
+        let st = table(&top, "stack", "stack")?;
+        check_keys(
+            st,
+            "stack.",
+            &["file", "table", "name", "layer", "base"],
+            "file, table, name, layer, base",
+        )?;
+        let file = string(st, "file", "stack.file")?;
+        let stack = match file {
+            Some(f) => {
+                if st.contains_key("layer") || st.contains_key("base") {
+                    return Err(SceneError::Invalid {
+                        field: "stack.file".into(),
+                        reason:
+                            "give either `file` or inline [[stack.layer]]/[stack.base], not both"
+                                .into(),
+                    });
+                }
+                Stack::from_toml_file(&resolve(dir, f))?
+            }
+            None => {
+                let mut inline = st.clone();
+                inline.remove("table");
+                Stack::from_toml_table(&inline)?
+            }
+        };
+        let table_path = string(st, "table", "stack.table")?.map(|t| resolve(dir, t));
+        // [surface]
+        let sf = table(&top, "surface", "surface")?;
+        check_keys(
+            sf,
+            "surface.",
+            &["file", "size", "periodic", "generate"],
+            "file, size, periodic, generate",
+        )?;
+        let periodic = boolean(sf, "periodic", "surface.periodic")?;
+        let surface = match (sf.get("file"), sf.get("generate")) {
+            (Some(_), Some(_)) => {
+                return Err(SceneError::Invalid {
+                    field: "surface.file".into(),
+                    reason: "give either `file` or [surface.generate], not both".into(),
+                });
+            }
+            (None, None) => {
+                return Err(SceneError::Missing(
+                    "surface.file (or a [surface.generate] table)".into(),
+                ));
+            }
+            (Some(_), None) => {
+                let f = string(sf, "file", "surface.file")?.unwrap_or_default();
+                let p = resolve(dir, f);
+                if !p.is_file() {
+                    return Err(SceneError::Invalid {
+                        field: "surface.file".into(),
+                        reason: format!("file {} does not exist", p.display()),
+                    });
+                }
+                SurfaceSpec {
+                    source: SurfaceSource::File(p),
+                    size: positive(sf, "size", "surface.size")?,
+                    periodic: periodic.unwrap_or(false),
+                }
+            }
+            (None, Some(_)) => {
+                let g = table(sf, "generate", "surface.generate")?;
+                check_keys(
+                    g,
+                    "surface.generate.",
+                    &[
+                        "size",
+                        "grid",
+                        "fractal_dimension",
+                        "k_min",
+                        "k_max",
+                        "rms",
+                        "seed",
+                    ],
+                    "size, grid, fractal_dimension, k_min, k_max, rms, seed",
+                )?;
+                let size = match (g.get("size"), sf.get("size")) {
+                    (Some(_), _) => positive(g, "size", "surface.generate.size")?,
+                    (None, Some(_)) => positive(sf, "size", "surface.size")?,
+                    (None, None) => {
+                        return Err(SceneError::Missing("surface.generate.size".into()));
+                    }
+                };
+                let grid = integer(g, "grid", "surface.generate.grid")?;
+                if !(4..=16384).contains(&grid) {
+                    return Err(SceneError::Invalid {
+                        field: "surface.generate.grid".into(),
+                        reason: format!("{grid} must be in [4, 16384]"),
+                    });
+                }
+                let seed = integer(g, "seed", "surface.generate.seed")?;
+                if seed < 0 {
+                    return Err(SceneError::Invalid {
+                        field: "surface.generate.seed".into(),
+                        reason: format!("{seed} must be ≥ 0"),
+                    });
+                }
+                if periodic == Some(false) {
+                    return Err(SceneError::Invalid {
+                        field: "surface.periodic".into(),
+                        reason: "a generated surface is periodic".into(),
+                    });
+                }
+                let fd = g.get("fractal_dimension").ok_or_else(|| {
+                    SceneError::Missing("surface.generate.fractal_dimension".into())
+                })?;
+                SurfaceSpec {
+                    source: SurfaceSource::Generate(GenerateParams {
+                        size,
+                        grid: grid as usize,
+                        fractal_dimension: number(fd, "surface.generate.fractal_dimension")?,
+                        k_min: positive(g, "k_min", "surface.generate.k_min")?,
+                        k_max: positive(g, "k_max", "surface.generate.k_max")?,
+                        rms: positive(g, "rms", "surface.generate.rms")?,
+                        seed: seed as u64,
+                    }),
+                    size,
+                    periodic: true,
+                }
+            }
+        };
+        // [model]
+        let md = table(&top, "model", "model")?;
+        check_keys(
+            md,
+            "model.",
+            &["kind", "images", "image_cells"],
+            "kind, images, image_cells",
+        )?;
+        let kind = match string(md, "kind", "model.kind")? {
+            Some("independent") => ModelKind::Independent,
+            Some("interacting") => ModelKind::Interacting,
+            Some("bem") => ModelKind::Bem,
+            Some(other) => {
+                return Err(SceneError::Invalid {
+                    field: "model.kind".into(),
+                    reason: format!(
+                        "`{other}` is not one of \"independent\", \"interacting\", \"bem\""
+                    ),
+                });
+            }
+            None => return Err(SceneError::Missing("model.kind".into())),
+        };
+        let cells = match md.get("image_cells") {
+            None => 2,
+            Some(_) => {
+                let c = integer(md, "image_cells", "model.image_cells")?;
+                if !(1..=20).contains(&c) {
+                    return Err(SceneError::Invalid {
+                        field: "model.image_cells".into(),
+                        reason: format!("{c} must be in [1, 20]"),
+                    });
+                }
+                c as usize
+            }
+        };
+        let images = match string(md, "images", "model.images")? {
+            None if surface.periodic => Images::Periodic(cells),
+            None => Images::Isolated,
+            Some("isolated") => Images::Isolated,
+            Some("periodic") => {
+                if !surface.periodic {
+                    return Err(SceneError::Invalid {
+                        field: "model.images".into(),
+                        reason: "\"periodic\" needs a periodic surface (surface.periodic = true)"
+                            .into(),
+                    });
+                }
+                Images::Periodic(cells)
+            }
+            Some(other) => {
+                return Err(SceneError::Invalid {
+                    field: "model.images".into(),
+                    reason: format!("`{other}` is not one of \"periodic\", \"isolated\""),
+                });
+            }
+        };
+        // [load]
+        let ld = table(&top, "load", "load")?;
+        check_keys(
+            ld,
+            "load.",
+            &["separations", "approach", "mean_pressures"],
+            "separations, approach, mean_pressures",
+        )?;
+        if ld.len() != 1 {
+            return Err(SceneError::Invalid {
+                field: "load".into(),
+                reason: "give exactly one of `separations`, `approach`, `mean_pressures`".into(),
+            });
+        }
+        let load = if let Some(v) = ld.get("separations") {
+            LoadSpec::Separations(numbers(v, "load.separations")?)
+        } else if let Some(v) = ld.get("mean_pressures") {
+            let p = numbers(v, "load.mean_pressures")?;
+            if let Some((i, x)) = p.iter().enumerate().find(|(_, x)| **x <= 0.0) {
+                return Err(SceneError::Invalid {
+                    field: format!("load.mean_pressures[{i}]"),
+                    reason: format!("{x} must be > 0 (Pa)"),
+                });
+            }
+            LoadSpec::MeanPressures(p)
+        } else {
+            let a = table(ld, "approach", "load.approach")?;
+            check_keys(
+                a,
+                "load.approach.",
+                &["from", "to", "steps"],
+                "from, to, steps",
+            )?;
+            let from = number(
+                a.get("from")
+                    .ok_or_else(|| SceneError::Missing("load.approach.from".into()))?,
+                "load.approach.from",
+            )?;
+            let to = number(
+                a.get("to")
+                    .ok_or_else(|| SceneError::Missing("load.approach.to".into()))?,
+                "load.approach.to",
+            )?;
+            if from < 0.0 {
+                return Err(SceneError::Invalid {
+                    field: "load.approach.from".into(),
+                    reason: format!("{from} must be ≥ 0 (m)"),
+                });
+            }
+            if to < 0.0 {
+                return Err(SceneError::Invalid {
+                    field: "load.approach.to".into(),
+                    reason: format!("{to} must be ≥ 0 (m)"),
+                });
+            }
+            let steps = integer(a, "steps", "load.approach.steps")?;
+            if !(1..=100_000).contains(&steps) {
+                return Err(SceneError::Invalid {
+                    field: "load.approach.steps".into(),
+                    reason: format!("{steps} must be in [1, 100000]"),
+                });
+            }
+            LoadSpec::Approach {
+                from,
+                to,
+                steps: steps as usize,
+            }
+        };
+        Ok(Scene {
+            stack,
+            table: table_path,
+            surface,
+            model: ModelSpec { kind, images },
+            load,
+        })
+    }
+
+    /// Builds (reads or generates) the surface. `.npy` by extension, else text.
+    pub fn load_surface(&self) -> Result<Surface, SceneError> {
+        let s = &self.surface;
+        Ok(match &s.source {
+            SurfaceSource::Generate(g) => Surface::generate(g)?,
+            SurfaceSource::File(p) => {
+                let npy = p.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+                if npy {
+                    Surface::read_npy(p, s.size, s.periodic)?
+                } else {
+                    Surface::read_text(p, s.size, s.periodic)?
+                }
+            }
+        })
+    }
+}
+
+impl LoadSpec {
+    /// The approaches δ (m) for displacement-type loads, given z_M − z̄ (m) and the
+    /// admissible maximum z_M − z_min (m); errors name the offending entry. None for
+    /// pressure control.
+    pub fn approaches(
+        &self,
+        top_to_mean: f64,
+        max_delta: f64,
+    ) -> Result<Option<Vec<f64>>, SceneError> {
+        let check = |field: String, d: f64, shown: f64| -> Result<f64, SceneError> {
+            if !(0.0..=max_delta).contains(&d) {
+                return Err(SceneError::Invalid {
+                    field,
+                    reason: format!(
+                        "{shown:e} m is out of range: the approach must lie in [0, {max_delta:e}] m, i.e. separations in [{:e}, {top_to_mean:e}] m",
+                        top_to_mean - max_delta
+                    ),
+                });
+            }
+            Ok(d)
+        };
+        match self {
+            LoadSpec::Separations(g) => g
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| check(format!("load.separations[{i}]"), top_to_mean - x, x))
+                .collect::<Result<Vec<_>, _>>()
+                .map(Some),
+            LoadSpec::Approach { from, to, steps } => {
+                check("load.approach.from".into(), *from, *from)?;
+                check("load.approach.to".into(), *to, *to)?;
+                let n = *steps;
+                Ok(Some(
+                    (0..n)
+                        .map(|i| {
+                            if n == 1 {
+                                *from
+                            } else {
+                                from + (to - from) * i as f64 / (n - 1) as f64
+                            }
+                        })
+                        .collect(),
+                ))
+            }
+            LoadSpec::MeanPressures(_) => Ok(None),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+[stack]
+[[stack.layer]]
+thickness = 1e-4
+young = 4e9
+poisson = 0.15
+[stack.base]
+kind = "rigid"
+[surface]
+size = 1e-3
+[surface.generate]
+grid = 64
+fractal_dimension = 2.4
+k_min = 2
+k_max = 10
+rms = 3.4e-6
+seed = 1
+[model]
+kind = "interacting"
+[load]
+approach = { from = 1e-6, to = 9e-6, steps = 5 }
+"#;
+
+    fn parse(s: &str) -> Result<Scene, SceneError> {
+        Scene::from_str_in(s, Path::new("."))
+    }
+
+    #[test]
+    fn good_scene() {
+        let s = parse(GOOD).unwrap();
+        assert_eq!(s.model.images, Images::Periodic(2));
+        assert!(s.surface.periodic);
+        assert_eq!(s.stack.layers().len(), 1);
+        let d = s.load.approaches(1e-5, 2e-5).unwrap().unwrap();
+        for (x, y) in d.iter().zip([1e-6, 3e-6, 5e-6, 7e-6, 9e-6]) {
+            assert!((x - y).abs() < 1e-20);
+        }
+        assert_eq!(d.len(), 5);
+        assert!(s.load_surface().is_ok());
+    }
+
+    fn err(s: &str) -> String {
+        parse(s).unwrap_err().to_string()
+    }
+
+    #[test]
+    fn bad_scenes_name_the_field() {
+        assert!(err(&GOOD.replace("[model]", "[model]\ncolour = 1")).contains("model.colour"));
+        assert!(err(&format!("{GOOD}\n[extra]\n")).contains("`extra`"));
+        assert!(err(&GOOD.replace("rms = 3.4e-6", "rms = -1")).contains("surface.generate.rms"));
+        assert!(err(&GOOD.replace("size = 1e-3", "size = -1e-3")).contains("surface.size"));
+        assert!(err(&GOOD.replace("\"interacting\"", "\"magic\"")).contains("model.kind"));
+        assert!(err(&GOOD.replace("steps = 5", "steps = 0")).contains("load.approach.steps"));
+        assert!(err(&GOOD.replace("from = 1e-6", "from = -1e-6")).contains("load.approach.from"));
+        assert!(err(&GOOD.replace("young = 4e9", "young = -4e9")).contains("young"));
+        let f = GOOD.replace(
+            "[surface.generate]\ngrid = 64\nfractal_dimension = 2.4\nk_min = 2\nk_max = 10\nrms = 3.4e-6\nseed = 1\n",
+            "file = \"no-such-file.npy\"\n",
+        );
+        assert!(err(&f).contains("surface.file"), "{}", err(&f));
+        let p = GOOD.replace(
+            "approach = { from = 1e-6, to = 9e-6, steps = 5 }",
+            "mean_pressures = [1e5, -2]",
+        );
+        assert!(err(&p).contains("load.mean_pressures[1]"));
+        let two = GOOD.replace(
+            "approach = { from = 1e-6, to = 9e-6, steps = 5 }",
+            "separations = [1e-6]\nmean_pressures = [1e5]",
+        );
+        assert!(err(&two).contains("exactly one"));
+        let s = parse(&GOOD.replace(
+            "approach = { from = 1e-6, to = 9e-6, steps = 5 }",
+            "separations = [1e-6, 5e-5]",
+        ))
+        .unwrap();
+        let e = s.load.approaches(1e-5, 2e-5).unwrap_err().to_string();
+        assert!(e.contains("load.separations[1]"), "{e}");
+    }
+}

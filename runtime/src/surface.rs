@@ -1,0 +1,474 @@
+//! Rough surfaces: height maps on a regular grid (physics.md §5).
+//!
+//! A [`Surface`] holds heights z (m, positive up, i.e. towards the rigid flat) on an
+//! `n0 × n1` grid stored row-major (`z[i * n1 + j]`). Grid point (i, j) sits at
+//! x = i·Δ, y = j·Δ with Δ = L/n0 (m): the FIRST array axis is x. This matches the
+//! shared reference (`summits_km10.csv` lists x from the first .npy axis).
+//!
+//! Sources:
+//! - [`Surface::generate`]: self-affine random surface, PSD ∝ |k|^(−2(1+H)), H = 3 − D_f,
+//!   nonzero for k_min ≤ |k|·L/(2π) ≤ k_max, random phases from a seeded ChaCha8
+//!   generator (reproducible), scaled to the given RMS height, zero mean.
+//! - [`Surface::read_npy`]: a 2-D little-endian f64 `.npy` file (heights in m).
+//! - [`Surface::read_text`]: a plain-text matrix, one grid row per line, numbers
+//!   separated by whitespace or commas; `#` starts a comment.
+
+use std::path::Path;
+
+use ndarray::Array2;
+use ndarray_npy::{ReadNpyError, ReadNpyExt};
+use rand::{RngExt, SeedableRng};
+use rustfft::{FftPlanner, num_complex::Complex};
+use thiserror::Error;
+
+/// Errors from building or reading a surface. Each names the field or file.
+#[derive(Debug, Error)]
+pub enum SurfaceError {
+    #[error("cannot read surface file {path}: {message}")]
+    Io { path: String, message: String },
+    #[error("surface file {path}: {message}")]
+    Format { path: String, message: String },
+    #[error("surface: field `{field}` = {value} is invalid: {reason}")]
+    Invalid {
+        field: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+}
+
+/// Parameters of a generated self-affine surface (physics.md §5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GenerateParams {
+    /// Side length L (m) of the square sample.
+    pub size: f64,
+    /// Grid points per side n (≥ 4).
+    pub grid: usize,
+    /// Fractal dimension D_f in [2, 3); Hurst exponent H = 3 − D_f.
+    pub fractal_dimension: f64,
+    /// Lowest wavenumber, in units of 2π/L (> 0).
+    pub k_min: f64,
+    /// Highest wavenumber, in units of 2π/L (≥ k_min, ≤ n/2).
+    pub k_max: f64,
+    /// RMS height (m, > 0).
+    pub rms: f64,
+    /// Seed of the ChaCha8 generator.
+    pub seed: u64,
+}
+
+/// A height map on a regular square-spaced grid.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Surface {
+    z: Vec<f64>,
+    n0: usize,
+    n1: usize,
+    size: f64,
+    periodic: bool,
+}
+
+fn invalid(field: &'static str, value: f64, reason: &'static str) -> SurfaceError {
+    SurfaceError::Invalid {
+        field,
+        value,
+        reason,
+    }
+}
+
+impl Surface {
+    /// Builds a surface from row-major heights `z` (m) of shape `n0 × n1`; `size` is
+    /// the physical length L (m) of the first axis, so Δ = L/n0.
+    pub fn new(
+        z: Vec<f64>,
+        n0: usize,
+        n1: usize,
+        size: f64,
+        periodic: bool,
+    ) -> Result<Self, SurfaceError> {
+        if !(size.is_finite() && size > 0.0) {
+            return Err(invalid("size", size, "must be a finite length > 0 (m)"));
+        }
+        if n0 < 3 || n1 < 3 {
+            return Err(invalid(
+                "grid",
+                n0.min(n1) as f64,
+                "needs at least 3 points along each axis",
+            ));
+        }
+        if z.len() != n0 * n1 {
+            return Err(invalid("grid", z.len() as f64, "height count is not n0·n1"));
+        }
+        if let Some(bad) = z.iter().find(|v| !v.is_finite()) {
+            return Err(invalid("heights", *bad, "every height must be finite"));
+        }
+        Ok(Surface {
+            z,
+            n0,
+            n1,
+            size,
+            periodic,
+        })
+    }
+
+    /// Reads a 2-D f64 `.npy` height map (m). Wrong dtype or dimensionality is an error
+    /// naming the file.
+    pub fn read_npy(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
+        let p = path.display().to_string();
+        let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
+            let message = match e {
+                ReadNpyError::WrongNdim(exp, got) => format!(
+                    "wrong shape: expected a 2-D array, found {got} dimension(s) (expected {exp:?})"
+                ),
+                ReadNpyError::WrongDescriptor(d) => {
+                    format!("wrong dtype: expected little-endian float64 ('<f8'), found {d}")
+                }
+                other => format!("not a valid .npy file: {other}"),
+            };
+            SurfaceError::Format {
+                path: p.clone(),
+                message,
+            }
+        })?;
+        let (n0, n1) = arr.dim();
+        let z: Vec<f64> = arr.iter().copied().collect(); // logical (C) order
+        Surface::new(z, n0, n1, size, periodic).map_err(|e| SurfaceError::Format {
+            path: p,
+            message: e.to_string(),
+        })
+    }
+
+    /// Reads a plain-text matrix of heights (m): one grid row per line, values
+    /// separated by whitespace and/or commas, `#` comments and blank lines ignored.
+    pub fn read_text(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
+        let p = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        let mut z = Vec::new();
+        let (mut n0, mut n1) = (0usize, 0usize);
+        for (ln, line) in text.lines().enumerate() {
+            let line = line.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let mut count = 0;
+            for tok in line
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|t| !t.is_empty())
+            {
+                let v: f64 = tok.parse().map_err(|_| SurfaceError::Format {
+                    path: p.clone(),
+                    message: format!("line {}: `{tok}` is not a number", ln + 1),
+                })?;
+                z.push(v);
+                count += 1;
+            }
+            if n0 == 0 {
+                n1 = count;
+            } else if count != n1 {
+                return Err(SurfaceError::Format {
+                    path: p,
+                    message: format!(
+                        "line {}: {count} values but the first row has {n1} (ragged matrix)",
+                        ln + 1
+                    ),
+                });
+            }
+            n0 += 1;
+        }
+        Surface::new(z, n0, n1, size, periodic).map_err(|e| SurfaceError::Format {
+            path: p,
+            message: e.to_string(),
+        })
+    }
+
+    /// Generates a self-affine surface (physics.md §5). Amplitudes |ẑ(k)| ∝ |k|^(−(1+H))
+    /// for k_min ≤ |k|L/(2π) ≤ k_max (k integer multiples of 2π/L), uniform random
+    /// phases; the real part of the inverse FFT is rescaled to zero mean and the RMS.
+    pub fn generate(p: &GenerateParams) -> Result<Self, SurfaceError> {
+        if !(p.size.is_finite() && p.size > 0.0) {
+            return Err(invalid("generate.size", p.size, "must be > 0 (m)"));
+        }
+        if p.grid < 4 || p.grid > 16384 {
+            return Err(invalid(
+                "generate.grid",
+                p.grid as f64,
+                "must be in [4, 16384]",
+            ));
+        }
+        if !(2.0..3.0).contains(&p.fractal_dimension) {
+            return Err(invalid(
+                "generate.fractal_dimension",
+                p.fractal_dimension,
+                "must be in [2, 3)",
+            ));
+        }
+        if !(p.k_min.is_finite() && p.k_min > 0.0) {
+            return Err(invalid(
+                "generate.k_min",
+                p.k_min,
+                "must be > 0 (units of 2π/L)",
+            ));
+        }
+        if !(p.k_max.is_finite() && p.k_max >= p.k_min && p.k_max <= p.grid as f64 / 2.0) {
+            return Err(invalid(
+                "generate.k_max",
+                p.k_max,
+                "must satisfy k_min ≤ k_max ≤ grid/2",
+            ));
+        }
+        if !(p.rms.is_finite() && p.rms > 0.0) {
+            return Err(invalid("generate.rms", p.rms, "must be > 0 (m)"));
+        }
+        let n = p.grid;
+        let hurst = 3.0 - p.fractal_dimension;
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(p.seed);
+        let mut spec = vec![Complex::new(0.0, 0.0); n * n];
+        let signed = |i: usize| -> f64 {
+            if i <= n / 2 {
+                i as f64
+            } else {
+                i as f64 - n as f64
+            }
+        };
+        let mut any = false;
+        for i in 0..n {
+            for j in 0..n {
+                // Draw the phase for every mode so the stream does not depend on k range.
+                let phase: f64 = rng.random::<f64>() * std::f64::consts::TAU;
+                let k = signed(i).hypot(signed(j));
+                if k >= p.k_min && k <= p.k_max {
+                    let amp = k.powf(-(1.0 + hurst));
+                    spec[i * n + j] = Complex::from_polar(amp, phase);
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            return Err(invalid(
+                "generate.k_max",
+                p.k_max,
+                "no wavevector lies in [k_min, k_max]",
+            ));
+        }
+        ifft2(&mut spec, n);
+        let mut z: Vec<f64> = spec.iter().map(|c| c.re).collect();
+        let mean = z.iter().sum::<f64>() / z.len() as f64;
+        z.iter_mut().for_each(|v| *v -= mean);
+        let rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64).sqrt();
+        if rms.is_nan() || rms <= 0.0 {
+            return Err(invalid("generate.rms", p.rms, "generated surface is flat"));
+        }
+        let s = p.rms / rms;
+        z.iter_mut().for_each(|v| *v *= s);
+        Surface::new(z, n, n, p.size, true)
+    }
+
+    /// Height at grid point (i, j) (m).
+    pub fn z(&self, i: usize, j: usize) -> f64 {
+        self.z[i * self.n1 + j]
+    }
+    /// All heights, row-major (m).
+    pub fn heights(&self) -> &[f64] {
+        &self.z
+    }
+    /// Grid shape (n0, n1); n0 runs along x.
+    pub fn shape(&self) -> (usize, usize) {
+        (self.n0, self.n1)
+    }
+    /// Grid spacing Δ = L/n0 (m).
+    pub fn spacing(&self) -> f64 {
+        self.size / self.n0 as f64
+    }
+    /// Physical extent (Lx, Ly) = (n0Δ, n1Δ) (m).
+    pub fn extent(&self) -> (f64, f64) {
+        (self.size, self.n1 as f64 * self.spacing())
+    }
+    /// Nominal area A₀ = Lx·Ly (m²).
+    pub fn area(&self) -> f64 {
+        let (a, b) = self.extent();
+        a * b
+    }
+    /// Whether the surface is one cell of a periodic pattern.
+    pub fn is_periodic(&self) -> bool {
+        self.periodic
+    }
+    /// Mean height z̄ (m).
+    pub fn mean(&self) -> f64 {
+        self.z.iter().sum::<f64>() / self.z.len() as f64
+    }
+    /// RMS height about the mean (m).
+    pub fn rms(&self) -> f64 {
+        let m = self.mean();
+        (self.z.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / self.z.len() as f64).sqrt()
+    }
+}
+
+/// In-place unnormalised 2-D inverse FFT of an n×n row-major array (rows, then columns).
+fn ifft2(a: &mut [Complex<f64>], n: usize) {
+    let mut planner = FftPlanner::new();
+    let fft = planner.plan_fft_inverse(n);
+    for row in a.chunks_mut(n) {
+        fft.process(row);
+    }
+    let mut col = vec![Complex::new(0.0, 0.0); n];
+    for j in 0..n {
+        for i in 0..n {
+            col[i] = a[i * n + j];
+        }
+        fft.process(&mut col);
+        for i in 0..n {
+            a[i * n + j] = col[i];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params() -> GenerateParams {
+        GenerateParams {
+            size: 1e-3,
+            grid: 128,
+            fractal_dimension: 2.4,
+            k_min: 2.0,
+            k_max: 10.0,
+            rms: 3.4e-6,
+            seed: 7,
+        }
+    }
+
+    /// Reproducible, zero mean, exact RMS, and the spectrum is confined to the band:
+    /// a forward FFT of the result has no power outside k_min ≤ |k| ≤ k_max.
+    #[test]
+    fn generated_surface_band_and_rms() {
+        let s = Surface::generate(&params()).unwrap();
+        let s2 = Surface::generate(&params()).unwrap();
+        assert_eq!(s, s2);
+        assert!(s.mean().abs() < 1e-18);
+        assert!((s.rms() - 3.4e-6).abs() < 1e-12 * 3.4e-6);
+        let n = 128;
+        let mut spec: Vec<Complex<f64>> =
+            s.heights().iter().map(|&v| Complex::new(v, 0.0)).collect();
+        let mut planner = FftPlanner::new();
+        let fft = planner.plan_fft_forward(n);
+        for row in spec.chunks_mut(n) {
+            fft.process(row);
+        }
+        let mut col = vec![Complex::new(0.0, 0.0); n];
+        for j in 0..n {
+            for i in 0..n {
+                col[i] = spec[i * n + j];
+            }
+            fft.process(&mut col);
+            for i in 0..n {
+                spec[i * n + j] = col[i];
+            }
+        }
+        let (mut inside, mut outside) = (0.0, 0.0);
+        for i in 0..n {
+            for j in 0..n {
+                let si = if i <= n / 2 {
+                    i as f64
+                } else {
+                    i as f64 - n as f64
+                };
+                let sj = if j <= n / 2 {
+                    j as f64
+                } else {
+                    j as f64 - n as f64
+                };
+                let k = si.hypot(sj);
+                let p = spec[i * n + j].norm_sqr();
+                if (2.0..=10.0).contains(&k) {
+                    inside += p;
+                } else {
+                    outside += p;
+                }
+            }
+        }
+        assert!(outside < 1e-20 * inside, "{outside} {inside}");
+        let other = Surface::generate(&GenerateParams {
+            seed: 8,
+            ..params()
+        })
+        .unwrap();
+        assert_ne!(s, other);
+    }
+
+    #[test]
+    fn bad_parameters_name_the_field() {
+        let e = Surface::generate(&GenerateParams {
+            size: -1.0,
+            ..params()
+        })
+        .unwrap_err();
+        assert!(e.to_string().contains("generate.size"), "{e}");
+        let e = Surface::generate(&GenerateParams {
+            k_max: 1.0,
+            ..params()
+        })
+        .unwrap_err();
+        assert!(e.to_string().contains("generate.k_max"), "{e}");
+        let e = Surface::generate(&GenerateParams {
+            rms: 0.0,
+            ..params()
+        })
+        .unwrap_err();
+        assert!(e.to_string().contains("generate.rms"), "{e}");
+        assert!(Surface::new(vec![0.0; 9], 3, 3, -1.0, true).is_err());
+        assert!(Surface::new(vec![f64::NAN; 9], 3, 3, 1.0, true).is_err());
+    }
+
+    #[test]
+    fn text_reader_roundtrip_and_errors() {
+        let dir = std::env::temp_dir().join(format!("strata-surface-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f = dir.join("s.txt");
+        std::fs::write(&f, "# heights\n1 2 3\n4,5,6\n\n7 8 9e-6\n").unwrap();
+        let s = Surface::read_text(&f, 3e-3, false).unwrap();
+        assert_eq!(s.shape(), (3, 3));
+        assert_eq!(s.z(1, 2), 6.0);
+        assert_eq!(s.z(2, 2), 9e-6);
+        assert!((s.spacing() - 1e-3).abs() < 1e-18);
+        std::fs::write(&f, "1 2 3\n4 5\n6 7 8\n").unwrap();
+        let e = Surface::read_text(&f, 1.0, false).unwrap_err();
+        assert!(e.to_string().contains("ragged"), "{e}");
+        std::fs::write(&f, "1 2 x\n4 5 6\n6 7 8\n").unwrap();
+        assert!(Surface::read_text(&f, 1.0, false).is_err());
+        let e = Surface::read_text(&dir.join("missing.txt"), 1.0, false).unwrap_err();
+        assert!(e.to_string().contains("missing.txt"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// Wrong dtype and wrong dimensionality of a .npy are reported as such.
+    #[test]
+    fn npy_errors() {
+        use ndarray_npy::WriteNpyExt;
+        let dir = std::env::temp_dir().join(format!("strata-npy-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let f32file = dir.join("f32.npy");
+        let a = Array2::<f32>::zeros((4, 4));
+        a.write_npy(std::fs::File::create(&f32file).unwrap())
+            .unwrap();
+        let e = Surface::read_npy(&f32file, 1e-3, true).unwrap_err();
+        assert!(e.to_string().contains("dtype"), "{e}");
+        let onedim = dir.join("1d.npy");
+        let b = ndarray::Array1::<f64>::zeros(16);
+        b.write_npy(std::fs::File::create(&onedim).unwrap())
+            .unwrap();
+        let e = Surface::read_npy(&onedim, 1e-3, true).unwrap_err();
+        assert!(e.to_string().contains("shape"), "{e}");
+        let good = dir.join("good.npy");
+        let c = Array2::<f64>::from_shape_fn((4, 5), |(i, j)| (i * 10 + j) as f64);
+        c.write_npy(std::fs::File::create(&good).unwrap()).unwrap();
+        let s = Surface::read_npy(&good, 4e-3, true).unwrap();
+        assert_eq!(s.shape(), (4, 5));
+        assert_eq!(s.z(2, 3), 23.0);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

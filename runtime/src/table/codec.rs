@@ -1,0 +1,102 @@
+//! The on-disk format of a table — the ONLY module that touches bincode (2.0.1 is
+//! unmaintained, RUSTSEC-2025-0141: the format can change here alone).
+//!
+//! Layout (little endian):
+//!
+//! ```text
+//!   bytes 0..8    magic  "STRATATB"
+//!   bytes 8..12   format version (u32)
+//!   bytes 12..20  payload length in bytes (u64)
+//!   bytes 20..28  FNV-1a 64 checksum of the payload (u64)
+//!   bytes 28..    payload: bincode 2 (serde, standard config) of `Table`
+//! ```
+//!
+//! The version is read before the payload is decoded, so a file from another
+//! format version is reported as such, not as corrupt.
+
+use super::{FORMAT_VERSION, Table, TableError};
+
+/// File signature.
+pub const MAGIC: &[u8; 8] = b"STRATATB";
+const PREFIX: usize = 28;
+
+/// FNV-1a 64-bit hash.
+fn fnv1a(data: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in data {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// Serialises a table (header and arrays) to bytes.
+pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
+    let payload = bincode::serde::encode_to_vec(table, bincode::config::standard())
+        .map_err(|e| TableError::Corrupt(format!("cannot encode table: {e}")))?;
+    let mut out = Vec::with_capacity(PREFIX + payload.len());
+    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(&fnv1a(&payload).to_le_bytes());
+    out.extend_from_slice(&payload);
+    Ok(out)
+}
+
+fn u64_at(b: &[u8], at: usize) -> u64 {
+    let mut a = [0u8; 8];
+    a.copy_from_slice(&b[at..at + 8]);
+    u64::from_le_bytes(a)
+}
+
+/// Parses bytes into a table, checking magic, version, length and checksum, then
+/// the table's own consistency ([`Table::validate`]). Never panics.
+pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
+    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
+        return Err(TableError::NotATable);
+    }
+    if bytes.len() < PREFIX {
+        return Err(TableError::Truncated {
+            expected: PREFIX as u64,
+            found: bytes.len() as u64,
+        });
+    }
+    let mut v = [0u8; 4];
+    v.copy_from_slice(&bytes[8..12]);
+    let version = u32::from_le_bytes(v);
+    if version != FORMAT_VERSION {
+        return Err(TableError::WrongVersion {
+            found: version,
+            expected: FORMAT_VERSION,
+        });
+    }
+    let len = u64_at(bytes, 12);
+    let sum = u64_at(bytes, 20);
+    let have = (bytes.len() - PREFIX) as u64;
+    if have < len {
+        return Err(TableError::Truncated {
+            expected: PREFIX as u64 + len,
+            found: bytes.len() as u64,
+        });
+    }
+    if have > len {
+        return Err(TableError::Corrupt(format!(
+            "{} trailing bytes after the payload",
+            have - len
+        )));
+    }
+    let payload = &bytes[PREFIX..];
+    if fnv1a(payload) != sum {
+        return Err(TableError::Corrupt(
+            "checksum mismatch (the file was modified or damaged)".into(),
+        ));
+    }
+    let (table, used): (Table, usize) =
+        bincode::serde::decode_from_slice(payload, bincode::config::standard())
+            .map_err(|e| TableError::Corrupt(format!("cannot decode payload: {e}")))?;
+    if used != payload.len() {
+        return Err(TableError::Corrupt("payload has unread bytes".into()));
+    }
+    table.validate()?;
+    Ok(table)
+}

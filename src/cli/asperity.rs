@@ -1,0 +1,166 @@
+//! `strata asperity STACK.toml --radius R --delta LIST [--model full|approx]
+//! [--plot out.svg] [--profile profile.csv]`: a paraboloidal asperity of radius R
+//! pressed by δ into the layered solid (physics.md §3, the paper's full solution).
+//!
+//! Prints CSV on stdout with the header `delta,a,force` (m, m, N; force positive in
+//! compression), one row per δ, every value in shortest round-trip form. `--plot`
+//! draws force against approach with the Hertz curve for the top material (E*₁).
+//! `--profile FILE` also writes `delta,r,pressure,displacement` (m, m, Pa, m) on
+//! 0 ≤ r ≤ 3a for every δ > 0.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use strata_runtime::Stack;
+use strata_tablegen::asperity::{Asperity, Options};
+
+use crate::plot::{self, PlotSpec, Series, Style};
+
+/// Which solution to compute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Model {
+    /// The full Fredholm solution.
+    Full,
+    /// The second-order approximation (physics.md §4) from a surrogate table
+    /// (`--table FILE`, else this stack's table, built once and cached).
+    Approx,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Stack file (TOML).
+    pub stack: PathBuf,
+    /// Asperity radius of curvature R (m), > 0.
+    #[arg(long, allow_hyphen_values = true)]
+    pub radius: f64,
+    /// Approaches δ (m, ≥ 0): a list `1e-7,2e-7` or `LO:HI:N` for N linearly spaced values.
+    #[arg(long, allow_hyphen_values = true)]
+    pub delta: String,
+    /// Solution model.
+    #[arg(long, value_enum, default_value_t = Model::Full)]
+    pub model: Model,
+    /// Table for `--model approx` (a family table serves any member stack; other
+    /// stacks are refused). Without it the stack's table is built once and cached
+    /// (STRATA_CACHE_DIR, else ~/.cache/strata).
+    #[arg(long)]
+    pub table: Option<PathBuf>,
+    /// Draw force against approach (with Hertz) to this file (.svg or .png).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Write pressure and displacement profiles to this CSV file.
+    #[arg(long)]
+    pub profile: Option<PathBuf>,
+}
+
+pub fn run(a: Args) -> Result<()> {
+    let stack = Stack::from_toml_file(&a.stack)?;
+    if !(a.radius.is_finite() && a.radius > 0.0) {
+        bail!("--radius: must be positive and finite, got {}", a.radius);
+    }
+    let deltas = super::args::parse_list("--delta", &a.delta, false)?;
+    if let Some(bad) = deltas.iter().find(|d| **d < 0.0) {
+        bail!("--delta: values must be >= 0, got {bad}");
+    }
+    if a.table.is_some() && a.model == Model::Full {
+        bail!("--table is only used with --model approx");
+    }
+    let (solver, approx) = match a.model {
+        Model::Full => (Some(Asperity::new(&stack, Options::default())?), None),
+        Model::Approx => (
+            None,
+            Some(super::table::law_for_stack(&stack, a.table.as_deref())?),
+        ),
+    };
+    let mut rows = Vec::with_capacity(deltas.len());
+    let mut profile_rows = Vec::new();
+    for &d in &deltas {
+        if let Some(law) = &approx {
+            let (ca, force) = super::table::approx_paraboloid(law, d, a.radius)
+                .with_context(|| format!("solving delta = {d} m"))?;
+            if a.profile.is_some() && ca > 0.0 {
+                for i in 0..=60 {
+                    let r = 3.0 * ca * i as f64 / 60.0;
+                    let (p, u) = super::table::approx_profile(law, ca, a.radius, r);
+                    profile_rows.push((d, r, p, u));
+                }
+            }
+            rows.push((d, ca, force));
+            continue;
+        }
+        let Some(solver) = &solver else {
+            bail!("internal error: no solver for --model full");
+        };
+        let s = solver
+            .paraboloid_at_delta(d, a.radius)
+            .with_context(|| format!("solving delta = {d} m"))?;
+        if a.profile.is_some() && s.a > 0.0 {
+            let r: Vec<f64> = (0..=60).map(|i| 3.0 * s.a * i as f64 / 60.0).collect();
+            let p = s.pressure(&r);
+            let u = s.displacement(&r)?;
+            for i in 0..r.len() {
+                profile_rows.push((d, r[i], p[i], u[i]));
+            }
+        }
+        rows.push((d, s.a, s.force));
+    }
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    writeln!(out, "delta,a,force").context("writing to stdout")?;
+    for (d, r, f) in &rows {
+        writeln!(out, "{d:e},{r:e},{f:e}").context("writing to stdout")?;
+    }
+    out.flush().context("writing to stdout")?;
+    if let Some(path) = &a.profile {
+        let mut text = String::from("delta,r,pressure,displacement\n");
+        for (d, r, p, u) in &profile_rows {
+            text.push_str(&format!("{d:e},{r:e},{p:e},{u:e}\n"));
+        }
+        std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+    }
+    if let Some(path) = &a.plot {
+        let es = stack.top_plane_strain_modulus();
+        let hertz = |d: f64| 4.0 / 3.0 * es * a.radius.sqrt() * d.powf(1.5);
+        let (lo, hi) = rows.iter().fold((f64::INFINITY, 0.0f64), |(l, h), r| {
+            (l.min(r.0), h.max(r.0))
+        });
+        let hz: Vec<(f64, f64)> = (0..=200)
+            .map(|i| {
+                let d = lo + (hi - lo) * i as f64 / 200.0;
+                (d, hertz(d))
+            })
+            .collect();
+        let spec = PlotSpec {
+            title: format!(
+                "{}: sphere R = {:e} m",
+                stack.name.as_deref().unwrap_or("stack"),
+                a.radius
+            ),
+            x_label: "approach δ (m)".into(),
+            y_label: "force P (N)".into(),
+            log_x: false,
+            log_y: false,
+            series: vec![
+                Series {
+                    name: match a.model {
+                        Model::Full => "full solution",
+                        Model::Approx => "second-order approximation (table)",
+                    }
+                    .into(),
+                    points: rows.iter().map(|r| (r.0, r.2)).collect(),
+                    style: if rows.len() > 30 {
+                        Style::Line
+                    } else {
+                        Style::Points
+                    },
+                },
+                Series {
+                    name: "Hertz (E*₁)".into(),
+                    points: hz,
+                    style: Style::Line,
+                },
+            ],
+        };
+        plot::lines(path, &spec)?;
+    }
+    Ok(())
+}

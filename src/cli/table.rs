@@ -1,0 +1,333 @@
+//! `strata table build|info|check|export`: surrogate tables of χ, ζ, g and S
+//! (physics.md §4; format and interpolation in `strata_runtime::table`).
+//!
+//! * `build STACK.toml --out FILE [--vary LAYER:LO:HI:N]` builds a table (a family
+//!   when `--vary` is given: LAYER is a layer number ≥ 2 or `base`, LO/HI the range of
+//!   E_LAYER/E₁, N log-spaced members), in parallel, with a progress bar on stderr.
+//!   The header's build time is SOURCE_DATE_EPOCH when set (else now): with it fixed,
+//!   a rebuild reproduces the file byte for byte.
+//! * `info FILE` prints the header.
+//! * `check FILE [--points N --seed S]` compares interpolated values with fresh direct
+//!   solves at N random off-grid points and prints the max errors.
+//! * `export FILE --npy DIR` writes every array as .npy.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use strata_runtime::Stack;
+use strata_runtime::table::{Table, Vary};
+use strata_tablegen::tablebuild::{self, BuildOptions};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Sub,
+}
+
+#[derive(Debug, clap::Subcommand)]
+pub enum Sub {
+    /// Build a table for a stack (or a family of stacks).
+    Build(BuildArgs),
+    /// Print a table's header.
+    Info {
+        /// Table file.
+        file: PathBuf,
+    },
+    /// Compare a table with direct solves at random off-grid points.
+    Check {
+        /// Table file.
+        file: PathBuf,
+        /// Number of random points.
+        #[arg(long, default_value_t = 1000)]
+        points: usize,
+        /// Seed of the random points.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Write the table's arrays as .npy files.
+    Export {
+        /// Table file.
+        file: PathBuf,
+        /// Output directory.
+        #[arg(long)]
+        npy: PathBuf,
+    },
+}
+
+#[derive(Debug, clap::Args)]
+pub struct BuildArgs {
+    /// Stack file (TOML).
+    pub stack: PathBuf,
+    /// Output table file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Family axis `LAYER:LO:HI:N` (LAYER = layer number >= 2 or `base`; LO, HI =
+    /// modulus ratios to layer 1; N members, log-spaced).
+    #[arg(long)]
+    pub vary: Option<String>,
+    /// Nodes on the a/h1 axis (1e-3 … 1e3, log-spaced).
+    #[arg(long, default_value_t = 97)]
+    pub nx: usize,
+    /// Nodes on the w axis of g.
+    #[arg(long, default_value_t = 49)]
+    pub nw: usize,
+    /// Random points for the interpolation error stored in the header (0: skip).
+    #[arg(long, default_value_t = 1000)]
+    pub check_points: usize,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Parses `LAYER:LO:HI:N`.
+pub fn parse_vary(s: &str) -> Result<(Vary, f64, f64, usize)> {
+    let parts: Vec<&str> = s.split(':').map(str::trim).collect();
+    if parts.len() != 4 {
+        bail!("--vary: `{s}` must be LAYER:LO:HI:N (e.g. 2:0.1:10:21 or base:0.5:2:9)");
+    }
+    let vary = if parts[0].eq_ignore_ascii_case("base") {
+        Vary::Base
+    } else {
+        let i: usize = parts[0].parse().map_err(|_| {
+            anyhow::anyhow!(
+                "--vary: LAYER `{}` must be a layer number or `base`",
+                parts[0]
+            )
+        })?;
+        if i < 2 {
+            bail!("--vary: LAYER must be >= 2 (ratios are to layer 1), got {i}");
+        }
+        Vary::Layer(i)
+    };
+    let num = |t: &str, what: &str| -> Result<f64> {
+        let v: f64 = t
+            .parse()
+            .map_err(|_| anyhow::anyhow!("--vary: {what} `{t}` is not a number"))?;
+        if !(v.is_finite() && v > 0.0) {
+            bail!("--vary: {what} must be a finite ratio > 0, got `{t}`");
+        }
+        Ok(v)
+    };
+    let (lo, hi) = (num(parts[1], "LO")?, num(parts[2], "HI")?);
+    if hi <= lo {
+        bail!("--vary: need LO < HI, got {lo} and {hi}");
+    }
+    let n: usize = parts[3]
+        .parse()
+        .map_err(|_| anyhow::anyhow!("--vary: N `{}` must be a positive integer", parts[3]))?;
+    Ok((vary, lo, hi, n))
+}
+
+/// Build time for the header: SOURCE_DATE_EPOCH when set, else now.
+fn build_time() -> Result<u64> {
+    match std::env::var("SOURCE_DATE_EPOCH") {
+        Ok(v) => v
+            .trim()
+            .parse()
+            .with_context(|| format!("SOURCE_DATE_EPOCH = `{v}` is not a number of seconds")),
+        Err(_) => Ok(std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_secs())
+            .unwrap_or(0)),
+    }
+}
+
+fn load(file: &std::path::Path) -> Result<Table> {
+    Table::load(file).with_context(|| format!("loading table {}", file.display()))
+}
+
+pub fn run(a: Args) -> Result<()> {
+    match a.command {
+        Sub::Build(b) => {
+            let stack = Stack::from_toml_file(&b.stack)?;
+            let family = b.vary.as_deref().map(parse_vary).transpose()?;
+            let opts = BuildOptions {
+                nx: b.nx,
+                nw: b.nw,
+                family,
+                check_points: b.check_points,
+                build_time: build_time()?,
+                progress: !b.quiet,
+                ..BuildOptions::default()
+            };
+            let t0 = std::time::Instant::now();
+            let table = tablebuild::build(&stack, &opts)?;
+            table
+                .save(&b.out)
+                .with_context(|| format!("writing {}", b.out.display()))?;
+            eprintln!(
+                "wrote {} in {:.1} s",
+                b.out.display(),
+                t0.elapsed().as_secs_f64()
+            );
+            print_info(&table);
+        }
+        Sub::Info { file } => print_info(&load(&file)?),
+        Sub::Check { file, points, seed } => {
+            let table = load(&file)?;
+            if points == 0 {
+                bail!("--points must be at least 1");
+            }
+            let e = tablebuild::check(&table, points, seed, true)?;
+            println!("points,seed,max_rel_err_chi,max_rel_err_zeta,max_err_g_over_4a3_3r");
+            println!("{},{},{:e},{:e},{:e}", e.points, e.seed, e.chi, e.zeta, e.g);
+        }
+        Sub::Export { file, npy } => {
+            let table = load(&file)?;
+            let files = strata_runtime::table::export::export_npy(&table, &npy)?;
+            for f in files {
+                println!("{}", f.display());
+            }
+        }
+    }
+    Ok(())
+}
+
+fn print_info(t: &Table) {
+    let h = &t.header;
+    println!("format version: {}", h.format_version);
+    println!("strata version: {}", h.strata_version);
+    println!("build time: {} (s since Unix epoch)", h.build_time);
+    println!("stack: {}", h.stack.name.as_deref().unwrap_or("(unnamed)"));
+    for line in h.stack.to_toml_string().lines() {
+        println!("  {line}");
+    }
+    match h.family {
+        Some(f) => println!(
+            "family: {} modulus ratio to layer 1 from {} to {}, {} members (log grid)",
+            f.vary,
+            f.ratio.lo.exp(),
+            f.ratio.hi.exp(),
+            f.ratio.n
+        ),
+        None => println!("family: none (single stack)"),
+    }
+    println!(
+        "a/h1: {:e} … {:e}, {} nodes (log grid)",
+        h.x.lo.exp(),
+        h.x.hi.exp(),
+        h.x.n
+    );
+    println!(
+        "g: w = asinh(sqrt((r-a)/h1)) in [0, {:.4}], {} nodes; far field beyond (error there {:.2e} of (4/3)a^3/r)",
+        h.w.hi, h.w.n, h.far_field_error
+    );
+    println!(
+        "S: rho*h1 {:e} … {:e}, {} nodes (log grid)",
+        h.s.lo.exp(),
+        h.s.hi.exp(),
+        h.s.n
+    );
+    match h.interp_error {
+        Some(e) => println!(
+            "interpolation error at {} random points (seed {}): chi {:.2e}, zeta {:.2e} (relative), g {:.2e} (of (4/3)a^3/r)",
+            e.points, e.seed, e.chi, e.zeta, e.g
+        ),
+        None => println!("interpolation error: not measured"),
+    }
+}
+
+/// The table-backed asperity law of `stack` for `strata asperity --model approx`:
+/// from `table` when given (refusing stacks the table does not serve), else from the
+/// per-stack cache (STRATA_CACHE_DIR, else $XDG_CACHE_HOME/strata, else
+/// $HOME/.cache/strata), building and caching the table there on first use.
+pub fn law_for_stack(
+    stack: &Stack,
+    table: Option<&std::path::Path>,
+) -> Result<strata_runtime::table::TableLaw> {
+    if let Some(p) = table {
+        let t = Table::load(p).with_context(|| format!("loading table {}", p.display()))?;
+        return t
+            .law_for(stack)
+            .with_context(|| format!("table {} cannot serve this stack", p.display()));
+    }
+    let dir = if let Some(d) = std::env::var_os("STRATA_CACHE_DIR") {
+        PathBuf::from(d)
+    } else if let Some(d) = std::env::var_os("XDG_CACHE_HOME") {
+        PathBuf::from(d).join("strata")
+    } else if let Some(h) = std::env::var_os("HOME") {
+        PathBuf::from(h).join(".cache/strata")
+    } else {
+        std::env::temp_dir().join("strata-cache")
+    };
+    eprintln!(
+        "no --table given: using the table cache in {} (building this stack's table on first use, about a minute)",
+        dir.display()
+    );
+    let opts = BuildOptions {
+        check_points: 200,
+        build_time: build_time()?,
+        progress: true,
+        ..BuildOptions::default()
+    };
+    let (t, path) = tablebuild::build_and_cache(stack, &dir, &opts)?;
+    eprintln!("using table {}", path.display());
+    Ok(t.law_for(stack)?)
+}
+
+/// Second-order approximation of a paraboloid (radius R) at approach δ (physics.md
+/// §4): solves δ = ζ(a) a²/R for a (bisection in ln a) and returns (a, P) with
+/// P = (4/3) E*₁ χ(a) a³/R. δ = 0 gives (0, 0).
+pub fn approx_paraboloid(
+    law: &strata_runtime::table::TableLaw,
+    delta: f64,
+    radius: f64,
+) -> Result<(f64, f64)> {
+    use strata_runtime::law;
+    if delta == 0.0 {
+        return Ok((0.0, 0.0));
+    }
+    let f = |a: f64| law::interference(law, a, radius) - delta;
+    let mut lo = (radius * delta).sqrt();
+    let mut hi = lo;
+    for _ in 0..200 {
+        if f(lo) <= 0.0 {
+            break;
+        }
+        lo *= 0.5;
+    }
+    for _ in 0..200 {
+        if f(hi) >= 0.0 {
+            break;
+        }
+        hi *= 2.0;
+    }
+    if !(f(lo) <= 0.0 && f(hi) >= 0.0) {
+        bail!("cannot bracket the contact radius for delta = {delta} m");
+    }
+    for _ in 0..200 {
+        let mid = (lo * hi).sqrt();
+        if f(mid) < 0.0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+        if hi - lo <= 1e-15 * hi {
+            break;
+        }
+    }
+    let a = 0.5 * (lo + hi);
+    let p = law::force(law, a, radius);
+    if !(a.is_finite() && p.is_finite()) {
+        bail!("approximate solution at delta = {delta} m is not finite");
+    }
+    Ok((a, p))
+}
+
+/// Approximate pressure (Pa, compressive positive) and displacement (m) at r for
+/// contact radius a (physics.md §4): p = (2E*₁/(πR)) χ(a) √(a² − r²) inside, and the
+/// displacement of `strata_runtime::law::displacement`.
+pub fn approx_profile(
+    law: &strata_runtime::table::TableLaw,
+    a: f64,
+    radius: f64,
+    r: f64,
+) -> (f64, f64) {
+    use strata_runtime::law::{self, AsperityLaw};
+    let p = if r < a {
+        2.0 * law.e_star() / (std::f64::consts::PI * radius) * law.chi(a) * (a * a - r * r).sqrt()
+    } else {
+        0.0
+    };
+    (p, law::displacement(law, a, radius, r))
+}

@@ -1,0 +1,595 @@
+//! Building surrogate tables ([`strata_runtime::table::Table`]) from direct
+//! quadrature ([`crate::approx`]), in parallel with rayon, with an optional progress
+//! bar on stderr, and measuring the interpolation error against fresh direct solves
+//! at random off-grid points.
+//!
+//! Reproducibility: the arrays depend only on the stack and the options (rayon only
+//! distributes independent rows), and the header's build time comes from
+//! `BuildOptions::build_time` — the CLI takes it from SOURCE_DATE_EPOCH when set — so
+//! rebuilding with the same inputs reproduces the file byte for byte.
+
+use std::path::{Path, PathBuf};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use strata_runtime::Stack;
+use strata_runtime::table::{
+    Axis, FORMAT_VERSION, Family, Header, InterpError, Table, TableError, Vary,
+};
+use thiserror::Error;
+
+use crate::approx::{Approx, ApproxError};
+
+/// Errors of table building and checking.
+#[derive(Debug, Error)]
+pub enum BuildError {
+    #[error(transparent)]
+    Approx(#[from] ApproxError),
+    #[error(transparent)]
+    Table(#[from] TableError),
+    #[error("invalid build option `{field}`: {reason}")]
+    Option { field: &'static str, reason: String },
+    #[error("cannot build a table for a homogeneous stack: chi = zeta = 1 and g = 0 exactly")]
+    Homogeneous,
+    #[error("cache directory {path}: {message}")]
+    Cache { path: String, message: String },
+}
+
+/// Table resolution and family.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BuildOptions {
+    /// a/h₁ range (log grid), default 1e-3 … 1e3.
+    pub x_range: (f64, f64),
+    /// Nodes on the a/h₁ axis (default 97: 16 per decade).
+    pub nx: usize,
+    /// Largest w = asinh(√((r − a)/h₁)); `None`: asinh(√(20 H/h₁)), i.e.
+    /// r − a ≤ 20 H, beyond which the runtime uses the far field.
+    pub w_max: Option<f64>,
+    /// Nodes on the w axis (default 49).
+    pub nw: usize,
+    /// ρh₁ range of the S table (log grid), default 1e-4 … 40.
+    pub s_range: (f64, f64),
+    /// Nodes of the S table (default 121).
+    pub ns: usize,
+    /// Family: varied modulus and the range of E_v/E₁ (log grid) with its node count.
+    pub family: Option<(Vary, f64, f64, usize)>,
+    /// Random points for the interpolation check stored in the header (0: none).
+    pub check_points: usize,
+    /// Seed of the check points.
+    pub seed: u64,
+    /// Build time stored in the header (s since the Unix epoch).
+    pub build_time: u64,
+    /// Draw a progress bar on stderr.
+    pub progress: bool,
+}
+
+impl Default for BuildOptions {
+    fn default() -> Self {
+        BuildOptions {
+            x_range: (1e-3, 1e3),
+            nx: 97,
+            w_max: None,
+            nw: 49,
+            s_range: (1e-4, 40.0),
+            ns: 121,
+            family: None,
+            check_points: 1000,
+            seed: 1,
+            build_time: 0,
+            progress: false,
+        }
+    }
+}
+
+fn log_axis(field: &'static str, lo: f64, hi: f64, n: usize) -> Result<Axis, BuildError> {
+    let bad = |reason: String| BuildError::Option { field, reason };
+    if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && hi > lo) {
+        return Err(bad(format!(
+            "range must satisfy 0 < lo < hi, got {lo} … {hi}"
+        )));
+    }
+    if !(Axis::MIN_NODES..=100_000).contains(&n) {
+        return Err(bad(format!("needs 6 … 100000 nodes, got {n}")));
+    }
+    Ok(Axis {
+        lo: lo.ln(),
+        hi: hi.ln(),
+        n,
+    })
+}
+
+fn bar(n: usize, show: bool, msg: &'static str) -> ProgressBar {
+    if !show {
+        return ProgressBar::hidden();
+    }
+    let pb = ProgressBar::new(n as u64);
+    if let Ok(style) =
+        ProgressStyle::with_template("{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})")
+    {
+        pb.set_style(style);
+    }
+    pb.set_message(msg);
+    pb
+}
+
+/// One x row of a member: χ, ζ, g·r/a³ over w, far-field error at w_max.
+type Row = (f64, f64, Vec<f64>, f64);
+
+/// Builds the table of `stack` (or of its family) with `opts`.
+pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
+    if stack.is_homogeneous() || stack.layers().is_empty() {
+        return Err(BuildError::Homogeneous);
+    }
+    let x = log_axis("x_range/nx", opts.x_range.0, opts.x_range.1, opts.nx)?;
+    let s_axis = log_axis("s_range/ns", opts.s_range.0, opts.s_range.1, opts.ns)?;
+    let h1 = stack.layers()[0].thickness;
+    let depth = stack.total_thickness();
+    let w_max = opts
+        .w_max
+        .unwrap_or_else(|| (20.0 * depth / h1).sqrt().asinh());
+    if !w_max.is_finite() || w_max <= 0.0 || !(6..=10_000).contains(&opts.nw) {
+        return Err(BuildError::Option {
+            field: "w_max/nw",
+            reason: format!(
+                "need w_max > 0 and 6 … 10000 nodes, got {w_max} and {}",
+                opts.nw
+            ),
+        });
+    }
+    let w = Axis {
+        lo: 0.0,
+        hi: w_max,
+        n: opts.nw,
+    };
+    let family = match opts.family {
+        None => None,
+        Some((vary, lo, hi, n)) => {
+            match vary {
+                Vary::Layer(i) if i < 2 || i > stack.layers().len() => {
+                    return Err(BuildError::Option {
+                        field: "vary",
+                        reason: format!(
+                            "layer {i} cannot vary: choose 2 … {} or base",
+                            stack.layers().len()
+                        ),
+                    });
+                }
+                Vary::Base if matches!(stack.base(), strata_runtime::Base::Rigid) => {
+                    return Err(BuildError::Option {
+                        field: "vary",
+                        reason: "the base is rigid: its modulus cannot vary".into(),
+                    });
+                }
+                _ => {}
+            }
+            Some(Family {
+                vary,
+                ratio: log_axis("vary", lo, hi, n)?,
+            })
+        }
+    };
+    let header = Header {
+        format_version: FORMAT_VERSION,
+        strata_version: env!("CARGO_PKG_VERSION").to_string(),
+        build_time: opts.build_time,
+        stack: stack.clone(),
+        family,
+        x,
+        w,
+        s: s_axis,
+        far_field_error: 0.0,
+        interp_error: None,
+    };
+    let mut table = Table {
+        header,
+        chi: Vec::new(),
+        zeta: Vec::new(),
+        g: Vec::new(),
+        s: Vec::new(),
+        k0: Vec::new(),
+    };
+    let coords: Vec<f64> = family.map_or(vec![0.0], |f| f.ratio.nodes());
+    let xs = x.nodes();
+    let ws = w.nodes();
+    let a_max = h1 * x.hi.exp();
+    let omega_max = 2.0 * a_max + h1 * w_max.sinh().powi(2);
+    let pb = bar(coords.len() * xs.len(), opts.progress, "building table");
+    let mut far_err: f64 = 0.0;
+    for &c in &coords {
+        let member = table.member_stack(c)?;
+        let ap = Approx::with_cache(&member, omega_max);
+        let rows: Vec<Result<Row, ApproxError>> = xs
+            .par_iter()
+            .map(|&cx| {
+                let a = h1 * cx.exp();
+                let (chi, zeta) = ap.chi_zeta(a)?;
+                let mut row = Vec::with_capacity(ws.len());
+                let mut fe: f64 = 0.0;
+                for (j, &wj) in ws.iter().enumerate() {
+                    let r = a + h1 * wj.sinh().powi(2);
+                    let g = ap.g(a, r)?;
+                    let scale = a * a * a / r;
+                    if j + 1 == ws.len() {
+                        fe = fe.max((g - ap.g_far(a, r)).abs() / (4.0 / 3.0 * scale));
+                    }
+                    row.push(g / scale);
+                }
+                pb.inc(1);
+                Ok((chi, zeta, row, fe))
+            })
+            .collect();
+        for row in rows {
+            let (chi, zeta, g, fe) = row?;
+            table.chi.push(chi);
+            table.zeta.push(zeta);
+            table.g.extend(g);
+            far_err = far_err.max(fe);
+        }
+        let comp = strata_runtime::Compliance::new(&member);
+        table.k0.push(ap.k0());
+        table
+            .s
+            .extend(s_axis.nodes().iter().map(|&cs| comp.s(cs.exp() / h1)));
+    }
+    pb.finish_and_clear();
+    table.header.far_field_error = far_err;
+    table.validate()?;
+    if opts.check_points > 0 {
+        let e = check(&table, opts.check_points, opts.seed, opts.progress)?;
+        table.header.interp_error = Some(e);
+    }
+    Ok(table)
+}
+
+/// SplitMix64: a tiny deterministic generator for reproducible check points.
+struct SplitMix(u64);
+impl SplitMix {
+    fn next_f64(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
+/// Compares the table's interpolated χ, ζ and g with fresh direct solves at `points`
+/// random points (uniform in ln(a/h₁), w and the family coordinate; seed `seed`).
+/// Returns max |χ_t/χ − 1|, max |ζ_t/ζ − 1| and max |g_t − g|/((4/3)a³/r).
+pub fn check(
+    table: &Table,
+    points: usize,
+    seed: u64,
+    progress: bool,
+) -> Result<InterpError, BuildError> {
+    let h = &table.header;
+    let mut rng = SplitMix(seed);
+    let fam = h.family.map(|f| f.ratio);
+    let pts: Vec<(f64, f64, f64)> = (0..points)
+        .map(|_| {
+            let c = fam.map_or(0.0, |f| f.lo + (f.hi - f.lo) * rng.next_f64());
+            let cx = h.x.lo + (h.x.hi - h.x.lo) * rng.next_f64();
+            let w = h.w.hi * rng.next_f64();
+            (c, cx, w)
+        })
+        .collect();
+    let pb = bar(points, progress, "checking table");
+    let errs: Vec<Result<(f64, f64, f64), BuildError>> = pts
+        .par_iter()
+        .map(|&(c, cx, w)| {
+            let member = table.member_stack(c)?;
+            let law = table.law_for(&member)?;
+            let ap = Approx::new(&member);
+            let h1 = member.layers()[0].thickness;
+            let a = h1 * cx.exp();
+            let r = a + h1 * w.sinh().powi(2);
+            let (chi, zeta) = ap.chi_zeta(a)?;
+            let (tc, tz) = law.try_chi_zeta(a)?;
+            let g = ap.g(a, r)?;
+            let tg = law.try_g(a, r)?;
+            pb.inc(1);
+            Ok((
+                (tc / chi - 1.0).abs(),
+                (tz / zeta - 1.0).abs(),
+                (tg - g).abs() / (4.0 / 3.0 * a * a * a / r),
+            ))
+        })
+        .collect();
+    pb.finish_and_clear();
+    let mut out = InterpError {
+        points,
+        seed,
+        chi: 0.0,
+        zeta: 0.0,
+        g: 0.0,
+    };
+    for e in errs {
+        let (c, z, g) = e?;
+        out.chi = out.chi.max(c);
+        out.zeta = out.zeta.max(z);
+        out.g = out.g.max(g);
+    }
+    Ok(out)
+}
+
+/// Nondimensional fingerprint of a stack (thickness and modulus ratios, Poisson
+/// ratios, base) used to name cached tables.
+fn fingerprint(stack: &Stack) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |v: f64| {
+        for b in v.to_le_bytes() {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    };
+    let (h1, e1) = (stack.layers()[0].thickness, stack.layers()[0].young);
+    for l in stack.layers() {
+        eat(l.thickness / h1);
+        eat(l.young / e1);
+        eat(l.poisson);
+    }
+    match stack.base() {
+        strata_runtime::Base::Rigid => eat(-1.0),
+        strata_runtime::Base::Elastic { young, poisson } => {
+            eat(young / e1);
+            eat(poisson);
+        }
+    }
+    h
+}
+
+/// The table for `stack` from the cache directory `dir` (file
+/// `stack-<fingerprint>.strata`), built with `opts` and saved there when missing or
+/// unreadable. Returns the table and its path.
+pub fn build_and_cache(
+    stack: &Stack,
+    dir: &Path,
+    opts: &BuildOptions,
+) -> Result<(Table, PathBuf), BuildError> {
+    if stack.is_homogeneous() || stack.layers().is_empty() {
+        return Err(BuildError::Homogeneous);
+    }
+    let path = dir.join(format!("stack-{:016x}.strata", fingerprint(stack)));
+    if let Ok(t) = Table::load(&path)
+        && t.family_coordinate(stack).is_ok()
+    {
+        return Ok((t, path));
+    }
+    std::fs::create_dir_all(dir).map_err(|e| BuildError::Cache {
+        path: dir.display().to_string(),
+        message: e.to_string(),
+    })?;
+    let table = build(
+        stack,
+        &BuildOptions {
+            family: None,
+            ..opts.clone()
+        },
+    )?;
+    table.save(&path)?;
+    Ok((table, path))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use strata_runtime::law::AsperityLaw;
+    use strata_runtime::{Base, Layer};
+
+    fn paper(ratio: f64) -> Stack {
+        Stack::new(
+            vec![
+                Layer {
+                    thickness: 100e-6,
+                    young: 4e9,
+                    poisson: 0.15,
+                },
+                Layer {
+                    thickness: 900e-6,
+                    young: 4e9 * ratio,
+                    poisson: 0.15,
+                },
+            ],
+            Base::Rigid,
+        )
+        .unwrap()
+    }
+
+    fn small_family() -> Table {
+        let opts = BuildOptions {
+            x_range: (1e-2, 1e2),
+            nx: 65,
+            family: Some((Vary::Layer(2), 0.2, 5.0, 13)),
+            check_points: 0,
+            ..BuildOptions::default()
+        };
+        build(&paper(5.0), &opts).unwrap()
+    }
+
+    /// The Done-when criterion on a small family table: χ, ζ within 1e-4 relative and
+    /// g within 1e-4 of (4/3)a³/r of direct solves at 1000 random off-grid points.
+    #[test]
+    fn small_family_interpolation_error() {
+        let t = small_family();
+        let e = check(&t, 1000, 7, false).unwrap();
+        eprintln!(
+            "small family table: {e:?}, far field {:e}",
+            t.header.far_field_error
+        );
+        assert!(e.chi < 1e-4 && e.zeta < 1e-4 && e.g < 1e-4, "{e:?}");
+        // The far field used beyond w_max (r − a > 20 H) is good to 1e-4 too.
+        assert!(t.header.far_field_error < 1e-4);
+    }
+
+    /// A family member's law: matches direct values on and off the family grid,
+    /// derivatives agree with finite differences, round trip through bytes, and
+    /// stacks outside the family are refused.
+    #[test]
+    fn law_for_member_and_refusals() {
+        let t = small_family();
+        let bytes = t.to_bytes().unwrap();
+        let t2 = Table::from_bytes(&bytes).unwrap();
+        assert_eq!(t, t2);
+        let st = paper(3.3);
+        let law = t2.law_for(&st).unwrap();
+        let ap = Approx::new(&st);
+        for a in [3e-6, 4.4e-5, 1.7e-3] {
+            let (c, z) = ap.chi_zeta(a).unwrap();
+            assert!((law.chi(a) / c - 1.0).abs() < 1e-4 && (law.zeta(a) / z - 1.0).abs() < 1e-4);
+            let (_, dc, _, dz) = law.chi_zeta_derivs(a);
+            let hh = 1e-4 * a;
+            let (c1, z1) = ap.chi_zeta(a + hh).unwrap();
+            let (c0, z0) = ap.chi_zeta(a - hh).unwrap();
+            let (fc, fz) = ((c1 - c0) / (2.0 * hh), (z1 - z0) / (2.0 * hh));
+            assert!((dc - fc).abs() < 1e-3 * (fc.abs() + c / a), "{dc} {fc}");
+            assert!((dz - fz).abs() < 1e-3 * (fz.abs() + z / a), "{dz} {fz}");
+        }
+        // Scaled stack (all thicknesses ×2, all moduli ×3) is served too.
+        let scaled = Stack::new(
+            vec![
+                Layer {
+                    thickness: 200e-6,
+                    young: 12e9,
+                    poisson: 0.15,
+                },
+                Layer {
+                    thickness: 1800e-6,
+                    young: 12e9 * 3.3,
+                    poisson: 0.15,
+                },
+            ],
+            Base::Rigid,
+        )
+        .unwrap();
+        let ls = t2.law_for(&scaled).unwrap();
+        assert!((ls.chi(2.0 * 4.4e-5) - law.chi(4.4e-5)).abs() < 1e-12);
+        // Refusals: ratio outside, other thickness, other base.
+        for bad in [
+            paper(20.0),
+            Stack::new(
+                vec![
+                    Layer {
+                        thickness: 100e-6,
+                        young: 4e9,
+                        poisson: 0.15,
+                    },
+                    Layer {
+                        thickness: 500e-6,
+                        young: 8e9,
+                        poisson: 0.15,
+                    },
+                ],
+                Base::Rigid,
+            )
+            .unwrap(),
+            Stack::new(
+                vec![
+                    Layer {
+                        thickness: 100e-6,
+                        young: 4e9,
+                        poisson: 0.15,
+                    },
+                    Layer {
+                        thickness: 900e-6,
+                        young: 8e9,
+                        poisson: 0.15,
+                    },
+                ],
+                Base::Elastic {
+                    young: 1e10,
+                    poisson: 0.3,
+                },
+            )
+            .unwrap(),
+        ] {
+            let e = t2.law_for(&bad).unwrap_err();
+            assert!(matches!(e, TableError::NotInFamily(_)), "{e}");
+        }
+    }
+
+    /// build_and_cache builds once, then loads the cached file (served stacks only).
+    #[test]
+    fn cache_builds_once_then_loads() {
+        let dir = std::env::temp_dir().join(format!("strata-cache-test-{}", std::process::id()));
+        let opts = BuildOptions {
+            nx: 13,
+            nw: 9,
+            ns: 9,
+            check_points: 0,
+            ..BuildOptions::default()
+        };
+        let st = paper(2.0);
+        let (t1, p1) = build_and_cache(&st, &dir, &opts).unwrap();
+        let stamp = std::fs::metadata(&p1).unwrap().modified().unwrap();
+        let (t2, p2) = build_and_cache(&st, &dir, &opts).unwrap();
+        assert_eq!(p1, p2);
+        assert_eq!(t1, t2);
+        assert_eq!(std::fs::metadata(&p2).unwrap().modified().unwrap(), stamp);
+        // Another stack gets another file.
+        let (_, p3) = build_and_cache(&paper(3.0), &dir, &opts).unwrap();
+        assert_ne!(p1, p3);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn homogeneous_refused_and_options_checked() {
+        let hs = Stack::half_space(2e11, 0.3).unwrap();
+        assert!(matches!(
+            build(&hs, &BuildOptions::default()),
+            Err(BuildError::Homogeneous)
+        ));
+        let bad = BuildOptions {
+            nx: 3,
+            ..BuildOptions::default()
+        };
+        assert!(matches!(
+            build(&paper(2.0), &bad),
+            Err(BuildError::Option { .. })
+        ));
+        let bad = BuildOptions {
+            family: Some((Vary::Base, 0.1, 10.0, 9)),
+            ..BuildOptions::default()
+        };
+        assert!(matches!(
+            build(&paper(2.0), &bad),
+            Err(BuildError::Option { .. })
+        ));
+    }
+}
+
+#[cfg(test)]
+mod shipped {
+    use super::*;
+
+    /// Builds the shipped family table once and reports its build time; writes it to
+    /// $STRATA_SHIP_OUT when set. Slow in debug: run with
+    /// `cargo test --release -p strata-tablegen --lib shipped -- --ignored --nocapture`.
+    #[test]
+    #[ignore = "builds the full shipped family table (~1 min); for measurements"]
+    fn build_shipped_family() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let stack =
+            Stack::from_toml_file(&root.join("tables/stacks/paper-two-layer.toml")).unwrap();
+        let opts = BuildOptions {
+            family: Some((Vary::Layer(2), 0.1, 10.0, 21)),
+            check_points: 0,
+            ..BuildOptions::default()
+        };
+        let t0 = std::time::Instant::now();
+        let t = build(&stack, &opts).unwrap();
+        eprintln!(
+            "built in {:?}; far field {:e}",
+            t0.elapsed(),
+            t.header.far_field_error
+        );
+        let t0 = std::time::Instant::now();
+        let e = check(&t, 1000, 1, false).unwrap();
+        eprintln!("check {e:?} in {:?}", t0.elapsed());
+        if let Ok(p) = std::env::var("STRATA_SHIP_OUT") {
+            let mut t = t;
+            t.header.interp_error = Some(e);
+            t.save(Path::new(&p)).unwrap();
+        }
+    }
+}

@@ -1,0 +1,178 @@
+//! End-to-end tests of `strata solve SCENE --out DIR`.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use strata_runtime::law::Homogeneous;
+use strata_runtime::rough::{Images, Model, RoughContact};
+use strata_runtime::surface::Surface;
+
+fn reference_surface() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/surface_km10.npy")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("strata-solve-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+const HOMOGENEOUS: &str = r#"
+[stack]
+[[stack.layer]]
+thickness = 1e-3
+young = 4e9
+poisson = 0.15
+[stack.base]
+kind = "elastic"
+young = 4e9
+poisson = 0.15
+[surface]
+file = "SURFACE"
+size = 1e-3
+periodic = true
+[model]
+kind = "KIND"
+[load]
+separations = [9e-6, 7e-6, 5e-6, 3e-6]
+"#;
+
+fn scene(dir: &Path, kind: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text = HOMOGENEOUS
+        .replace("SURFACE", &reference_surface().display().to_string())
+        .replace("KIND", kind);
+    let p = dir.join("scene.toml");
+    std::fs::write(&p, edit(text)).expect("write scene");
+    p
+}
+
+fn solve(scene: &Path, out: &Path, extra: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_strata"))
+        .arg("solve")
+        .arg(scene)
+        .arg("--out")
+        .arg(out)
+        .args(extra)
+        .output()
+        .expect("run strata")
+}
+
+/// The CSV has the fixed header and equals the library's solution (the library is
+/// checked against closed forms and the shared reference in its own tests); JSON and
+/// plots are written; a non-empty output dir is refused without --force.
+#[test]
+fn solve_writes_curve_and_refuses_overwrite() {
+    let dir = tmp("ok");
+    for kind in ["independent", "interacting"] {
+        let sc = scene(&dir, kind, |s| s);
+        let out = dir.join(format!("out-{kind}"));
+        let o = solve(&sc, &out, &[]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{err}");
+        assert!(err.contains("simulating:"), "{err}");
+        assert!(err.contains("homogeneous"), "{err}");
+        let csv = std::fs::read_to_string(out.join("curve.csv")).expect("curve.csv");
+        let mut lines = csv.lines();
+        assert_eq!(
+            lines.next(),
+            Some("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness")
+        );
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|x| x.parse().expect("number")).collect())
+            .collect();
+        assert_eq!(rows.len(), 4);
+        let s = Surface::read_npy(&reference_surface(), 1e-3, true).expect("surface");
+        let law = Homogeneous {
+            e_star: 4e9 / (1.0 - 0.15 * 0.15),
+        };
+        let rc = RoughContact::from_surface(&law, &s).expect("rc");
+        let model = if kind == "independent" {
+            Model::Independent
+        } else {
+            Model::Interacting(Images::Periodic(2))
+        };
+        let deltas: Vec<f64> = [9e-6, 7e-6, 5e-6, 3e-6]
+            .iter()
+            .map(|g| rc.delta_for_gap(*g))
+            .collect();
+        let lib = rc.curve(model, &deltas).expect("library");
+        for (r, st) in rows.iter().zip(&lib) {
+            assert!((r[1] - st.gap).abs() < 1e-18, "{} {}", r[1], st.gap);
+            assert!((r[2] - st.mean_pressure).abs() <= 1e-14 * st.mean_pressure);
+            assert!((r[3] - st.pressure_ratio).abs() <= 1e-14 * st.pressure_ratio);
+            assert!((r[4] - st.area_fraction).abs() <= 1e-14 * st.area_fraction);
+            assert_eq!(r[5] as usize, st.contacts);
+            assert!((r[6] - st.stiffness).abs() <= 1e-14 * st.stiffness);
+        }
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).expect("json"))
+                .expect("valid json");
+        assert_eq!(json["steps"].as_array().map(|a| a.len()), Some(4));
+        assert!(out.join("pressure_gap.svg").is_file());
+        assert!(out.join("area_pressure.svg").is_file());
+        // refuse to overwrite, then allow with --force
+        let o = solve(&sc, &out, &[]);
+        assert!(!o.status.success());
+        assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
+        let o = solve(&sc, &out, &["--force"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Bad scenes fail with a message naming the field.
+#[test]
+fn bad_scenes_name_the_field() {
+    let dir = tmp("bad");
+    // an f32 .npy, written by hand
+    let f32npy = dir.join("f32.npy");
+    let header = "{'descr': '<f4', 'fortran_order': False, 'shape': (4, 4), }";
+    let mut h = header.to_string();
+    while !(10 + h.len() + 1).is_multiple_of(64) {
+        h.push(' ');
+    }
+    h.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(h.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(h.as_bytes());
+    bytes.extend_from_slice(&[0u8; 64]);
+    std::fs::write(&f32npy, bytes).expect("write npy");
+    let f32path = f32npy.display().to_string();
+    type Edit = Box<dyn Fn(String) -> String>;
+    let cases: Vec<(Edit, &str)> = vec![
+        (
+            Box::new(|s| s.replace("[model]", "[model]\nspeed = 3")),
+            "model.speed",
+        ),
+        (
+            Box::new(|s| s.replace(&reference_surface().display().to_string(), "nope.npy")),
+            "surface.file",
+        ),
+        (
+            Box::new(move |s| s.replace(&reference_surface().display().to_string(), &f32path)),
+            "dtype",
+        ),
+        (
+            Box::new(|s| s.replace("size = 1e-3", "size = -1e-3")),
+            "surface.size",
+        ),
+        (
+            Box::new(|s| s.replace("[9e-6, 7e-6, 5e-6, 3e-6]", "[9e-6, 5e-5]")),
+            "load.separations[1]",
+        ),
+        (
+            Box::new(|s| s.replace("kind = \"independent\"", "kind = \"bem\"")),
+            "not yet",
+        ),
+    ];
+    for (i, (edit, needle)) in cases.into_iter().enumerate() {
+        let sc = scene(&dir, "independent", edit);
+        let out = dir.join(format!("out{i}"));
+        let o = solve(&sc, &out, &[]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "case {needle} should fail");
+        assert!(err.contains(needle), "case {needle}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
