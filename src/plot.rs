@@ -136,6 +136,28 @@ fn draw_any<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, spec: &PlotSpec) -
     }
 }
 
+/// Tick label: scientific notation for SI values that fixed decimals would show as
+/// 0.0 (gaps of micrometres, compliances), plain decimals otherwise.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e5).contains(&a) {
+        let s = format!("{v:.2e}");
+        // 1.50e-6 → 1.5e-6
+        match s.split_once('e') {
+            Some((m, e)) => {
+                let m = m.trim_end_matches('0').trim_end_matches('.');
+                format!("{m}e{e}")
+            }
+            None => s,
+        }
+    } else {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
 fn draw<DB, X, Y>(root: DrawingArea<DB, Shift>, spec: &PlotSpec, x: X, y: Y) -> Result<()>
 where
     DB: DrawingBackend,
@@ -156,6 +178,8 @@ where
         .configure_mesh()
         .x_desc(&spec.x_label)
         .y_desc(&spec.y_label)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(&|v| tick(*v))
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .draw()
@@ -198,6 +222,19 @@ where
         .map_err(err)?;
     root.present().map_err(err)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tick_tests {
+    #[test]
+    fn tick_labels_keep_small_values_readable() {
+        assert_eq!(super::tick(2.5e-6), "2.5e-6");
+        assert_eq!(super::tick(1e-5), "1e-5");
+        assert_eq!(super::tick(0.0012), "0.0012");
+        assert_eq!(super::tick(0.5), "0.5");
+        assert_eq!(super::tick(0.0), "0");
+        assert_eq!(super::tick(2e9), "2e9");
+    }
 }
 
 #[cfg(test)]
