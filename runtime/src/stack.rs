@@ -217,6 +217,21 @@ impl Stack {
         Stack::new(Vec::new(), Base::Elastic { young, poisson })
     }
 
+    /// The paper's two-layer stack (Waddad et al. §5): a 100 µm layer (E₁ = 4 GPa,
+    /// ν = 0.15) on a 900 µm layer of modulus `e2_over_e1`·E₁ (ν = 0.15), bonded to a
+    /// rigid base at 1 mm depth.
+    pub fn paper_two_layer(e2_over_e1: f64) -> Result<Self, StackError> {
+        let layer = |thickness, young| Layer {
+            thickness,
+            young,
+            poisson: 0.15,
+        };
+        Stack::new(
+            vec![layer(100e-6, 4e9), layer(900e-6, 4e9 * e2_over_e1)],
+            Base::Rigid,
+        )
+    }
+
     /// Sets the name (builder style).
     pub fn with_name(mut self, name: impl Into<String>) -> Self {
         self.name = Some(name.into());
@@ -516,6 +531,14 @@ kind = "rigid"
         assert!((s.total_thickness() - 1e-3).abs() < 1e-18);
         let round = Stack::from_toml_str(&s.to_toml_string()).unwrap();
         assert_eq!(round, s);
+    }
+
+    #[test]
+    fn paper_constructor_matches_shipped_file() {
+        let s = Stack::from_toml_str(PAPER).unwrap();
+        let p = Stack::paper_two_layer(5.0).unwrap();
+        assert_eq!(p.layers(), s.layers());
+        assert_eq!(p.base(), s.base());
     }
 
     #[test]

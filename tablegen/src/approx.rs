@@ -341,22 +341,7 @@ mod tests {
     }
 
     fn paper(ratio: f64) -> Stack {
-        Stack::new(
-            vec![
-                Layer {
-                    thickness: 100e-6,
-                    young: 4e9,
-                    poisson: 0.15,
-                },
-                Layer {
-                    thickness: 900e-6,
-                    young: 4e9 * ratio,
-                    poisson: 0.15,
-                },
-            ],
-            Base::Rigid,
-        )
-        .unwrap()
+        Stack::paper_two_layer(ratio).unwrap()
     }
 
     #[test]
