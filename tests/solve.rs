@@ -162,8 +162,8 @@ fn bad_scenes_name_the_field() {
             "load.separations[1]",
         ),
         (
-            Box::new(|s| s.replace("kind = \"independent\"", "kind = \"bem\"")),
-            "not yet",
+            Box::new(|s| s.replace("kind = \"independent\"", "kind = \"fem\"")),
+            "model.kind",
         ),
     ];
     for (i, (edit, needle)) in cases.into_iter().enumerate() {

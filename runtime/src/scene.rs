@@ -11,7 +11,7 @@
 //! periodic = true              # default: true for generated surfaces, false for files
 //! [surface.generate]           # size, grid, fractal_dimension, k_min, k_max, rms, seed
 //! [model]
-//! kind = "interacting"         # "independent" | "interacting" | "bem" (not yet)
+//! kind = "interacting"         # "independent" | "interacting" | "bem"
 //! images = "periodic"          # "periodic" | "isolated"; default periodic on a periodic surface
 //! image_cells = 2              # periodic images on the (2m+1)² block, default m = 2 (5×5)
 //! [load]
@@ -77,7 +77,7 @@ pub struct SurfaceSpec {
 pub enum ModelKind {
     Independent,
     Interacting,
-    /// Full boundary-element solution (another module; not yet wired here).
+    /// Full-field periodic boundary-element solution (the `bem` module).
     Bem,
 }
 
