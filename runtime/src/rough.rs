@@ -723,6 +723,32 @@ impl<'a> RoughContact<'a> {
             .collect()
     }
 
+    /// The Jacobian of the residual restricted to the active set `act` (row-major
+    /// |act|²): off-diagonal entries from the assembled `jac` (n×n), diagonal entries by
+    /// central differences of [`Self::row`] with relative step 1e-6.
+    fn active_jacobian(
+        &self,
+        geo: &Geometry,
+        a: &[f64],
+        loc: &[Local],
+        deltas: &[f64],
+        jac: &[f64],
+        act: &[usize],
+    ) -> Vec<f64> {
+        let (n, m) = (a.len(), act.len());
+        let mut jm = vec![0.0; m * m];
+        for (ii, &p) in act.iter().enumerate() {
+            for (jj, &q) in act.iter().enumerate() {
+                jm[ii * m + jj] = jac[p * n + q];
+            }
+            let h = 1e-6 * a[p];
+            let fp = self.row(geo, a, loc, deltas, p, a[p] + h, false);
+            let fm = self.row(geo, a, loc, deltas, p, a[p] - h, false);
+            jm[ii * m + ii] = (fp - fm) / (2.0 * h);
+        }
+        jm
+    }
+
     /// F_k as a function of a_k alone, the other radii (and their `loc`) fixed: the
     /// Jacobian diagonal and F_k(0⁺) of inactive asperities. With `full = false` the
     /// near-field displacement of the others (constant in a_k) is left out: enough for
@@ -836,18 +862,8 @@ impl<'a> RoughContact<'a> {
                     break;
                 }
                 let m = act.len();
-                let mut jm = vec![0.0; m * m];
-                let mut rhs = vec![0.0; m];
-                for (ii, &p) in act.iter().enumerate() {
-                    for (jj, &q) in act.iter().enumerate() {
-                        jm[ii * m + jj] = jac[p * n + q];
-                    }
-                    let h = 1e-6 * a[p];
-                    let fp = self.row(&geo, &a, &loc, &deltas, p, a[p] + h, false);
-                    let fm = self.row(&geo, &a, &loc, &deltas, p, a[p] - h, false);
-                    jm[ii * m + ii] = (fp - fm) / (2.0 * h);
-                    rhs[ii] = -f[p];
-                }
+                let mut jm = self.active_jacobian(&geo, &a, &loc, &deltas, &jac, &act);
+                let mut rhs: Vec<f64> = act.iter().map(|&p| -f[p]).collect();
                 let step = lu_solve(&mut jm, &mut rhs, m)
                     .ok_or(RoughError::NonFinite("I-model Jacobian (singular)"))?;
                 // Damped, projected step on the merit max|F|.
@@ -932,17 +948,8 @@ impl<'a> RoughContact<'a> {
         let _ = self.residual(&geo, &a, &loc, &deltas, Some(&mut jac));
         let act: Vec<usize> = (0..n).filter(|&p| a[p] > 0.0).collect();
         let m = act.len();
-        let mut jm = vec![0.0; m * m];
+        let mut jm = self.active_jacobian(&geo, &a, &loc, &deltas, &jac, &act);
         let mut rhs = vec![2.0; m];
-        for (ii, &p) in act.iter().enumerate() {
-            for (jj, &q) in act.iter().enumerate() {
-                jm[ii * m + jj] = jac[p * n + q];
-            }
-            let h = 1e-6 * a[p];
-            let fp = self.row(&geo, &a, &loc, &deltas, p, a[p] + h, false);
-            let fm = self.row(&geo, &a, &loc, &deltas, p, a[p] - h, false);
-            jm[ii * m + ii] = (fp - fm) / (2.0 * h);
-        }
         let dadd = lu_solve(&mut jm, &mut rhs, m)
             .ok_or(RoughError::NonFinite("I-model Jacobian (singular)"))?;
         let e = self.law.e_star();

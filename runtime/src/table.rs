@@ -647,22 +647,7 @@ mod tests {
     /// A small synthetic two-layer family table with analytic contents (for format and
     /// lookup tests; the physics of the contents is tested in strata-tablegen).
     pub(crate) fn synthetic() -> Table {
-        let stack = Stack::new(
-            vec![
-                Layer {
-                    thickness: 1e-4,
-                    young: 4e9,
-                    poisson: 0.15,
-                },
-                Layer {
-                    thickness: 9e-4,
-                    young: 2e10,
-                    poisson: 0.15,
-                },
-            ],
-            Base::Rigid,
-        )
-        .unwrap();
+        let stack = Stack::paper_two_layer(5.0).unwrap();
         let x = Axis {
             lo: -3.0,
             hi: 3.0,

@@ -9,25 +9,10 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use strata_tablegen::asperity::{Asperity, Method, Options};
 use strata_tablegen::fredholm::Discretisation;
-use strata_tablegen::runtime::{Base, Layer, Stack};
+use strata_tablegen::runtime::Stack;
 
 fn stack() -> Stack {
-    Stack::new(
-        vec![
-            Layer {
-                thickness: 1e-4,
-                young: 4e9,
-                poisson: 0.15,
-            },
-            Layer {
-                thickness: 9e-4,
-                young: 2e10,
-                poisson: 0.15,
-            },
-        ],
-        Base::Rigid,
-    )
-    .expect("valid stack")
+    Stack::paper_two_layer(5.0).expect("valid stack")
 }
 
 fn solver(d: Discretisation) -> Asperity {
