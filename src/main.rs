@@ -1,6 +1,7 @@
 //! The `strata` command: thin wrapper over strata-runtime and strata-tablegen.
 
 mod cli;
+mod engine;
 mod plot;
 
 use std::process::ExitCode;
