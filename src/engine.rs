@@ -126,6 +126,13 @@ pub fn solve_scene(
     };
     let quiet = opts.quiet;
     let surface = scene.load_surface().context("surface")?;
+    if surface.repaired() > 0 {
+        log!(
+            quiet,
+            "surface: {} points (NaN/inf or spikes) replaced by the median of their neighbours (surface.repair)",
+            surface.repaired()
+        );
+    }
     let (n0, n1) = surface.shape();
     let found = find_summits(&surface);
     log!(
@@ -224,6 +231,13 @@ pub fn solve_scene(
 fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<SceneSolution> {
     let quiet = opts.quiet;
     let surface = scene.load_surface().context("surface")?;
+    if surface.repaired() > 0 {
+        log!(
+            quiet,
+            "surface: {} points (NaN/inf or spikes) replaced by the median of their neighbours (surface.repair)",
+            surface.repaired()
+        );
+    }
     let (n0, n1) = surface.shape();
     if !surface.is_periodic() {
         bail!(

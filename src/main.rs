@@ -3,6 +3,7 @@
 mod cli;
 mod engine;
 mod plot;
+mod study;
 
 use std::process::ExitCode;
 

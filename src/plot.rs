@@ -30,6 +30,18 @@ pub enum Style {
     Line,
     /// A marker at each point.
     Points,
+    /// A polyline in the given colour; `faint`: thin, translucent and without legend
+    /// entry (one sample of many), else bold with a legend entry.
+    Rgb { rgb: (u8, u8, u8), faint: bool },
+    /// A hollow ring around each point (highlights points of other series).
+    Ring,
+    /// Nothing is drawn and no legend entry: the points only extend the axes (room
+    /// for the legend).
+    Spacer,
+    /// A dashed polyline in the given colour, with a legend entry.
+    Dashed { rgb: (u8, u8, u8) },
+    /// A filled marker at each point in the given colour, with a legend entry.
+    Dots { rgb: (u8, u8, u8) },
 }
 
 /// One named data series.
@@ -101,20 +113,21 @@ pub fn lines(path: &Path, spec: &PlotSpec) -> Result<()> {
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
-    match ext.as_deref() {
+    // Drawn to a temporary file (same extension) renamed over `path`: never half a plot.
+    strata_runtime::output::write_atomic_with(path, |tmp| match ext.as_deref() {
         Some("svg") => {
-            let root = SVGBackend::new(path, SIZE).into_drawing_area();
+            let root = SVGBackend::new(tmp, SIZE).into_drawing_area();
             draw_any(root, spec)
         }
         Some("png") => {
-            let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+            let root = BitMapBackend::new(tmp, SIZE).into_drawing_area();
             draw_any(root, spec)
         }
         _ => bail!(
             "plot file {}: extension must be .svg or .png",
             path.display()
         ),
-    }
+    })
     .map_err(|e| e.context(format!("writing plot {}", path.display())))
 }
 
@@ -210,6 +223,47 @@ where
                     .label(s.name.clone())
                     .legend(move |(x, y)| Circle::new((x + 10, y), 3, color.filled()));
             }
+            Style::Spacer => {}
+            Style::Ring => {
+                let style = color.stroke_width(2);
+                chart
+                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 8, style)))
+                    .map_err(err)?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 6, style));
+            }
+            Style::Rgb { rgb, faint: true } => {
+                let c = RGBColor(rgb.0, rgb.1, rgb.2).mix(0.3).stroke_width(1);
+                chart.draw_series(LineSeries::new(pts, c)).map_err(err)?;
+            }
+            Style::Rgb { rgb, faint: false } => {
+                let c = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(3);
+                chart
+                    .draw_series(LineSeries::new(pts, c))
+                    .map_err(err)?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+            }
+            Style::Dashed { rgb } => {
+                let c = RGBColor(rgb.0, rgb.1, rgb.2).stroke_width(2);
+                chart
+                    .draw_series(DashedLineSeries::new(pts, 8, 5, c))
+                    .map_err(err)?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (7, 0)], c)
+                            + PathElement::new(vec![(13, 0), (20, 0)], c)
+                    });
+            }
+            Style::Dots { rgb } => {
+                let c = RGBColor(rgb.0, rgb.1, rgb.2).filled();
+                chart
+                    .draw_series(pts.into_iter().map(|p| Circle::new(p, 4, c)))
+                    .map_err(err)?
+                    .label(s.name.clone())
+                    .legend(move |(x, y)| Circle::new((x + 10, y), 4, c));
+            }
         }
     }
     chart
@@ -222,6 +276,153 @@ where
         .map_err(err)?;
     root.present().map_err(err)?;
     Ok(())
+}
+
+/// A colour-mapped picture of a field on an n0×n1 grid (pressure or gap maps).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Heatmap<'a> {
+    pub title: String,
+    /// Label of the colour bar, with the unit (e.g. "p (Pa)").
+    pub label: String,
+    /// Row-major values, `values[i * n1 + j]`; row i is drawn as picture row i.
+    pub values: &'a [f64],
+    pub n0: usize,
+    pub n1: usize,
+    /// Draw exact zeros white (a pressure map: white outside the contact).
+    pub zero_white: bool,
+}
+
+const HM_MARGIN: u32 = 10;
+const HM_TITLE: u32 = 52;
+const HM_BAR_GAP: u32 = 12;
+const HM_BAR_W: u32 = 20;
+const HM_LABELS: u32 = 110;
+
+/// Pixel size of the map part of a [`heatmap`]: grids up to 512 are magnified by the
+/// largest integer factor that keeps the longer side ≤ 512 px; grids up to 1024 are
+/// drawn one pixel per point; larger grids are sampled down to a 1024 px longer side.
+pub fn heatmap_map_size(n0: usize, n1: usize) -> (u32, u32) {
+    let m = n0.max(n1).max(1);
+    let (w, h) = if m <= 512 {
+        let k = 512 / m;
+        (n1 * k, n0 * k)
+    } else if m <= 1024 {
+        (n1, n0)
+    } else {
+        ((n1 * 1024).div_ceil(m), (n0 * 1024).div_ceil(m))
+    };
+    (w.max(1) as u32, h.max(1) as u32)
+}
+
+/// Size (width, height) in pixels of the PNG that [`heatmap`] writes: the map
+/// ([`heatmap_map_size`]), a title band above, a colour bar with labels on the right.
+pub fn heatmap_size(n0: usize, n1: usize) -> (u32, u32) {
+    let (w, h) = heatmap_map_size(n0, n1);
+    (
+        HM_MARGIN + w + HM_BAR_GAP + HM_BAR_W + HM_LABELS,
+        HM_TITLE + h + HM_MARGIN,
+    )
+}
+
+/// The viridis colour map (matplotlib's default), `t` in [0, 1].
+fn viridis(t: f64) -> RGBColor {
+    const STOPS: [(u8, u8, u8); 8] = [
+        (68, 1, 84),
+        (70, 50, 127),
+        (54, 92, 141),
+        (39, 127, 143),
+        (31, 162, 136),
+        (74, 194, 110),
+        (160, 219, 57),
+        (254, 232, 37),
+    ];
+    let x = t.clamp(0.0, 1.0) * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let f = x - i as f64;
+    let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+/// Writes `h` as a PNG picture (size [`heatmap_size`]): viridis, linear from the
+/// smallest to the largest finite value (colour bar on the right); non-finite values
+/// grey. Nearest-neighbour resampling to the picture's pixels.
+pub fn heatmap(path: &Path, h: &Heatmap) -> Result<()> {
+    REGISTER.call_once(|| {
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
+    });
+    if h.n0 == 0 || h.n1 == 0 || h.values.len() != h.n0 * h.n1 {
+        bail!(
+            "picture {}: {} values for a {}×{} grid",
+            path.display(),
+            h.values.len(),
+            h.n0,
+            h.n1
+        );
+    }
+    let (lo, hi) = h
+        .values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    if !lo.is_finite() {
+        bail!("picture {}: no finite values", path.display());
+    }
+    let span = if hi > lo { hi - lo } else { 1.0 };
+    let (mw, mh) = heatmap_map_size(h.n0, h.n1);
+    // Drawn to a temporary file (same extension) renamed over `path`: never half a picture.
+    let draw = |tmp: &Path| -> Result<()> {
+        let root = BitMapBackend::new(tmp, heatmap_size(h.n0, h.n1)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        root.draw_text(
+            &h.title,
+            &("sans-serif", 16).into_font().color(&BLACK),
+            (HM_MARGIN as i32, 8),
+        )
+        .map_err(err)?;
+        let grey = RGBColor(160, 160, 160);
+        for y in 0..mh {
+            let i = (y as usize * h.n0) / mh as usize;
+            for x in 0..mw {
+                let j = (x as usize * h.n1) / mw as usize;
+                let v = h.values[i * h.n1 + j];
+                let c = if !v.is_finite() {
+                    grey
+                } else if h.zero_white && v == 0.0 {
+                    WHITE
+                } else {
+                    viridis((v - lo) / span)
+                };
+                root.draw_pixel(((HM_MARGIN + x) as i32, (HM_TITLE + y) as i32), &c)
+                    .map_err(err)?;
+            }
+        }
+        // Colour bar: top = largest value.
+        let bx = (HM_MARGIN + mw + HM_BAR_GAP) as i32;
+        for y in 0..mh {
+            let t = 1.0 - y as f64 / (mh.max(2) - 1) as f64;
+            let yy = (HM_TITLE + y) as i32;
+            root.draw(&PathElement::new(
+                vec![(bx, yy), (bx + HM_BAR_W as i32 - 1, yy)],
+                viridis(t),
+            ))
+            .map_err(err)?;
+        }
+        let font = ("sans-serif", 13).into_font().color(&BLACK);
+        let lx = bx + HM_BAR_W as i32 + 4;
+        for (frac, v) in [(0.0, hi), (0.5, 0.5 * (lo + hi)), (1.0, lo)] {
+            let yy = HM_TITLE as i32 + (frac * (mh as f64 - 14.0)) as i32;
+            root.draw_text(&tick(v), &font, (lx, yy)).map_err(err)?;
+        }
+        root.draw_text(&h.label, &font, (bx, (HM_TITLE - 18) as i32))
+            .map_err(err)?;
+        root.present().map_err(err)?;
+        Ok(())
+    };
+    strata_runtime::output::write_atomic_with(path, draw)
+        .map_err(|e| e.context(format!("writing picture {}", path.display())))
 }
 
 #[cfg(test)]
@@ -281,6 +482,33 @@ mod tests {
             ..spec(false)
         };
         assert!(lines(&dir.join("d.svg"), &empty).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn heatmap_png_has_the_documented_size() {
+        let dir = std::env::temp_dir().join(format!("strata-heat-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let values: Vec<f64> = (0..48 * 64).map(|k| (k % 7) as f64).collect();
+        let png = dir.join("h.png");
+        let h = Heatmap {
+            title: "test".into(),
+            label: "p (Pa)".into(),
+            values: &values,
+            n0: 48,
+            n1: 64,
+            zero_white: true,
+        };
+        heatmap(&png, &h).unwrap();
+        let b = std::fs::read(&png).unwrap();
+        assert_eq!(&b[..8], b"\x89PNG\r\n\x1a\n");
+        let be = |o: usize| u32::from_be_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
+        assert_eq!((be(16), be(20)), heatmap_size(48, 64));
+        assert_eq!(heatmap_map_size(48, 64), (512, 384));
+        assert_eq!(heatmap_map_size(2048, 2048), (1024, 1024));
+        assert!(heatmap(&png, &Heatmap { n0: 5, ..h }).is_err());
+        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
+        assert_eq!(viridis(1.0), RGBColor(254, 232, 37));
         std::fs::remove_dir_all(&dir).unwrap();
     }
 

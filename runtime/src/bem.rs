@@ -94,6 +94,10 @@ pub enum BemError {
     NonFiniteHeight { row: usize, col: usize, value: f64 },
     #[error("heights: the surface is flat (zero RMS height); there is no rough contact to solve")]
     FlatSurface,
+    #[error(
+        "heights: the largest |height| {0:e} m is too large (the RMS overflows); heights are in metres"
+    )]
+    HeightRange(f64),
     #[error("size: the cell side L must be finite and > 0 (m), got {0}")]
     Size(f64),
     #[error("E*₁ must be finite and > 0 (Pa), got {0}")]
@@ -204,10 +208,14 @@ pub struct BemSolution {
 }
 
 impl BemSolution {
-    /// Writes the pressure and gap maps as f64 .npy files.
+    /// Writes the pressure and gap maps as f64 .npy files, each atomically
+    /// ([`crate::output::write_atomic_with`]).
     pub fn write_maps(&self, pressure_path: &Path, gap_path: &Path) -> Result<(), BemError> {
         for (path, map) in [(pressure_path, &self.pressure), (gap_path, &self.gap)] {
-            ndarray_npy::write_npy(path, map).map_err(|e| BemError::Write {
+            crate::output::write_atomic_with(path, |tmp| {
+                ndarray_npy::write_npy(tmp, map).map_err(std::io::Error::other)
+            })
+            .map_err(|e| BemError::Write {
                 path: path.display().to_string(),
                 message: e.to_string(),
             })?;
@@ -464,6 +472,10 @@ impl BemSolver {
         // indexed_iter follows the logical (row-major) order.
         let z_mean = z.iter().sum::<f64>() / (n * n) as f64;
         let z_rms = (z.iter().map(|v| (v - z_mean).powi(2)).sum::<f64>() / (n * n) as f64).sqrt();
+        if !z_rms.is_finite() {
+            let big = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            return Err(BemError::HeightRange(big));
+        }
         if z_rms <= 0.0 || z_rms <= 1e-14 * z_mean.abs() {
             return Err(BemError::FlatSurface);
         }
@@ -623,7 +635,12 @@ impl BemSolver {
             p.copy_from_slice(init);
         }
         let (iterations, error, g) = self.constrained_cg(control, &mut p)?;
-        Ok(self.summarise(load, p, g, iterations, error))
+        let s = self.summarise(load, p, g, iterations, error);
+        // Absurd loads (an approach of 1e300 m on a rigid base) overflow the sums.
+        if !(s.mean_pressure.is_finite() && s.mean_gap.is_finite() && s.approach.is_finite()) {
+            return Err(BemError::NonFinite(iterations));
+        }
+        Ok(s)
     }
 
     /// Polonsky–Keer constrained conjugate gradient. On return `p` holds the pressure;

@@ -5,9 +5,15 @@
 //! It has no dense linear-algebra dependency.
 //!
 //! Units are SI throughout: metres, pascals, newtons; wavenumbers ρ in 1/m.
+//!
+//! Library code never calls `unwrap`/`expect` (user-controlled data must come back as
+//! typed errors); the lint below enforces it outside tests.
+
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bem;
 pub mod compliance;
+pub mod interface;
 pub mod law;
 pub mod output;
 pub mod rough;

@@ -9,6 +9,8 @@
 //! file = "surface.npy"         # .npy (2-D f64, m) or a plain-text matrix; or [surface.generate]
 //! size = 1e-3                  # physical length of the first axis (m)
 //! periodic = true              # default: true for generated surfaces, false for files
+//! repair = "median"            # files only: replace NaN/inf heights and spikes by the
+//!                              # median of their neighbours (default: refuse them)
 //! [surface.generate]           # size, grid, fractal_dimension, k_min, k_max, rms, seed
 //! [model]
 //! kind = "interacting"         # "independent" | "interacting" | "bem"
@@ -17,6 +19,9 @@
 //! [load]
 //! separations = [9e-6, 8e-6]   # or approach = { from = 1e-6, to = 9e-6, steps = 20 }
 //!                              # or mean_pressures = [1e5, 1e6]  (Pa, solved for)
+//! [output]                     # optional
+//! maps = "last"                # "none" (default) | "last" | "all" (or true = "all");
+//!                              # pressure and gap maps, model.kind = "bem" only
 //! ```
 //!
 //! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
@@ -28,7 +33,7 @@ use toml::{Table, Value};
 
 use crate::rough::Images;
 use crate::stack::{Stack, StackError};
-use crate::surface::{GenerateParams, Surface, SurfaceError};
+use crate::surface::{GenerateParams, Repair, Surface, SurfaceError};
 
 /// Errors of scene reading and validation.
 #[derive(Debug, Error)]
@@ -70,6 +75,8 @@ pub struct SurfaceSpec {
     /// Physical length L of the first axis (m).
     pub size: f64,
     pub periodic: bool,
+    /// What to do with non-finite heights and spikes in a file (`repair`).
+    pub repair: Repair,
 }
 
 /// The model kind.
@@ -99,6 +106,25 @@ pub enum LoadSpec {
     MeanPressures(Vec<f64>),
 }
 
+/// Which pressure and gap maps `strata solve` writes (`[output] maps`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum MapsSpec {
+    /// No maps (default).
+    #[default]
+    None,
+    /// The maps of the last load step only.
+    Last,
+    /// The maps of every load step.
+    All,
+}
+
+/// The optional `[output]` table.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct OutputSpec {
+    /// Pressure (Pa) and gap (m) maps of the full-field solution (`model.kind = "bem"`).
+    pub maps: MapsSpec,
+}
+
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
@@ -108,6 +134,7 @@ pub struct Scene {
     pub surface: SurfaceSpec,
     pub model: ModelSpec,
     pub load: LoadSpec,
+    pub output: OutputSpec,
 }
 
 fn check_keys(
@@ -250,8 +277,8 @@ impl Scene {
         check_keys(
             &top,
             "",
-            &["stack", "surface", "model", "load"],
-            "stack, surface, model, load",
+            &["stack", "surface", "model", "load", "output"],
+            "stack, surface, model, load, output",
         )?;
         // [stack]
         let st = table(&top, "stack", "stack")?;
@@ -286,10 +313,27 @@ impl Scene {
         check_keys(
             sf,
             "surface.",
-            &["file", "size", "periodic", "generate"],
-            "file, size, periodic, generate",
+            &["file", "size", "periodic", "generate", "repair"],
+            "file, size, periodic, generate, repair",
         )?;
         let periodic = boolean(sf, "periodic", "surface.periodic")?;
+        let repair = match string(sf, "repair", "surface.repair")? {
+            None | Some("none") => Repair::Refuse,
+            Some("median") if sf.contains_key("file") => Repair::Median,
+            Some("median") => {
+                return Err(SceneError::Invalid {
+                    field: "surface.repair".into(),
+                    reason: "applies to measured surfaces (surface.file), not generated ones"
+                        .into(),
+                });
+            }
+            Some(other) => {
+                return Err(SceneError::Invalid {
+                    field: "surface.repair".into(),
+                    reason: format!("`{other}` is not one of \"none\", \"median\""),
+                });
+            }
+        };
         let surface = match (sf.get("file"), sf.get("generate")) {
             (Some(_), Some(_)) => {
                 return Err(SceneError::Invalid {
@@ -315,6 +359,7 @@ impl Scene {
                     source: SurfaceSource::File(p),
                     size: positive(sf, "size", "surface.size")?,
                     periodic: periodic.unwrap_or(false),
+                    repair,
                 }
             }
             (None, Some(_)) => {
@@ -375,6 +420,7 @@ impl Scene {
                     }),
                     size,
                     periodic: true,
+                    repair,
                 }
             }
         };
@@ -502,12 +548,54 @@ impl Scene {
                 steps: steps as usize,
             }
         };
+        // [output] (optional)
+        let output = match top.get("output") {
+            None => OutputSpec::default(),
+            Some(_) => {
+                let ot = table(&top, "output", "output")?;
+                check_keys(ot, "output.", &["maps"], "maps")?;
+                let maps = match ot.get("maps") {
+                    None | Some(Value::Boolean(false)) => MapsSpec::None,
+                    Some(Value::Boolean(true)) => MapsSpec::All,
+                    Some(Value::String(m)) => match m.as_str() {
+                        "none" => MapsSpec::None,
+                        "last" => MapsSpec::Last,
+                        "all" => MapsSpec::All,
+                        other => {
+                            return Err(SceneError::Invalid {
+                                field: "output.maps".into(),
+                                reason: format!(
+                                    "`{other}` is not one of \"none\", \"last\", \"all\""
+                                ),
+                            });
+                        }
+                    },
+                    Some(_) => {
+                        return Err(SceneError::WrongType {
+                            field: "output.maps".into(),
+                            expected: "\"none\", \"last\", \"all\", true or false",
+                        });
+                    }
+                };
+                if maps != MapsSpec::None && kind != ModelKind::Bem {
+                    return Err(SceneError::Invalid {
+                        field: "output.maps".into(),
+                        reason: "pressure and gap maps come from the full-field solution and need \
+                                 model.kind = \"bem\" (the asperity models resolve each contact \
+                                 by its radius only, not a pressure field)"
+                            .into(),
+                    });
+                }
+                OutputSpec { maps }
+            }
+        };
         Ok(Scene {
             stack,
             table: table_path,
             surface,
             model: ModelSpec { kind, images },
             load,
+            output,
         })
     }
 
@@ -519,9 +607,9 @@ impl Scene {
             SurfaceSource::File(p) => {
                 let npy = p.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
                 if npy {
-                    Surface::read_npy(p, s.size, s.periodic)?
+                    Surface::read_npy_with(p, s.size, s.periodic, s.repair)?
                 } else {
-                    Surface::read_text(p, s.size, s.periodic)?
+                    Surface::read_text_with(p, s.size, s.periodic, s.repair)?
                 }
             }
         })
@@ -658,5 +746,19 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         .unwrap();
         let e = s.load.approaches(1e-5, 2e-5).unwrap_err().to_string();
         assert!(e.contains("load.separations[1]"), "{e}");
+        // [output]
+        let bem = GOOD.replace("\"interacting\"", "\"bem\"");
+        assert_eq!(parse(&bem).unwrap().output.maps, MapsSpec::None);
+        let maps = |v: &str| format!("{bem}\n[output]\nmaps = {v}\n");
+        assert_eq!(
+            parse(&maps("\"last\"")).unwrap().output.maps,
+            MapsSpec::Last
+        );
+        assert_eq!(parse(&maps("true")).unwrap().output.maps, MapsSpec::All);
+        assert!(err(&maps("\"some\"")).contains("output.maps"));
+        assert!(err(&maps("3")).contains("output.maps"));
+        assert!(err(&format!("{bem}\n[output]\ncolour = 1\n")).contains("output.colour"));
+        let asperity = format!("{GOOD}\n[output]\nmaps = \"all\"\n");
+        assert!(err(&asperity).contains("output.maps") && err(&asperity).contains("bem"));
     }
 }

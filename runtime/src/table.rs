@@ -263,11 +263,13 @@ impl Table {
         }
         let m = self.members();
         let (nx, nw, ns) = (h.x.n, h.w.n, h.s.n);
+        // Saturating: a damaged header with huge axes must fail the size check, not
+        // overflow (found by tests/table_fuzz.rs).
         let sizes = [
-            ("chi", self.chi.len(), m * nx),
-            ("zeta", self.zeta.len(), m * nx),
-            ("g", self.g.len(), m * nx * nw),
-            ("s", self.s.len(), m * ns),
+            ("chi", self.chi.len(), m.saturating_mul(nx)),
+            ("zeta", self.zeta.len(), m.saturating_mul(nx)),
+            ("g", self.g.len(), m.saturating_mul(nx).saturating_mul(nw)),
+            ("s", self.s.len(), m.saturating_mul(ns)),
             ("k0", self.k0.len(), m),
         ];
         for (name, have, want) in sizes {

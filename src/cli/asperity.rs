@@ -115,7 +115,8 @@ pub fn run(a: Args) -> Result<()> {
         for (d, r, p, u) in &profile_rows {
             text.push_str(&format!("{d:e},{r:e},{p:e},{u:e}\n"));
         }
-        std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))?;
+        strata_runtime::output::write_atomic(path, text.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
     }
     if let Some(path) = &a.plot {
         let es = stack.top_plane_strain_modulus();

@@ -2,8 +2,12 @@
 
 pub mod args;
 pub mod asperity;
+pub mod compare;
 pub mod compliance;
+pub mod law;
 pub mod solve;
+pub mod study;
+pub mod sweep;
 pub mod table;
 
 use anyhow::Result;
@@ -27,6 +31,14 @@ pub enum Command {
     Table(table::Args),
     /// Load curve of a rough contact described by a scene: DIR/curve.csv, curve.json, plots.
     Solve(solve::Args),
+    /// Contact law p(g), A(g), dp/dg of a scene's interface as a table: CSV, JSON or an Abaqus PRESSURE-OVERCLOSURE=TABULAR block.
+    Law(law::Args),
+    /// N model, I model and BEM on the same scene(s): DIR/compare.csv, compare.md (differences, times), plots.
+    Compare(compare::Args),
+    /// Parametric sweep of scenes (grid or list, parallel, shardable): DIR/sweep.csv, plots; `sweep merge` joins shards.
+    Sweep(sweep::Args),
+    /// Accuracy–cost study of the solvers: DIR/report.md with tables, Pareto plots, defaults.
+    Study(study::Args),
 }
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -35,5 +47,9 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Asperity(a) => asperity::run(a),
         Command::Table(a) => table::run(a),
         Command::Solve(a) => solve::run(a),
+        Command::Law(a) => law::run(a),
+        Command::Compare(a) => compare::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Study(a) => study::run(a),
     }
 }

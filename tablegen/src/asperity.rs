@@ -28,11 +28,14 @@
 //! (Illinois) iteration on ln δ(ln a), bracketed first.
 //!
 //! # Accuracy of the default ([`Options::default`])
-//! * a ≤ 4 h₁: Gauss–Legendre Nyström, 48–112 nodes: force and δ to ~1e−12 relative.
-//! * a > 4 h₁: product integration with N = 2 a/h₁ intervals (at least 256, at most
-//!   2048), Richardson-extrapolated against N/2: ~1e−8 relative at a/h₁ ≤ 10, ~1e−6 at
-//!   a/h₁ = 100, ~3e−5 at a/h₁ = 1000 (measured against N = 2048 and 4096 solves; the
-//!   edge boundary layer of width ~h₁/a limits it).
+//! * a ≤ 4 h₁: Gauss–Legendre Nyström, 12 + 4⌈a/h₁⌉ nodes (16–28): force and δ to ~1e−14
+//!   relative (the accuracy–cost study, docs/accuracy-cost.md: 8–24 nodes reach round-off
+//!   on the paper stacks; the rule keeps a margin for extreme modulus ratios).
+//! * a > 4 h₁: product integration starting from N = 2 a/h₁ intervals (at least 256),
+//!   Richardson-extrapolated against N/2, N doubled (up to 8192) while two successive
+//!   extrapolations differ by more than [`AUTO_REFINE_TOL`] = 2e−3: ~1e−8 relative at
+//!   a/h₁ ≤ 10, ~1e−6 at a/h₁ = 100 for compressible layers; nearly incompressible
+//!   layers on stiff bases take the finer grids (ν = 0.5 at a/h₁ = 100: N = 4096).
 //! * homogeneous stacks (k_z ≡ 0): closed form, exact to round-off.
 
 use std::f64::consts::PI;
@@ -45,6 +48,19 @@ use crate::kernel::{KernelError, KzQuadrature, gauss_legendre};
 
 /// a/h₁ up to which the default uses Gauss–Legendre Nyström.
 pub const NYSTROM_MAX_A_OVER_H: f64 = 4.0;
+
+/// Automatic product grids are doubled while the Richardson extrapolations from
+/// (N/4, N/2) and (N/2, N) differ (relative, in φ(1) and ∫φ) by more than this: the
+/// difference estimates the error of the coarser extrapolation, the accepted one is
+/// several times better (O(Δ³) or faster). Measured on one layer on a rigid base at
+/// a/h₁ = 100 (errors of the accepted grid against N = 4096): ν = 0.3, 0.45, 0.49 stay
+/// at N = 256 (6e-5, 3.4e-4, 1e-3); ν = 0.499 → 512 (3.3e-4); ν = 0.5 → 4096. At
+/// a/h₁ = 1000, ν = 0.4999 on a stiff elastic base goes to N = 8016 (the fixed
+/// N = 2a/h₁ was ~2 % off there).
+pub const AUTO_REFINE_TOL: f64 = 2e-3;
+
+/// The largest automatic product grid (intervals).
+pub const AUTO_MAX_INTERVALS: usize = 8192;
 
 /// Errors of the asperity solver. Each names the offending quantity.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -187,7 +203,7 @@ impl Asperity {
                 let ah = a / self.h1.unwrap_or(f64::INFINITY);
                 if ah <= NYSTROM_MAX_A_OVER_H {
                     Discretisation::Nystrom {
-                        nodes: 48 + 16 * ah.ceil() as usize,
+                        nodes: 12 + 4 * ah.ceil() as usize,
                     }
                 } else {
                     let n = (2.0 * ah).ceil().clamp(256.0, 2048.0) as usize;
@@ -229,13 +245,38 @@ impl Asperity {
         }
         let quad = KzQuadrature::new(&self.stack, &self.comp, 2.0 * a)?;
         let n = if grid { self.opts.profile_grid } else { 0 };
-        Ok(fredholm::solve(
-            &quad,
-            a,
-            self.discretisation(a),
-            &[&r1, &r2],
-            n,
-        )?)
+        match (self.opts.method, self.discretisation(a)) {
+            (
+                Method::Auto,
+                Discretisation::Product {
+                    intervals,
+                    richardson: true,
+                },
+            ) => {
+                // Adaptive: double N while two successive extrapolations (N/4, N/2)
+                // and (N/2, N) differ by more than AUTO_REFINE_TOL: nearly
+                // incompressible layers on a stiff base need 2–16× the default
+                // N = 2a/h₁ at a/h₁ ≳ 100. Costs one extra N/4 solve when N suffices.
+                let rhs: [fredholm::Rhs<'_>; 2] = [&r1, &r2];
+                let mut n_int = intervals.next_multiple_of(4);
+                let mut quarter = fredholm::product(&quad, a, n_int / 4, &rhs)?;
+                let mut half = fredholm::product(&quad, a, n_int / 2, &rhs)?;
+                loop {
+                    let full = fredholm::product(&quad, a, n_int, &rhs)?;
+                    let ext = fredholm::richardson(&full, &half);
+                    let prev = fredholm::richardson(&half, &quarter);
+                    if fredholm::relative_change(&ext, &prev) <= AUTO_REFINE_TOL
+                        || 2 * n_int > AUTO_MAX_INTERVALS
+                    {
+                        return Ok(ext);
+                    }
+                    quarter = half;
+                    half = full;
+                    n_int *= 2;
+                }
+            }
+            (_, disc) => Ok(fredholm::solve(&quad, a, disc, &[&r1, &r2], n)?),
+        }
     }
 
     fn finish(
@@ -826,8 +867,8 @@ mod tests {
         }
     }
 
-    /// a/h = 1000 (the widest default product grid, N = 2048): thin-layer limit on a
-    /// rigid base to 1 %, ν = 0.4999 stays finite and positive.
+    /// a/h = 1000: thin-layer limit on a rigid base to 1 %; ν = 0.4999 on a stiff
+    /// elastic base (the adaptive grid goes to N = 8016) stays finite and positive.
     #[test]
     fn extreme_a_over_h() {
         let (h, e, nu, rr) = (1e-6, 1e9, 0.3, 1.0);

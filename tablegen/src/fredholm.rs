@@ -152,21 +152,45 @@ pub fn solve(
                     need: 2.0 * a,
                 });
             }
-            let fine = product(quad, a, intervals, rhs)?;
             if !richardson {
-                return Ok(fine);
+                return product(quad, a, intervals, rhs);
             }
+            let fine = product(quad, a, intervals, rhs)?;
             let coarse = product(quad, a, intervals / 2, rhs)?;
-            let ex = |f: &[f64], c: &[f64]| -> Vec<f64> {
-                f.iter().zip(c).map(|(f, c)| (4.0 * f - c) / 3.0).collect()
-            };
-            Ok(FredholmSolution {
-                at_one: ex(&fine.at_one, &coarse.at_one),
-                integral: ex(&fine.integral, &coarse.integral),
-                grid: fine.grid,
-            })
+            Ok(self::richardson(&fine, &coarse))
         }
     }
+}
+
+/// Richardson extrapolation of the O(Δ²) product scheme: f = (4 f_N − f_{N/2})/3 for
+/// φ(1) and ∫φ of every right-hand side; the grid is the N solution's.
+pub fn richardson(fine: &FredholmSolution, coarse: &FredholmSolution) -> FredholmSolution {
+    let ex = |f: &[f64], c: &[f64]| -> Vec<f64> {
+        f.iter().zip(c).map(|(f, c)| (4.0 * f - c) / 3.0).collect()
+    };
+    FredholmSolution {
+        at_one: ex(&fine.at_one, &coarse.at_one),
+        integral: ex(&fine.integral, &coarse.integral),
+        grid: fine.grid.clone(),
+    }
+}
+
+/// Largest relative difference between two solutions' φ(1) and ∫φ (0 where both are 0):
+/// the error estimate of the coarser of two successive Richardson extrapolations.
+pub fn relative_change(a: &FredholmSolution, b: &FredholmSolution) -> f64 {
+    a.at_one
+        .iter()
+        .zip(&b.at_one)
+        .chain(a.integral.iter().zip(&b.integral))
+        .map(|(x, y)| {
+            let d = (x - y).abs();
+            if d == 0.0 {
+                0.0
+            } else {
+                d / x.abs().max(y.abs())
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 fn nystrom(
@@ -246,7 +270,9 @@ fn nystrom(
     })
 }
 
-fn product(
+/// Product integration on `n` uniform intervals, without extrapolation (see the module
+/// docs). The caller checks `n` (even, ≥ 4) and the quadrature range ([`solve`] does).
+pub fn product(
     quad: &KzQuadrature,
     a: f64,
     n: usize,

@@ -43,7 +43,18 @@ pub enum KernelError {
     /// k_z came out non-finite at some u.
     #[error("k_z(u) is not finite at u = {u} 1/m")]
     NonFinite { u: f64 },
+    /// The rule would need more than [`MAX_RULE_PANELS`] panels (x_max ≫ h₁).
+    #[error(
+        "kernel: x_max/h1 = {ratio:e} is too large (the contact radius is far beyond the \
+         top layer's thickness; the quadrature would need {panels:e} panels)"
+    )]
+    TooWide { ratio: f64, panels: f64 },
 }
+
+/// Largest number of panels of a [`KzQuadrature`] (about a/h₁ ≤ 3e4; a/h₁ = 1e3 needs
+/// ~1e4). Beyond it the rule's memory would grow without bound (found by fuzzing:
+/// a vanishing approach drove the root find to a/h₁ ~ 1e20 and 15 GB).
+pub const MAX_RULE_PANELS: f64 = 262_144.0;
 
 /// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n, tolerance 1e−15).
 pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
@@ -105,6 +116,13 @@ impl KzQuadrature {
         let kz0 = comp.s_at_zero() - 1.0;
         let u_max = (TAIL + 0.5 * (1.0 + kz0.abs()).ln()) / h1;
         let du_max = (1.0 / h1).min(PANEL_PHASE / x_max);
+        let panels = u_max / du_max;
+        if panels.is_nan() || panels > MAX_RULE_PANELS {
+            return Err(KernelError::TooWide {
+                ratio: x_max / h1,
+                panels,
+            });
+        }
         let mut breaks = vec![0.0];
         let mut u = (0.25 / depth).min(du_max);
         breaks.push(u);

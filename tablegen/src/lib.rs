@@ -2,6 +2,11 @@
 //!
 //! The offline half of strata: full Fredholm solves of the axisymmetric asperity on
 //! a layered solid and the generation of surrogate tables (χ, ζ, g) for the runtime.
+//!
+//! Library code never calls `unwrap`/`expect` (user-controlled data must come back as
+//! typed errors); the lint below enforces it outside tests.
+
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub use strata_runtime as runtime;
 

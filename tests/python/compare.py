@@ -1,34 +1,57 @@
 #!/usr/bin/env python3
 """Reference load curves from independent public solvers, for tests/bem_reference.rs.
 
-    python compare.py tamaas OUT.csv   # homogeneous half-space, Tamaas 2.9 (PolonskyKeerRey)
-    python compare.py cm OUT.csv       # one layer bonded to a rigid base, ContactMechanics 1.8
-    python compare.py speed OUT.csv    # Tamaas seconds per load step at n = 512
+    python compare.py tamaas SURFACE.npy OUT.csv  # homogeneous half-space, Tamaas 2.9
+    python compare.py cm SURFACE.npy OUT.csv      # one layer on a rigid base, ContactMechanics 1.8
+    python compare.py speed SURFACE.npy OUT.csv   # Tamaas seconds per load step
 
-All on the shared surface ../shared/reference/surface_km10.npy (512², L = 1 mm), SI units,
-top material E = 4 GPa, nu = 0.15 (E* = E/(1-nu^2)). Columns are documented in each CSV's
-header. Conventions match strata's bem module:
+SURFACE.npy is an n x n f64 height map (m) of a periodic cell of side L = 1 mm; run.sh
+has strata write it (its self-affine generator, the paper's parameters: D_f = 2.4,
+k = 2...10, RMS 3.4 um, seed 20240611), so the check needs nothing outside the repository.
+The loads depend on the grid (the generator draws a different surface for each n):
+n = 256 (CI, 4 loads) or n = 512 (8-9 loads), both spanning A/A0 from below 1 % to
+above 20 % (tests/bem_reference.rs asserts the span).
+
+Top material E = 4 GPa, nu = 0.15 (E* = E/(1-nu^2)), SI units. Columns are documented
+in each CSV's header. Conventions match strata's bem module:
   * Tamaas (zero-mean deflection, half-space): load by mean gap g = mean(w - z + c).
   * ContactMechanics (layer of thickness h on a rigid base, finite k = 0 stiffness M/h):
     load by the rigid offset, which is strata's approach delta = offset + z_M.
 """
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-HERE = Path(__file__).resolve().parent
-REF = HERE.parent.parent.parent / "shared" / "reference"
 L = 1e-3
 E, NU = 4e9, 0.15
 ESTAR = E / (1 - NU**2)
 H_LAYER = 1e-4  # single layer on rigid (ContactMechanics case)
 
+# Loads per grid n. Tamaas: mean gap as a fraction of z_M - z_mean; ContactMechanics:
+# approach delta (m). Measured A/A0: n = 256 Tamaas and CM 0.6 %...24 %; n = 512
+# Tamaas 0.12 %...25 %, CM 0.12 %...30 %.
+TAMAAS_FRACTIONS = {
+    256: [0.85, 0.6, 0.4, 0.26],
+    512: [0.9, 0.85, 0.75, 0.6, 0.5, 0.4, 0.3, 0.22, 0.18],
+}
+CM_DELTAS = {
+    256: [1.2e-6, 3e-6, 4.5e-6, 6.8e-6],
+    512: [1e-6, 1.5e-6, 3e-6, 4.5e-6, 6e-6, 7.5e-6, 9e-6, 1.0e-5],
+}
 
-def surface():
-    z = np.load(REF / "surface_km10.npy")
-    assert z.shape == (512, 512) and z.dtype == np.float64
+
+def loads(table, z, what):
+    n = z.shape[0]
+    if n not in table:
+        raise SystemExit(f"{what}: no load list for a {n}^2 surface (have {sorted(table)})")
+    return table[n]
+
+
+def surface(path):
+    z = np.load(path)
+    if z.ndim != 2 or z.shape[0] != z.shape[1] or z.dtype != np.float64:
+        raise SystemExit(f"{path}: expected a square f64 height map, got {z.shape} {z.dtype}")
     return z
 
 
@@ -44,13 +67,12 @@ def tamaas_solver(z, tol):
     return tm, model, solver
 
 
-def run_tamaas(out):
-    z = surface()
+def run_tamaas(surf, out):
+    z = surface(surf)
     sep = z.max() - z.mean()
     _, model, solver = tamaas_solver(z, 1e-10)
     rows = []
-    # A/A0 from 0.4 % to 22 %.
-    for frac in [0.72, 0.65, 0.55, 0.45, 0.35, 0.25, 0.18]:
+    for frac in loads(TAMAAS_FRACTIONS, z, "tamaas"):
         g = frac * sep
         t = time.perf_counter()
         solver.solve(g)
@@ -61,24 +83,25 @@ def run_tamaas(out):
         rows.append((g, gap.mean(), p.mean() / ESTAR, area, dt))
         print(f"tamaas mean gap {g:.4e}: p/E* {p.mean() / ESTAR:.8e}, A/A0 {area:.5e}, {dt:.2f} s", flush=True)
     with open(out, "w") as f:
-        f.write(f"# Tamaas 2.9 PolonskyKeerRey(gap, gap), tol 1e-10; half-space E={E}, nu={NU}; E*={ESTAR!r}\n")
+        f.write(f"# Tamaas 2.9 PolonskyKeerRey(gap, gap), tol 1e-10; half-space E={E}, nu={NU}; E*={ESTAR!r}; "
+                f"surface {surf} ({z.shape[0]}^2, L={L})\n")
         f.write("target_mean_gap,mean_gap,pressure_ratio,area_fraction,seconds\n")
         for r in rows:
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
-def run_cm(out):
+def run_cm(surf, out):
     from ContactMechanics import PeriodicFFTElasticHalfSpace
     from ContactMechanics.Optimization import constrained_conjugate_gradients
 
-    z = surface()
+    z = surface(surf)
     n = z.shape[0]
     zmax = z.max()
     rms = z.std()
     substrate = PeriodicFFTElasticHalfSpace((n, n), E, (L, L), thickness=H_LAYER, poisson=NU)
     rows = []
     u0 = None
-    for delta in [2e-6, 3e-6, 4e-6, 5e-6, 6e-6, 7e-6, 8e-6, 9e-6, 1.0e-5, 1.1e-5, 1.2e-5]:
+    for delta in loads(CM_DELTAS, z, "cm"):
         offset = delta - zmax
         t = time.perf_counter()
         res = constrained_conjugate_gradients(
@@ -96,15 +119,16 @@ def run_cm(out):
         rows.append((delta, gap.mean(), pressure.mean() / ESTAR, area, dt))
         print(f"cm delta {delta:.3e}: mean gap {gap.mean():.4e}, p/E* {pressure.mean() / ESTAR:.8e}, A/A0 {area:.5e}, {dt:.2f} s", flush=True)
     with open(out, "w") as f:
-        f.write(f"# ContactMechanics 1.8 constrained_conjugate_gradients, offset control; one layer h={H_LAYER} E={E} nu={NU} on rigid; E*={ESTAR!r}\n")
+        f.write(f"# ContactMechanics 1.8 constrained_conjugate_gradients, offset control; one layer h={H_LAYER} E={E} nu={NU} on rigid; "
+                f"E*={ESTAR!r}; surface {surf} ({n}^2, L={L})\n")
         f.write("delta,mean_gap,pressure_ratio,area_fraction,seconds\n")
         for r in rows:
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
-def run_speed(out):
-    """Seconds per load step at n = 512, cold start, at Tamaas' tolerance 1e-10."""
-    z = surface()
+def run_speed(surf, out):
+    """Seconds per load step, cold start, at tolerances 1e-8 and 1e-10."""
+    z = surface(surf)
     sep = z.max() - z.mean()
     rows = []
     for tol in [1e-8, 1e-10]:
@@ -116,15 +140,16 @@ def run_speed(out):
             times.append(time.perf_counter() - t)
         p = np.asarray(model.traction).mean() / ESTAR
         rows.append((tol, min(times), p))
-        print(f"tamaas n=512 mean gap 0.5*(zM-zmean) tol {tol:g}: best of 3 {min(times):.3f} s, p/E* {p:.10e}", flush=True)
+        print(f"tamaas n={z.shape[0]} mean gap 0.5*(zM-zmean) tol {tol:g}: best of 3 {min(times):.3f} s, p/E* {p:.10e}", flush=True)
     with open(out, "w") as f:
-        f.write("# Tamaas 2.9 PolonskyKeerRey(gap, gap), one load step (mean gap 0.5*(zM - zmean)) from a cold start, best of 3\n")
+        f.write(f"# Tamaas 2.9 PolonskyKeerRey(gap, gap), one load step (mean gap 0.5*(zM - zmean)) from a cold start, best of 3; surface {surf}\n")
         f.write("tolerance,seconds,pressure_ratio\n")
         for r in rows:
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
 if __name__ == "__main__":
-    if len(sys.argv) != 3 or sys.argv[1] not in ("tamaas", "cm", "speed"):
+    args = sys.argv[1:]
+    if len(args) != 3 or args[0] not in ("tamaas", "cm", "speed"):
         raise SystemExit(__doc__)
-    {"tamaas": run_tamaas, "cm": run_cm, "speed": run_speed}[sys.argv[1]](sys.argv[2])
+    {"tamaas": run_tamaas, "cm": run_cm, "speed": run_speed}[args[0]](args[1], args[2])

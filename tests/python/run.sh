@@ -2,36 +2,74 @@
 # Checks strata's FFT-BEM against independent public solvers (issue 6):
 #   * Tamaas 2.9 (homogeneous half-space, equal mean gap) and
 #   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach),
-# on the shared surface ../shared/reference/surface_km10.npy, over A/A0 ≈ 0.2 %…40 %.
-# Tolerances (tests/bem_reference.rs): 1e-4 in mean pressure, 0.5 % in area.
+# on strata's generated paper-like surface (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm),
+# written to .npy by the ignored Rust test `write_cross_check_surface`: nothing outside the
+# repository is needed. Tolerances (tests/bem_reference.rs): 1e-4 in mean pressure,
+# 0.5 % in area, with loads spanning A/A0 from ≤ 1 % to ≥ 20 %.
 #
-# Usage: tests/python/run.sh [--speed]
-#   --speed  also times one load step at n = 512 for Tamaas (Python) and strata
-#            (criterion bench `bem`, release build) in the same run and prints the ratio.
-# Environment: PYTHON (default python3, CPython 3.11 has wheels for both packages),
+# Usage: tests/python/run.sh [--ci] [--speed]
+#   --ci     CI mode: 256² surface and 4 loads per solver instead of 512² and 8–9
+#            (same tolerances, same A/A0 span); about 1.5 min with a fresh venv.
+#   --speed  also times one load step at n = 512 on the shared surface
+#            (../shared/reference) for Tamaas (Python) and strata (criterion bench
+#            `bem`, release build) and prints the ratio.
+# Environment: PYTHON (default python3; CPython 3.11 has wheels for both packages),
 #   STRATA_PY_VENV (default target/python-venv), STRATA_PY_REF (default
-#   target/python-reference; the CSVs the Rust tests read).
+#   target/python-reference: surface.npy and the CSVs the Rust tests read).
+# Fails (non-zero exit, message on stderr) if the venv or PyPI is unavailable: the
+# check is never skipped silently.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 ROOT=$PWD
-OUT=${STRATA_PY_REF:-$ROOT/target/python-reference}
+export STRATA_PY_REF=${STRATA_PY_REF:-$ROOT/target/python-reference}
 VENV=${STRATA_PY_VENV:-$ROOT/target/python-venv}
 PY=${PYTHON:-python3}
-mkdir -p "$OUT"
-if [ ! -x "$VENV/bin/python" ]; then
-    "$PY" -m venv "$VENV"
+CI_MODE=""
+SPEED=""
+for a in "$@"; do
+    case "$a" in
+        --ci) CI_MODE="--ci" ;;
+        --speed) SPEED=1 ;;
+        *) echo "usage: tests/python/run.sh [--ci] [--speed]" >&2; exit 2 ;;
+    esac
+done
+if [ -n "$CI_MODE" ]; then
+    export STRATA_PY_GRID=${STRATA_PY_GRID:-256}
+else
+    export STRATA_PY_GRID=${STRATA_PY_GRID:-512}
 fi
-"$VENV/bin/pip" install --quiet --disable-pip-version-check -r tests/python/requirements.txt
+fail() { echo "tests/python/run.sh: ERROR: $*" >&2; exit 1; }
+
+t_start=$(date +%s)
+mkdir -p "$STRATA_PY_REF"
+rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv" "$STRATA_PY_REF/cm.csv"
+if [ ! -x "$VENV/bin/python" ]; then
+    "$PY" -m venv "$VENV" || fail "cannot create a venv with $PY (install python3-venv)"
+fi
+"$VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
+    -r tests/python/requirements.txt \
+    || fail "pip could not install tests/python/requirements.txt (is PyPI reachable?)"
+t_pip=$(date +%s)
+echo "python: venv ready in $((t_pip - t_start)) s ($("$VENV/bin/python" --version))"
+
+# 1. strata writes the surface; 2. the Python solvers load it; 3. Rust compares.
+cargo test --test bem_reference -- --ignored --exact write_cross_check_surface --nocapture
+t_surf=$(date +%s)
 # Single-threaded on both sides: a fair per-core comparison on shared CI machines.
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
-"$VENV/bin/python" tests/python/compare.py tamaas "$OUT/tamaas.csv"
-"$VENV/bin/python" tests/python/compare.py cm "$OUT/cm.csv"
-STRATA_PY_REF="$OUT" cargo test --test bem_reference -- --ignored python_ --nocapture
+"$VENV/bin/python" tests/python/compare.py tamaas "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv"
+"$VENV/bin/python" tests/python/compare.py cm "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/cm.csv"
+t_py=$(date +%s)
+cargo test --test bem_reference -- --ignored python_ --nocapture
+t_end=$(date +%s)
+echo "python cross-checks passed: venv $((t_pip - t_start)) s, surface (cargo) $((t_surf - t_pip)) s, Python solvers $((t_py - t_surf)) s, strata comparison $((t_end - t_py)) s, total $((t_end - t_start)) s"
 
-if [ "${1:-}" = "--speed" ]; then
-    "$VENV/bin/python" tests/python/compare.py speed "$OUT/tamaas_speed.csv"
+if [ -n "$SPEED" ]; then
+    SHARED=$ROOT/../shared/reference/surface_km10.npy
+    [ -f "$SHARED" ] || fail "--speed needs $SHARED (the criterion bench uses it)"
+    "$VENV/bin/python" tests/python/compare.py speed "$SHARED" "$STRATA_PY_REF/tamaas_speed.csv"
     cargo bench -p strata-runtime --bench bem -- halfspace_mean_gap
-    "$VENV/bin/python" - "$OUT/tamaas_speed.csv" "$ROOT/target/criterion/bem_512" <<'PY'
+    "$VENV/bin/python" - "$STRATA_PY_REF/tamaas_speed.csv" "$ROOT/target/criterion/bem_512" <<'PY'
 import csv, json, sys
 from pathlib import Path
 rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if not l.startswith("#"))][1:]

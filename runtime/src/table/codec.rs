@@ -19,6 +19,10 @@ use super::{FORMAT_VERSION, Table, TableError};
 /// File signature.
 pub const MAGIC: &[u8; 8] = b"STRATATB";
 const PREFIX: usize = 28;
+/// Largest payload accepted (1 GiB; the shipped family table is under 1 MB). The
+/// decoder runs with this limit, so a damaged length prefix inside the payload cannot
+/// make bincode allocate more than this (it asked for 3e18 bytes and aborted before).
+pub const MAX_PAYLOAD: u64 = 1 << 30;
 
 /// FNV-1a 64-bit hash.
 fn fnv1a(data: &[u8]) -> u64 {
@@ -72,6 +76,11 @@ pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
     }
     let len = u64_at(bytes, 12);
     let sum = u64_at(bytes, 20);
+    if len > MAX_PAYLOAD {
+        return Err(TableError::Corrupt(format!(
+            "payload length {len} bytes exceeds the {MAX_PAYLOAD}-byte limit"
+        )));
+    }
     let have = (bytes.len() - PREFIX) as u64;
     if have < len {
         return Err(TableError::Truncated {
@@ -91,9 +100,11 @@ pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
             "checksum mismatch (the file was modified or damaged)".into(),
         ));
     }
-    let (table, used): (Table, usize) =
-        bincode::serde::decode_from_slice(payload, bincode::config::standard())
-            .map_err(|e| TableError::Corrupt(format!("cannot decode payload: {e}")))?;
+    let (table, used): (Table, usize) = bincode::serde::decode_from_slice(
+        payload,
+        bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>(),
+    )
+    .map_err(|e| TableError::Corrupt(format!("cannot decode payload: {e}")))?;
     if used != payload.len() {
         return Err(TableError::Corrupt("payload has unread bytes".into()));
     }

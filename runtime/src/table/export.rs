@@ -25,7 +25,11 @@ pub fn export_npy(table: &Table, dir: &Path) -> Result<Vec<PathBuf>, TableError>
         let p = dir.join(name);
         let arr = ArrayD::from_shape_vec(IxDyn(shape), data.to_vec())
             .map_err(|e| io(&p, e.to_string()))?;
-        ndarray_npy::write_npy(&p, &arr).map_err(|e| io(&p, e.to_string()))?;
+        // Atomic (temporary file + rename): an interrupted export leaves no partial .npy.
+        crate::output::write_atomic_with(&p, |tmp| {
+            ndarray_npy::write_npy(tmp, &arr).map_err(std::io::Error::other)
+        })
+        .map_err(|e| io(&p, e.to_string()))?;
         files.push(p);
         Ok(())
     };

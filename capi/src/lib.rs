@@ -1,0 +1,501 @@
+//! # strata-capi: the C ABI of the strata runtime
+//!
+//! Builds the contact law of a rough layered interface (module
+//! `strata_runtime::interface`) from C: load a surrogate table, read a stack, load or
+//! generate a surface, solve the load curve once, then query the mean contact pressure
+//! p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg (Pa/m) at any
+//! mean-plane separation g (m). SI units throughout.
+//!
+//! Conventions of every function:
+//! - returns `STRATA_OK` (0) or a positive `STRATA_ERR_*` code; on error,
+//!   `strata_last_error_message()` gives a one-line message naming the offending
+//!   argument (thread-local, valid until the next failing call on the same thread);
+//! - outputs go through pointer arguments, written only on success;
+//! - NULL pointers and non-finite numbers are errors (`STRATA_ERR_NULL`,
+//!   `STRATA_ERR_INVALID_ARGUMENT`), never undefined behaviour on the Rust side;
+//! - no Rust panic crosses the boundary: every entry point runs under `catch_unwind`
+//!   and turns a panic into `STRATA_ERR_PANIC`;
+//! - handles are freed with their `strata_*_free` function (NULL is a no-op); a law
+//!   does not borrow the table or surface it was built from;
+//! - a built law is immutable: queries may run concurrently from several threads.
+//!
+//! The header `capi/include/strata.h` is generated from this file by cbindgen (build.rs).
+
+#![allow(clippy::missing_safety_doc)]
+
+use std::cell::RefCell;
+use std::ffi::{CStr, CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+
+use strata_runtime::interface::{InterfaceError, InterfaceLaw, SampleOptions};
+use strata_runtime::law::{AsperityLaw, Homogeneous};
+use strata_runtime::rough::{Images, Model, RoughContact, RoughError};
+use strata_runtime::stack::{Stack, StackError};
+use strata_runtime::surface::{GenerateParams, Surface, SurfaceError};
+use strata_runtime::table::{Table, TableError};
+use thiserror::Error;
+
+/// Success.
+pub const STRATA_OK: i32 = 0;
+/// A required pointer argument was NULL.
+pub const STRATA_ERR_NULL: i32 = 1;
+/// An argument is out of its domain: non-finite number, unknown model or format,
+/// path not UTF-8, a layered stack without a table, too few samples, a bad min_gap.
+pub const STRATA_ERR_INVALID_ARGUMENT: i32 = 2;
+/// The table file is missing, unreadable, corrupt, or does not serve the stack.
+pub const STRATA_ERR_TABLE: i32 = 3;
+/// The stack file is missing, unreadable or invalid.
+pub const STRATA_ERR_STACK: i32 = 4;
+/// The surface file is missing or invalid, or its generation parameters are invalid.
+pub const STRATA_ERR_SURFACE: i32 = 5;
+/// The rough-contact solve failed (no summits, no convergence…).
+pub const STRATA_ERR_SOLVE: i32 = 6;
+/// A query below the smallest sampled separation of the law.
+pub const STRATA_ERR_OUT_OF_RANGE: i32 = 7;
+/// Writing an output file failed.
+pub const STRATA_ERR_IO: i32 = 8;
+/// An internal error (a Rust panic caught at the boundary): please report it.
+pub const STRATA_ERR_PANIC: i32 = 99;
+
+/// N model: independent asperities.
+pub const STRATA_MODEL_INDEPENDENT: i32 = 0;
+/// I model: interacting asperities, interactions inside the sample only.
+pub const STRATA_MODEL_INTERACTING_ISOLATED: i32 = 1;
+/// I model: interacting asperities, the sample repeated periodically (5×5 cells).
+pub const STRATA_MODEL_INTERACTING_PERIODIC: i32 = 2;
+
+/// `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg`.
+pub const STRATA_FORMAT_CSV: i32 = 0;
+/// `strata_law_write`: Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block.
+pub const STRATA_FORMAT_ABAQUS: i32 = 1;
+
+/// A surrogate table of χ, ζ, g (opaque).
+pub struct StrataTable {
+    table: Table,
+}
+
+/// A rough surface: heights on a square grid (opaque).
+pub struct StrataSurface {
+    surface: Surface,
+}
+
+/// The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque).
+pub struct StrataLaw {
+    law: InterfaceLaw,
+}
+
+/// Errors of the C ABI; each maps to one `STRATA_ERR_*` code.
+#[derive(Debug, Error)]
+pub enum CapiError {
+    #[error("argument `{0}` is NULL")]
+    Null(&'static str),
+    #[error("argument `{name}`: {reason}")]
+    Invalid { name: &'static str, reason: String },
+    #[error("table: {0}")]
+    Table(#[from] TableError),
+    #[error("stack: {0}")]
+    Stack(#[from] StackError),
+    #[error("{0}")]
+    Surface(#[from] SurfaceError),
+    #[error("{0}")]
+    Rough(#[from] RoughError),
+    #[error("{0}")]
+    Interface(#[from] InterfaceError),
+    #[error("cannot write {path}: {message}")]
+    Io { path: String, message: String },
+}
+
+impl CapiError {
+    /// The `STRATA_ERR_*` code of this error.
+    pub fn code(&self) -> i32 {
+        match self {
+            CapiError::Null(_) => STRATA_ERR_NULL,
+            CapiError::Invalid { .. } => STRATA_ERR_INVALID_ARGUMENT,
+            CapiError::Table(_) => STRATA_ERR_TABLE,
+            CapiError::Stack(_) => STRATA_ERR_STACK,
+            CapiError::Surface(_) => STRATA_ERR_SURFACE,
+            CapiError::Rough(_) => STRATA_ERR_SOLVE,
+            CapiError::Interface(e) => match e {
+                InterfaceError::BelowSampledRange { .. } => STRATA_ERR_OUT_OF_RANGE,
+                InterfaceError::Rough(_) => STRATA_ERR_SOLVE,
+                _ => STRATA_ERR_INVALID_ARGUMENT,
+            },
+            CapiError::Io { .. } => STRATA_ERR_IO,
+        }
+    }
+}
+
+thread_local! {
+    static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
+}
+
+fn set_last_error(message: String) {
+    let c = CString::new(message.replace('\0', " ")).unwrap_or_default();
+    LAST_ERROR.with(|e| *e.borrow_mut() = c);
+}
+
+/// Runs `f` under `catch_unwind`; records the message of an error or panic.
+fn guard(f: impl FnOnce() -> Result<(), CapiError>) -> i32 {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(Ok(())) => STRATA_OK,
+        Ok(Err(e)) => {
+            set_last_error(e.to_string());
+            e.code()
+        }
+        Err(payload) => {
+            let what = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown".into());
+            set_last_error(format!("internal error (panic: {what}); please report it"));
+            STRATA_ERR_PANIC
+        }
+    }
+}
+
+/// A UTF-8 path from a C string.
+unsafe fn path_arg(name: &'static str, p: *const c_char) -> Result<PathBuf, CapiError> {
+    if p.is_null() {
+        return Err(CapiError::Null(name));
+    }
+    // SAFETY: the caller passes a NUL-terminated string (checked non-NULL above).
+    let s = unsafe { CStr::from_ptr(p) };
+    let s = s.to_str().map_err(|_| CapiError::Invalid {
+        name,
+        reason: "path is not valid UTF-8".into(),
+    })?;
+    Ok(PathBuf::from(s))
+}
+
+fn finite(name: &'static str, v: f64) -> Result<f64, CapiError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(CapiError::Invalid {
+            name,
+            reason: format!("{v} is not a finite number"),
+        })
+    }
+}
+
+/// Writes a boxed handle to `out`.
+unsafe fn put<T>(name: &'static str, out: *mut *mut T, v: T) -> Result<(), CapiError> {
+    if out.is_null() {
+        return Err(CapiError::Null(name));
+    }
+    // SAFETY: `out` is non-NULL and, per the API contract, points to writable storage.
+    unsafe { *out = Box::into_raw(Box::new(v)) };
+    Ok(())
+}
+
+/// A shared reference from a handle.
+unsafe fn get<'a, T>(name: &'static str, p: *const T) -> Result<&'a T, CapiError> {
+    // SAFETY: non-NULL handles come from `put` and live until their `_free`.
+    unsafe { p.as_ref() }.ok_or(CapiError::Null(name))
+}
+
+/// Writes a scalar output.
+unsafe fn out_f64(name: &'static str, out: *mut f64, v: f64) -> Result<(), CapiError> {
+    if out.is_null() {
+        return Err(CapiError::Null(name));
+    }
+    // SAFETY: non-NULL, writable per the API contract.
+    unsafe { *out = v };
+    Ok(())
+}
+
+unsafe fn query(
+    law: *const StrataLaw,
+    gap: f64,
+    out: *mut f64,
+    pick: impl Fn(strata_runtime::interface::LawPoint) -> f64,
+) -> i32 {
+    guard(|| {
+        // SAFETY: see `get` and `out_f64`.
+        let l = unsafe { get("law", law) }?;
+        if out.is_null() {
+            return Err(CapiError::Null("out"));
+        }
+        let q = l.law.eval(gap)?;
+        unsafe { out_f64("out", out, pick(q)) }
+    })
+}
+
+#[cfg(feature = "capi")]
+mod exported {
+    use super::*;
+
+    /// The message of the most recent failing call on this thread ("" if none). The
+    /// pointer stays valid until the next failing call on the same thread.
+    #[unsafe(no_mangle)]
+    pub extern "C" fn strata_last_error_message() -> *const c_char {
+        catch_unwind(|| LAST_ERROR.with(|e| e.borrow().as_ptr()))
+            .unwrap_or(c"internal error".as_ptr())
+    }
+
+    /// The library version, e.g. "0.1.0" (static string).
+    #[unsafe(no_mangle)]
+    pub extern "C" fn strata_version() -> *const c_char {
+        concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
+    }
+
+    /// Loads a surrogate table file (`strata table build`). `*out` receives a handle to
+    /// free with `strata_table_free`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_table_load(
+        path: *const c_char,
+        out: *mut *mut StrataTable,
+    ) -> i32 {
+        guard(|| {
+            let p = unsafe { path_arg("path", path) }?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let table = Table::load(&p)?;
+            unsafe { put("out", out, StrataTable { table }) }
+        })
+    }
+
+    /// Frees a table (NULL is a no-op).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_table_free(table: *mut StrataTable) {
+        if !table.is_null() {
+            // SAFETY: created by `strata_table_load`, freed once.
+            let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(table) })));
+        }
+    }
+
+    /// Loads a surface height map (m): a 2-D f64 `.npy` file by extension, otherwise a
+    /// plain-text matrix (one grid row per line). `size` is the physical length L (m)
+    /// of the first axis; `periodic` (0/1) whether the sample repeats periodically.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_surface_load(
+        path: *const c_char,
+        size: f64,
+        periodic: i32,
+        out: *mut *mut StrataSurface,
+    ) -> i32 {
+        guard(|| {
+            let p = unsafe { path_arg("path", path) }?;
+            let size = finite("size", size)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let npy = p.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+            let surface = if npy {
+                Surface::read_npy(&p, size, periodic != 0)?
+            } else {
+                Surface::read_text(&p, size, periodic != 0)?
+            };
+            unsafe { put("out", out, StrataSurface { surface }) }
+        })
+    }
+
+    /// Generates a periodic self-affine surface, exactly as a scene's
+    /// `[surface.generate]` (physics.md §5): side `size` (m), `grid` points per side,
+    /// fractal dimension D_f ∈ [2, 3), wavenumbers `k_min`…`k_max` in units of 2π/L,
+    /// RMS height `rms` (m), ChaCha8 `seed`.
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_surface_generate(
+        size: f64,
+        grid: usize,
+        fractal_dimension: f64,
+        k_min: f64,
+        k_max: f64,
+        rms: f64,
+        seed: u64,
+        out: *mut *mut StrataSurface,
+    ) -> i32 {
+        guard(|| {
+            let params = GenerateParams {
+                size: finite("size", size)?,
+                grid,
+                fractal_dimension: finite("fractal_dimension", fractal_dimension)?,
+                k_min: finite("k_min", k_min)?,
+                k_max: finite("k_max", k_max)?,
+                rms: finite("rms", rms)?,
+                seed,
+            };
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let surface = Surface::generate(&params)?;
+            unsafe { put("out", out, StrataSurface { surface }) }
+        })
+    }
+
+    /// Frees a surface (NULL is a no-op).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_surface_free(surface: *mut StrataSurface) {
+        if !surface.is_null() {
+            // SAFETY: created by a `strata_surface_*` constructor, freed once.
+            let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(surface) })));
+        }
+    }
+
+    /// Builds the contact law of `surface` pressed against a rigid flat on the stack
+    /// of the TOML file `stack_path`: solves the load curve with `model`
+    /// (`STRATA_MODEL_*`) at `samples` (≥ 2) separations evenly spaced from first contact
+    /// g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it monotonically (see
+    /// `strata_runtime::interface`). A homogeneous stack uses Hertz asperities and
+    /// ignores `table` (may be NULL); a layered stack needs a `table` serving it.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_new(
+        table: *const StrataTable,
+        stack_path: *const c_char,
+        surface: *const StrataSurface,
+        model: i32,
+        min_gap: f64,
+        samples: usize,
+        out: *mut *mut StrataLaw,
+    ) -> i32 {
+        guard(|| {
+            let sp = unsafe { path_arg("stack_path", stack_path) }?;
+            let surface = &unsafe { get("surface", surface) }?.surface;
+            let table = unsafe { table.as_ref() };
+            let model = match model {
+                STRATA_MODEL_INDEPENDENT => Model::Independent,
+                STRATA_MODEL_INTERACTING_ISOLATED => Model::Interacting(Images::Isolated),
+                STRATA_MODEL_INTERACTING_PERIODIC => Model::Interacting(Images::Periodic(2)),
+                m => {
+                    return Err(CapiError::Invalid {
+                        name: "model",
+                        reason: format!("{m} is not a STRATA_MODEL_* value (0, 1 or 2)"),
+                    });
+                }
+            };
+            let min_gap = finite("min_gap", min_gap)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let stack = Stack::from_toml_file(&sp)?;
+            let law = build_law(table, &stack, surface, model, min_gap, samples)?;
+            unsafe { put("out", out, StrataLaw { law }) }
+        })
+    }
+
+    /// Mean contact pressure p(g) (Pa) at separation `gap` (m); 0 at or above first
+    /// contact, `STRATA_ERR_OUT_OF_RANGE` below the smallest sampled separation.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_pressure(
+        law: *const StrataLaw,
+        gap: f64,
+        out: *mut f64,
+    ) -> i32 {
+        unsafe { query(law, gap, out, |q| q.pressure) }
+    }
+
+    /// Real contact-area fraction A(g)/A₀ (-) at separation `gap` (m).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_area_fraction(
+        law: *const StrataLaw,
+        gap: f64,
+        out: *mut f64,
+    ) -> i32 {
+        unsafe { query(law, gap, out, |q| q.area_fraction) }
+    }
+
+    /// Tangent dp/dg (Pa/m, ≤ 0) at separation `gap` (m): the derivative of the
+    /// interpolated p(g) (equal to −(dP/dδ)/A₀ of the solver at the samples).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_dp_dg(
+        law: *const StrataLaw,
+        gap: f64,
+        out: *mut f64,
+    ) -> i32 {
+        unsafe { query(law, gap, out, |q| q.dp_dg) }
+    }
+
+    /// First-contact separation g₀ = z_M − z̄ (m).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_first_contact_gap(
+        law: *const StrataLaw,
+        out: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            unsafe { out_f64("out", out, l.law.first_contact_gap()) }
+        })
+    }
+
+    /// Smallest sampled separation g_min (m).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_min_gap(law: *const StrataLaw, out: *mut f64) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            unsafe { out_f64("out", out, l.law.min_gap()) }
+        })
+    }
+
+    /// Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` or
+    /// `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus` writes).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_write(
+        law: *const StrataLaw,
+        path: *const c_char,
+        format: i32,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let p = unsafe { path_arg("path", path) }?;
+            let text = match format {
+                STRATA_FORMAT_CSV => l.law.csv(),
+                STRATA_FORMAT_ABAQUS => l.law.abaqus_block(&[
+                    "strata (C ABI): pressure-overclosure law of a rough layered interface".into(),
+                ]),
+                f => {
+                    return Err(CapiError::Invalid {
+                        name: "format",
+                        reason: format!("{f} is not a STRATA_FORMAT_* value (0 or 1)"),
+                    });
+                }
+            };
+            strata_runtime::output::write_atomic(&p, text.as_bytes()).map_err(|e| CapiError::Io {
+                path: p.display().to_string(),
+                message: e.to_string(),
+            })
+        })
+    }
+
+    /// Frees a law (NULL is a no-op).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_free(law: *mut StrataLaw) {
+        if !law.is_null() {
+            // SAFETY: created by `strata_law_new`, freed once.
+            let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(law) })));
+        }
+    }
+}
+
+#[cfg(feature = "capi")]
+pub use exported::*;
+
+/// What `strata_law_new` computes, in Rust: the asperity law of `stack` (Hertz when
+/// homogeneous, else from `table`), the summits of `surface`, and the sampled
+/// [`InterfaceLaw`]. The C test compares against the runtime API called directly.
+pub fn build_law(
+    table: Option<&StrataTable>,
+    stack: &Stack,
+    surface: &Surface,
+    model: Model,
+    min_gap: f64,
+    samples: usize,
+) -> Result<InterfaceLaw, CapiError> {
+    let law: Box<dyn AsperityLaw> = if stack.is_homogeneous() {
+        Box::new(Homogeneous {
+            e_star: stack.top_plane_strain_modulus(),
+        })
+    } else {
+        let t = table.ok_or_else(|| CapiError::Invalid {
+            name: "table",
+            reason: "is NULL but the stack is layered: load the table serving it".into(),
+        })?;
+        Box::new(t.table.law_for(stack)?)
+    };
+    let rc = RoughContact::from_surface(law.as_ref(), surface)?;
+    let opts = SampleOptions { samples, min_gap };
+    Ok(InterfaceLaw::sample(&rc, model, &opts)?)
+}

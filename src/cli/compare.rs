@@ -1,0 +1,704 @@
+//! `strata compare SCENE.toml… --out DIR`: model accuracy (issue 6). Each scene's
+//! surface, stack and load are solved three times: with the independent asperities
+//! (N model), the interacting asperities (I model, the scene's `model.images`) and the
+//! full-field boundary elements (BEM, the reference); the scene's own `model.kind` is
+//! ignored. The BEM needs a periodic surface.
+//!
+//! Differences, per BEM load step k (separation g_k, mean pressure p_k, area A_k):
+//! - pressure at equal separation: p_X(g_k)/p_k − 1 for X = N, I, where p_X(g) is the
+//!   model's own step when its separation equals g_k (approach and separation loads:
+//!   the same δ gives the same g_n = z_M − z̄ − δ in every model) and otherwise ln p
+//!   interpolated linearly in g between the model's steps (empty outside its range);
+//! - area at equal pressure: A_X(p_k)/A_k − 1, A_X(p) interpolated log–log between the
+//!   model's steps (exact at a step of equal pressure, e.g. `mean_pressures` loads).
+//!
+//! Writes, for one scene, into DIR (for several, into DIR/<scene stem>/ each, plus the
+//! combined files below):
+//! - `compare.csv`: per BEM step `step,delta,separation,pressure_ratio_bem,p_bem,p_n,
+//!   p_i,rel_p_n,rel_p_i,area_bem,area_n,area_i,area_n_at_p,area_i_at_p,rel_area_n,
+//!   rel_area_i,contacts_bem,contacts_n,contacts_i` (SI: m, Pa; `rel_*` signed;
+//!   `area_n`, `area_i`, `contacts_*` = A/A₀ and contacts of the model's step of equal
+//!   separation, `area_*_at_p` = A/A₀ at the BEM pressure; `contacts_bem` counts contact
+//!   patches, the others asperities in contact; empty = no such step / outside the
+//!   model's range);
+//! - `compare.md`: the wall time of each model and the max and median |differences|,
+//!   then the per-step table;
+//! - `curve_independent.csv`, `curve_interacting.csv`, `curve_bem.csv` (the
+//!   `strata solve` curve.csv of each model);
+//! - plots `pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `area_pressure.svg`
+//!   (A/A₀ against p_n/E*₁), the three models (skipped with `--no-plots`);
+//! - BEM maps under `maps/` when the scene asks for them (`[output] maps`).
+//!
+//! With several scenes, DIR also gets `compare.md` (every scene's summary), and plots
+//! of all scenes together: `pressure_gap.svg`, `area_pressure.svg` (N, I, BEM: the
+//! paper's Figs. 17–18 with the BEM added) and `pressure_gap_I_bem.svg`,
+//! `area_pressure_I_bem.svg` (I model against the BEM: the paper's Figs. 15–16 with the
+//! BEM in the place of the FEM). Wall times exclude surface generation and table
+//! loading; they are one run each, on whatever else the machine is doing.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use strata_runtime::output::write_atomic;
+use strata_runtime::rough::{Images, Step};
+use strata_runtime::scene::{MapsSpec, ModelKind, Scene};
+
+use crate::cli::solve::{curve_csv, out_dir_ready, write_maps};
+use crate::engine::{EngineOptions, solve_scene};
+use crate::plot::{PlotSpec, Series, Style};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file(s) (TOML): surface, stack and load; `model.images` sets the I model's
+    /// images, `model.kind` is ignored (all three models are run).
+    #[arg(required = true)]
+    pub scenes: Vec<PathBuf>,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Overwrite files in a non-empty output directory.
+    #[arg(long)]
+    pub force: bool,
+    /// Where missing tables of layered stacks are built and cached
+    /// (default: `.strata-cache` beside the scene).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Skip the plots.
+    #[arg(long)]
+    pub no_plots: bool,
+    /// Legend labels of the scenes, comma-separated, one per scene
+    /// (default: the stack's name, else the scene file's stem).
+    #[arg(long, value_delimiter = ',')]
+    pub labels: Vec<String>,
+}
+
+/// The three models, in table order.
+const MODELS: [(&str, &str); 3] = [
+    ("independent", "N model"),
+    ("interacting", "I model"),
+    ("bem", "BEM"),
+];
+
+/// One model's solution of a scene.
+#[derive(Debug, Clone)]
+pub struct ModelRun {
+    pub steps: Vec<Step>,
+    pub seconds: f64,
+}
+
+/// One row of compare.csv (see the module docs); NaN = outside the model's range.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Row {
+    pub delta: f64,
+    pub separation: f64,
+    pub pressure_ratio_bem: f64,
+    pub p_bem: f64,
+    pub p: [f64; 2],
+    pub rel_p: [f64; 2],
+    pub area_bem: f64,
+    pub area: [f64; 2],
+    pub area_at_p: [f64; 2],
+    pub rel_area: [f64; 2],
+    pub contacts_bem: usize,
+    pub contacts: [Option<usize>; 2],
+}
+
+/// Relative closeness under which two separations are the same load (δ → g_n round-off).
+const SAME: f64 = 1e-12;
+
+/// p_X at separation `g` (Pa): the step with that separation if there is one (relative
+/// to `scale` = z_M − z̄, within 1e-12), else ln p linear in g between the two steps
+/// around g (p linear if one of them is 0); NaN outside the steps' range.
+pub fn pressure_at_separation(steps: &[Step], g: f64, scale: f64) -> (f64, Option<usize>) {
+    if let Some(s) = steps
+        .iter()
+        .find(|s| (s.gap - g).abs() <= SAME * scale.abs().max(g.abs()))
+    {
+        return (s.mean_pressure, Some(s.contacts));
+    }
+    let mut pts: Vec<(f64, f64)> = steps.iter().map(|s| (s.gap, s.mean_pressure)).collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for w in pts.windows(2) {
+        let ((g0, p0), (g1, p1)) = (w[0], w[1]);
+        if g0 <= g && g <= g1 && g1 > g0 {
+            let t = (g - g0) / (g1 - g0);
+            let p = if p0 > 0.0 && p1 > 0.0 {
+                (p0.ln() + t * (p1.ln() - p0.ln())).exp()
+            } else {
+                p0 + t * (p1 - p0)
+            };
+            return (p, None);
+        }
+    }
+    (f64::NAN, None)
+}
+
+/// A_X/A₀ at mean pressure `p` (Pa): the step of that pressure (within 1e-12) if there
+/// is one, else ln A linear in ln p between the steps around p (steps with p > 0 and
+/// A > 0 only); NaN outside their range.
+pub fn area_at_pressure(steps: &[Step], p: f64) -> f64 {
+    if let Some(s) = steps
+        .iter()
+        .find(|s| (s.mean_pressure - p).abs() <= SAME * p.abs())
+    {
+        return s.area_fraction;
+    }
+    let mut pts: Vec<(f64, f64)> = steps
+        .iter()
+        .filter(|s| s.mean_pressure > 0.0 && s.area_fraction > 0.0)
+        .map(|s| (s.mean_pressure.ln(), s.area_fraction.ln()))
+        .collect();
+    pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+    if p.is_nan() || p <= 0.0 {
+        return f64::NAN;
+    }
+    let x = p.ln();
+    for w in pts.windows(2) {
+        let ((x0, y0), (x1, y1)) = (w[0], w[1]);
+        if x0 <= x && x <= x1 && x1 > x0 {
+            return (y0 + (x - x0) / (x1 - x0) * (y1 - y0)).exp();
+        }
+    }
+    f64::NAN
+}
+
+/// The rows of compare.csv: one per BEM step. `scale` = z_M − z̄ (m).
+pub fn compare_rows(n: &[Step], i: &[Step], bem: &[Step], scale: f64) -> Vec<Row> {
+    bem.iter()
+        .map(|b| {
+            let models = [n, i];
+            let mut row = Row {
+                delta: b.delta,
+                separation: b.gap,
+                pressure_ratio_bem: b.pressure_ratio,
+                p_bem: b.mean_pressure,
+                p: [f64::NAN; 2],
+                rel_p: [f64::NAN; 2],
+                area_bem: b.area_fraction,
+                area: [f64::NAN; 2],
+                area_at_p: [f64::NAN; 2],
+                rel_area: [f64::NAN; 2],
+                contacts_bem: b.contacts,
+                contacts: [None; 2],
+            };
+            for (m, steps) in models.iter().enumerate() {
+                let (p, at) = pressure_at_separation(steps, b.gap, scale);
+                row.p[m] = p;
+                row.contacts[m] = at;
+                row.area[m] = match at {
+                    Some(_) => steps
+                        .iter()
+                        .find(|s| (s.gap - b.gap).abs() <= SAME * scale.abs().max(b.gap.abs()))
+                        .map_or(f64::NAN, |s| s.area_fraction),
+                    None => f64::NAN,
+                };
+                if b.mean_pressure > 0.0 {
+                    row.rel_p[m] = p / b.mean_pressure - 1.0;
+                    let a = area_at_pressure(steps, b.mean_pressure);
+                    row.area_at_p[m] = a;
+                    if b.area_fraction > 0.0 {
+                        row.rel_area[m] = a / b.area_fraction - 1.0;
+                    }
+                }
+            }
+            row
+        })
+        .collect()
+}
+
+fn num(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:e}")
+    } else {
+        String::new()
+    }
+}
+
+/// compare.csv text (header in the module docs), full precision.
+pub fn compare_csv(rows: &[Row]) -> String {
+    let mut s = String::from(
+        "step,delta,separation,pressure_ratio_bem,p_bem,p_n,p_i,rel_p_n,rel_p_i,area_bem,area_n,area_i,area_n_at_p,area_i_at_p,rel_area_n,rel_area_i,contacts_bem,contacts_n,contacts_i\n",
+    );
+    for (k, r) in rows.iter().enumerate() {
+        let c = |x: Option<usize>| x.map(|v| v.to_string()).unwrap_or_default();
+        s.push_str(&format!(
+            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            num(r.delta),
+            num(r.separation),
+            num(r.pressure_ratio_bem),
+            num(r.p_bem),
+            num(r.p[0]),
+            num(r.p[1]),
+            num(r.rel_p[0]),
+            num(r.rel_p[1]),
+            num(r.area_bem),
+            num(r.area[0]),
+            num(r.area[1]),
+            num(r.area_at_p[0]),
+            num(r.area_at_p[1]),
+            num(r.rel_area[0]),
+            num(r.rel_area[1]),
+            r.contacts_bem,
+            c(r.contacts[0]),
+            c(r.contacts[1]),
+        ));
+    }
+    s
+}
+
+/// (max, median, count) of |x| over the finite values; None if there are none.
+pub fn abs_stats(xs: impl Iterator<Item = f64>) -> Option<(f64, f64, usize)> {
+    let mut v: Vec<f64> = xs.filter(|x| x.is_finite()).map(f64::abs).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    let med = if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    };
+    Some((v[n - 1], med, n))
+}
+
+fn pct(x: f64) -> String {
+    if x.is_finite() {
+        format!("{:+.2} %", 100.0 * x)
+    } else {
+        "—".into()
+    }
+}
+
+fn stats_cells(s: Option<(f64, f64, usize)>) -> String {
+    match s {
+        Some((max, med, n)) => format!("{:.2} % | {:.2} % | {n}", 100.0 * max, 100.0 * med),
+        None => "— | — | 0".into(),
+    }
+}
+
+/// One compared scene, for the reports and combined plots.
+struct Compared {
+    label: String,
+    scene_path: PathBuf,
+    describe: String,
+    i_model: String,
+    runs: [ModelRun; 3],
+    rows: Vec<Row>,
+    e_star: f64,
+}
+
+fn summary_table(c: &Compared) -> String {
+    let mut s = String::from(
+        "| model | wall time (s) | steps | max \\|p/p_BEM − 1\\| (equal g_n) | median | steps compared | max \\|A/A_BEM − 1\\| (equal p_n) | median | steps compared |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for m in 0..2 {
+        let name = if m == 0 {
+            "N model (independent)".to_string()
+        } else {
+            format!("I model ({})", c.i_model)
+        };
+        s.push_str(&format!(
+            "| {name} | {:.3} | {} | {} | {} |\n",
+            c.runs[m].seconds,
+            c.runs[m].steps.len(),
+            stats_cells(abs_stats(c.rows.iter().map(|r| r.rel_p[m]))),
+            stats_cells(abs_stats(c.rows.iter().map(|r| r.rel_area[m]))),
+        ));
+    }
+    s.push_str(&format!(
+        "| BEM (reference) | {:.3} | {} | — | — | — | — | — | — |\n",
+        c.runs[2].seconds,
+        c.runs[2].steps.len()
+    ));
+    s
+}
+
+fn step_table(c: &Compared) -> String {
+    let mut s = String::from(
+        "| step | g_n (µm) | p_BEM/E*₁ | p_N/p_BEM − 1 | p_I/p_BEM − 1 | A_BEM/A₀ | A_N/A_BEM − 1 (equal p) | A_I/A_BEM − 1 (equal p) | patches (BEM) |\n|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for (k, r) in c.rows.iter().enumerate() {
+        s.push_str(&format!(
+            "| {k} | {:.3} | {:.4e} | {} | {} | {:.4e} | {} | {} | {} |\n",
+            r.separation * 1e6,
+            r.pressure_ratio_bem,
+            pct(r.rel_p[0]),
+            pct(r.rel_p[1]),
+            r.area_bem,
+            pct(r.rel_area[0]),
+            pct(r.rel_area[1]),
+            r.contacts_bem
+        ));
+    }
+    s
+}
+
+fn report(c: &Compared, heading: &str) -> String {
+    format!(
+        "{heading} {}\n\nScene `{}`: {}; I model: {}; E*₁ = {:.6e} Pa.\n\
+         Differences to the BEM: pressure at equal separation g_n, area at equal mean \
+         pressure p_n (log–log interpolation). Wall times: one run each, without surface \
+         generation and table loading.\n\n{}\n{}",
+        c.label,
+        c.scene_path.display(),
+        c.describe,
+        c.i_model,
+        c.e_star,
+        summary_table(c),
+        step_table(c)
+    )
+}
+
+/// Colours of the scenes in the plots (colour-blind-safe Okabe–Ito hues), cycled.
+const COLOURS: [(u8, u8, u8); 6] = [
+    (0, 114, 178),
+    (213, 94, 0),
+    (0, 158, 115),
+    (204, 121, 167),
+    (230, 159, 0),
+    (86, 180, 233),
+];
+
+/// p_n/E*₁ against g_n and A/A₀ against p_n/E*₁ of the selected models of every scene:
+/// one colour per scene; N model dashed, I model solid, BEM dots.
+fn plots(dir: &Path, suffix: &str, cs: &[&Compared], models: &[usize]) -> Result<()> {
+    let many = cs.len() > 1;
+    let mut pg = Vec::new();
+    let mut ap = Vec::new();
+    for (ci, c) in cs.iter().enumerate() {
+        let rgb = COLOURS[ci % COLOURS.len()];
+        for &m in models {
+            let name = if many {
+                format!("{}: {}", c.label, MODELS[m].1)
+            } else {
+                MODELS[m].1.to_string()
+            };
+            let style = match m {
+                0 => Style::Dashed { rgb },
+                1 => Style::Rgb { rgb, faint: false },
+                _ => Style::Dots { rgb },
+            };
+            let steps = &c.runs[m].steps;
+            pg.push(Series {
+                name: name.clone(),
+                points: steps.iter().map(|s| (s.gap, s.pressure_ratio)).collect(),
+                style,
+            });
+            ap.push(Series {
+                name,
+                points: steps
+                    .iter()
+                    .map(|s| (s.pressure_ratio, s.area_fraction))
+                    .collect(),
+                style,
+            });
+        }
+    }
+    // Room for the legend (upper left) above the curves: the y axis is extended by a
+    // point that is not drawn, by a factor growing with the number of legend entries.
+    let entries = pg.len() as f64;
+    let top = |v: &[Series]| {
+        v.iter()
+            .flat_map(|s| s.points.iter())
+            .map(|p| p.1)
+            .filter(|y| y.is_finite())
+            .fold(0.0_f64, f64::max)
+    };
+    let x_of = |v: &[Series]| v.iter().flat_map(|s| s.points.first()).map(|p| p.0).next();
+    if let Some(x) = x_of(&pg) {
+        let y = top(&pg) * 10f64.powf(0.13 * entries);
+        pg.push(Series {
+            name: String::new(),
+            points: vec![(x, y)],
+            style: Style::Spacer,
+        });
+    }
+    if let Some(x) = x_of(&ap) {
+        let y = top(&ap) * (1.0 + 0.06 * entries);
+        ap.push(Series {
+            name: String::new(),
+            points: vec![(x, y)],
+            style: Style::Spacer,
+        });
+    }
+    let what = if models.len() == 3 {
+        "N model, I model and BEM"
+    } else {
+        "I model and BEM"
+    };
+    crate::plot::lines(
+        &dir.join(format!("pressure_gap{suffix}.svg")),
+        &PlotSpec {
+            title: format!("mean pressure against separation: {what}"),
+            x_label: "g_n (m)".into(),
+            y_label: "p_n / E*1".into(),
+            log_x: false,
+            log_y: true,
+            series: pg,
+        },
+    )?;
+    crate::plot::lines(
+        &dir.join(format!("area_pressure{suffix}.svg")),
+        &PlotSpec {
+            title: format!("real contact area against mean pressure: {what}"),
+            x_label: "p_n / E*1".into(),
+            y_label: "A / A0".into(),
+            log_x: false,
+            log_y: false,
+            series: ap,
+        },
+    )?;
+    Ok(())
+}
+
+fn describe(scene: &Scene) -> String {
+    let s = &scene.surface;
+    let src = match &s.source {
+        strata_runtime::scene::SurfaceSource::File(p) => format!("surface {}", p.display()),
+        strata_runtime::scene::SurfaceSource::Generate(g) => format!(
+            "generated surface {0}×{0}, L = {1:e} m, D_f = {2}, k = {3}…{4}, RMS {5:e} m, seed {6}",
+            g.grid, g.size, g.fractal_dimension, g.k_min, g.k_max, g.rms, g.seed
+        ),
+    };
+    let stack = match &scene.stack.name {
+        Some(n) => format!("stack \"{n}\""),
+        None => format!("stack of {} layer(s)", scene.stack.layers().len()),
+    };
+    format!("{src}; {stack}")
+}
+
+fn images_name(images: Images) -> String {
+    match images {
+        Images::Isolated => "isolated sample".into(),
+        Images::Periodic(m) => format!("periodic images, {0}×{0} cells", 2 * m + 1),
+    }
+}
+
+/// Solves one scene with the three models and writes its files into `dir`.
+fn compare_scene(
+    path: &Path,
+    label: Option<&str>,
+    dir: &Path,
+    a: &Args,
+    heading: &str,
+) -> Result<Compared> {
+    let scene = Scene::from_file(path).with_context(|| format!("scene {}", path.display()))?;
+    if !scene.surface.periodic {
+        bail!(
+            "scene {}: compare runs the BEM, which needs a periodic surface (surface.periodic = true)",
+            path.display()
+        );
+    }
+    let mut runs = Vec::new();
+    let mut scale = f64::NAN;
+    let mut e_star = f64::NAN;
+    let mut maps = Vec::new();
+    for (kind, (key, name)) in [
+        ModelKind::Independent,
+        ModelKind::Interacting,
+        ModelKind::Bem,
+    ]
+    .into_iter()
+    .zip(MODELS)
+    {
+        let mut sc = scene.clone();
+        sc.model.kind = kind;
+        let bem = kind == ModelKind::Bem;
+        let opts = EngineOptions {
+            cache_dir: a.cache_dir.clone(),
+            quiet: false,
+            keep_maps: bem && scene.output.maps != MapsSpec::None,
+            bem: None,
+        };
+        eprintln!("compare {}: {name}…", path.display());
+        let sol = solve_scene(&sc, path, &opts)
+            .with_context(|| format!("scene {}: {name}", path.display()))?;
+        eprintln!(
+            "compare {}: {name} took {:.3} s",
+            path.display(),
+            sol.seconds
+        );
+        write_atomic(
+            &dir.join(format!("curve_{key}.csv")),
+            curve_csv(&sol.steps).as_bytes(),
+        )?;
+        if bem {
+            scale = sol.meta["z_max_minus_mean"].as_f64().unwrap_or(f64::NAN);
+            e_star = sol.meta["e_star_1"].as_f64().unwrap_or(f64::NAN);
+            maps = sol.maps;
+        }
+        runs.push(ModelRun {
+            steps: sol.steps,
+            seconds: sol.seconds,
+        });
+    }
+    write_maps(dir, &maps, scene.output.maps, !a.no_plots)?;
+    let rows = compare_rows(&runs[0].steps, &runs[1].steps, &runs[2].steps, scale);
+    let runs: [ModelRun; 3] = runs
+        .try_into()
+        .map_err(|_| anyhow::anyhow!("internal error: three models expected"))?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let c = Compared {
+        label: label
+            .map(String::from)
+            .or_else(|| scene.stack.name.clone())
+            .unwrap_or(stem),
+        scene_path: path.to_path_buf(),
+        describe: describe(&scene),
+        i_model: images_name(scene.model.images),
+        runs,
+        rows,
+        e_star,
+    };
+    write_atomic(&dir.join("compare.csv"), compare_csv(&c.rows).as_bytes())?;
+    write_atomic(&dir.join("compare.md"), report(&c, heading).as_bytes())?;
+    if !a.no_plots
+        && c.runs
+            .iter()
+            .any(|r| r.steps.iter().any(|s| s.contacts > 0))
+    {
+        plots(dir, "", &[&c], &[0, 1, 2])?;
+    }
+    Ok(c)
+}
+
+pub fn run(a: Args) -> Result<()> {
+    let t0 = Instant::now();
+    if !a.labels.is_empty() && a.labels.len() != a.scenes.len() {
+        bail!(
+            "--labels: {} labels for {} scenes (give one per scene)",
+            a.labels.len(),
+            a.scenes.len()
+        );
+    }
+    out_dir_ready(&a.out, a.force)?;
+    if a.scenes.len() == 1 {
+        let c = compare_scene(
+            &a.scenes[0],
+            a.labels.first().map(String::as_str),
+            &a.out,
+            &a,
+            "# Model comparison:",
+        )?;
+        eprint!("{}", summary_table(&c));
+    } else {
+        let mut done = Vec::new();
+        let mut used = std::collections::HashSet::new();
+        for (k, p) in a.scenes.iter().enumerate() {
+            let stem = p
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_else(|| "scene".into());
+            let name = if used.insert(stem.clone()) {
+                stem
+            } else {
+                format!("{stem}-{k}")
+            };
+            let sub = a.out.join(&name);
+            std::fs::create_dir_all(&sub).with_context(|| format!("creating {}", sub.display()))?;
+            done.push(compare_scene(
+                p,
+                a.labels.get(k).map(String::as_str),
+                &sub,
+                &a,
+                "# Model comparison:",
+            )?);
+        }
+        let mut md = String::from(
+            "# Model comparison: N model, I model and BEM\n\nOne section per scene; \
+             per-step tables and compare.csv in each scene's directory.\n\n",
+        );
+        for c in &done {
+            md.push_str(&format!(
+                "## {}\n\nScene `{}`: {}; I model: {}.\n\n{}\n",
+                c.label,
+                c.scene_path.display(),
+                c.describe,
+                c.i_model,
+                summary_table(c)
+            ));
+        }
+        write_atomic(&a.out.join("compare.md"), md.as_bytes())?;
+        if !a.no_plots {
+            let refs: Vec<&Compared> = done.iter().collect();
+            plots(&a.out, "", &refs, &[0, 1, 2])?;
+            plots(&a.out, "_I_bem", &refs, &[1, 2])?;
+        }
+        for c in &done {
+            eprint!("{}:\n{}", c.label, summary_table(c));
+        }
+    }
+    eprintln!(
+        "wrote the comparison to {} in {:.1} s",
+        a.out.display(),
+        t0.elapsed().as_secs_f64()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn step(gap: f64, p: f64, a: f64) -> Step {
+        Step {
+            delta: 1e-5 - gap,
+            gap,
+            load: p * 1e-6,
+            mean_pressure: p,
+            pressure_ratio: p / 4e9,
+            area_fraction: a,
+            contacts: 3,
+            stiffness: 0.0,
+            kkt_residual: None,
+            iterations: 0,
+            radii: Vec::new(),
+        }
+    }
+
+    /// p = p₀ exp(−g/λ) and A = c p^0.9: the interpolations are exact for these forms.
+    #[test]
+    fn interpolation_is_exact_for_exponential_pressure_and_power_law_area() {
+        let p = |g: f64| 1e7 * (-g / 1e-6).exp();
+        let a = |p: f64| 1e-9 * p.powf(0.9);
+        let steps: Vec<Step> = [1e-6, 2e-6, 4e-6, 8e-6]
+            .iter()
+            .map(|&g| step(g, p(g), a(p(g))))
+            .collect();
+        let (x, at) = pressure_at_separation(&steps, 3e-6, 1e-5);
+        assert!((x / p(3e-6) - 1.0).abs() < 1e-12 && at.is_none());
+        let (x, at) = pressure_at_separation(&steps, 2e-6 * (1.0 + 1e-15), 1e-5);
+        assert_eq!((x, at), (p(2e-6), Some(3)));
+        assert!(pressure_at_separation(&steps, 9e-6, 1e-5).0.is_nan());
+        let q = p(3e-6);
+        assert!((area_at_pressure(&steps, q) / a(q) - 1.0).abs() < 1e-12);
+        assert_eq!(area_at_pressure(&steps, p(4e-6)), a(p(4e-6)));
+        assert!(area_at_pressure(&steps, 1e9).is_nan());
+        assert!(area_at_pressure(&steps, 0.0).is_nan());
+    }
+
+    #[test]
+    fn rows_hold_signed_relative_differences() {
+        let bem = vec![step(2e-6, 1e6, 0.1), step(1e-6, 2e6, 0.2)];
+        let n = vec![step(2e-6, 1.1e6, 0.1), step(1e-6, 2.4e6, 0.25)];
+        let i = vec![step(2e-6, 0.9e6, 0.1), step(1e-6, 1.8e6, 0.2)];
+        let r = compare_rows(&n, &i, &bem, 1e-5);
+        assert!((r[0].rel_p[0] - 0.1).abs() < 1e-12);
+        assert!((r[0].rel_p[1] + 0.1).abs() < 1e-12);
+        assert!((r[1].rel_p[0] - 0.2).abs() < 1e-12);
+        // Area at equal pressure: N at p = 1e6 lies below its first step → empty.
+        assert!(r[0].rel_area[0].is_nan());
+        assert_eq!(r[1].area[0], 0.25);
+        let csv = compare_csv(&r);
+        assert_eq!(csv.lines().count(), 3);
+        assert!(csv.lines().nth(1).unwrap().contains(",,"));
+        let (max, med, k) = abs_stats([0.1, -0.3, f64::NAN, 0.2].into_iter()).unwrap();
+        assert_eq!((max, med, k), (0.3, 0.2, 3));
+        assert!(abs_stats([f64::NAN].into_iter()).is_none());
+    }
+}

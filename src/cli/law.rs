@@ -1,0 +1,382 @@
+//! `strata law SCENE.toml --out FILE`: the contact law of the scene's rough interface
+//! as a monotone, finely sampled table (issue 9): p(g), A(g)/A₀ and dp/dg from first
+//! contact down to a smallest separation, for FE contact definitions.
+//!
+//! Formats (by `--format`, else by the extension of FILE):
+//! - `csv` (`.csv`): header `gap,overclosure,mean_pressure,area_fraction,dp_dg`
+//!   (m, m, Pa, -, Pa/m), one line per sample in loading order;
+//! - `json` (`.json`): the same samples plus the scene summary and the convention;
+//! - `abaqus` (`.inp`): a `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block, data
+//!   lines `pressure, overclosure`, overclosure h = g₀ − g ≥ 0 relative to first contact
+//!   (g₀ = z_M − z̄), first line `0., 0.`, h strictly increasing, p non-decreasing;
+//!   the convention and units are in its `**` comment lines;
+//! - `all`: FILE's stem with `.csv`, `.json` and `.inp`.
+//!
+//! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
+//! (default: the smallest separation the scene's `[load]` reaches; for
+//! `mean_pressures`, the separation of the largest one). The law between samples is the
+//! monotone interpolation of `strata_runtime::interface` (cubic Hermite with the
+//! solver's own slopes); the file reports how far the piecewise-linear table (what
+//! Abaqus does) is from it. Files are written atomically; existing ones are kept unless
+//! `--force`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use strata_runtime::interface::{InterfaceLaw, SampleOptions, sample_gaps};
+use strata_runtime::output::write_atomic;
+use strata_runtime::rough::{Images, Model, RoughContact};
+use strata_runtime::scene::{LoadSpec, ModelKind, Scene};
+
+use crate::engine::{EngineOptions, law_for, solve_scene};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    Csv,
+    Json,
+    Abaqus,
+    All,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Scene file (TOML).
+    pub scene: PathBuf,
+    /// Output file (.csv, .json or .inp; with `--format all`, the stem of the three).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Output format (default: from the extension of --out).
+    #[arg(long, value_enum)]
+    pub format: Option<Format>,
+    /// Number of samples from first contact down to --min-gap (≥ 2).
+    #[arg(long, default_value_t = 200)]
+    pub samples: usize,
+    /// Smallest separation g (m) (default: the smallest one the scene's load reaches).
+    #[arg(long)]
+    pub min_gap: Option<f64>,
+    /// Overwrite existing output files.
+    #[arg(long)]
+    pub force: bool,
+    /// Where missing tables of layered stacks are built and cached
+    /// (default: `.strata-cache` beside the scene).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+}
+
+/// What was solved, for the headers.
+struct Solved {
+    law: InterfaceLaw,
+    model: String,
+    solid: String,
+    e_star: f64,
+    nominal_area: f64,
+}
+
+fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
+    let ext = a
+        .out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let by_ext = match ext.as_deref() {
+        Some("csv") => Some(Format::Csv),
+        Some("json") => Some(Format::Json),
+        Some("inp") => Some(Format::Abaqus),
+        _ => None,
+    };
+    let format = match (a.format, by_ext) {
+        (Some(f), _) => f,
+        (None, Some(f)) => f,
+        (None, None) => bail!(
+            "--out {}: cannot tell the format from the extension: use .csv, .json or .inp, or give --format",
+            a.out.display()
+        ),
+    };
+    Ok(match format {
+        Format::All => vec![
+            (Format::Csv, a.out.with_extension("csv")),
+            (Format::Json, a.out.with_extension("json")),
+            (Format::Abaqus, a.out.with_extension("inp")),
+        ],
+        f => vec![(f, a.out.clone())],
+    })
+}
+
+fn model_of(scene: &Scene) -> Option<Model> {
+    match scene.model.kind {
+        ModelKind::Independent => Some(Model::Independent),
+        ModelKind::Interacting => Some(Model::Interacting(scene.model.images)),
+        ModelKind::Bem => None,
+    }
+}
+
+fn describe(model: Option<Model>) -> String {
+    match model {
+        Some(Model::Independent) => "independent asperities (N model)".into(),
+        Some(Model::Interacting(Images::Isolated)) => {
+            "interacting asperities (I model), isolated sample".into()
+        }
+        Some(Model::Interacting(Images::Periodic(m))) => format!(
+            "interacting asperities (I model), periodic images on a {0}×{0} block",
+            2 * m + 1
+        ),
+        None => "boundary elements (FFT-BEM, periodic)".into(),
+    }
+}
+
+/// The smallest separation the scene's displacement-type load reaches, given g₀ (m).
+fn load_min_gap(load: &LoadSpec, g0: f64) -> Option<f64> {
+    match load {
+        LoadSpec::Separations(g) => g.iter().copied().reduce(f64::min),
+        LoadSpec::Approach { from, to, .. } => Some(g0 - from.max(*to)),
+        LoadSpec::MeanPressures(_) => None,
+    }
+}
+
+fn largest_pressure(load: &LoadSpec) -> Result<f64> {
+    match load {
+        LoadSpec::MeanPressures(p) => p
+            .iter()
+            .copied()
+            .reduce(f64::max)
+            .context("load.mean_pressures is empty"),
+        _ => bail!("load: internal error"),
+    }
+}
+
+fn check_samples(n: usize) -> Result<()> {
+    if n < 2 {
+        bail!("--samples {n}: at least 2 samples are needed (first contact and --min-gap)");
+    }
+    if n > 100_000 {
+        bail!("--samples {n}: at most 100000");
+    }
+    Ok(())
+}
+
+fn check_min_gap(g: Option<f64>) -> Result<()> {
+    if let Some(g) = g
+        && !g.is_finite()
+    {
+        bail!("--min-gap {g}: not a finite separation (m)");
+    }
+    Ok(())
+}
+
+/// N and I models: the runtime's RoughContact, as the C ABI does.
+fn solve_asperities(
+    scene: &Scene,
+    path: &Path,
+    opts: &EngineOptions,
+    model: Model,
+    a: &Args,
+) -> Result<Solved> {
+    let surface = scene.load_surface().context("surface")?;
+    let law = law_for(scene, path, opts)?;
+    let rc = RoughContact::from_surface(law.as_ref(), &surface).context("surface")?;
+    let g0 = rc.top_to_mean();
+    let min_gap = match a.min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+        Some(g) => g,
+        None => {
+            let p = largest_pressure(&scene.load)?;
+            rc.solve_pressure(model, p, &[])
+                .context("load.mean_pressures: the largest one sets the default --min-gap")?
+                .gap
+        }
+    };
+    eprintln!(
+        "law: {} samples from first contact g0 = {g0:e} m down to g = {min_gap:e} m",
+        a.samples
+    );
+    let il = InterfaceLaw::sample(
+        &rc,
+        model,
+        &SampleOptions {
+            samples: a.samples,
+            min_gap,
+        },
+    )
+    .context(if a.min_gap.is_some() {
+        "--min-gap"
+    } else {
+        "sampling the load curve"
+    })?;
+    Ok(Solved {
+        law: il,
+        model: describe(Some(model)),
+        solid: solid(scene),
+        e_star: law.e_star(),
+        nominal_area: rc.area(),
+    })
+}
+
+fn solid(scene: &Scene) -> String {
+    let s = &scene.stack;
+    if s.is_homogeneous() {
+        format!(
+            "homogeneous (E* = {:e} Pa, Hertz asperities)",
+            s.top_plane_strain_modulus()
+        )
+    } else {
+        format!(
+            "layered, {} layer(s) on a {} base, E*1 = {:e} Pa",
+            s.layers().len(),
+            match s.base() {
+                strata_runtime::Base::Rigid => "rigid",
+                _ => "elastic",
+            },
+            s.top_plane_strain_modulus()
+        )
+    }
+}
+
+/// BEM: the engine's scene solve at the sample separations.
+fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Result<Solved> {
+    let surface = scene.load_surface().context("surface")?;
+    let z_max = surface
+        .heights()
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max);
+    let g0 = z_max - surface.mean();
+    let min_gap = match a.min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+        Some(g) => g,
+        None => {
+            let p = largest_pressure(&scene.load)?;
+            let mut one = scene.clone();
+            one.load = LoadSpec::MeanPressures(vec![p]);
+            let s = solve_scene(&one, path, opts)
+                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
+            s.steps.first().context("BEM: no step")?.gap
+        }
+    };
+    if min_gap.is_nan() || min_gap >= g0 {
+        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
+    }
+    eprintln!(
+        "law: {} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m",
+        a.samples
+    );
+    let mut sampled = scene.clone();
+    sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, a.samples));
+    let sol = solve_scene(&sampled, path, opts)?;
+    let mut steps = sol.steps;
+    // First contact: the flat touches the highest grid point only, p = A = 0 exactly
+    // (the iterative solve may leave round-off there).
+    if let Some(s) = steps.first_mut() {
+        s.mean_pressure = 0.0;
+        s.area_fraction = 0.0;
+    }
+    let area = surface.extent().0 * surface.extent().1;
+    let il = InterfaceLaw::from_steps(&steps, area).context("BEM load curve")?;
+    Ok(Solved {
+        law: il,
+        model: describe(None),
+        solid: solid(scene),
+        e_star: scene.stack.top_plane_strain_modulus(),
+        nominal_area: area,
+    })
+}
+
+const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (highest summit touching); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
+
+fn json(s: &Solved, scene: &Path) -> Result<String> {
+    let g0 = s.law.first_contact_gap();
+    let law: Vec<serde_json::Value> = s
+        .law
+        .samples()
+        .map(|(g, p, d, a)| {
+            serde_json::json!({"gap": g, "overclosure": g0 - g, "mean_pressure": p,
+                               "area_fraction": a, "dp_dg": d})
+        })
+        .collect();
+    let v = serde_json::json!({
+        "scene": scene.display().to_string(),
+        "model": s.model,
+        "solid": s.solid,
+        "e_star_1": s.e_star,
+        "nominal_area": s.nominal_area,
+        "first_contact_gap": g0,
+        "min_gap": s.law.min_gap(),
+        "samples": s.law.len(),
+        "limited_slopes": s.law.limited_slopes(),
+        "linear_table_deviation": {
+            "of_max_pressure": s.law.linear_table_deviation().of_max,
+            "local_where_p_above_1pc_of_max": s.law.linear_table_deviation().local,
+        },
+        "convention": CONVENTION,
+        "units": {"gap": "m", "overclosure": "m", "mean_pressure": "Pa",
+                  "area_fraction": "1", "dp_dg": "Pa/m", "nominal_area": "m^2", "e_star_1": "Pa"},
+        "law": law,
+    });
+    Ok(serde_json::to_string_pretty(&v)?)
+}
+
+pub fn run(a: Args) -> Result<()> {
+    let t0 = Instant::now();
+    check_samples(a.samples)?;
+    check_min_gap(a.min_gap)?;
+    let outs = outputs(&a)?;
+    if !a.force
+        && let Some((_, p)) = outs.iter().find(|(_, p)| p.exists())
+    {
+        bail!(
+            "--out {}: file exists (use --force to overwrite)",
+            p.display()
+        );
+    }
+    let scene =
+        Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
+    let opts = EngineOptions {
+        cache_dir: a.cache_dir.clone(),
+        ..Default::default()
+    };
+    let solved = match model_of(&scene) {
+        Some(m) => solve_asperities(&scene, &a.scene, &opts, m, &a)?,
+        None => solve_bem(&scene, &a.scene, &opts, &a)?,
+    };
+    for (f, p) in &outs {
+        let text = match f {
+            Format::Csv => solved.law.csv(),
+            Format::Json => json(&solved, &a.scene)?,
+            Format::Abaqus => solved.law.abaqus_block(&[
+                "strata law: pressure-overclosure table of a rough (layered) interface".into(),
+                format!("scene: {}", a.scene.display()),
+                format!("model: {}", solved.model),
+                format!("solid: {}", solved.solid),
+            ]),
+            Format::All => bail!("internal error: --format all was not expanded"),
+        };
+        if let Some(dir) = p.parent()
+            && !dir.as_os_str().is_empty()
+        {
+            std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
+        }
+        write_atomic(p, text.as_bytes()).with_context(|| format!("--out {}", p.display()))?;
+    }
+    let l = &solved.law;
+    eprintln!(
+        "wrote {} samples (g from {:e} to {:e} m, p up to {:e} Pa) to {} in {:.3} s; \
+         piecewise-linear table within {:.1e} of p_max ({:.1e} locally where p > 1% of p_max){}",
+        l.len(),
+        l.first_contact_gap(),
+        l.min_gap(),
+        l.samples().last().map_or(0.0, |s| s.1),
+        outs.iter()
+            .map(|(_, p)| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        t0.elapsed().as_secs_f64(),
+        l.linear_table_deviation().of_max,
+        l.linear_table_deviation().local,
+        if l.limited_slopes() > 0 {
+            format!(
+                "; {} sample slope(s) limited for monotonicity",
+                l.limited_slopes()
+            )
+        } else {
+            String::new()
+        }
+    );
+    Ok(())
+}

@@ -1,0 +1,152 @@
+//! `strata study [--quick] --out DIR [--report FILE]`: the accuracy–cost study
+//! (issue 7; the measurements are in `crate::study`).
+//!
+//! Writes, atomically:
+//! - `DIR/report.md`: machine, tables per stage, the defaults and where they sit on
+//!   the Pareto front, proposed changes;
+//! - `DIR/*.svg`: log–log error-against-time plots with the front marked;
+//! - `DIR/errors.csv`: every deterministic number (errors, file sizes), identical on a
+//!   second run; `DIR/timings.csv`: every timing (median and run count).
+//!
+//! `--report FILE` writes the report there as well, with plot links relative to
+//! FILE's directory (for `docs/accuracy-cost.md` beside `docs/accuracy-cost/`).
+//! Modes: the full study (default, tens of minutes), `--quick` (< 3 min on 2 cores),
+//! and a hidden `--tiny` for the end-to-end test (seconds).
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use strata_runtime::output::write_atomic;
+
+use crate::study::{self, Inputs, Mode, report};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// Output directory (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The quick study (< 3 min on 2 cores): fewer points, BEM reference at n = 256.
+    #[arg(long)]
+    pub quick: bool,
+    /// A few seconds' smoke run (tests only).
+    #[arg(long, hide = true, conflicts_with = "quick")]
+    pub tiny: bool,
+    /// Also write the report to this file, with plot links relative to its directory.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// Overwrite files in a non-empty output directory.
+    #[arg(long)]
+    pub force: bool,
+    /// Image format of the plots.
+    #[arg(long, value_parser = ["svg", "png"], default_value = "svg")]
+    pub format: String,
+    /// Scene of the rough-contact stage (surface, stack and table).
+    #[arg(long, default_value = "scenes/paper-E2E1-1-interacting.toml")]
+    pub scene: PathBuf,
+    /// Family table of the paper's stacks (approximation stage).
+    #[arg(long, default_value = "tables/paper-two-layer.strata")]
+    pub table: PathBuf,
+}
+
+/// Plot-link prefix from the directory of `report` to `out` ("sub/dir/"), or the
+/// absolute path of `out` when it is not below that directory.
+fn link_prefix(report: &Path, out: &Path) -> Result<String> {
+    let dir = match report.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&dir).with_context(|| format!("--report {}", report.display()))?;
+    let dir = dir
+        .canonicalize()
+        .with_context(|| format!("--report {}", report.display()))?;
+    let out = out
+        .canonicalize()
+        .with_context(|| format!("--out {}", out.display()))?;
+    let rel = match out.strip_prefix(&dir) {
+        Ok(r) => r.to_path_buf(),
+        Err(_) => out,
+    };
+    let s = rel
+        .components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join("/");
+    Ok(if s.is_empty() {
+        String::new()
+    } else if rel.is_absolute() {
+        format!("/{}/", s.trim_start_matches('/'))
+    } else {
+        format!("{s}/")
+    })
+}
+
+pub fn run(a: Args) -> Result<()> {
+    let mode = if a.tiny {
+        Mode::Tiny
+    } else if a.quick {
+        Mode::Quick
+    } else {
+        Mode::Full
+    };
+    for (flag, p) in [("--scene", &a.scene), ("--table", &a.table)] {
+        if !p.is_file() {
+            bail!(
+                "{flag} {}: no such file (run from the repository root or pass {flag})",
+                p.display()
+            );
+        }
+    }
+    super::solve::out_dir_ready(&a.out, a.force)?;
+    let inputs = Inputs {
+        scene: a.scene.clone(),
+        table: a.table.clone(),
+    };
+    let result = study::run(mode, &inputs)?;
+    report::plots(&result, &a.out, &a.format)?;
+    let mut command = format!("strata study{} --out {}", mode.flag(), a.out.display());
+    if let Some(r) = &a.report {
+        command.push_str(&format!(" --report {}", r.display()));
+    }
+    let md = report::markdown(&result, "", &a.format, &command);
+    let path = a.out.join("report.md");
+    write_atomic(&path, md.as_bytes()).with_context(|| path.display().to_string())?;
+    let (errors, timings) = report::csvs(&result);
+    for (name, text) in [("errors.csv", errors), ("timings.csv", timings)] {
+        let p = a.out.join(name);
+        write_atomic(&p, text.as_bytes()).with_context(|| p.display().to_string())?;
+    }
+    if let Some(r) = &a.report {
+        let prefix = link_prefix(r, &a.out)?;
+        let md = report::markdown(&result, &prefix, &a.format, &command);
+        write_atomic(r, md.as_bytes()).with_context(|| format!("--report {}", r.display()))?;
+    }
+    println!("report: {}", path.display());
+    for line in report::summary(&result) {
+        println!("  {line}");
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn prefix_is_relative_below_the_report_directory() {
+        let base = std::env::temp_dir().join(format!("strata-study-prefix-{}", std::process::id()));
+        let out = base.join("docs/accuracy-cost");
+        std::fs::create_dir_all(&out).unwrap();
+        let p = link_prefix(&base.join("docs/accuracy-cost.md"), &out).unwrap();
+        assert_eq!(p, "accuracy-cost/");
+        let p = link_prefix(&out.join("report.md"), &out).unwrap();
+        assert_eq!(p, "");
+        let other = base.join("elsewhere");
+        std::fs::create_dir_all(&other).unwrap();
+        let p = link_prefix(&other.join("r.md"), &out).unwrap();
+        assert!(
+            p.starts_with('/') && p.ends_with("docs/accuracy-cost/"),
+            "{p}"
+        );
+        std::fs::remove_dir_all(&base).unwrap();
+    }
+}

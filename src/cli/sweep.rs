@@ -1,0 +1,684 @@
+//! `strata sweep SWEEP.toml --out DIR`: parametric sweeps over stack, surface and
+//! model parameters, in parallel (rayon), with shards for batch schedulers (issue 9,
+//! part 3). The sweep file format and the case order are documented in [`spec`].
+//!
+//! Outputs of an unsharded run (all written atomically):
+//! - `DIR/sweep.csv`: one row per case and load step, header
+//!   `case,<swept columns…>,model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness`
+//!   where the swept columns are the axes in case order except `model.kind` (that is
+//!   the `model` column); `case` and `step` count from 0; results are SI and full
+//!   precision (`{:e}`), as in `strata solve`'s curve.csv;
+//! - `DIR/sweep.json`: the sidecar (strata version, sweep fingerprint, case count,
+//!   shard, columns, axes, per-case wall times);
+//! - `DIR/pressure_gap*.svg`, `DIR/area_pressure*.svg`, `DIR/bands.csv`: summary plots
+//!   with the scatter over seeds ([`plots`]).
+//!
+//! `--shard I/N` (1 ≤ I ≤ N) runs the cases with `id % N == I − 1` (round robin, so
+//! expensive corners of a grid spread over all shards) and writes
+//! `DIR/shard-I-of-N.csv` + `.json`; several shards may share DIR. `strata sweep merge
+//! DIR --out FILE` checks that shards 1…N are all there, come from the same sweep
+//! (fingerprint: FNV-1a of the strata version, the sweep file and the base scene
+//! file), share the header and hold every case exactly once, and writes the rows
+//! sorted by case and step: byte for byte the `sweep.csv` of an unsharded run.
+//!
+//! Per-case results do not depend on the thread count or scheduling: each case is
+//! solved alone and sequentially (the solvers are not parallel inside), and rows are
+//! written in case order.
+
+mod plots;
+pub mod spec;
+
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Instant;
+
+use anyhow::{Context, Result, anyhow, bail};
+use rayon::prelude::*;
+use strata_runtime::output::write_atomic;
+use strata_runtime::rough::Step;
+use strata_runtime::scene::ModelKind;
+use strata_runtime::table::Table;
+
+use crate::cli::solve::out_dir_ready;
+use crate::engine::{EngineOptions, law_for, solve_scene};
+use spec::{Case, Sweep};
+
+/// Result columns after the swept ones (the same as `strata solve`'s curve.csv).
+const RESULT_COLUMNS: &str =
+    "model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness";
+
+#[derive(Debug, clap::Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Option<SweepCommand>,
+    /// Sweep file (TOML): a base scene and the swept axes.
+    #[arg(required = true)]
+    pub sweep: Option<PathBuf>,
+    /// Output directory (created if missing; shards may share it).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Run only the I-th of N slices (cases with id % N == I − 1), 1 ≤ I ≤ N, e.g.
+    /// `--shard $SLURM_ARRAY_TASK_ID/$SLURM_ARRAY_TASK_COUNT`.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<String>,
+    /// Overwrite: a non-empty DIR (unsharded), or this shard's own files.
+    #[arg(long)]
+    pub force: bool,
+    /// Where missing tables of layered stacks are built and cached
+    /// (default: `.strata-cache` beside the sweep file).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
+    /// Worker threads (default: RAYON_NUM_THREADS or all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Skip the summary plots.
+    #[arg(long)]
+    pub no_plots: bool,
+    /// Keep going when a case fails (e.g. the I model does not converge): the other
+    /// cases are solved and written, the failures are listed in the sidecar JSON and on
+    /// stderr, and the exit status is non-zero.
+    #[arg(long)]
+    pub keep_going: bool,
+    /// Print the cases (of the shard, if given) as CSV and exit; nothing is solved.
+    #[arg(long)]
+    pub list: bool,
+}
+
+#[derive(Debug, clap::Subcommand)]
+pub enum SweepCommand {
+    /// Join DIR/shard-I-of-N.csv (I = 1…N) into one CSV, identical to an unsharded run.
+    Merge(MergeArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct MergeArgs {
+    /// Directory holding the shard files.
+    pub dir: PathBuf,
+    /// The merged CSV.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write the summary plots and bands.csv into this directory.
+    #[arg(long)]
+    pub plots: Option<PathBuf>,
+    /// Overwrite an existing --out file / non-empty --plots directory.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(a: Args) -> Result<()> {
+    match a.command {
+        Some(SweepCommand::Merge(m)) => merge(m),
+        None => run_sweep(a),
+    }
+}
+
+/// Parses `I/N` with 1 ≤ I ≤ N.
+pub fn parse_shard(s: &str) -> Result<(usize, usize)> {
+    let bad = || anyhow!("--shard {s}: must be I/N with integers 1 ≤ I ≤ N (shards count from 1)");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let i: usize = i.trim().parse().map_err(|_| bad())?;
+    let n: usize = n.trim().parse().map_err(|_| bad())?;
+    if n == 0 || i == 0 || i > n {
+        return Err(bad());
+    }
+    Ok((i, n))
+}
+
+fn shard_stem(i: usize, n: usize) -> String {
+    format!("shard-{i}-of-{n}")
+}
+
+/// `case,<columns>,model,step,…`.
+fn header(sweep: &Sweep) -> String {
+    let mut h = String::from("case");
+    for (_, a) in sweep.column_axes() {
+        h.push(',');
+        h.push_str(&a.name);
+    }
+    h.push(',');
+    h.push_str(RESULT_COLUMNS);
+    h
+}
+
+fn case_rows(sweep: &Sweep, case: &Case, steps: &[Step], out: &mut String) {
+    let mut prefix = case.id.to_string();
+    for (k, _) in sweep.column_axes() {
+        prefix.push(',');
+        prefix.push_str(&case.values[k].to_string());
+    }
+    prefix.push(',');
+    prefix.push_str(Sweep::model_name(&case.scene));
+    for (i, st) in steps.iter().enumerate() {
+        out.push_str(&format!(
+            "{prefix},{i},{:e},{:e},{:e},{:e},{:e},{},{:e}\n",
+            st.delta,
+            st.gap,
+            st.mean_pressure,
+            st.pressure_ratio,
+            st.area_fraction,
+            st.contacts,
+            st.stiffness
+        ));
+    }
+}
+
+/// Progress on stderr: `cases done / total, elapsed`; rewritten in place on a
+/// terminal, one line every few seconds otherwise (batch logs).
+struct Progress {
+    total: usize,
+    done: AtomicUsize,
+    start: Instant,
+    last: Mutex<f64>,
+    tty: bool,
+}
+
+impl Progress {
+    fn new(total: usize) -> Self {
+        Progress {
+            total,
+            done: AtomicUsize::new(0),
+            start: Instant::now(),
+            last: Mutex::new(0.0),
+            tty: std::io::stderr().is_terminal(),
+        }
+    }
+    fn tick(&self) {
+        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+        let t = self.start.elapsed().as_secs_f64();
+        let every = if self.tty { 0.2 } else { 5.0 };
+        let Ok(mut last) = self.last.lock() else {
+            return;
+        };
+        if done == self.total || t - *last >= every {
+            *last = t;
+            let line = format!("sweep: {done}/{} cases done, {t:.1} s elapsed", self.total);
+            if self.tty {
+                eprint!("\r{line}");
+                if done == self.total {
+                    eprintln!();
+                }
+            } else {
+                eprintln!("{line}");
+            }
+        }
+    }
+}
+
+/// Loads (or builds into the cache) the table of every distinct layered stack once,
+/// before the parallel part, so that no two workers build the same table. A stack the
+/// scene's table does not serve (a thickness ratio changed, E2/E1 outside the family
+/// range) falls back to the engine's cache, with a message.
+fn prepare_tables(cases: &mut [Case], sweep: &Sweep, opts: &EngineOptions) -> Result<()> {
+    let mut seen: Vec<(strata_runtime::Stack, Option<PathBuf>, Option<PathBuf>)> = Vec::new();
+    let mut loaded: Vec<(PathBuf, Table)> = Vec::new();
+    for c in cases.iter_mut() {
+        let s = &c.scene;
+        if s.stack.is_homogeneous() || s.model.kind == ModelKind::Bem {
+            continue;
+        }
+        if let Some((_, _, resolved)) = seen
+            .iter()
+            .find(|(st, t, _)| *st == s.stack && *t == s.table)
+        {
+            c.scene.table = resolved.clone();
+            continue;
+        }
+        let original = c.scene.table.clone();
+        let mut resolved = original.clone();
+        if let Some(p) = original.as_ref().filter(|p| p.is_file()) {
+            let k = match loaded.iter().position(|(q, _)| q == p) {
+                Some(k) => k,
+                None => {
+                    let t =
+                        Table::load(p).with_context(|| format!("stack.table {}", p.display()))?;
+                    loaded.push((p.clone(), t));
+                    loaded.len() - 1
+                }
+            };
+            if let Err(e) = loaded[k].1.family_coordinate(&c.scene.stack) {
+                let dir = opts.cache_dir.clone().unwrap_or_else(|| {
+                    sweep
+                        .path
+                        .parent()
+                        .unwrap_or(Path::new("."))
+                        .join(".strata-cache")
+                });
+                eprintln!(
+                    "sweep: table {} does not serve the stack of case {} ({e}); using the table cache in {} (built once if missing)",
+                    p.display(),
+                    c.id,
+                    dir.display()
+                );
+                resolved = None;
+            }
+        }
+        c.scene.table = resolved.clone();
+        law_for(&c.scene, &sweep.path, opts).with_context(|| format!("case {}", c.id))?;
+        seen.push((c.scene.stack.clone(), original, resolved));
+    }
+    Ok(())
+}
+
+/// A solved (or, with --keep-going, failed) case and its wall time (s).
+struct CaseOut {
+    steps: Result<Vec<Step>, String>,
+    seconds: f64,
+}
+
+fn run_sweep(a: Args) -> Result<()> {
+    let t0 = Instant::now();
+    let path = a
+        .sweep
+        .clone()
+        .ok_or_else(|| anyhow!("missing the sweep file"))?;
+    let sweep = Sweep::from_file(&path).with_context(|| format!("sweep {}", path.display()))?;
+    let shard = a.shard.as_deref().map(parse_shard).transpose()?;
+    let (si, sn) = shard.unwrap_or((1, 1));
+    let ids: Vec<usize> = (0..sweep.cases).filter(|id| id % sn == si - 1).collect();
+    if a.list {
+        let mut s = String::from("case");
+        for ax in &sweep.axes {
+            s.push(',');
+            s.push_str(&ax.name);
+        }
+        s.push('\n');
+        for &id in &ids {
+            let v: Vec<String> = sweep
+                .case_values(id)
+                .iter()
+                .map(|v| v.to_string())
+                .collect();
+            s.push_str(&format!("{id},{}\n", v.join(",")));
+        }
+        // A closed pipe (`| head`) is not an error.
+        if let Err(e) = std::io::Write::write_all(&mut std::io::stdout().lock(), s.as_bytes())
+            && e.kind() != std::io::ErrorKind::BrokenPipe
+        {
+            return Err(e).context("writing the case list");
+        }
+        eprintln!(
+            "sweep: {} cases in all{}",
+            sweep.cases,
+            match shard {
+                Some((i, n)) => format!(", {} in shard {i}/{n}", ids.len()),
+                None => String::new(),
+            }
+        );
+        return Ok(());
+    }
+    let out = a
+        .out
+        .clone()
+        .ok_or_else(|| anyhow!("--out DIR is required (or --list)"))?;
+    let stem = match shard {
+        None => {
+            out_dir_ready(&out, a.force)?;
+            "sweep".to_string()
+        }
+        Some((i, n)) => {
+            if out.exists() && !out.is_dir() {
+                bail!("--out {}: exists and is not a directory", out.display());
+            }
+            std::fs::create_dir_all(&out).with_context(|| format!("--out {}", out.display()))?;
+            let stem = shard_stem(i, n);
+            for ext in ["csv", "json"] {
+                let f = out.join(format!("{stem}.{ext}"));
+                if f.exists() && !a.force {
+                    bail!(
+                        "--out {}: {} exists (use --force to overwrite)",
+                        out.display(),
+                        f.display()
+                    );
+                }
+            }
+            if n > sweep.cases {
+                eprintln!(
+                    "sweep: warning: {n} shards for {} cases; some shards are empty",
+                    sweep.cases
+                );
+            }
+            stem
+        }
+    };
+    // Build and validate every case of this shard before any solving.
+    let mut cases: Vec<Case> = ids
+        .iter()
+        .map(|&id| sweep.case(id))
+        .collect::<Result<_>>()
+        .with_context(|| format!("sweep {}", path.display()))?;
+    let opts = EngineOptions {
+        cache_dir: a.cache_dir.clone(),
+        quiet: true,
+        ..Default::default()
+    };
+    prepare_tables(&mut cases, &sweep, &opts)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.threads.unwrap_or(0))
+        .build()
+        .context("--threads: cannot start the worker threads")?;
+    let threads = pool.current_num_threads();
+    eprintln!(
+        "sweep: {} — {} cases{} on {threads} thread(s); axes: {}",
+        path.display(),
+        cases.len(),
+        match shard {
+            Some((i, n)) => format!(" (shard {i}/{n} of {})", sweep.cases),
+            None => String::new(),
+        },
+        sweep
+            .axes
+            .iter()
+            .map(|x| format!("{} ({})", x.name, x.values.len()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    // Expensive cases first (scheduling only; results go back to case order).
+    let mut order: Vec<usize> = (0..cases.len()).collect();
+    let hint: Vec<f64> = cases.iter().map(Sweep::cost_hint).collect();
+    order.sort_by(|&x, &y| hint[y].total_cmp(&hint[x]).then(x.cmp(&y)));
+    let progress = Progress::new(cases.len());
+    let keep_going = a.keep_going;
+    let mut solved: Vec<(usize, CaseOut)> = pool.install(|| {
+        order
+            .par_iter()
+            .with_max_len(1)
+            .map(|&k| {
+                let c = &cases[k];
+                let t = Instant::now();
+                let sol = solve_scene(&c.scene, &sweep.path, &opts)
+                    .with_context(|| format!("case {} ({})", c.id, sweep.describe(&c.values)));
+                progress.tick();
+                let steps = match sol {
+                    Ok(sol) => Ok(sol.steps),
+                    Err(e) if keep_going => {
+                        eprintln!("sweep: error (continuing): {e:#}");
+                        Err(format!("{e:#}"))
+                    }
+                    Err(e) => return Err(e),
+                };
+                let seconds = t.elapsed().as_secs_f64();
+                Ok((k, CaseOut { steps, seconds }))
+            })
+            .collect::<Result<Vec<_>>>()
+    })?;
+    solved.sort_by_key(|(k, _)| *k);
+    let mut csv = header(&sweep);
+    csv.push('\n');
+    let mut failed = Vec::new();
+    for (k, r) in &solved {
+        match &r.steps {
+            Ok(steps) => case_rows(&sweep, &cases[*k], steps, &mut csv),
+            Err(e) => failed.push(serde_json::json!({"case": cases[*k].id, "error": e})),
+        }
+    }
+    let csv_path = out.join(format!("{stem}.csv"));
+    write_atomic(&csv_path, csv.as_bytes())?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let sidecar = serde_json::json!({
+        "strata_version": env!("CARGO_PKG_VERSION"),
+        "sweep": path.display().to_string(),
+        "title": sweep.title,
+        "fingerprint": format!("{:016x}", sweep.fingerprint),
+        "cases": sweep.cases,
+        "mode": format!("{:?}", sweep.mode).to_lowercase(),
+        "axes": sweep.axes.iter().map(|x| serde_json::json!({
+            "name": x.name, "values": x.values.iter().map(|v| v.to_string()).collect::<Vec<_>>(),
+        })).collect::<Vec<_>>(),
+        "shard": shard.map(|(i, n)| serde_json::json!({"index": i, "count": n})),
+        "header": header(&sweep),
+        "case_ids": cases.iter().map(|c| c.id).collect::<Vec<_>>(),
+        "case_seconds": solved.iter().map(|(_, r)| r.seconds).collect::<Vec<_>>(),
+        "failed": failed,
+        "threads": threads,
+        "seconds": seconds,
+    });
+    write_atomic(
+        &out.join(format!("{stem}.json")),
+        serde_json::to_string_pretty(&sidecar)?.as_bytes(),
+    )?;
+    if shard.is_none() && !a.no_plots {
+        plots::write(&out, &csv, sweep.title.as_deref())?;
+    }
+    eprintln!(
+        "sweep: wrote {} ({} cases, {} rows) in {seconds:.2} s",
+        csv_path.display(),
+        cases.len(),
+        csv.lines().count() - 1
+    );
+    if !failed.is_empty() {
+        bail!(
+            "{} case(s) failed (listed in {}; their rows are absent): {}",
+            failed.len(),
+            out.join(format!("{stem}.json")).display(),
+            failed
+                .iter()
+                .map(|f| f["case"].to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// One shard file found in the merge directory.
+struct ShardFile {
+    index: usize,
+    count: usize,
+    csv: PathBuf,
+}
+
+fn merge(a: MergeArgs) -> Result<()> {
+    let dir = &a.dir;
+    let mut found: Vec<ShardFile> = Vec::new();
+    for e in std::fs::read_dir(dir).with_context(|| format!("merge: {}", dir.display()))? {
+        let e = e.with_context(|| format!("merge: {}", dir.display()))?;
+        let name = e.file_name().to_string_lossy().to_string();
+        let Some(core) = name
+            .strip_prefix("shard-")
+            .and_then(|r| r.strip_suffix(".csv"))
+        else {
+            continue;
+        };
+        let Some((i, n)) = core.split_once("-of-") else {
+            continue;
+        };
+        let (Ok(index), Ok(count)) = (i.parse::<usize>(), n.parse::<usize>()) else {
+            continue;
+        };
+        found.push(ShardFile {
+            index,
+            count,
+            csv: e.path(),
+        });
+    }
+    if found.is_empty() {
+        bail!(
+            "merge: no shard files (shard-I-of-N.csv) in {}",
+            dir.display()
+        );
+    }
+    found.sort_by_key(|f| (f.count, f.index));
+    let n = found[0].count;
+    if let Some(f) = found.iter().find(|f| f.count != n) {
+        bail!(
+            "merge: {} holds shards of different counts ({} and {}): remove the stale ones",
+            dir.display(),
+            n,
+            f.count
+        );
+    }
+    for i in 1..=n {
+        if !found.iter().any(|f| f.index == i) {
+            bail!(
+                "merge: shard {i}/{n} is missing ({} not found; run it with --shard {i}/{n})",
+                dir.join(format!("{}.csv", shard_stem(i, n))).display()
+            );
+        }
+    }
+    if let Some(f) = found.iter().find(|f| f.index == 0 || f.index > n) {
+        bail!("merge: {}: shard index out of 1..={n}", f.csv.display());
+    }
+    let mut fingerprint: Option<(String, PathBuf)> = None;
+    let mut head: Option<String> = None;
+    let mut total: Option<u64> = None;
+    let mut rows: Vec<(usize, usize, String)> = Vec::new();
+    let mut failed: Vec<usize> = Vec::new();
+    let mut title: Option<String> = None;
+    let mut step_col = 0;
+    for f in &found {
+        let side = f.csv.with_extension("json");
+        let meta: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(&side)
+                .with_context(|| format!("merge: sidecar {}", side.display()))?,
+        )
+        .with_context(|| format!("merge: sidecar {} is not valid JSON", side.display()))?;
+        let sh = &meta["shard"];
+        let (mi, mn) = (sh["index"].as_u64(), sh["count"].as_u64());
+        if mi != Some(f.index as u64) || mn != Some(n as u64) {
+            bail!(
+                "merge: duplicate or renamed shard: {} holds shard {}/{} according to {}",
+                f.csv.display(),
+                mi.map_or("?".into(), |x| x.to_string()),
+                mn.map_or("?".into(), |x| x.to_string()),
+                side.display()
+            );
+        }
+        let fp = meta["fingerprint"]
+            .as_str()
+            .ok_or_else(|| anyhow!("merge: {}: no fingerprint", side.display()))?
+            .to_string();
+        match &fingerprint {
+            None => fingerprint = Some((fp, f.csv.clone())),
+            Some((g, first)) if *g != fp => bail!(
+                "merge: {} comes from a different sweep than {} (fingerprint {fp} ≠ {g}: sweep file, base scene or strata version differ)",
+                f.csv.display(),
+                first.display()
+            ),
+            _ => {}
+        }
+        let cases = meta["cases"]
+            .as_u64()
+            .ok_or_else(|| anyhow!("merge: {}: no case count", side.display()))?;
+        if total.is_some_and(|t| t != cases) {
+            bail!(
+                "merge: {}: case count differs between shards",
+                side.display()
+            );
+        }
+        total = Some(cases);
+        if let Some(list) = meta["failed"].as_array() {
+            failed.extend(
+                list.iter()
+                    .filter_map(|f| f["case"].as_u64())
+                    .map(|c| c as usize),
+            );
+        }
+        if title.is_none() {
+            title = meta["title"].as_str().map(str::to_string);
+        }
+        let text = std::fs::read_to_string(&f.csv)
+            .with_context(|| format!("merge: {}", f.csv.display()))?;
+        let mut lines = text.lines();
+        let h = lines
+            .next()
+            .ok_or_else(|| anyhow!("merge: {} is empty", f.csv.display()))?;
+        match &head {
+            None => {
+                step_col = h
+                    .split(',')
+                    .position(|c| c == "step")
+                    .ok_or_else(|| anyhow!("merge: {}: no `step` column", f.csv.display()))?;
+                head = Some(h.to_string());
+            }
+            Some(g) if g != h => bail!(
+                "merge: {} has a different header than the other shards",
+                f.csv.display()
+            ),
+            _ => {}
+        }
+        for (ln, line) in lines.enumerate() {
+            let fields: Vec<&str> = line.split(',').collect();
+            let parse = |k: usize, what: &str| -> Result<usize> {
+                fields.get(k).and_then(|x| x.parse().ok()).ok_or_else(|| {
+                    anyhow!("merge: {} line {}: bad {what}", f.csv.display(), ln + 2)
+                })
+            };
+            let (case, step) = (parse(0, "case")?, parse(step_col, "step")?);
+            if case as u64 >= cases || case % n != f.index - 1 {
+                bail!(
+                    "merge: {} line {}: case {case} does not belong to shard {}/{n} (duplicate or renamed shard?)",
+                    f.csv.display(),
+                    ln + 2,
+                    f.index
+                );
+            }
+            rows.push((case, step, line.to_string()));
+        }
+    }
+    rows.sort_by_key(|r| (r.0, r.1));
+    for w in rows.windows(2) {
+        if w[0].0 == w[1].0 && w[0].1 == w[1].1 {
+            bail!("merge: case {} step {} appears twice", w[0].0, w[0].1);
+        }
+    }
+    let total = total.unwrap_or(0) as usize;
+    let mut present = vec![false; total];
+    for r in &rows {
+        present[r.0] = true;
+    }
+    if let Some(c) = (0..total).find(|c| !present[*c] && !failed.contains(c)) {
+        bail!(
+            "merge: case {c} is missing (it belongs to shard {}/{n})",
+            c % n + 1
+        );
+    }
+    let mut csv = head.unwrap_or_default();
+    csv.push('\n');
+    for r in &rows {
+        csv.push_str(&r.2);
+        csv.push('\n');
+    }
+    if a.out.exists() && !a.force {
+        bail!(
+            "--out {}: exists (use --force to overwrite)",
+            a.out.display()
+        );
+    }
+    write_atomic(&a.out, csv.as_bytes())?;
+    if let Some(p) = &a.plots {
+        out_dir_ready(p, a.force)?;
+        plots::write(p, &csv, title.as_deref())?;
+    }
+    eprintln!(
+        "merge: {n} shard(s), {total} cases, {} rows → {}",
+        rows.len(),
+        a.out.display()
+    );
+    if !failed.is_empty() {
+        failed.sort_unstable();
+        eprintln!(
+            "merge: warning: {} case(s) failed in their shards and have no rows: {:?}",
+            failed.len(),
+            failed
+        );
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shard_specs() {
+        assert_eq!(parse_shard("1/1").unwrap(), (1, 1));
+        assert_eq!(parse_shard("3/7").unwrap(), (3, 7));
+        for bad in ["0/2", "3/2", "1/0", "a/2", "2", "1/2/3", "-1/2", ""] {
+            let e = parse_shard(bad).unwrap_err().to_string();
+            assert!(e.contains("--shard"), "{bad}: {e}");
+        }
+    }
+}

@@ -1,0 +1,438 @@
+//! The accuracy–cost study behind `strata study` (issue 7): what each knob of the
+//! solvers buys in accuracy and costs in time, measured in one run on this machine.
+//!
+//! Four stages, each a module:
+//! * [`fredholm`]: the full asperity solver (Nyström and product integration), force
+//!   error against node count and time per solve;
+//! * [`tables`]: surrogate tables, interpolation error against grid density and
+//!   interpolation order, with build time, file size and lookup time;
+//! * [`approx`]: the second-order approximation against the full solution, force
+//!   error against a/h₁;
+//! * [`rough`]: rough contact, N and I models and the FFT-BEM at several grids and
+//!   tolerances, pressure error against the finest BEM and time per load curve.
+//!
+//! Conventions shared by every stage:
+//! * **Errors are deterministic.** Every value that enters an error is computed once
+//!   on a dedicated one-thread rayon pool ([`Runner::exact`]), so that parallel
+//!   reductions (the product-integration moments) sum in a fixed order and a second
+//!   run gives bit-identical errors. No randomness except fixed-seed point sets.
+//! * **Times are medians** of repeated runs on the global thread pool (all cores):
+//!   as many runs as fit in a per-item budget, at least `min_runs` and at most
+//!   `max_runs` of the mode ([`Reps`]); each row states its run count.
+//! * **Pareto front** ([`pareto`]): a point is on the front when no other point is at
+//!   least as fast and at least as accurate (and strictly better in one). Errors
+//!   within 10 % of each other, and errors below a stage's floor (the accuracy of its
+//!   reference), count as equal. A point's
+//!   *time factor* is its time over that of the fastest point at least as accurate;
+//!   1 is on the front, ≤ [`pareto::NEAR`] is "near".
+
+pub mod approx;
+pub mod fredholm;
+pub mod machine;
+pub mod pareto;
+pub mod report;
+pub mod rough;
+pub mod tables;
+
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
+
+/// How much to measure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Seconds: for the end-to-end test (coarse everything).
+    Tiny,
+    /// Under 3 minutes on 2 cores: the committed report.
+    Quick,
+    /// The full study (finer grids, BEM reference at n = 512).
+    Full,
+}
+
+impl Mode {
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Tiny => "tiny",
+            Mode::Quick => "quick",
+            Mode::Full => "full",
+        }
+    }
+
+    /// The command line that runs this mode.
+    pub fn flag(self) -> &'static str {
+        match self {
+            Mode::Tiny => " --tiny",
+            Mode::Quick => " --quick",
+            Mode::Full => "",
+        }
+    }
+
+    /// Repetitions of timed runs.
+    pub fn reps(self) -> Reps {
+        match self {
+            Mode::Tiny => Reps {
+                min_runs: 1,
+                max_runs: 3,
+                budget: 0.05,
+            },
+            Mode::Quick => Reps {
+                min_runs: 3,
+                max_runs: 7,
+                budget: 0.5,
+            },
+            Mode::Full => Reps {
+                min_runs: 5,
+                max_runs: 15,
+                budget: 3.0,
+            },
+        }
+    }
+}
+
+/// Inputs of the study (files of the repository).
+#[derive(Debug, Clone)]
+pub struct Inputs {
+    /// Scene of the rough-contact stage (surface, stack E₂/E₁ = 1, table).
+    pub scene: PathBuf,
+    /// Family table of the paper's stacks (approximation stage; the scene's table).
+    pub table: PathBuf,
+}
+
+/// Timed repetitions: `min_runs ≤ runs ≤ max_runs`, as many as fit in `budget` s
+/// (estimated from the first run).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Reps {
+    pub min_runs: usize,
+    pub max_runs: usize,
+    pub budget: f64,
+}
+
+/// A measured wall time: median of `runs` runs, and the fastest and slowest (s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Timing {
+    pub median: f64,
+    pub runs: usize,
+    pub min: f64,
+    pub max: f64,
+}
+
+impl Timing {
+    /// (max − min)/median: the spread of the runs.
+    pub fn spread(&self) -> f64 {
+        (self.max - self.min) / self.median
+    }
+}
+
+/// Runs computations for values (deterministically) and for times (all cores).
+pub struct Runner {
+    pub mode: Mode,
+    pub reps: Reps,
+    single: rayon::ThreadPool,
+    /// Every timing taken, for `timings.csv`: (stage, case, timing).
+    pub log: Vec<(String, String, Timing)>,
+}
+
+impl Runner {
+    pub fn new(mode: Mode) -> Result<Self> {
+        let single = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .context("creating the one-thread pool for deterministic values")?;
+        Ok(Runner {
+            mode,
+            reps: mode.reps(),
+            single,
+            log: Vec::new(),
+        })
+    }
+
+    /// Runs `f` on the one-thread pool: parallel reductions inside sum in a fixed
+    /// order, so the value is the same on every run (the errors of the report).
+    pub fn exact<T: Send>(&self, f: impl FnOnce() -> T + Send) -> T {
+        self.single.install(f)
+    }
+
+    /// Clears the upper SIMD register state on every thread that runs study code
+    /// (this one, the global rayon workers and the one-thread pool).
+    ///
+    /// Why: faer's parallel LU (systems above `fredholm::SEQUENTIAL_LU_MAX`) leaves
+    /// the upper halves of the AVX registers dirty on the rayon workers, and SSE code
+    /// that runs there afterwards is then several times slower (measured here: a
+    /// 13×7 table build 0.33 s in a fresh process, 1.0–1.4 s after product-integration
+    /// solves, 0.31 s again after `vzeroupper` on the workers). Clearing the state
+    /// before every timed run times each item as in a fresh process, independent of
+    /// the order of the stages.
+    pub fn reset_simd(&self) {
+        clear_upper_simd();
+        rayon::broadcast(|_| clear_upper_simd());
+        self.single.broadcast(|_| clear_upper_simd());
+    }
+
+    /// Median wall time of `f` on the global pool (all cores), with the mode's
+    /// repetitions; recorded under (stage, case).
+    pub fn time<T>(
+        &mut self,
+        stage: &str,
+        case: &str,
+        f: impl FnMut() -> Result<T>,
+    ) -> Result<Timing> {
+        Ok(self.time_value(stage, case, f)?.1)
+    }
+
+    /// As [`Runner::time`], returning the value of the first run too (for computations
+    /// that are deterministic on any pool, such as table builds).
+    pub fn time_value<T>(
+        &mut self,
+        stage: &str,
+        case: &str,
+        f: impl FnMut() -> Result<T>,
+    ) -> Result<(T, Timing)> {
+        self.time_value_with(self.reps, stage, case, f)
+    }
+
+    /// As [`Runner::time_value`] with other repetitions (for items of many seconds).
+    pub fn time_value_with<T>(
+        &mut self,
+        reps: Reps,
+        stage: &str,
+        case: &str,
+        f: impl FnMut() -> Result<T>,
+    ) -> Result<(T, Timing)> {
+        let (v, t) = median_time(reps, || self.reset_simd(), f)?;
+        self.log.push((stage.to_string(), case.to_string(), t));
+        Ok((v, t))
+    }
+
+    /// Time per call (s) of a fast `f`, measured over batches of `batch` calls.
+    pub fn time_batch<T>(
+        &mut self,
+        stage: &str,
+        case: &str,
+        batch: usize,
+        mut f: impl FnMut(usize) -> T,
+    ) -> Result<Timing> {
+        let reps = Reps {
+            min_runs: self.reps.min_runs.max(5),
+            max_runs: self.reps.max_runs.max(5),
+            budget: self.reps.budget.min(0.2),
+        };
+        let ((), t) = median_time(
+            reps,
+            || self.reset_simd(),
+            || {
+                for i in 0..batch {
+                    black_box(f(black_box(i)));
+                }
+                Ok(())
+            },
+        )?;
+        let b = batch.max(1) as f64;
+        let per = Timing {
+            median: t.median / b,
+            runs: t.runs,
+            min: t.min / b,
+            max: t.max / b,
+        };
+        self.log.push((stage.to_string(), case.to_string(), per));
+        Ok(per)
+    }
+}
+
+/// `vzeroupper` on the calling thread when the CPU has AVX (no-op otherwise).
+pub fn clear_upper_simd() {
+    #[cfg(target_arch = "x86_64")]
+    {
+        #[target_feature(enable = "avx")]
+        fn zeroupper() {
+            core::arch::x86_64::_mm256_zeroupper();
+        }
+        if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU supports AVX (checked just above).
+            unsafe { zeroupper() }
+        }
+    }
+}
+
+/// Median wall time (s) of `f` and the value of its first run: the first run
+/// estimates how many runs fit in the budget; all runs count. `prepare` runs before
+/// each run, outside the timed region.
+pub fn median_time<T>(
+    reps: Reps,
+    prepare: impl Fn(),
+    mut f: impl FnMut() -> Result<T>,
+) -> Result<(T, Timing)> {
+    prepare();
+    let t0 = Instant::now();
+    let value = f()?;
+    let first = t0.elapsed().as_secs_f64();
+    let want = if first > 0.0 {
+        ((reps.budget / first).floor() as usize).clamp(reps.min_runs, reps.max_runs)
+    } else {
+        reps.max_runs
+    };
+    let mut times = vec![first];
+    while times.len() < want.max(1) {
+        prepare();
+        let t = Instant::now();
+        black_box(f()?);
+        times.push(t.elapsed().as_secs_f64());
+    }
+    Ok((
+        value,
+        Timing {
+            median: median(&mut times),
+            runs: times.len(),
+            min: times.iter().copied().fold(f64::INFINITY, f64::min),
+            max: times.iter().copied().fold(0.0, f64::max),
+        },
+    ))
+}
+
+/// Median of a non-empty slice (sorts it).
+pub fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Deterministic rows of `errors.csv`: (stage, case, quantity, value).
+#[derive(Debug, Default)]
+pub struct Errors {
+    pub rows: Vec<(String, String, String, f64)>,
+}
+
+impl Errors {
+    pub fn push(&mut self, stage: &str, case: &str, quantity: &str, value: f64) {
+        self.rows
+            .push((stage.into(), case.into(), quantity.into(), value));
+    }
+
+    /// CSV `stage,case,quantity,value` (case quoted), values with 10 significant digits.
+    pub fn csv(&self) -> String {
+        let mut s = String::from("stage,case,quantity,value\n");
+        for (st, c, q, v) in &self.rows {
+            s.push_str(&format!("{st},\"{c}\",{q},{v:.9e}\n"));
+        }
+        s
+    }
+}
+
+/// The results of every stage.
+pub struct Study {
+    pub mode: Mode,
+    pub fredholm: fredholm::Results,
+    pub tables: tables::Results,
+    pub approx: approx::Results,
+    pub rough: rough::Results,
+    pub errors: Errors,
+    pub timings: Vec<(String, String, Timing)>,
+    pub machine_start: machine::Machine,
+    pub load_end: String,
+    pub seconds: f64,
+}
+
+/// Runs every stage. Progress lines go to stderr.
+pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
+    let t0 = Instant::now();
+    let machine_start = machine::Machine::detect();
+    let mut runner = Runner::new(mode)?;
+    let mut errors = Errors::default();
+    let stage = |name: &str| eprintln!("study ({}): {name} …", mode.name());
+    stage("Fredholm solver");
+    let fredholm = fredholm::run(&mut runner, &mut errors).context("Fredholm stage")?;
+    stage("tables");
+    let tables = tables::run(&mut runner, &mut errors).context("tables stage")?;
+    stage("second-order approximation");
+    let approx = approx::run(&mut runner, &mut errors, inputs).context("approximation stage")?;
+    stage("rough contact");
+    let rough = rough::run(&mut runner, &mut errors, inputs).context("rough-contact stage")?;
+    let seconds = t0.elapsed().as_secs_f64();
+    eprintln!("study ({}): done in {seconds:.1} s", mode.name());
+    Ok(Study {
+        mode,
+        fredholm,
+        tables,
+        approx,
+        rough,
+        errors,
+        timings: runner.log,
+        machine_start,
+        load_end: machine::load_average(),
+        seconds,
+    })
+}
+
+/// Formats a relative error with 3 significant digits ("0" for exact zero).
+pub fn fmt_err(e: f64) -> String {
+    if e == 0.0 {
+        "0".into()
+    } else if !e.is_finite() {
+        "—".into()
+    } else {
+        format!("{e:.2e}")
+    }
+}
+
+/// Formats a time (s) in a readable unit.
+pub fn fmt_time(t: f64) -> String {
+    if !t.is_finite() {
+        "—".into()
+    } else if t < 1e-6 {
+        format!("{:.1} ns", t * 1e9)
+    } else if t < 1e-3 {
+        format!("{:.2} µs", t * 1e6)
+    } else if t < 1.0 {
+        format!("{:.2} ms", t * 1e3)
+    } else {
+        format!("{t:.2} s")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn median_of_odd_and_even() {
+        assert_eq!(median(&mut [3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(&mut [4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert!(median(&mut []).is_nan());
+    }
+
+    #[test]
+    fn runs_respect_bounds() {
+        let reps = Reps {
+            min_runs: 3,
+            max_runs: 5,
+            budget: 1e-9,
+        };
+        let mut n = 0;
+        let ((), t) = median_time(
+            reps,
+            || {},
+            || {
+                n += 1;
+                Ok(())
+            },
+        )
+        .unwrap();
+        assert_eq!(t.runs, 3);
+        assert_eq!(n, 3);
+    }
+
+    #[test]
+    fn formats() {
+        assert_eq!(fmt_err(0.0), "0");
+        assert_eq!(fmt_err(1.234e-7), "1.23e-7");
+        assert_eq!(fmt_time(2.5e-8), "25.0 ns");
+        assert_eq!(fmt_time(0.0123), "12.30 ms");
+    }
+}

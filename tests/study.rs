@@ -1,0 +1,179 @@
+//! End-to-end tests of `strata study` (issue 7), in its hidden `--tiny` mode (a few
+//! seconds): the report and its plots are written, a second run reproduces every
+//! error bit for bit, and the measured numbers obey known convergence facts.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("strata-study-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn study(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_strata"))
+        .arg("study")
+        .args(args)
+        .arg("--scene")
+        .arg(root().join("scenes/paper-E2E1-1-interacting.toml"))
+        .arg("--table")
+        .arg(root().join("tables/paper-two-layer.strata"))
+        .output()
+        .expect("strata runs")
+}
+
+fn tiny(out: &Path) {
+    let o = study(&["--tiny", "--out", out.to_str().unwrap()]);
+    assert!(
+        o.status.success(),
+        "strata study --tiny failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+}
+
+/// errors.csv as (stage, case, quantity) → value.
+fn errors(dir: &Path) -> HashMap<(String, String, String), f64> {
+    let text = std::fs::read_to_string(dir.join("errors.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("stage,case,quantity,value"));
+    lines
+        .map(|l| {
+            let (stage, rest) = l.split_once(",\"").unwrap();
+            let (case, rest) = rest.split_once("\",").unwrap();
+            let (q, v) = rest.rsplit_once(',').unwrap();
+            (
+                (stage.to_string(), case.to_string(), q.to_string()),
+                v.parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+fn get(e: &HashMap<(String, String, String), f64>, s: &str, c: &str, q: &str) -> f64 {
+    *e.get(&(s.into(), c.into(), q.into()))
+        .unwrap_or_else(|| panic!("errors.csv lacks {s} / {c} / {q}"))
+}
+
+/// Two tiny runs: byte-identical errors.csv; the report has every section, the
+/// machine, and links only to plots that exist; timings.csv has one row per item.
+/// Then the numbers themselves against known facts (tolerances stated inline).
+#[test]
+fn tiny_study_is_reproducible_and_sound() {
+    let (a, b) = (tmp("a"), tmp("b"));
+    tiny(&a);
+    tiny(&b);
+    let ea = std::fs::read(a.join("errors.csv")).unwrap();
+    let eb = std::fs::read(b.join("errors.csv")).unwrap();
+    assert!(ea.len() > 500, "errors.csv too short");
+    assert!(ea == eb, "errors.csv differs between two runs");
+
+    let report = std::fs::read_to_string(a.join("report.md")).unwrap();
+    for section in [
+        "## Machine",
+        "| CPU |",
+        "| build profile |",
+        "## Summary",
+        "## Defaults and the front",
+        "### Proposed changes",
+        "## 1. Fredholm solver",
+        "## 2. Surrogate tables",
+        "## 3. Second-order approximation",
+        "## 4. Rough contact",
+        "## Regenerating",
+    ] {
+        assert!(report.contains(section), "report lacks {section}");
+    }
+    let mut plots = 0;
+    for part in report.split("](").skip(1) {
+        let file = part.split(')').next().unwrap();
+        if file.ends_with(".svg") {
+            let p = a.join(file);
+            let text = std::fs::read_to_string(&p).unwrap_or_else(|e| panic!("{file}: {e}"));
+            assert!(text.contains("<svg"), "{file}");
+            if file != "approx.svg" {
+                assert!(text.contains("Pareto front"), "{file}: no front drawn");
+            }
+            plots += 1;
+        }
+    }
+    assert!(plots >= 5, "{plots} plots linked");
+    let timings = std::fs::read_to_string(a.join("timings.csv")).unwrap();
+    assert!(timings.starts_with("stage,case,median_seconds,min_seconds,max_seconds,runs\n"));
+    for l in timings.lines().skip(1) {
+        let v: Vec<&str> = l.rsplitn(5, ',').collect();
+        let runs: usize = v[0].parse().unwrap();
+        let (max, min, median): (f64, f64, f64) = (
+            v[1].parse().unwrap(),
+            v[2].parse().unwrap(),
+            v[3].parse().unwrap(),
+        );
+        assert!(
+            runs >= 1 && min > 0.0 && min <= median && median <= max,
+            "{l}"
+        );
+    }
+
+    let e = errors(&a);
+    let f = |case: &str, q: &str| get(&e, "fredholm", case, q);
+    // Nyström converges spectrally: at a/h = 1, 16 nodes are at round-off (< 1e-13;
+    // measured 7e-16), and the two references (Nyström vs product integration, two
+    // independent discretisations) agree to 1e-8 (tablegen's own test bound).
+    assert!(f("E2/E1=5,a/h=1,nystrom-16", "force error") < 1e-13);
+    assert!(f("E2/E1=5,a/h=1", "cross-check") < 1e-8);
+    assert!(f("E2/E1=5,a/h=10", "cross-check") < 1e-8);
+    // Product integration with Richardson: error falls ≥ 8× per doubling (measured 16×).
+    for ah in ["1", "10"] {
+        let p = |n: u32| f(&format!("E2/E1=5,a/h={ah},product-{n}-r"), "force error");
+        assert!(p(32) > 8.0 * p(64) && p(64) > 8.0 * p(128), "a/h {ah}");
+    }
+    // Tables: the cubic beats the linear interpolant of the same nodes, for χ and g.
+    let t = |o: &str, q: &str| get(&e, "tables", &format!("nx=13,nw=7,{o}"), q);
+    assert!(t("cubic Hermite", "chi error") < t("linear", "chi error"));
+    assert!(t("cubic Hermite", "g error") < t("linear", "g error"));
+    // Approximation: within 1e-3 of the full force at a/h = 0.1 (tests/tables.rs,
+    // measured 3.7e-7); the table changes it by less than its interpolation error 1e-4.
+    let d = get(&e, "approx", "E2/E1=5,a/h=0.1000", "force error (direct)");
+    let tb = get(&e, "approx", "E2/E1=5,a/h=0.1000", "force error (table)");
+    assert!(d < 1e-3 && (tb - d).abs() < 1e-4, "{d} {tb}");
+    // Rough contact: at the reference grid, tolerance 1e-6 changes p_n by < 1e-4
+    // (measured 2.5e-6); the I model is within 30 % of the BEM (measured 13 %) and
+    // closer than the N model at the highest load.
+    assert!(get(&e, "rough", "BEM n = 64, tol 1e-6", "p error") < 1e-4);
+    let ip = get(&e, "rough", "I model, periodic 5×5", "p error");
+    let n = get(&e, "rough", "N model", "p error");
+    assert!(ip < 0.3 && ip < n, "I {ip}, N {n}");
+    let _ = std::fs::remove_dir_all(&a);
+    let _ = std::fs::remove_dir_all(&b);
+}
+
+/// Bad input: a clear message naming the flag, non-zero exit.
+#[test]
+fn bad_arguments_are_refused() {
+    let out = tmp("bad");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("x"), "occupied").unwrap();
+    let o = study(&["--tiny", "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--force"));
+    let o = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["study", "--tiny", "--out"])
+        .arg(out.join("new"))
+        .args(["--scene", "/nonexistent/scene.toml"])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--scene") && err.contains("/nonexistent/scene.toml"),
+        "{err}"
+    );
+    let o = study(&["--tiny", "--quick", "--out", out.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let _ = std::fs::remove_dir_all(&out);
+}
