@@ -404,37 +404,8 @@ fn defaults(study: &Study) -> Vec<DefaultRow> {
             }),
         });
     }
-    let (idx, pts) = r.points();
-    if let Some(k) = idx.iter().position(|&i| {
-        matches!(
-            r.rows[i].kind,
-            super::rough::Kind::Asperity(strata_runtime::rough::Model::Interacting(
-                strata_runtime::rough::Images::Periodic(_)
-            ))
-        )
-    }) {
-        let row = &r.rows[idx[k]];
-        out.push(DefaultRow {
-            what: "rough-contact model of the paper scenes (a modelling choice, not a tolerance: where it sits on this one surface)".into(),
-            value: row.kind.label(),
-            point: format!(
-                "p error {} vs the BEM at n = {ref_grid}, {} per curve",
-                fmt_err(row.p_error),
-                fmt_time(row.timing.median)
-            ),
-            status: pareto::status(&pts, k, super::rough::FLOOR),
-            off: pareto::time_factor(&pts, k, super::rough::FLOOR) > pareto::NEAR,
-            better: pareto::better(&pts, k, super::rough::FLOOR).map(|j| {
-                let b = &r.rows[idx[j]];
-                format!(
-                    "{} (error {}, {})",
-                    b.kind.label(),
-                    fmt_err(b.p_error),
-                    fmt_time(b.timing.median)
-                )
-            }),
-        });
-    }
+    // The rough-contact model (N, I, BEM) is not a default: every scene names
+    // `model.kind`. Where each model sits against the BEM is section 4's table and plot.
     out
 }
 

@@ -25,6 +25,7 @@ use strata_runtime::Stack;
 use strata_runtime::law::AsperityLaw;
 use strata_runtime::table::{Axis, Table};
 use strata_tablegen::approx::Approx;
+use strata_tablegen::tablebuild::SplitMix;
 use strata_tablegen::tablebuild::{BuildOptions, build};
 
 use super::pareto::Point;
@@ -208,19 +209,6 @@ impl Linear {
         let v = (1.0 - s) * ((1.0 - t) * f(i, j) + t * f(i, j + 1))
             + s * ((1.0 - t) * f(i + 1, j) + t * f(i + 1, j + 1));
         v * a * a * a / r
-    }
-}
-
-/// SplitMix64 (the generator of `tablegen::tablebuild::check`).
-struct SplitMix(u64);
-impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^= z >> 31;
-        (z >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 

@@ -241,10 +241,11 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     Ok(table)
 }
 
-/// SplitMix64: a tiny deterministic generator for reproducible check points.
-struct SplitMix(u64);
+/// SplitMix64: a tiny deterministic generator for reproducible check points
+/// (uniform in [0, 1) with 53 random bits).
+pub struct SplitMix(pub u64);
 impl SplitMix {
-    fn next_f64(&mut self) -> f64 {
+    pub fn next_f64(&mut self) -> f64 {
         self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
         let mut z = self.0;
         z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
