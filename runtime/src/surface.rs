@@ -536,8 +536,17 @@ fn suspect_points(z: &[f64], n0: usize, n1: usize, periodic: bool) -> Vec<(usize
 
 /// In-place unnormalised 2-D inverse FFT of an n×n row-major array (rows, then columns).
 fn ifft2(a: &mut [Complex<f64>], n: usize) {
+    fft2(a, n, true);
+}
+
+/// In-place unnormalised 2-D FFT (forward or inverse) of an n×n row-major array.
+fn fft2(a: &mut [Complex<f64>], n: usize, inverse: bool) {
     let mut planner = FftPlanner::new();
-    let fft = planner.plan_fft_inverse(n);
+    let fft = if inverse {
+        planner.plan_fft_inverse(n)
+    } else {
+        planner.plan_fft_forward(n)
+    };
     for row in a.chunks_mut(n) {
         fft.process(row);
     }
@@ -581,21 +590,7 @@ mod tests {
         let n = 128;
         let mut spec: Vec<Complex<f64>> =
             s.heights().iter().map(|&v| Complex::new(v, 0.0)).collect();
-        let mut planner = FftPlanner::new();
-        let fft = planner.plan_fft_forward(n);
-        for row in spec.chunks_mut(n) {
-            fft.process(row);
-        }
-        let mut col = vec![Complex::new(0.0, 0.0); n];
-        for j in 0..n {
-            for i in 0..n {
-                col[i] = spec[i * n + j];
-            }
-            fft.process(&mut col);
-            for i in 0..n {
-                spec[i * n + j] = col[i];
-            }
-        }
+        fft2(&mut spec, n, false);
         let (mut inside, mut outside) = (0.0, 0.0);
         for i in 0..n {
             for j in 0..n {
