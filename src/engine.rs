@@ -11,11 +11,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::scene::{LoadSpec, ModelKind, Scene};
 use anyhow::{Context, Result, bail};
-use strata_runtime::bem::{BemLoad, BemOptions, BemSolution, BemSolver};
+use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::rough::{Images, Model, RoughContact, Step};
-use strata_runtime::scene::{LoadSpec, ModelKind, Scene};
 use strata_runtime::summits::find_summits;
 use strata_runtime::table::Table;
 

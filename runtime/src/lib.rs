@@ -11,13 +11,13 @@
 
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
-pub mod bem;
 pub mod compliance;
+#[cfg(feature = "spectral")]
+pub mod fft;
 pub mod interface;
 pub mod law;
 pub mod output;
 pub mod rough;
-pub mod scene;
 pub mod stack;
 pub mod summits;
 pub mod surface;

@@ -1807,7 +1807,7 @@ mod tests {
 
     fn reference_surface() -> Option<Surface> {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../shared/reference/surface_km10.npy");
+            .join("../tests/reference/surface_km10.npy");
         Some(Surface::read_npy(&p, 1e-3, true).expect("reference surface readable"))
     }
 

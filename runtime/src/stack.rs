@@ -19,6 +19,7 @@
 //! 1−2ν, 3−4ν, 1−ν, stay finite); E* = E/(1−ν²) stays finite too.
 
 use std::fmt;
+#[cfg(feature = "toml")]
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
@@ -292,6 +293,7 @@ impl Stack {
         }
     }
 
+    #[cfg(feature = "toml")]
     /// Reads a stack from a TOML file. See the module docs for the format.
     pub fn from_toml_file(path: &Path) -> Result<Self, StackError> {
         let text = std::fs::read_to_string(path).map_err(|e| StackError::Io {
@@ -301,6 +303,7 @@ impl Stack {
         Stack::from_toml_str(&text)
     }
 
+    #[cfg(feature = "toml")]
     /// Parses a stack from TOML text. See the module docs for the format.
     pub fn from_toml_str(text: &str) -> Result<Self, StackError> {
         let table: toml::Table = text
@@ -309,6 +312,7 @@ impl Stack {
         Stack::from_toml_table(&table)
     }
 
+    #[cfg(feature = "toml")]
     /// Builds a stack from an already parsed TOML table (used for inline stacks in scenes).
     pub fn from_toml_table(table: &toml::Table) -> Result<Self, StackError> {
         for key in table.keys() {
@@ -381,6 +385,7 @@ impl Stack {
         Ok(stack)
     }
 
+    #[cfg(feature = "toml")]
     /// Serialises the stack back to the TOML format it is read from.
     pub fn to_toml_string(&self) -> String {
         let mut s = String::new();
@@ -403,10 +408,12 @@ impl Stack {
     }
 }
 
+#[cfg(feature = "toml")]
 fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
+#[cfg(feature = "toml")]
 fn get_number(
     location: Location,
     table: &toml::Table,
@@ -425,6 +432,7 @@ fn get_number(
     }
 }
 
+#[cfg(feature = "toml")]
 fn check_keys(
     location: Location,
     table: &toml::Table,
@@ -443,6 +451,7 @@ fn check_keys(
     Ok(())
 }
 
+#[cfg(feature = "toml")]
 fn parse_layer(location: Location, t: &toml::Table) -> Result<Layer, StackError> {
     check_keys(
         location,
@@ -463,6 +472,7 @@ fn parse_layer(location: Location, t: &toml::Table) -> Result<Layer, StackError>
     })
 }
 
+#[cfg(feature = "toml")]
 fn parse_base(t: &toml::Table) -> Result<Base, StackError> {
     let loc = Location::Base;
     let kind = match t.get("kind") {

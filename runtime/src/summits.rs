@@ -133,8 +133,10 @@ mod tests {
     /// (positions exact, z and R to 1e-9 relative), none dropped there.
     #[test]
     fn reference_summits_km10() {
-        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/reference");
-        let s = Surface::read_npy(&dir.join("surface_km10.npy"), 1e-3, true).unwrap();
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reference");
+        let p = dir.join("surface_km10.npy");
+        let s =
+            Surface::read_npy(&p, 1e-3, true).unwrap_or_else(|e| panic!("{}: {e}", p.display()));
         let text = std::fs::read_to_string(dir.join("summits_km10.csv")).unwrap();
         let mut expect: Vec<[f64; 4]> = text
             .lines()

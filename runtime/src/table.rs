@@ -36,6 +36,7 @@
 //! [`interp`] (one mechanism for every array).
 
 pub mod codec;
+#[cfg(feature = "npy")]
 pub mod export;
 pub mod interp;
 

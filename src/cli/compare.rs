@@ -39,10 +39,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::scene::{MapsSpec, ModelKind, Scene};
 use anyhow::{Context, Result, bail};
 use strata_runtime::output::write_atomic;
 use strata_runtime::rough::{Images, Step};
-use strata_runtime::scene::{MapsSpec, ModelKind, Scene};
 
 use crate::cli::solve::{curve_csv, out_dir_ready, write_maps};
 use crate::engine::{EngineOptions, solve_scene};
@@ -456,8 +456,8 @@ fn plots(dir: &Path, suffix: &str, cs: &[&Compared], models: &[usize]) -> Result
 fn describe(scene: &Scene) -> String {
     let s = &scene.surface;
     let src = match &s.source {
-        strata_runtime::scene::SurfaceSource::File(p) => format!("surface {}", p.display()),
-        strata_runtime::scene::SurfaceSource::Generate(g) => format!(
+        crate::scene::SurfaceSource::File(p) => format!("surface {}", p.display()),
+        crate::scene::SurfaceSource::Generate(g) => format!(
             "generated surface {0}×{0}, L = {1:e} m, D_f = {2}, k = {3}…{4}, RMS {5:e} m, seed {6}",
             g.grid, g.size, g.fractal_dimension, g.k_min, g.k_max, g.rms, g.seed
         ),

@@ -23,11 +23,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::scene::{LoadSpec, ModelKind, Scene};
 use anyhow::{Context, Result, bail};
 use strata_runtime::interface::{InterfaceLaw, SampleOptions, sample_gaps};
 use strata_runtime::output::write_atomic;
 use strata_runtime::rough::{Images, Model, RoughContact};
-use strata_runtime::scene::{LoadSpec, ModelKind, Scene};
 
 use crate::engine::{EngineOptions, law_for, solve_scene};
 

@@ -53,3 +53,16 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Study(a) => study::run(a),
     }
 }
+
+/// Parses the process arguments, runs the command and maps the result to an exit code
+/// (errors are printed once, as one chain, on stderr).
+pub fn main() -> std::process::ExitCode {
+    let args = Cli::parse();
+    match run(args) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}

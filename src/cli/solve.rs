@@ -25,11 +25,11 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::scene::{MapsSpec, Scene};
 use anyhow::{Context, Result, bail};
-use strata_runtime::bem::BemSolution;
+use strata_bem::BemSolution;
 use strata_runtime::output::write_atomic;
 use strata_runtime::rough::Step;
-use strata_runtime::scene::{MapsSpec, Scene};
 
 use crate::engine::{EngineOptions, solve_scene};
 

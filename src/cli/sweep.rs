@@ -34,11 +34,11 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
+use crate::scene::ModelKind;
 use anyhow::{Context, Result, anyhow, bail};
 use rayon::prelude::*;
 use strata_runtime::output::write_atomic;
 use strata_runtime::rough::Step;
-use strata_runtime::scene::ModelKind;
 use strata_runtime::table::Table;
 
 use crate::cli::solve::out_dir_ready;

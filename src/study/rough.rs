@@ -22,12 +22,12 @@
 //! studied separately: periodic I model at several tolerances against exact
 //! interactions (tolerance 0).
 
+use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
 use ndarray::Array2;
-use strata_runtime::bem::{BemLoad, BemOptions, BemSolver, resample_spectral};
+use strata_bem::{BemLoad, BemOptions, BemSolver, resample_spectral};
 use strata_runtime::law::AsperityLaw;
 use strata_runtime::rough::{Images, Model, RoughContact, Step};
-use strata_runtime::scene::Scene;
 use strata_runtime::surface::Surface;
 use strata_runtime::table::Table;
 

@@ -330,7 +330,7 @@ mod tests {
 
     fn read_reference(name: &str) -> Vec<Vec<f64>> {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../shared/reference")
+            .join("../tests/reference")
             .join(name);
         let text = std::fs::read_to_string(&path)
             .unwrap_or_else(|e| panic!("reading {}: {e}", path.display()));

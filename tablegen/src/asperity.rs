@@ -993,10 +993,7 @@ mod tests {
     }
 
     fn reference(file: &str) -> Vec<[f64; 4]> {
-        let path = format!(
-            "{}/../../shared/reference/{file}",
-            env!("CARGO_MANIFEST_DIR")
-        );
+        let path = format!("{}/../tests/reference/{file}", env!("CARGO_MANIFEST_DIR"));
         let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
         text.lines()
             .filter(|l| !l.starts_with('#') && !l.starts_with("delta"))
@@ -1011,7 +1008,7 @@ mod tests {
     #[test]
     fn matches_shared_reference() {
         for e in ["0.2", "5"] {
-            let dir = format!("{}/../../shared/reference", env!("CARGO_MANIFEST_DIR"));
+            let dir = format!("{}/../tests/reference", env!("CARGO_MANIFEST_DIR"));
             let st = Stack::from_toml_file(std::path::Path::new(&format!(
                 "{dir}/stack_h100um_E2E1_{e}.toml"
             )))

@@ -37,9 +37,9 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::scene::{ModelKind, Scene, SurfaceSource};
 use anyhow::{Context, Result, anyhow, bail};
 use strata_runtime::rough::Images;
-use strata_runtime::scene::{ModelKind, Scene, SurfaceSource};
 use strata_runtime::stack::{Base, Stack};
 use toml::Value as Toml;
 

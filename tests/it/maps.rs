@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use strata_runtime::bem::read_heights_npy;
+use strata_bem::read_heights_npy;
 
 const N: usize = 64;
 

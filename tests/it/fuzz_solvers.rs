@@ -12,7 +12,7 @@
 use ndarray::Array2;
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use strata_runtime::bem::{BemLoad, BemOptions, BemSolver};
+use strata_bem::{BemLoad, BemOptions, BemSolver};
 use strata_runtime::law::Homogeneous;
 use strata_runtime::rough::{Images, Model, RoughContact, contact_radius};
 use strata_runtime::summits::Summit;

@@ -1,7 +1,7 @@
 //! FFT-BEM benches.
 //!
 //! `bem_512`: time per load step at n = 512 on the shared paper-like surface
-//! (`../shared/reference/surface_km10.npy`), cold start, for comparison with Tamaas
+//! (`tests/reference/surface_km10.npy`), cold start, for comparison with Tamaas
 //! (`tests/python/run.sh --speed` runs both side by side and prints the ratio).
 //! Cases: homogeneous half-space (E = 4 GPa, ν = 0.15) at mean gap 0.5·(z_M − z̄), at
 //! tolerances 1e-8 and 1e-10; the paper's two-layer stack on a rigid base (E2/E1 = 1)
@@ -20,15 +20,14 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use std::hint::black_box;
 use std::path::Path;
 use std::time::{Duration, Instant};
+use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy, resample_spectral};
 use strata_runtime::Stack;
-use strata_runtime::bem::{
-    Array2, BemLoad, BemOptions, BemSolver, read_heights_npy, resample_spectral,
-};
 use strata_runtime::surface::{GenerateParams, Surface};
 
 fn bench(c: &mut Criterion) {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/reference");
-    let z = read_heights_npy(&dir.join("surface_km10.npy")).expect("shared reference surface");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reference");
+    let z =
+        read_heights_npy(&dir.join("surface_km10.npy")).expect("tests/reference/surface_km10.npy");
     let layered =
         Stack::from_toml_file(&dir.join("stack_h100um_E2E1_1.toml")).expect("reference stack");
     let half = Stack::half_space(4e9, 0.15).expect("stack");

@@ -23,12 +23,13 @@
 //! `[surface] repair = "median"`) such points are replaced by the median of their
 //! valid neighbours instead, and [`Surface::repaired`] counts them.
 
-use std::path::Path;
+#[cfg(feature = "spectral")]
+mod generate;
+mod read;
 
-use ndarray::Array2;
-use ndarray_npy::{ReadNpyError, ReadNpyExt};
-use rand::{RngExt, SeedableRng};
-use rustfft::{FftPlanner, num_complex::Complex};
+#[cfg(feature = "spectral")]
+pub use generate::GenerateParams;
+
 use thiserror::Error;
 
 /// Errors from building or reading a surface. Each names the field or file.
@@ -78,25 +79,6 @@ pub enum Repair {
     Refuse,
     /// Replace each by the median of its valid 8 neighbours.
     Median,
-}
-
-/// Parameters of a generated self-affine surface (physics.md §5).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct GenerateParams {
-    /// Side length L (m) of the square sample.
-    pub size: f64,
-    /// Grid points per side n (≥ 4).
-    pub grid: usize,
-    /// Fractal dimension D_f in [2, 3); Hurst exponent H = 3 − D_f.
-    pub fractal_dimension: f64,
-    /// Lowest wavenumber, in units of 2π/L (> 0).
-    pub k_min: f64,
-    /// Highest wavenumber, in units of 2π/L (≥ k_min, ≤ n/2).
-    pub k_max: f64,
-    /// RMS height (m, > 0).
-    pub rms: f64,
-    /// Seed of the ChaCha8 generator.
-    pub seed: u64,
 }
 
 /// A height map on a regular square-spaced grid.
@@ -216,186 +198,6 @@ impl Surface {
     /// Number of points replaced when the surface was read with [`Repair::Median`].
     pub fn repaired(&self) -> usize {
         self.repaired
-    }
-
-    /// Reads a 2-D f64 `.npy` height map (m). Wrong dtype or dimensionality, non-finite
-    /// heights and spikes are errors naming the file (and the grid index).
-    pub fn read_npy(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
-        Self::read_npy_with(path, size, periodic, Repair::Refuse)
-    }
-
-    /// [`Surface::read_npy`] with a choice of [`Repair`].
-    pub fn read_npy_with(
-        path: &Path,
-        size: f64,
-        periodic: bool,
-        repair: Repair,
-    ) -> Result<Self, SurfaceError> {
-        let p = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
-            path: p.clone(),
-            message: e.to_string(),
-        })?;
-        let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
-            let message = match e {
-                ReadNpyError::WrongNdim(exp, got) => format!(
-                    "wrong shape: expected a 2-D array, found {got} dimension(s) (expected {exp:?})"
-                ),
-                ReadNpyError::WrongDescriptor(d) => {
-                    format!("wrong dtype: expected little-endian float64 ('<f8'), found {d}")
-                }
-                other => format!("not a valid .npy file: {other}"),
-            };
-            SurfaceError::Format {
-                path: p.clone(),
-                message,
-            }
-        })?;
-        let (n0, n1) = arr.dim();
-        let z: Vec<f64> = arr.iter().copied().collect(); // logical (C) order
-        Surface::measured(z, n0, n1, size, periodic, repair).map_err(|e| SurfaceError::Format {
-            path: p,
-            message: e.to_string(),
-        })
-    }
-
-    /// Reads a plain-text matrix of heights (m): one grid row per line, values
-    /// separated by whitespace and/or commas, `#` comments and blank lines ignored.
-    /// `nan`/`inf` entries and spikes are errors naming the file and the grid index.
-    pub fn read_text(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
-        Self::read_text_with(path, size, periodic, Repair::Refuse)
-    }
-
-    /// [`Surface::read_text`] with a choice of [`Repair`].
-    pub fn read_text_with(
-        path: &Path,
-        size: f64,
-        periodic: bool,
-        repair: Repair,
-    ) -> Result<Self, SurfaceError> {
-        let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
-            path: p.clone(),
-            message: e.to_string(),
-        })?;
-        let mut z = Vec::new();
-        let (mut n0, mut n1) = (0usize, 0usize);
-        for (ln, line) in text.lines().enumerate() {
-            let line = line.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let mut count = 0;
-            for tok in line
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|t| !t.is_empty())
-            {
-                let v: f64 = tok.parse().map_err(|_| SurfaceError::Format {
-                    path: p.clone(),
-                    message: format!("line {}: `{tok}` is not a number", ln + 1),
-                })?;
-                z.push(v);
-                count += 1;
-            }
-            if n0 == 0 {
-                n1 = count;
-            } else if count != n1 {
-                return Err(SurfaceError::Format {
-                    path: p,
-                    message: format!(
-                        "line {}: {count} values but the first row has {n1} (ragged matrix)",
-                        ln + 1
-                    ),
-                });
-            }
-            n0 += 1;
-        }
-        Surface::measured(z, n0, n1, size, periodic, repair).map_err(|e| SurfaceError::Format {
-            path: p,
-            message: e.to_string(),
-        })
-    }
-
-    /// Generates a self-affine surface (physics.md §5). Amplitudes |ẑ(k)| ∝ |k|^(−(1+H))
-    /// for k_min ≤ |k|L/(2π) ≤ k_max (k integer multiples of 2π/L), uniform random
-    /// phases; the real part of the inverse FFT is rescaled to zero mean and the RMS.
-    pub fn generate(p: &GenerateParams) -> Result<Self, SurfaceError> {
-        if !(p.size.is_finite() && p.size > 0.0) {
-            return Err(invalid("generate.size", p.size, "must be > 0 (m)"));
-        }
-        if p.grid < 4 || p.grid > 16384 {
-            return Err(invalid(
-                "generate.grid",
-                p.grid as f64,
-                "must be in [4, 16384]",
-            ));
-        }
-        if !(2.0..3.0).contains(&p.fractal_dimension) {
-            return Err(invalid(
-                "generate.fractal_dimension",
-                p.fractal_dimension,
-                "must be in [2, 3)",
-            ));
-        }
-        if !(p.k_min.is_finite() && p.k_min > 0.0) {
-            return Err(invalid(
-                "generate.k_min",
-                p.k_min,
-                "must be > 0 (units of 2π/L)",
-            ));
-        }
-        if !(p.k_max.is_finite() && p.k_max >= p.k_min && p.k_max <= p.grid as f64 / 2.0) {
-            return Err(invalid(
-                "generate.k_max",
-                p.k_max,
-                "must satisfy k_min ≤ k_max ≤ grid/2",
-            ));
-        }
-        if !(p.rms.is_finite() && p.rms > 0.0) {
-            return Err(invalid("generate.rms", p.rms, "must be > 0 (m)"));
-        }
-        let n = p.grid;
-        let hurst = 3.0 - p.fractal_dimension;
-        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(p.seed);
-        let mut spec = vec![Complex::new(0.0, 0.0); n * n];
-        let signed = |i: usize| -> f64 {
-            if i <= n / 2 {
-                i as f64
-            } else {
-                i as f64 - n as f64
-            }
-        };
-        let mut any = false;
-        for i in 0..n {
-            for j in 0..n {
-                // Draw the phase for every mode so the stream does not depend on k range.
-                let phase: f64 = rng.random::<f64>() * std::f64::consts::TAU;
-                let k = signed(i).hypot(signed(j));
-                if k >= p.k_min && k <= p.k_max {
-                    let amp = k.powf(-(1.0 + hurst));
-                    spec[i * n + j] = Complex::from_polar(amp, phase);
-                    any = true;
-                }
-            }
-        }
-        if !any {
-            return Err(invalid(
-                "generate.k_max",
-                p.k_max,
-                "no wavevector lies in [k_min, k_max]",
-            ));
-        }
-        ifft2(&mut spec, n);
-        let mut z: Vec<f64> = spec.iter().map(|c| c.re).collect();
-        let mean = z.iter().sum::<f64>() / z.len() as f64;
-        z.iter_mut().for_each(|v| *v -= mean);
-        let rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64).sqrt();
-        if rms.is_nan() || rms <= 0.0 {
-            return Err(invalid("generate.rms", p.rms, "generated surface is flat"));
-        }
-        let s = p.rms / rms;
-        z.iter_mut().for_each(|v| *v *= s);
-        Surface::new(z, n, n, p.size, true)
     }
 
     /// Height at grid point (i, j) (m).
@@ -534,37 +336,12 @@ fn suspect_points(z: &[f64], n0: usize, n1: usize, periodic: bool) -> Vec<(usize
     out
 }
 
-/// In-place unnormalised 2-D inverse FFT of an n×n row-major array (rows, then columns).
-fn ifft2(a: &mut [Complex<f64>], n: usize) {
-    fft2(a, n, true);
-}
-
-/// In-place unnormalised 2-D FFT (forward or inverse) of an n×n row-major array.
-fn fft2(a: &mut [Complex<f64>], n: usize, inverse: bool) {
-    let mut planner = FftPlanner::new();
-    let fft = if inverse {
-        planner.plan_fft_inverse(n)
-    } else {
-        planner.plan_fft_forward(n)
-    };
-    for row in a.chunks_mut(n) {
-        fft.process(row);
-    }
-    let mut col = vec![Complex::new(0.0, 0.0); n];
-    for j in 0..n {
-        for i in 0..n {
-            col[i] = a[i * n + j];
-        }
-        fft.process(&mut col);
-        for i in 0..n {
-            a[i * n + j] = col[i];
-        }
-    }
-}
-
-#[cfg(test)]
+#[cfg(all(test, feature = "npy", feature = "spectral"))]
 mod tests {
     use super::*;
+    use crate::fft::fft2;
+    use ndarray::Array2;
+    use rustfft::num_complex::Complex;
 
     fn params() -> GenerateParams {
         GenerateParams {

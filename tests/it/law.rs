@@ -8,8 +8,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+use strata::scene::Scene;
 use strata_runtime::interface::InterfaceLaw;
-use strata_runtime::scene::Scene;
 use strata_runtime::summits::find_summits;
 
 fn root() -> PathBuf {

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 use ndarray::Array2;
-use strata_runtime::bem::{BemLoad, BemOptions, BemSolver};
+use strata_bem::{BemLoad, BemOptions, BemSolver};
 use strata_runtime::{Base, Layer, Stack};
 use strata_tablegen::asperity::{Asperity, Method, Options};
 use strata_tablegen::fredholm::Discretisation;

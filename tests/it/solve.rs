@@ -8,7 +8,7 @@ use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::Surface;
 
 fn reference_surface() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference/surface_km10.npy")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/surface_km10.npy")
 }
 
 fn tmp(name: &str) -> PathBuf {

@@ -9,7 +9,7 @@
 //! compliance, ~(h/a)·E_b/E₁ relative), independently of the Fredholm code.
 
 use ndarray::Array2;
-use strata_runtime::bem::{BemLoad, BemOptions, BemSolver};
+use strata_bem::{BemLoad, BemOptions, BemSolver};
 use strata_runtime::{Base, Layer, Stack};
 use strata_tablegen::asperity::{Asperity, Options};
 

@@ -19,7 +19,7 @@ use strata_runtime::{Compliance, Stack};
 
 fn reference(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/reference")
+        .join("tests/reference")
         .join(name)
 }
 

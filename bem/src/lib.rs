@@ -82,8 +82,8 @@ use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 use thiserror::Error;
 
-use crate::compliance::Compliance;
-use crate::stack::{Base, Stack};
+use strata_runtime::compliance::Compliance;
+use strata_runtime::stack::{Base, Stack};
 
 /// Errors of the boundary-element solver. Each names the offending input.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -209,10 +209,10 @@ pub struct BemSolution {
 
 impl BemSolution {
     /// Writes the pressure and gap maps as f64 .npy files, each atomically
-    /// ([`crate::output::write_atomic_with`]).
+    /// ([`strata_runtime::output::write_atomic_with`]).
     pub fn write_maps(&self, pressure_path: &Path, gap_path: &Path) -> Result<(), BemError> {
         for (path, map) in [(pressure_path, &self.pressure), (gap_path, &self.gap)] {
-            crate::output::write_atomic_with(path, |tmp| {
+            strata_runtime::output::write_atomic_with(path, |tmp| {
                 ndarray_npy::write_npy(tmp, map).map_err(std::io::Error::other)
             })
             .map_err(|e| BemError::Write {
@@ -930,7 +930,7 @@ pub fn resample_spectral(field: &Array2<f64>, m: usize) -> Result<Array2<f64>, B
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::stack::Layer;
+    use strata_runtime::stack::Layer;
 
     fn sine_surface(n: usize, l: f64, amp: f64) -> Array2<f64> {
         Array2::from_shape_fn((n, n), |(i, j)| {

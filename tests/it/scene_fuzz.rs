@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
-use strata_runtime::scene::{LoadSpec, Scene, SurfaceSource};
+use strata::scene::{LoadSpec, Scene, SurfaceSource};
 
 /// Fixed case count and seed unless PROPTEST_CASES / PROPTEST_RNG_SEED say otherwise.
 fn config(cases: u32) -> ProptestConfig {

@@ -1,5 +1,5 @@
 //! The FFT boundary-element solver against the shared reference data
-//! (`../shared/reference`, computed by an independent implementation that agrees with
+//! (`tests/reference`, computed by an independent implementation that agrees with
 //! Tamaas 2.9 and ContactMechanics 1.8 to 1e-10), and against Tamaas and
 //! ContactMechanics themselves (the ignored `python_*` tests, run by
 //! `tests/python/run.sh` in CI): `write_cross_check_surface` writes strata's generated
@@ -12,41 +12,25 @@
 
 use std::path::{Path, PathBuf};
 
+use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy, resample_spectral};
 use strata_runtime::Stack;
-use strata_runtime::bem::{
-    Array2, BemLoad, BemOptions, BemSolver, read_heights_npy, resample_spectral,
-};
 use strata_runtime::surface::{GenerateParams, Surface};
 
 fn reference_dir() -> PathBuf {
-    // The shared data sit beside the repository on the development machines; a clean
-    // checkout (CI) does not have them.
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let here = root.join("../shared/reference");
-    if here.is_dir() {
-        here
-    } else {
-        root.join("../../shared/reference")
-    }
+    crate::support::reference_dir()
 }
 
-/// The shared reference directory, or None with a loud message when it is absent (a
-/// clean checkout); `STRATA_REQUIRE_SHARED=1` turns the absence into a failure.
+/// The reference directory (in the repository: `tests/reference`); a missing file is a
+/// failure naming its path, never a skip.
 fn shared_or_skip(test: &str) -> Option<PathBuf> {
     let dir = reference_dir();
-    if dir.join("rough_h100um_E2E1_1.csv").is_file() {
-        return Some(dir);
-    }
-    if std::env::var_os("STRATA_REQUIRE_SHARED").is_some() {
-        panic!("{test}: shared reference data missing at {}", dir.display());
-    }
-    eprintln!(
-        "\n*** SKIPPED {test}: the shared reference data ({}) are not in this checkout; \
-         the self-contained checks (grid refinement, tests/python/run.sh against Tamaas and \
-         ContactMechanics) still run. Set STRATA_REQUIRE_SHARED=1 to fail instead. ***\n",
-        dir.display()
+    let f = dir.join("rough_h100um_E2E1_1.csv");
+    assert!(
+        f.is_file(),
+        "{test}: reference data missing: {}",
+        f.display()
     );
-    None
+    Some(dir)
 }
 
 /// Reads a numeric CSV with `#` comment lines and one header line.

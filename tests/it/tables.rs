@@ -23,7 +23,7 @@ fn repo() -> PathBuf {
 }
 
 fn reference(name: &str) -> PathBuf {
-    repo().join("../shared/reference").join(name)
+    repo().join("tests/reference").join(name)
 }
 
 fn tmp(name: &str) -> PathBuf {

@@ -31,9 +31,9 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 use toml::{Table, Value};
 
-use crate::rough::Images;
-use crate::stack::{Stack, StackError};
-use crate::surface::{GenerateParams, Repair, Surface, SurfaceError};
+use strata_runtime::rough::Images;
+use strata_runtime::stack::{Stack, StackError};
+use strata_runtime::surface::{GenerateParams, Repair, Surface, SurfaceError};
 
 /// Errors of scene reading and validation.
 #[derive(Debug, Error)]

@@ -1,0 +1,1 @@
+//! Criterion benchmarks of strata; see `benches/` and the README ("Benchmarks").

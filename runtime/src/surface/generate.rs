@@ -1,0 +1,110 @@
+//! Spectral synthesis of self-affine random surfaces (feature `spectral`).
+
+use rand::{RngExt, SeedableRng};
+use rustfft::num_complex::Complex;
+
+use super::{Surface, SurfaceError, invalid};
+use crate::fft::ifft2;
+
+/// Parameters of a generated self-affine surface (physics.md §5).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GenerateParams {
+    /// Side length L (m) of the square sample.
+    pub size: f64,
+    /// Grid points per side n (≥ 4).
+    pub grid: usize,
+    /// Fractal dimension D_f in [2, 3); Hurst exponent H = 3 − D_f.
+    pub fractal_dimension: f64,
+    /// Lowest wavenumber, in units of 2π/L (> 0).
+    pub k_min: f64,
+    /// Highest wavenumber, in units of 2π/L (≥ k_min, ≤ n/2).
+    pub k_max: f64,
+    /// RMS height (m, > 0).
+    pub rms: f64,
+    /// Seed of the ChaCha8 generator.
+    pub seed: u64,
+}
+
+impl Surface {
+    /// Generates a self-affine surface (physics.md §5). Amplitudes |ẑ(k)| ∝ |k|^(−(1+H))
+    /// for k_min ≤ |k|L/(2π) ≤ k_max (k integer multiples of 2π/L), uniform random
+    /// phases; the real part of the inverse FFT is rescaled to zero mean and the RMS.
+    pub fn generate(p: &GenerateParams) -> Result<Self, SurfaceError> {
+        if !(p.size.is_finite() && p.size > 0.0) {
+            return Err(invalid("generate.size", p.size, "must be > 0 (m)"));
+        }
+        if p.grid < 4 || p.grid > 16384 {
+            return Err(invalid(
+                "generate.grid",
+                p.grid as f64,
+                "must be in [4, 16384]",
+            ));
+        }
+        if !(2.0..3.0).contains(&p.fractal_dimension) {
+            return Err(invalid(
+                "generate.fractal_dimension",
+                p.fractal_dimension,
+                "must be in [2, 3)",
+            ));
+        }
+        if !(p.k_min.is_finite() && p.k_min > 0.0) {
+            return Err(invalid(
+                "generate.k_min",
+                p.k_min,
+                "must be > 0 (units of 2π/L)",
+            ));
+        }
+        if !(p.k_max.is_finite() && p.k_max >= p.k_min && p.k_max <= p.grid as f64 / 2.0) {
+            return Err(invalid(
+                "generate.k_max",
+                p.k_max,
+                "must satisfy k_min ≤ k_max ≤ grid/2",
+            ));
+        }
+        if !(p.rms.is_finite() && p.rms > 0.0) {
+            return Err(invalid("generate.rms", p.rms, "must be > 0 (m)"));
+        }
+        let n = p.grid;
+        let hurst = 3.0 - p.fractal_dimension;
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(p.seed);
+        let mut spec = vec![Complex::new(0.0, 0.0); n * n];
+        let signed = |i: usize| -> f64 {
+            if i <= n / 2 {
+                i as f64
+            } else {
+                i as f64 - n as f64
+            }
+        };
+        let mut any = false;
+        for i in 0..n {
+            for j in 0..n {
+                // Draw the phase for every mode so the stream does not depend on k range.
+                let phase: f64 = rng.random::<f64>() * std::f64::consts::TAU;
+                let k = signed(i).hypot(signed(j));
+                if k >= p.k_min && k <= p.k_max {
+                    let amp = k.powf(-(1.0 + hurst));
+                    spec[i * n + j] = Complex::from_polar(amp, phase);
+                    any = true;
+                }
+            }
+        }
+        if !any {
+            return Err(invalid(
+                "generate.k_max",
+                p.k_max,
+                "no wavevector lies in [k_min, k_max]",
+            ));
+        }
+        ifft2(&mut spec, n);
+        let mut z: Vec<f64> = spec.iter().map(|c| c.re).collect();
+        let mean = z.iter().sum::<f64>() / z.len() as f64;
+        z.iter_mut().for_each(|v| *v -= mean);
+        let rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64).sqrt();
+        if rms.is_nan() || rms <= 0.0 {
+            return Err(invalid("generate.rms", p.rms, "generated surface is flat"));
+        }
+        let s = p.rms / rms;
+        z.iter_mut().for_each(|v| *v *= s);
+        Surface::new(z, n, n, p.size, true)
+    }
+}

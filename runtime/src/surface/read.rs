@@ -1,0 +1,112 @@
+//! File readers: `.npy` (feature `npy`) and plain-text height matrices.
+
+use std::path::Path;
+
+#[cfg(feature = "npy")]
+use ndarray::Array2;
+#[cfg(feature = "npy")]
+use ndarray_npy::{ReadNpyError, ReadNpyExt};
+
+use super::{Repair, Surface, SurfaceError};
+
+impl Surface {
+    #[cfg(feature = "npy")]
+    /// Reads a 2-D f64 `.npy` height map (m). Wrong dtype or dimensionality, non-finite
+    /// heights and spikes are errors naming the file (and the grid index).
+    pub fn read_npy(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
+        Self::read_npy_with(path, size, periodic, Repair::Refuse)
+    }
+
+    #[cfg(feature = "npy")]
+    /// [`Surface::read_npy`] with a choice of [`Repair`].
+    pub fn read_npy_with(
+        path: &Path,
+        size: f64,
+        periodic: bool,
+        repair: Repair,
+    ) -> Result<Self, SurfaceError> {
+        let p = path.display().to_string();
+        let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
+            let message = match e {
+                ReadNpyError::WrongNdim(exp, got) => format!(
+                    "wrong shape: expected a 2-D array, found {got} dimension(s) (expected {exp:?})"
+                ),
+                ReadNpyError::WrongDescriptor(d) => {
+                    format!("wrong dtype: expected little-endian float64 ('<f8'), found {d}")
+                }
+                other => format!("not a valid .npy file: {other}"),
+            };
+            SurfaceError::Format {
+                path: p.clone(),
+                message,
+            }
+        })?;
+        let (n0, n1) = arr.dim();
+        let z: Vec<f64> = arr.iter().copied().collect(); // logical (C) order
+        Surface::measured(z, n0, n1, size, periodic, repair).map_err(|e| SurfaceError::Format {
+            path: p,
+            message: e.to_string(),
+        })
+    }
+
+    /// Reads a plain-text matrix of heights (m): one grid row per line, values
+    /// separated by whitespace and/or commas, `#` comments and blank lines ignored.
+    /// `nan`/`inf` entries and spikes are errors naming the file and the grid index.
+    pub fn read_text(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
+        Self::read_text_with(path, size, periodic, Repair::Refuse)
+    }
+
+    /// [`Surface::read_text`] with a choice of [`Repair`].
+    pub fn read_text_with(
+        path: &Path,
+        size: f64,
+        periodic: bool,
+        repair: Repair,
+    ) -> Result<Self, SurfaceError> {
+        let p = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
+        let mut z = Vec::new();
+        let (mut n0, mut n1) = (0usize, 0usize);
+        for (ln, line) in text.lines().enumerate() {
+            let line = line.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let mut count = 0;
+            for tok in line
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|t| !t.is_empty())
+            {
+                let v: f64 = tok.parse().map_err(|_| SurfaceError::Format {
+                    path: p.clone(),
+                    message: format!("line {}: `{tok}` is not a number", ln + 1),
+                })?;
+                z.push(v);
+                count += 1;
+            }
+            if n0 == 0 {
+                n1 = count;
+            } else if count != n1 {
+                return Err(SurfaceError::Format {
+                    path: p,
+                    message: format!(
+                        "line {}: {count} values but the first row has {n1} (ragged matrix)",
+                        ln + 1
+                    ),
+                });
+            }
+            n0 += 1;
+        }
+        Surface::measured(z, n0, n1, size, periodic, repair).map_err(|e| SurfaceError::Format {
+            path: p,
+            message: e.to_string(),
+        })
+    }
+}

@@ -1,0 +1,14 @@
+//! # strata: the command's library
+//!
+//! Scenes (`scene`: the TOML description of one rough-contact case), the engine that
+//! solves them with the model they name (`engine`), sweeps, the accuracy–cost study,
+//! plots and the command-line front end (`cli`). The `strata` binary is a thin wrapper
+//! over [`cli::main`]; the physics lives in `strata-runtime` (light, embeddable),
+//! `strata-tablegen` (Fredholm solves, table builds) and `strata-bem` (the full-field
+//! solver).
+
+pub mod cli;
+pub mod engine;
+pub mod plot;
+pub mod scene;
+pub mod study;

@@ -1,0 +1,25 @@
+//! Integration tests of the strata workspace, one binary (one link) for all of them.
+//! Each module is one concern; `support` holds the shared paths and helpers.
+
+mod support;
+
+mod asperity;
+mod asperity_vs_bem;
+mod bem_reference;
+mod compare;
+mod compliance_cli;
+mod compliance_hard_cases;
+mod compliance_second_method;
+mod fuzz_solvers;
+mod hard_cases;
+mod law;
+mod maps;
+mod rough_reference;
+mod scene_fuzz;
+mod solve;
+mod solve_bem;
+mod stack_fuzz;
+mod study;
+mod sweep;
+mod table_fuzz;
+mod tables;
