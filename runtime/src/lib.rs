@@ -17,6 +17,7 @@ pub mod fft;
 pub mod interface;
 pub mod law;
 pub mod output;
+pub mod resources;
 pub mod rough;
 pub mod stack;
 pub mod summits;

@@ -1,0 +1,177 @@
+//! Resource checks before large allocations: every solver that allocates in proportion
+//! to its input (grids, summit pairs, tables, file headers) estimates the bytes it needs
+//! and asks [`check_memory`] first, so that an impossible request fails with a message
+//! naming the estimate and the limit instead of aborting the process.
+//!
+//! The limit, in order of precedence:
+//! 1. [`set_memory_limit`] (the command line's `--memory-limit`, the C ABI, Python);
+//! 2. the environment variable `STRATA_MEMORY_LIMIT` (bytes, or with a suffix
+//!    `k`, `M`, `G`, `T`: powers of 1024; e.g. `STRATA_MEMORY_LIMIT=512M`);
+//! 3. [`DEFAULT_FRACTION`] of the machine's memory (`MemTotal` of `/proc/meminfo`;
+//!    [`FALLBACK_LIMIT`] where that cannot be read).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use thiserror::Error;
+
+/// Fraction of the machine's memory a single request may take by default.
+pub const DEFAULT_FRACTION: f64 = 0.75;
+/// The default limit where the machine's memory cannot be read: 8 GiB.
+pub const FALLBACK_LIMIT: u64 = 8 << 30;
+
+/// 0 = not set (use the environment or the machine).
+static LIMIT: AtomicU64 = AtomicU64::new(0);
+
+/// A request above the memory limit, or an unreadable limit setting.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum ResourceError {
+    #[error(
+        "{what} needs about {} but the memory limit is {} ({source_of_limit}); \
+         reduce the problem or raise the limit (--memory-limit, STRATA_MEMORY_LIMIT)",
+        human_bytes(*needed),
+        human_bytes(*limit)
+    )]
+    Memory {
+        what: String,
+        needed: u64,
+        limit: u64,
+        source_of_limit: &'static str,
+    },
+    #[error(
+        "memory limit `{0}` is invalid: expected bytes, optionally with k, M, G or T (powers of 1024), e.g. 512M"
+    )]
+    BadLimit(String),
+}
+
+/// Bytes in a readable unit (powers of 1024), e.g. `28.75 GiB`.
+pub fn human_bytes(b: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut v = b as f64;
+    let mut u = 0;
+    while v >= 1024.0 && u + 1 < UNITS.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{b} B")
+    } else {
+        format!("{v:.2} {}", UNITS[u])
+    }
+}
+
+/// Parses a size such as `123456`, `512M`, `1.5G` (powers of 1024).
+pub fn parse_bytes(text: &str) -> Result<u64, ResourceError> {
+    let t = text.trim();
+    let bad = || ResourceError::BadLimit(text.to_string());
+    let (num, mul) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => {
+            let m: u64 = match c.to_ascii_uppercase() {
+                'K' => 1 << 10,
+                'M' => 1 << 20,
+                'G' => 1 << 30,
+                'T' => 1 << 40,
+                'B' => 1,
+                _ => return Err(bad()),
+            };
+            (&t[..i], m)
+        }
+        _ => (t, 1),
+    };
+    let v: f64 = num.trim().parse().map_err(|_| bad())?;
+    if !(v.is_finite() && v > 0.0) {
+        return Err(bad());
+    }
+    let bytes = v * mul as f64;
+    if bytes >= u64::MAX as f64 {
+        return Err(bad());
+    }
+    Ok(bytes as u64)
+}
+
+/// Sets the process-wide limit (bytes); 0 returns to the environment/machine default.
+pub fn set_memory_limit(bytes: u64) {
+    LIMIT.store(bytes, Ordering::Relaxed);
+}
+
+/// Total memory of the machine (bytes) from `/proc/meminfo`, if readable.
+pub fn machine_memory() -> Option<u64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib.saturating_mul(1024))
+}
+
+/// The limit in force (bytes) and where it comes from.
+pub fn memory_limit() -> Result<(u64, &'static str), ResourceError> {
+    let set = LIMIT.load(Ordering::Relaxed);
+    if set > 0 {
+        return Ok((set, "set by the caller"));
+    }
+    if let Ok(v) = std::env::var("STRATA_MEMORY_LIMIT") {
+        return Ok((parse_bytes(&v)?, "STRATA_MEMORY_LIMIT"));
+    }
+    Ok(match machine_memory() {
+        Some(m) => (
+            (m as f64 * DEFAULT_FRACTION) as u64,
+            "75 % of the machine's memory",
+        ),
+        None => (FALLBACK_LIMIT, "default 8 GiB"),
+    })
+}
+
+/// Checks that `what` may allocate about `needed` bytes. Call it before the allocation,
+/// with an estimate from sizes known up front (grid points, pairs, header shapes).
+pub fn check_memory(what: impl Into<String>, needed: u64) -> Result<(), ResourceError> {
+    check_against(what, needed, memory_limit()?)
+}
+
+/// [`check_memory`] against an explicit `(limit, where the limit comes from)`.
+pub fn check_against(
+    what: impl Into<String>,
+    needed: u64,
+    (limit, source_of_limit): (u64, &'static str),
+) -> Result<(), ResourceError> {
+    if needed > limit {
+        return Err(ResourceError::Memory {
+            what: what.into(),
+            needed,
+            limit,
+            source_of_limit,
+        });
+    }
+    Ok(())
+}
+
+/// `count × size` in bytes, saturating (an estimate never overflows into a small number).
+pub fn bytes_for(count: u64, size: u64) -> u64 {
+    count.saturating_mul(size)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_sizes_and_refuses_nonsense() {
+        assert_eq!(parse_bytes("1024").unwrap(), 1024);
+        assert_eq!(parse_bytes("512M").unwrap(), 512 << 20);
+        assert_eq!(parse_bytes("1.5G").unwrap(), 3 << 29);
+        assert_eq!(parse_bytes(" 2k ").unwrap(), 2048);
+        for bad in ["", "-1", "0", "abc", "12Q", "1e400", "nan"] {
+            assert!(parse_bytes(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn check_names_estimate_and_limit() {
+        let limit = (1 << 20, "test");
+        let e = check_against("BEM grid 16384²", 28 << 30, limit).unwrap_err();
+        let msg = e.to_string();
+        assert!(msg.contains("BEM grid 16384²"), "{msg}");
+        assert!(msg.contains("28.00 GiB"), "{msg}");
+        assert!(msg.contains("1.00 MiB"), "{msg}");
+        assert!(check_against("small", 1000, limit).is_ok());
+        assert_eq!(bytes_for(u64::MAX, 8), u64::MAX);
+        assert_eq!(human_bytes(512), "512 B");
+    }
+}
