@@ -34,8 +34,17 @@
 // Writing an output file failed.
 #define STRATA_ERR_IO 8
 
+// A request whose estimated memory exceeds the limit (`STRATA_MEMORY_LIMIT`, bytes
+// or with a k/M/G/T suffix; default 75 % of the machine's memory): refused before
+// allocating, so the host process never aborts on an allocation the library can foresee.
+#define STRATA_ERR_RESOURCE 9
+
 // An internal error (a Rust panic caught at the boundary): please report it.
 #define STRATA_ERR_PANIC 99
+
+// Largest `samples` of `strata_law_new` (as the command line's `--samples`); more is
+// `STRATA_ERR_INVALID_ARGUMENT`. CalculiX uses at most 200 lines of a table.
+#define STRATA_MAX_SAMPLES 100000
 
 // N model: independent asperities.
 #define STRATA_MODEL_INDEPENDENT 0
@@ -105,10 +114,13 @@ void strata_surface_free(struct StrataSurface *surface);
 
 // Builds the contact law of `surface` pressed against a rigid flat on the stack
 // of the TOML file `stack_path`: solves the load curve with `model`
-// (`STRATA_MODEL_*`) at `samples` (≥ 2) separations evenly spaced from first contact
-// g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it monotonically (see
-// `strata_runtime::interface`). A homogeneous stack uses Hertz asperities and
-// ignores `table` (may be NULL); a layered stack needs a `table` serving it.
+// (`STRATA_MODEL_*`) at `samples` separations (2 to `STRATA_MAX_SAMPLES`) evenly
+// spaced from first contact g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it
+// monotonically (see `strata_runtime::interface`). A homogeneous stack uses Hertz
+// asperities and ignores `table` (may be NULL); a layered stack needs a `table`
+// serving it. More samples than the cap is `STRATA_ERR_INVALID_ARGUMENT`; a law
+// whose memory estimate exceeds the limit is `STRATA_ERR_RESOURCE` (nothing is
+// allocated in either case).
 int32_t strata_law_new(const struct StrataTable *table,
                        const char *stack_path,
                        const struct StrataSurface *surface,
@@ -134,8 +146,9 @@ int32_t strata_law_first_contact_gap(const struct StrataLaw *law, double *out);
 // Smallest sampled separation g_min (m).
 int32_t strata_law_min_gap(const struct StrataLaw *law, double *out);
 
-// Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` or
-// `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus` writes).
+// Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` (full
+// precision) or `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus`
+// writes: every number in at most 20 characters, what Abaqus and CalculiX read).
 int32_t strata_law_write(const struct StrataLaw *law, const char *path, int32_t format);
 
 // Frees a law (NULL is a no-op).

@@ -15,6 +15,11 @@
 //!   `STRATA_ERR_INVALID_ARGUMENT`), never undefined behaviour on the Rust side;
 //! - no Rust panic crosses the boundary: every entry point runs under `catch_unwind`
 //!   and turns a panic into `STRATA_ERR_PANIC`;
+//! - sizes are capped (`STRATA_MAX_SAMPLES`) and large allocations are estimated first
+//!   and checked against the memory limit (`STRATA_ERR_RESOURCE`), so an absurd request
+//!   comes back as an error code instead of aborting the host;
+//! - Fortran: the module `capi/fortran/strata.f90` binds every function (constants,
+//!   interfaces, wrappers taking Fortran strings and returning messages as strings);
 //! - handles are freed with their `strata_*_free` function (NULL is a no-op); a law
 //!   does not borrow the table or surface it was built from;
 //! - a built law is immutable: queries may run concurrently from several threads.
@@ -30,6 +35,7 @@ use std::path::PathBuf;
 
 use strata_runtime::interface::{InterfaceError, InterfaceLaw, SampleOptions};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
+use strata_runtime::resources::ResourceError;
 use strata_runtime::rough::{Images, Model, RoughContact, RoughError};
 use strata_runtime::stack::{Stack, StackError};
 use strata_runtime::surface::{GenerateParams, Surface, SurfaceError};
@@ -55,8 +61,17 @@ pub const STRATA_ERR_SOLVE: i32 = 6;
 pub const STRATA_ERR_OUT_OF_RANGE: i32 = 7;
 /// Writing an output file failed.
 pub const STRATA_ERR_IO: i32 = 8;
+/// A request whose estimated memory exceeds the limit (`STRATA_MEMORY_LIMIT`, bytes
+/// or with a k/M/G/T suffix; default 75 % of the machine's memory): refused before
+/// allocating, so the host process never aborts on an allocation the library can foresee.
+pub const STRATA_ERR_RESOURCE: i32 = 9;
 /// An internal error (a Rust panic caught at the boundary): please report it.
 pub const STRATA_ERR_PANIC: i32 = 99;
+
+/// Largest `samples` of `strata_law_new` (as the command line's `--samples`); more is
+/// `STRATA_ERR_INVALID_ARGUMENT`. CalculiX uses at most 200 lines of a table.
+pub const STRATA_MAX_SAMPLES: usize = 100000;
+const _: () = assert!(STRATA_MAX_SAMPLES == strata_runtime::interface::MAX_SAMPLES);
 
 /// N model: independent asperities.
 pub const STRATA_MODEL_INDEPENDENT: i32 = 0;
@@ -104,6 +119,8 @@ pub enum CapiError {
     Interface(#[from] InterfaceError),
     #[error("cannot write {path}: {message}")]
     Io { path: String, message: String },
+    #[error("{0}")]
+    Resource(#[from] ResourceError),
 }
 
 impl CapiError {
@@ -119,9 +136,11 @@ impl CapiError {
             CapiError::Interface(e) => match e {
                 InterfaceError::BelowSampledRange { .. } => STRATA_ERR_OUT_OF_RANGE,
                 InterfaceError::Rough(_) => STRATA_ERR_SOLVE,
+                InterfaceError::Resource(_) => STRATA_ERR_RESOURCE,
                 _ => STRATA_ERR_INVALID_ARGUMENT,
             },
             CapiError::Io { .. } => STRATA_ERR_IO,
+            CapiError::Resource(_) => STRATA_ERR_RESOURCE,
         }
     }
 }
@@ -220,6 +239,22 @@ unsafe fn query(
         }
         let q = l.law.eval(gap)?;
         unsafe { out_f64("out", out, pick(q)) }
+    })
+}
+
+/// The cap on `samples` of `strata_law_new`, checked before any file is read.
+fn samples_arg(samples: usize) -> Result<(), CapiError> {
+    if samples <= STRATA_MAX_SAMPLES {
+        return Ok(());
+    }
+    let hint = if samples > isize::MAX as usize {
+        " (a negative count converted to size_t?)"
+    } else {
+        ""
+    };
+    Err(CapiError::Invalid {
+        name: "samples",
+        reason: format!("{samples} exceeds STRATA_MAX_SAMPLES = {STRATA_MAX_SAMPLES}{hint}"),
     })
 }
 
@@ -338,10 +373,13 @@ mod exported {
 
     /// Builds the contact law of `surface` pressed against a rigid flat on the stack
     /// of the TOML file `stack_path`: solves the load curve with `model`
-    /// (`STRATA_MODEL_*`) at `samples` (≥ 2) separations evenly spaced from first contact
-    /// g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it monotonically (see
-    /// `strata_runtime::interface`). A homogeneous stack uses Hertz asperities and
-    /// ignores `table` (may be NULL); a layered stack needs a `table` serving it.
+    /// (`STRATA_MODEL_*`) at `samples` separations (2 to `STRATA_MAX_SAMPLES`) evenly
+    /// spaced from first contact g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it
+    /// monotonically (see `strata_runtime::interface`). A homogeneous stack uses Hertz
+    /// asperities and ignores `table` (may be NULL); a layered stack needs a `table`
+    /// serving it. More samples than the cap is `STRATA_ERR_INVALID_ARGUMENT`; a law
+    /// whose memory estimate exceeds the limit is `STRATA_ERR_RESOURCE` (nothing is
+    /// allocated in either case).
     #[unsafe(no_mangle)]
     pub unsafe extern "C" fn strata_law_new(
         table: *const StrataTable,
@@ -368,6 +406,7 @@ mod exported {
                 }
             };
             let min_gap = finite("min_gap", min_gap)?;
+            samples_arg(samples)?;
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
@@ -430,8 +469,9 @@ mod exported {
         })
     }
 
-    /// Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` or
-    /// `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus` writes).
+    /// Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` (full
+    /// precision) or `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus`
+    /// writes: every number in at most 20 characters, what Abaqus and CalculiX read).
     #[unsafe(no_mangle)]
     pub unsafe extern "C" fn strata_law_write(
         law: *const StrataLaw,

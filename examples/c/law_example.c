@@ -10,8 +10,10 @@
  * Prints p(g) (Pa), A(g)/A0 and dp/dg (Pa/m) at a few separations g (m) with %.17g
  * (exact round trip), then shows how errors are reported. SI units.
  * capi/tests/c_example.rs builds and runs this file and checks every number bit for
- * bit against the Rust API.
+ * bit against the Rust API; its Fortran twin, examples/fortran/law_example.f90, must
+ * print the same numbers bit for bit.
  */
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <math.h>
@@ -93,6 +95,11 @@ int main(int argc, char **argv)
     expect_error("bad_model", strata_law_new(table, stack_path, surface, 7, 1e-6, 200, &other));
     expect_error("min_gap_above_contact",
                  strata_law_new(table, stack_path, surface, model, g0 + 1e-6, 200, &other));
+    /* Absurd sizes are refused before anything is allocated (cap STRATA_MAX_SAMPLES). */
+    expect_error("samples_1e9",
+                 strata_law_new(table, stack_path, surface, model, 1e-6, 1000000000, &other));
+    expect_error("samples_size_max",
+                 strata_law_new(table, stack_path, surface, model, 1e-6, SIZE_MAX, &other));
 
     strata_law_free(law);
     strata_surface_free(surface);

@@ -34,16 +34,30 @@
 //! below g_min a query is an error ([`InterfaceError::BelowSampledRange`]) rather than
 //! an extrapolation: rebuild the law with a smaller g_min. The samples are reproduced
 //! exactly at the nodes.
+//!
+//! Output: [`InterfaceLaw::csv`] (full precision) and the Abaqus/CalculiX block of the
+//! submodule [`abaqus`] (20-character fields, and what each FE code does with the table).
 
 use thiserror::Error;
 
+use crate::resources::{ResourceError, bytes_for, check_memory};
 use crate::rough::{Model, RoughContact, RoughError, Step};
+
+pub mod abaqus;
+pub use abaqus::abaqus_real;
+
+/// Largest number of samples [`InterfaceLaw::sample`] accepts (the command line's
+/// `--samples` and the C ABI's `STRATA_MAX_SAMPLES` share it). 100 000 samples resolve
+/// a load curve far beyond what any FE table uses (CalculiX keeps 200 lines).
+pub const MAX_SAMPLES: usize = 100_000;
 
 /// Errors building or querying an [`InterfaceLaw`]. Each names the offending input.
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum InterfaceError {
     #[error("samples: {0} samples given, at least 2 are needed")]
     TooFewSamples(usize),
+    #[error("samples: {0} samples requested, at most {MAX_SAMPLES}")]
+    TooManySamples(usize),
     #[error("samples: the {field} arrays have different lengths")]
     LengthMismatch { field: &'static str },
     #[error("samples: {field}[{index}] = {value} is not finite")]
@@ -75,6 +89,8 @@ pub enum InterfaceError {
     BelowSampledRange { gap: f64, min_gap: f64 },
     #[error("solving the load curve: {0}")]
     Rough(#[from] RoughError),
+    #[error("{0}")]
+    Resource(#[from] ResourceError),
 }
 
 /// Which samples [`InterfaceLaw::sample`] solves: `samples` separations evenly from
@@ -139,10 +155,23 @@ pub fn sample_gaps(first_contact: f64, min_gap: f64, n: usize) -> Vec<f64> {
         .collect()
 }
 
+/// Bytes [`InterfaceLaw::sample`] allocates for `samples` samples of a surface with
+/// `summits` summits (an estimate for [`check_memory`]): one solved [`Step`] per sample,
+/// each with the contact radius of every summit (8 bytes), and the law's twelve f64
+/// arrays (gaps, approaches, p, stiffness, A/A₀ and their ascending copies and slopes).
+pub fn sample_bytes(samples: usize, summits: usize) -> u64 {
+    let per_step =
+        (std::mem::size_of::<Step>() as u64).saturating_add(bytes_for(summits as u64, 8));
+    bytes_for(samples as u64, per_step.saturating_add(12 * 8))
+}
+
 impl InterfaceLaw {
     /// Solves the load curve of `rc` with `model` at the separations of `opts`
     /// ([`sample_gaps`] from g₀ = z_M − z̄) and builds the law. The solve is warm-started
-    /// along the path, as [`RoughContact::curve`].
+    /// along the path, as [`RoughContact::curve`]. At most [`MAX_SAMPLES`] samples
+    /// ([`InterfaceError::TooManySamples`]); the memory they need ([`sample_bytes`]) is
+    /// checked against the limit of [`crate::resources`] before anything is allocated
+    /// ([`InterfaceError::Resource`]).
     pub fn sample(
         rc: &RoughContact<'_>,
         model: Model,
@@ -154,6 +183,14 @@ impl InterfaceLaw {
         if n < 2 {
             return Err(InterfaceError::TooFewSamples(n));
         }
+        if n > MAX_SAMPLES {
+            return Err(InterfaceError::TooManySamples(n));
+        }
+        let summits = rc.summits().len();
+        check_memory(
+            format!("the contact law ({n} samples of {summits} summits)"),
+            sample_bytes(n, summits),
+        )?;
         let gmin = opts.min_gap;
         if !(gmin.is_finite() && gmin < g0 && gmin >= lowest) {
             return Err(InterfaceError::MinGap {
@@ -524,66 +561,7 @@ fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
     m
 }
 
-/// Formats a number as an Abaqus/Fortran real: `0.` for zero, else `d.ddddddddddddddddE±xx`
-/// (16 significant digits: round-trips to within 1 ulp of most values).
-pub fn abaqus_real(v: f64) -> String {
-    if v == 0.0 {
-        return "0.".into();
-    }
-    let s = format!("{v:.15E}");
-    match s.split_once('E') {
-        Some((mant, exp)) => {
-            let e: i32 = exp.parse().unwrap_or(0);
-            format!("{mant}E{}{:02}", if e < 0 { '-' } else { '+' }, e.abs())
-        }
-        None => s,
-    }
-}
-
 impl InterfaceLaw {
-    /// The law as an Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block:
-    /// `**` comment lines (the convention, `comments` first), the keyword line, then one
-    /// data line `pressure, overclosure` per sample with overclosure h = g₀ − g ≥ 0
-    /// (m), first line `0., 0.` (first contact), h strictly increasing, p
-    /// non-decreasing ≥ 0 (Pa). Abaqus interpolates linearly between the lines and
-    /// continues the last slope beyond the last one.
-    pub fn abaqus_block(&self, comments: &[String]) -> String {
-        let g0 = self.first_contact_gap();
-        let dev = self.linear_table_deviation();
-        let mut s = String::new();
-        for c in comments {
-            for line in c.lines() {
-                s.push_str("** ");
-                s.push_str(line);
-                s.push('\n');
-            }
-        }
-        s.push_str(&format!(
-            "** Convention: overclosure h = g0 - g (m), g = separation of the mean planes (P26),\n\
-             **   g0 = z_M - zbar = {} m = separation at first contact (highest summit touching).\n\
-             **   h = 0 is first contact; place the FE surfaces so that zero FE overclosure means\n\
-             **   mean planes g0 apart. pressure = mean (nominal) contact pressure p = P/A0 (Pa).\n\
-             ** Units: SI (Pa, m). Use a consistent unit system (scale both columns otherwise).\n\
-             ** Samples: {}, from h = 0 to h = {} m (g = {} m).\n\
-             **   Abaqus interpolates linearly and continues the last slope beyond the last line.\n\
-             **   Linear vs interpolated law at interval midpoints: {:.1e} of the largest pressure,\n\
-             **   {:.1e} of the local pressure where p >= 1% of the largest.\n\
-             ** Place this block under your *SURFACE INTERACTION (or *INCLUDE it there).\n",
-            abaqus_real(g0),
-            self.len(),
-            abaqus_real(g0 - self.min_gap()),
-            abaqus_real(self.min_gap()),
-            dev.of_max,
-            dev.local,
-        ));
-        s.push_str("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR\n");
-        for (i, (g, p, _, _)) in self.samples().enumerate() {
-            let h = if i == 0 { 0.0 } else { g0 - g };
-            s.push_str(&format!("{}, {}\n", abaqus_real(p), abaqus_real(h)));
-        }
-        s
-    }
-
     /// The samples as CSV, header `gap,overclosure,mean_pressure,area_fraction,dp_dg`
     /// (m, m, Pa, -, Pa/m), in loading order, full precision.
     pub fn csv(&self) -> String {
@@ -744,6 +722,30 @@ mod tests {
         }
     }
 
+    /// Absurd sample counts are refused before anything is allocated; the memory
+    /// estimate grows with samples × summits and is refused above a limit.
+    #[test]
+    fn absurd_sizes_are_refused() {
+        let law = Homogeneous { e_star: 2e11 };
+        let rc = hertz_rc(&law);
+        for n in [MAX_SAMPLES + 1, 1_000_000_000, usize::MAX] {
+            let o = SampleOptions {
+                samples: n,
+                min_gap: 0.0,
+            };
+            let e = InterfaceLaw::sample(&rc, Model::Independent, &o).unwrap_err();
+            assert_eq!(e, InterfaceError::TooManySamples(n));
+            assert!(e.to_string().contains("at most 100000"), "{e}");
+        }
+        assert_eq!(sample_bytes(usize::MAX, usize::MAX), u64::MAX);
+        let b = sample_bytes(MAX_SAMPLES, 100_000);
+        assert!(b > 80_000_000_000, "{b}");
+        let limit = (16 << 30, "test");
+        let e = crate::resources::check_against("law", b, limit).unwrap_err();
+        assert!(e.to_string().contains("memory limit"), "{e}");
+        assert!(crate::resources::check_against("law", sample_bytes(200, 5000), limit).is_ok());
+    }
+
     /// Overshooting slopes are limited and the interpolant stays monotone.
     #[test]
     fn limiter_keeps_monotone() {
@@ -760,16 +762,5 @@ mod tests {
             assert!(q.dp_dg <= 1e-12, "at {x}");
             last = q.pressure;
         }
-    }
-
-    #[test]
-    fn abaqus_numbers() {
-        assert_eq!(abaqus_real(0.0), "0.");
-        assert_eq!(abaqus_real(1.5e-6), "1.500000000000000E-06");
-        assert_eq!(abaqus_real(2.5e7), "2.500000000000000E+07");
-        assert_eq!(
-            abaqus_real(1.0 / 3.0).parse::<f64>().ok(),
-            Some(0.3333333333333333)
-        );
     }
 }

@@ -9,7 +9,8 @@
 //! - `abaqus` (`.inp`): a `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block, data
 //!   lines `pressure, overclosure`, overclosure h = g₀ − g ≥ 0 relative to first contact
 //!   (g₀ = z_M − z̄), first line `0., 0.`, h strictly increasing, p non-decreasing;
-//!   the convention and units are in its `**` comment lines;
+//!   the convention and units are in its `**` comment lines, every number in at most
+//!   20 characters (what Abaqus and CalculiX read);
 //! - `all`: FILE's stem with `.csv`, `.json` and `.inp`.
 //!
 //! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
@@ -18,14 +19,15 @@
 //! monotone interpolation of `strata_runtime::interface` (cubic Hermite with the
 //! solver's own slopes); the file reports how far the piecewise-linear table (what
 //! Abaqus does) is from it. Files are written atomically; existing ones are kept unless
-//! `--force`.
+//! `--force`. When an Abaqus block is written, the log warns about what CalculiX 2.20
+//! would change in it (more than 200 lines, overclosure steps below 1e-10 m).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::scene::{LoadSpec, ModelKind, Scene};
 use anyhow::{Context, Result, bail};
-use strata_runtime::interface::{InterfaceLaw, SampleOptions, sample_gaps};
+use strata_runtime::interface::{InterfaceLaw, MAX_SAMPLES, SampleOptions, sample_gaps};
 use strata_runtime::output::write_atomic;
 use strata_runtime::rough::{Images, Model, RoughContact};
 
@@ -49,7 +51,8 @@ pub struct Args {
     /// Output format (default: from the extension of --out).
     #[arg(long, value_enum)]
     pub format: Option<Format>,
-    /// Number of samples from first contact down to --min-gap (≥ 2).
+    /// Number of samples from first contact down to --min-gap (2 to 100000; CalculiX
+    /// keeps at most 200 table lines).
     #[arg(long, default_value_t = 200)]
     pub samples: usize,
     /// Smallest separation g (m) (default: the smallest one the scene's load reaches).
@@ -148,8 +151,8 @@ fn check_samples(n: usize) -> Result<()> {
     if n < 2 {
         bail!("--samples {n}: at least 2 samples are needed (first contact and --min-gap)");
     }
-    if n > 100_000 {
-        bail!("--samples {n}: at most 100000");
+    if n > MAX_SAMPLES {
+        bail!("--samples {n}: at most {MAX_SAMPLES}");
     }
     Ok(())
 }
@@ -335,6 +338,11 @@ pub fn run(a: Args) -> Result<()> {
         Some(m) => solve_asperities(&scene, &a.scene, &opts, m, &a)?,
         None => solve_bem(&scene, &a.scene, &opts, &a)?,
     };
+    if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
+        for w in solved.law.calculix_warnings() {
+            eprintln!("warning: {w}");
+        }
+    }
     for (f, p) in &outs {
         let text = match f {
             Format::Csv => solved.law.csv(),

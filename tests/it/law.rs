@@ -10,6 +10,7 @@ use std::process::{Command, Output};
 
 use strata::scene::Scene;
 use strata_runtime::interface::InterfaceLaw;
+use strata_runtime::interface::abaqus::{FIELD_WIDTH, read_f20};
 use strata_runtime::summits::find_summits;
 
 fn root() -> PathBuf {
@@ -62,7 +63,9 @@ fn read_csv(p: &Path) -> Vec<[f64; 5]> {
         .collect()
 }
 
-/// The Abaqus rules; returns the (pressure, overclosure) data lines.
+/// The Abaqus rules; returns the (pressure, overclosure) data lines, each number read
+/// as CalculiX reads it (`f20.0` on the first 20 characters) from a field that must
+/// be at most 20 characters long.
 fn check_abaqus(p: &Path) -> Vec<(f64, f64)> {
     let text = std::fs::read_to_string(p).expect("inp");
     let mut keyword_seen = false;
@@ -86,7 +89,13 @@ fn check_abaqus(p: &Path) -> Vec<(f64, f64)> {
         assert!(keyword_seen, "data before the keyword: {line}");
         let f: Vec<&str> = line.split(',').map(str::trim).collect();
         assert_eq!(f.len(), 2, "data line `pressure, overclosure`: {line}");
-        let (pr, h): (f64, f64) = (f[0].parse().expect("p"), f[1].parse().expect("h"));
+        for field in &f {
+            assert!(field.len() <= FIELD_WIDTH, "`{field}`: over 20 characters");
+        }
+        let (pr, h) = (
+            read_f20(f[0]).expect("pressure field"),
+            read_f20(f[1]).expect("overclosure field"),
+        );
         assert!(pr.is_finite() && h.is_finite(), "{line}");
         first_line.get_or_insert_with(|| line.to_string());
         data.push((pr, h));
@@ -108,6 +117,25 @@ fn check_abaqus(p: &Path) -> Vec<(f64, f64)> {
     );
     assert!(text.contains("SI (Pa, m)"), "units documented");
     data
+}
+
+/// Every Abaqus field, read back as CalculiX reads it, is within 1e-13 of the full
+/// precision CSV value (pressure and overclosure; zero exactly).
+fn fields_match_csv(abq: &[(f64, f64)], csv: &[[f64; 5]]) {
+    assert_eq!(abq.len(), csv.len());
+    let mut worst = 0.0f64;
+    for ((p, h), r) in abq.iter().zip(csv) {
+        for (got, want) in [(*p, r[2]), (*h, r[1])] {
+            let e = if want == 0.0 {
+                got.abs()
+            } else {
+                (got - want).abs() / want.abs()
+            };
+            assert!(e <= 1e-13, "field {got:e} vs CSV {want:e}");
+            worst = worst.max(e);
+        }
+    }
+    eprintln!("Abaqus fields vs CSV: worst relative {worst:.1e}");
 }
 
 /// The law as the runtime rebuilds it from the CSV samples.
@@ -164,14 +192,7 @@ fn homogeneous_law_is_the_gw_sum_and_a_valid_abaqus_table() {
     assert_eq!(s.len(), 200);
     let abq = check_abaqus(&stem.with_extension("inp"));
     assert_eq!(abq.len(), 200);
-    for (r, (pa, h)) in s.iter().zip(&abq) {
-        assert!(
-            (pa - r[2]).abs() <= 1e-15 * r[2].abs().max(1e-300) + 0.0,
-            "{pa} {}",
-            r[2]
-        );
-        assert!((h - r[1]).abs() <= 1e-15 * r[1]);
-    }
+    fields_match_csv(&abq, &s);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(stem.with_extension("json")).expect("json"))
             .expect("valid JSON");
@@ -265,6 +286,7 @@ fn layered_interacting_law_matches_solve() {
     let abq = check_abaqus(&inp);
     let s = read_csv(&csv);
     assert_eq!(abq.len(), s.len());
+    fields_match_csv(&abq, &s);
     let law = law_from_csv(&s);
     let mut worst = 0.0f64;
     let curve = solve_curve(scene, &dir);
@@ -306,7 +328,24 @@ fn bad_input_is_refused() {
     ]));
     assert!(e.contains("--format"), "{e}");
     assert!(!out.exists() && !txt.exists());
-    ok(&strata(&["law", scene, "--out", o, "--samples", "20"]));
+    let e = fail(&strata(&["law", scene, "--out", o, "--samples", "100001"]));
+    assert!(e.contains("--samples") && e.contains("100000"), "{e}");
+    let log = ok(&strata(&["law", scene, "--out", o, "--samples", "20"]));
+    assert!(!log.contains("warning"), "{log}");
+    // More lines than CalculiX keeps: a warning when an Abaqus block is written.
+    let inp = dir.join("long.inp");
+    let log = ok(&strata(&[
+        "law",
+        scene,
+        "--out",
+        inp.to_str().expect("utf-8"),
+        "--samples",
+        "201",
+    ]));
+    assert!(
+        log.contains("warning: 201 table lines: CalculiX 2.20"),
+        "{log}"
+    );
     let e = fail(&strata(&["law", scene, "--out", o, "--samples", "20"]));
     assert!(e.contains("--force"), "{e}");
     ok(&strata(&[

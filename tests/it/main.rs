@@ -6,6 +6,7 @@ mod support;
 mod asperity;
 mod asperity_vs_bem;
 mod bem_reference;
+mod calculix;
 mod compare;
 mod compliance_cli;
 mod compliance_hard_cases;

@@ -1,0 +1,393 @@
+!> strata: Fortran 2008 bindings of the strata C ABI (capi/include/strata.h).
+!>
+!> The contact law of a rough layered interface from Fortran: load a surrogate table,
+!> generate or load a surface, solve the load curve once (strata_law_new), then query
+!> the mean contact pressure p(g) (Pa), the real contact-area fraction A(g)/A0 and the
+!> tangent dp/dg (Pa/m) at any mean-plane separation g (m). SI units throughout.
+!>
+!> Two layers:
+!>  * c_strata_* : the C functions as declared in strata.h (bind(C)), pointer arguments
+!>    as type(c_ptr) by value, so that NULL can be passed as in C;
+!>  * strata_*   : wrappers taking Fortran strings (trailing blanks trimmed, the NUL
+!>    added here), default integers for counts, returning messages and the version as
+!>    deferred-length strings, and setting handles to c_null_ptr when freed or when a
+!>    constructor fails.
+!> Every function returns STRATA_OK (0) or a STRATA_ERR_* code; on error
+!> strata_last_error_message() is the one-line message naming the offending argument.
+!> Handles (table, surface, law) are type(c_ptr); free them with strata_*_free.
+!>
+!> Build (from the repository root, after `cargo build -p strata-capi`):
+!>   gfortran -std=f2008 capi/fortran/strata.f90 examples/fortran/law_example.f90 \
+!>     -L target/debug -lstrata_capi -Wl,-rpath,$PWD/target/debug -o law_example_f
+!> The constants below equal the header's #defines (checked by capi/tests/c_example.rs).
+module strata
+  use, intrinsic :: iso_c_binding, only: c_associated, c_char, c_double, c_f_pointer, &
+       c_int32_t, c_int64_t, c_loc, c_null_char, c_null_ptr, c_ptr, c_size_t
+  implicit none
+  private
+
+  public :: c_ptr, c_null_ptr, c_double, c_int32_t, c_int64_t, c_size_t
+
+  !> Success.
+  integer(c_int32_t), parameter, public :: STRATA_OK = 0
+  !> A required pointer argument was NULL.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_NULL = 1
+  !> An argument is out of its domain (non-finite number, unknown model or format,
+  !> too few or too many samples, a layered stack without a table, a bad min_gap...).
+  integer(c_int32_t), parameter, public :: STRATA_ERR_INVALID_ARGUMENT = 2
+  !> The table file is missing, unreadable, corrupt, or does not serve the stack.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_TABLE = 3
+  !> The stack file is missing, unreadable or invalid.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_STACK = 4
+  !> The surface file or its generation parameters are invalid.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_SURFACE = 5
+  !> The rough-contact solve failed.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_SOLVE = 6
+  !> A query below the smallest sampled separation of the law.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_OUT_OF_RANGE = 7
+  !> Writing an output file failed.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_IO = 8
+  !> The estimated memory of a request exceeds the limit (STRATA_MEMORY_LIMIT).
+  integer(c_int32_t), parameter, public :: STRATA_ERR_RESOURCE = 9
+  !> An internal error (a Rust panic caught at the boundary): please report it.
+  integer(c_int32_t), parameter, public :: STRATA_ERR_PANIC = 99
+  !> Largest number of samples of strata_law_new.
+  integer(c_size_t), parameter, public :: STRATA_MAX_SAMPLES = 100000_c_size_t
+  !> N model: independent asperities.
+  integer(c_int32_t), parameter, public :: STRATA_MODEL_INDEPENDENT = 0
+  !> I model: interacting asperities, interactions inside the sample only.
+  integer(c_int32_t), parameter, public :: STRATA_MODEL_INTERACTING_ISOLATED = 1
+  !> I model: interacting asperities, the sample repeated periodically (5x5 cells).
+  integer(c_int32_t), parameter, public :: STRATA_MODEL_INTERACTING_PERIODIC = 2
+  !> strata_law_write: CSV gap,overclosure,mean_pressure,area_fraction,dp_dg.
+  integer(c_int32_t), parameter, public :: STRATA_FORMAT_CSV = 0
+  !> strata_law_write: Abaqus/CalculiX *SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR.
+  integer(c_int32_t), parameter, public :: STRATA_FORMAT_ABAQUS = 1
+
+  public :: c_strata_last_error_message, c_strata_version, c_strata_table_load, &
+       c_strata_table_free, c_strata_surface_load, c_strata_surface_generate, &
+       c_strata_surface_free, c_strata_law_new, c_strata_law_pressure, &
+       c_strata_law_area_fraction, c_strata_law_dp_dg, c_strata_law_first_contact_gap, &
+       c_strata_law_min_gap, c_strata_law_write, c_strata_law_free
+  public :: strata_last_error_message, strata_version, strata_table_load, &
+       strata_table_free, strata_surface_load, strata_surface_generate, &
+       strata_surface_free, strata_law_new, strata_law_pressure, &
+       strata_law_area_fraction, strata_law_dp_dg, strata_law_first_contact_gap, &
+       strata_law_min_gap, strata_law_write, strata_law_free
+
+  interface
+     !> const char *strata_last_error_message(void)
+     function c_strata_last_error_message() bind(C, name="strata_last_error_message") &
+          result(message)
+       import :: c_ptr
+       type(c_ptr) :: message
+     end function c_strata_last_error_message
+
+     !> const char *strata_version(void)
+     function c_strata_version() bind(C, name="strata_version") result(version)
+       import :: c_ptr
+       type(c_ptr) :: version
+     end function c_strata_version
+
+     !> int32_t strata_table_load(const char *path, StrataTable **out)
+     function c_strata_table_load(path, out) bind(C, name="strata_table_load") result(code)
+       import :: c_char, c_int32_t, c_ptr
+       character(kind=c_char), dimension(*), intent(in) :: path
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_table_load
+
+     !> void strata_table_free(StrataTable *table)
+     subroutine c_strata_table_free(table) bind(C, name="strata_table_free")
+       import :: c_ptr
+       type(c_ptr), value :: table
+     end subroutine c_strata_table_free
+
+     !> int32_t strata_surface_load(const char *path, double size, int32_t periodic,
+     !>                             StrataSurface **out)
+     function c_strata_surface_load(path, size, periodic, out) &
+          bind(C, name="strata_surface_load") result(code)
+       import :: c_char, c_double, c_int32_t, c_ptr
+       character(kind=c_char), dimension(*), intent(in) :: path
+       real(c_double), value :: size
+       integer(c_int32_t), value :: periodic
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_surface_load
+
+     !> int32_t strata_surface_generate(double size, size_t grid, double fractal_dimension,
+     !>     double k_min, double k_max, double rms, uint64_t seed, StrataSurface **out)
+     function c_strata_surface_generate(size, grid, fractal_dimension, k_min, k_max, rms, &
+          seed, out) bind(C, name="strata_surface_generate") result(code)
+       import :: c_double, c_int32_t, c_int64_t, c_ptr, c_size_t
+       real(c_double), value :: size
+       integer(c_size_t), value :: grid
+       real(c_double), value :: fractal_dimension, k_min, k_max, rms
+       integer(c_int64_t), value :: seed
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_surface_generate
+
+     !> void strata_surface_free(StrataSurface *surface)
+     subroutine c_strata_surface_free(surface) bind(C, name="strata_surface_free")
+       import :: c_ptr
+       type(c_ptr), value :: surface
+     end subroutine c_strata_surface_free
+
+     !> int32_t strata_law_new(const StrataTable *table, const char *stack_path,
+     !>     const StrataSurface *surface, int32_t model, double min_gap, size_t samples,
+     !>     StrataLaw **out)
+     function c_strata_law_new(table, stack_path, surface, model, min_gap, samples, out) &
+          bind(C, name="strata_law_new") result(code)
+       import :: c_char, c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: table
+       character(kind=c_char), dimension(*), intent(in) :: stack_path
+       type(c_ptr), value :: surface
+       integer(c_int32_t), value :: model
+       real(c_double), value :: min_gap
+       integer(c_size_t), value :: samples
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_new
+
+     !> int32_t strata_law_pressure(const StrataLaw *law, double gap, double *out)
+     function c_strata_law_pressure(law, gap, out) bind(C, name="strata_law_pressure") &
+          result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_pressure
+
+     !> int32_t strata_law_area_fraction(const StrataLaw *law, double gap, double *out)
+     function c_strata_law_area_fraction(law, gap, out) &
+          bind(C, name="strata_law_area_fraction") result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_area_fraction
+
+     !> int32_t strata_law_dp_dg(const StrataLaw *law, double gap, double *out)
+     function c_strata_law_dp_dg(law, gap, out) bind(C, name="strata_law_dp_dg") &
+          result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_dp_dg
+
+     !> int32_t strata_law_first_contact_gap(const StrataLaw *law, double *out)
+     function c_strata_law_first_contact_gap(law, out) &
+          bind(C, name="strata_law_first_contact_gap") result(code)
+       import :: c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_first_contact_gap
+
+     !> int32_t strata_law_min_gap(const StrataLaw *law, double *out)
+     function c_strata_law_min_gap(law, out) bind(C, name="strata_law_min_gap") result(code)
+       import :: c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_min_gap
+
+     !> int32_t strata_law_write(const StrataLaw *law, const char *path, int32_t format)
+     function c_strata_law_write(law, path, format) bind(C, name="strata_law_write") &
+          result(code)
+       import :: c_char, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       character(kind=c_char), dimension(*), intent(in) :: path
+       integer(c_int32_t), value :: format
+       integer(c_int32_t) :: code
+     end function c_strata_law_write
+
+     !> void strata_law_free(StrataLaw *law)
+     subroutine c_strata_law_free(law) bind(C, name="strata_law_free")
+       import :: c_ptr
+       type(c_ptr), value :: law
+     end subroutine c_strata_law_free
+
+     !> size_t strlen(const char *s), for the C strings the library returns.
+     function c_strlen(s) bind(C, name="strlen") result(n)
+       import :: c_ptr, c_size_t
+       type(c_ptr), value :: s
+       integer(c_size_t) :: n
+     end function c_strlen
+  end interface
+
+contains
+
+  !> A NUL-terminated copy of a Fortran string (trailing blanks removed).
+  pure function c_path(path) result(s)
+    character(*), intent(in) :: path
+    character(kind=c_char, len=len_trim(path) + 1) :: s
+    s = trim(path) // c_null_char
+  end function c_path
+
+  !> A Fortran copy of a NUL-terminated C string ("" for NULL).
+  function f_string(p) result(s)
+    type(c_ptr), intent(in) :: p
+    character(:), allocatable :: s
+    character(kind=c_char), pointer :: chars(:)
+    integer(c_size_t) :: n, i
+    if (.not. c_associated(p)) then
+       s = ""
+       return
+    end if
+    n = c_strlen(p)
+    call c_f_pointer(p, chars, [n])
+    allocate (character(len=n) :: s)
+    do i = 1, n
+       s(i:i) = chars(i)
+    end do
+  end function f_string
+
+  !> The message of the most recent failing call on this thread ("" if none).
+  function strata_last_error_message() result(message)
+    character(:), allocatable :: message
+    message = f_string(c_strata_last_error_message())
+  end function strata_last_error_message
+
+  !> The library version, e.g. "0.1.0".
+  function strata_version() result(version)
+    character(:), allocatable :: version
+    version = f_string(c_strata_version())
+  end function strata_version
+
+  !> Loads a surrogate table file (`strata table build`) into `table`.
+  function strata_table_load(path, table) result(code)
+    character(*), intent(in) :: path
+    type(c_ptr), intent(out), target :: table
+    integer(c_int32_t) :: code
+    table = c_null_ptr
+    code = c_strata_table_load(c_path(path), c_loc(table))
+  end function strata_table_load
+
+  !> Frees a table (c_null_ptr is a no-op) and sets the handle to c_null_ptr.
+  subroutine strata_table_free(table)
+    type(c_ptr), intent(inout) :: table
+    call c_strata_table_free(table)
+    table = c_null_ptr
+  end subroutine strata_table_free
+
+  !> Loads a surface height map (m): a 2-D f64 .npy file by extension, otherwise a text
+  !> matrix; `size` is the length L (m) of the first axis.
+  function strata_surface_load(path, size, periodic, surface) result(code)
+    character(*), intent(in) :: path
+    real(c_double), intent(in) :: size
+    logical, intent(in) :: periodic
+    type(c_ptr), intent(out), target :: surface
+    integer(c_int32_t) :: code
+    integer(c_int32_t) :: flag
+    flag = 0
+    if (periodic) flag = 1
+    surface = c_null_ptr
+    code = c_strata_surface_load(c_path(path), size, flag, c_loc(surface))
+  end function strata_surface_load
+
+  !> Generates a periodic self-affine surface: side `size` (m), `grid` points per side,
+  !> fractal dimension in [2, 3), wavenumbers k_min..k_max (units of 2 pi/L), RMS
+  !> height `rms` (m), seed.
+  function strata_surface_generate(size, grid, fractal_dimension, k_min, k_max, rms, seed, &
+       surface) result(code)
+    real(c_double), intent(in) :: size, fractal_dimension, k_min, k_max, rms
+    integer, intent(in) :: grid
+    integer(c_int64_t), intent(in) :: seed
+    type(c_ptr), intent(out), target :: surface
+    integer(c_int32_t) :: code
+    surface = c_null_ptr
+    code = c_strata_surface_generate(size, int(grid, c_size_t), fractal_dimension, k_min, &
+         k_max, rms, seed, c_loc(surface))
+  end function strata_surface_generate
+
+  !> Frees a surface (c_null_ptr is a no-op) and sets the handle to c_null_ptr.
+  subroutine strata_surface_free(surface)
+    type(c_ptr), intent(inout) :: surface
+    call c_strata_surface_free(surface)
+    surface = c_null_ptr
+  end subroutine strata_surface_free
+
+  !> Builds the contact law of `surface` on the stack file `stack_path`, `model` one of
+  !> STRATA_MODEL_*, `samples` (2 to STRATA_MAX_SAMPLES) separations from first contact
+  !> down to `min_gap` (m). `table` may be c_null_ptr for a homogeneous stack. A
+  !> negative `samples` reaches C as a huge size_t and is refused.
+  function strata_law_new(table, stack_path, surface, model, min_gap, samples, law) &
+       result(code)
+    type(c_ptr), intent(in) :: table, surface
+    character(*), intent(in) :: stack_path
+    integer(c_int32_t), intent(in) :: model
+    real(c_double), intent(in) :: min_gap
+    integer, intent(in) :: samples
+    type(c_ptr), intent(out), target :: law
+    integer(c_int32_t) :: code
+    law = c_null_ptr
+    code = c_strata_law_new(table, c_path(stack_path), surface, model, min_gap, &
+         int(samples, c_size_t), c_loc(law))
+  end function strata_law_new
+
+  !> Mean contact pressure p(g) (Pa) at separation `gap` (m); `p` unchanged on error.
+  function strata_law_pressure(law, gap, p) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: p
+    integer(c_int32_t) :: code
+    code = c_strata_law_pressure(law, gap, c_loc(p))
+  end function strata_law_pressure
+
+  !> Real contact-area fraction A(g)/A0 at separation `gap` (m); `a` unchanged on error.
+  function strata_law_area_fraction(law, gap, a) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: a
+    integer(c_int32_t) :: code
+    code = c_strata_law_area_fraction(law, gap, c_loc(a))
+  end function strata_law_area_fraction
+
+  !> Tangent dp/dg (Pa/m, <= 0) at separation `gap` (m); `d` unchanged on error.
+  function strata_law_dp_dg(law, gap, d) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: d
+    integer(c_int32_t) :: code
+    code = c_strata_law_dp_dg(law, gap, c_loc(d))
+  end function strata_law_dp_dg
+
+  !> First-contact separation g0 = z_M - zbar (m).
+  function strata_law_first_contact_gap(law, g0) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(inout), target :: g0
+    integer(c_int32_t) :: code
+    code = c_strata_law_first_contact_gap(law, c_loc(g0))
+  end function strata_law_first_contact_gap
+
+  !> Smallest sampled separation g_min (m).
+  function strata_law_min_gap(law, gmin) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(inout), target :: gmin
+    integer(c_int32_t) :: code
+    code = c_strata_law_min_gap(law, c_loc(gmin))
+  end function strata_law_min_gap
+
+  !> Writes the sampled law to `path`: STRATA_FORMAT_CSV or STRATA_FORMAT_ABAQUS.
+  function strata_law_write(law, path, format) result(code)
+    type(c_ptr), intent(in) :: law
+    character(*), intent(in) :: path
+    integer(c_int32_t), intent(in) :: format
+    integer(c_int32_t) :: code
+    code = c_strata_law_write(law, c_path(path), format)
+  end function strata_law_write
+
+  !> Frees a law (c_null_ptr is a no-op) and sets the handle to c_null_ptr.
+  subroutine strata_law_free(law)
+    type(c_ptr), intent(inout) :: law
+    call c_strata_law_free(law)
+    law = c_null_ptr
+  end subroutine strata_law_free
+
+end module strata
