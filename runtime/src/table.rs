@@ -13,9 +13,12 @@
 //!   edge the half-space part behaves like (r − a)^{3/2}, a polynomial in w; the
 //!   kernel's scales h₁ … H sit at fixed w ≈ 1 … 2.5 whatever a is (on the a/r axis
 //!   they crowd into a/r → 0 for small a — measured errors ~1e-3 there), and w grows
-//!   like ½ ln r far away. For r − a > h₁ sinh²(w_max) (= 20 H with the default
-//!   w_max) g is the far field k_z(0)·HS(a, r) with HS = (2a² − r²) asin(a/r) + a√(r² − a²): physics.md §4; its error there is
-//!   measured by the builder and stored in the header (`far_field_error`).
+//!   like ½ ln r far away. For r − a > h₁ sinh²(w_max) (the join: 20 H by default,
+//!   farther out when the builder needs it) g is the far field of [`far`]:
+//!   k_z(0)·HS(a, r) plus `far_terms` Laplacian corrections k_{2m}(−Δ_r)^m HS from the
+//!   even Taylor coefficients of k_z (exact to all orders on a rigid base with none).
+//!   Its error is measured by the builder at 1, 2 and 4 × the join and stored in the
+//!   header (`far_field_error`); `strata table check` re-measures it beyond the join.
 //! * S: arrays [member][s] over c_s = ln(ρ h₁).
 //!
 //! A table is nondimensional: a stack whose thicknesses are all scaled by one factor
@@ -28,9 +31,14 @@
 //! * a/h₁ above the x range: elastic base, χ → E*_b/E*₁ and ζ → 1 with the 1/x
 //!   approach continued from the last node; rigid base, the C¹ power-law continuation
 //!   of the last node (χ grows like the thin-layer limit up to a logarithm). g is the
-//!   far field k_z(0)·HS. These continuations are approximate; use
+//!   far field beyond the join, k_z(0)·HS closer in. These continuations are approximate; use
 //!   [`TableLaw::try_chi_zeta`] / [`TableLaw::try_g`] to refuse instead.
 //! * ρh₁ below the S range: linear approach to S(0); above: S = 1 (|S − 1| < 1e-30).
+//!
+//! # Stated tolerance
+//! Every table states a tolerance (`Header::tolerance`, default 1e-4): χ and ζ
+//! relative, g absolute in units of (4/3)a³/r, both tabulated and far field. The
+//! builder measures the errors against direct quadrature and refuses a table above it.
 //!
 //! The file format lives in [`codec`] (bincode 2.0.1, serde), and interpolation in
 //! [`interp`] (one mechanism for every array).
@@ -38,6 +46,7 @@
 pub mod codec;
 #[cfg(feature = "npy")]
 pub mod export;
+pub mod far;
 pub mod interp;
 
 use std::path::Path;
@@ -50,7 +59,10 @@ use crate::stack::{Base, Stack, StackError};
 pub use interp::Axis;
 
 /// Version of the table format written by this build.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
+
+/// Default stated tolerance of a table ([`Header::tolerance`]).
+pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 
 /// Errors reading, validating or using a table.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -120,8 +132,25 @@ pub struct InterpError {
     pub chi: f64,
     /// max |ζ_table/ζ_direct − 1|.
     pub zeta: f64,
-    /// max |g_table − g_direct| / ((4/3) a³/r).
+    /// max |g_table − g_direct| / ((4/3) a³/r), r − a inside the tabulated range.
     pub g: f64,
+    /// max |g_far − g_direct| / ((4/3) a³/r) at random points beyond the tabulated
+    /// range (r − a from the join out to ~20× the join).
+    pub far: f64,
+}
+
+impl InterpError {
+    /// The first measured error above `tol`, as (what, measured), if any.
+    pub fn exceeds(&self, tol: f64) -> Option<(&'static str, f64)> {
+        [
+            ("chi interpolation (relative)", self.chi),
+            ("zeta interpolation (relative)", self.zeta),
+            ("g interpolation (of (4/3)a^3/r)", self.g),
+            ("g far field (of (4/3)a^3/r)", self.far),
+        ]
+        .into_iter()
+        .find(|&(_, e)| !(e <= tol))
+    }
 }
 
 /// Table header.
@@ -145,8 +174,15 @@ pub struct Header {
     pub w: Axis,
     /// ln(ρh₁) axis of S.
     pub s: Axis,
-    /// max |g_direct − g_far|/((4/3)a³/r) at w = w_max, checked at build.
+    /// max |g_direct − g_far|/((4/3)a³/r) measured at build over every member at
+    /// r − a = 1, 2 and 4 × the join distance h₁ sinh²(w_max) (a spread over the x axis).
     pub far_field_error: f64,
+    /// Number of correction terms of the far field beyond k_z(0)·HS ([`far`]), chosen
+    /// at build (0 on a rigid base, where the leading term is exact).
+    pub far_terms: usize,
+    /// The stated tolerance: χ, ζ (relative) and g (of (4/3)a³/r, tabulated and far
+    /// field) must be within it; `strata table build` and `check` fail otherwise.
+    pub tolerance: f64,
     /// Interpolation error measured at build time.
     pub interp_error: Option<InterpError>,
 }
@@ -184,15 +220,7 @@ fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
 
-/// The half-space bracket (2a² − r²) asin(a/r) + a√(r² − a²) (m²), r ≥ a.
-fn half_space_bracket(a: f64, r: f64) -> f64 {
-    let q = (a / r).min(1.0);
-    if q < 1e-3 {
-        let q2 = q * q;
-        return r * r * q * q2 * (4.0 / 3.0 + q2 * (2.0 / 15.0 + q2 * (3.0 / 70.0)));
-    }
-    (2.0 * a * a - r * r) * q.asin() + a * (r * r - a * a).max(0.0).sqrt()
-}
+pub use far::half_space_bracket;
 
 impl Table {
     /// Number of family members (1 without a family).
@@ -244,6 +272,19 @@ impl Table {
                     "axis {name} is malformed: {ax:?}"
                 )));
             }
+        }
+        if !(h.tolerance.is_finite() && h.tolerance > 0.0) {
+            return Err(TableError::Invalid(format!(
+                "tolerance must be finite and > 0, got {}",
+                h.tolerance
+            )));
+        }
+        if h.far_terms > far::FAR_TERMS {
+            return Err(TableError::Invalid(format!(
+                "far_terms = {} exceeds the {} correction terms this strata knows",
+                h.far_terms,
+                far::FAR_TERMS
+            )));
         }
         if h.w.lo != 0.0 {
             return Err(TableError::Invalid("axis w must start at 0".into()));
@@ -428,6 +469,19 @@ impl Table {
         Ok(c.clamp(fam.ratio.lo, fam.ratio.hi))
     }
 
+    /// The far-field expansion of g for `stack` (a member of this table's family)
+    /// with the header's number of terms: the leading term only on a rigid base.
+    pub fn far_field(&self, stack: &Stack, k0: f64) -> far::FarField {
+        let m = self.header.far_terms;
+        if m == 0 || matches!(stack.base(), Base::Rigid) {
+            return far::FarField::leading(k0);
+        }
+        let comp = crate::Compliance::new(stack);
+        let mut f = far::FarField::new(&comp, stack.total_thickness());
+        f.coeffs.truncate(m + 1);
+        f
+    }
+
     /// The asperity law of `stack`, a member of this table's family (interpolated
     /// along the family axis once, here). Refuses stacks the table does not serve.
     pub fn law_for(&self, stack: &Stack) -> Result<TableLaw, TableError> {
@@ -455,6 +509,7 @@ impl Table {
             e_star: stack.top_plane_strain_modulus(),
             h1,
             k0,
+            far: self.far_field(stack, k0),
             rigid: matches!(stack.base(), Base::Rigid),
             x: h.x,
             w: h.w,
@@ -472,6 +527,8 @@ pub struct TableLaw {
     e_star: f64,
     h1: f64,
     k0: f64,
+    /// Far field of g beyond the tabulated range (r − a > h₁ sinh²(w_max)).
+    far: far::FarField,
     rigid: bool,
     x: Axis,
     w: Axis,
@@ -492,6 +549,17 @@ impl TableLaw {
     /// k_z(0) of the stack.
     pub fn k0(&self) -> f64 {
         self.k0
+    }
+
+    /// The join distance (m): g is tabulated for r − a ≤ h₁ sinh²(w_max) and is the
+    /// far field ([`far`]) beyond.
+    pub fn join(&self) -> f64 {
+        self.h1 * self.w.hi.sinh().powi(2)
+    }
+
+    /// The far-field expansion used beyond [`TableLaw::join`].
+    pub fn far_field(&self) -> &far::FarField {
+        &self.far
     }
 
     /// (χ, dχ/da, ζ, dζ/da) with the out-of-range rules of the module documentation.
@@ -553,7 +621,7 @@ impl TableLaw {
         let r = r.max(a);
         let w = ((r - a) / self.h1).sqrt().asinh();
         if w > self.w.hi {
-            return self.k0 * half_space_bracket(a, r);
+            return self.far.g(a, r);
         }
         self.g.eval(c, w) * a * a * a / r
     }
@@ -574,7 +642,12 @@ impl TableLaw {
             return q * q * q * self.g_inside(a_lo, r.max(a_lo));
         }
         if c > self.x.hi {
-            return self.k0 * half_space_bracket(a, r.max(a));
+            // Beyond the a range: the far field where it holds, else its leading term.
+            let r = r.max(a);
+            if r - a > self.join() {
+                return self.far.g(a, r);
+            }
+            return self.k0 * half_space_bracket(a, r);
         }
         self.g_inside(a, r)
     }
@@ -686,6 +759,8 @@ mod tests {
                 w,
                 s,
                 far_field_error: 0.0,
+                far_terms: 0,
+                tolerance: DEFAULT_TOLERANCE,
                 interp_error: None,
             },
             chi: vec![],

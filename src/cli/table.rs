@@ -7,8 +7,13 @@
 //!   The header's build time is SOURCE_DATE_EPOCH when set (else now): with it fixed,
 //!   a rebuild reproduces the file byte for byte.
 //! * `info FILE` prints the header.
-//! * `check FILE [--points N --seed S]` compares interpolated values with fresh direct
-//!   solves at N random off-grid points and prints the max errors.
+//! * `check FILE [--points N --seed S --tol T]` compares interpolated values (and the
+//!   far field of g beyond the tabulated range) with fresh direct solves at N random
+//!   off-grid points, prints the max errors and fails (exit 1) when one exceeds the
+//!   table's stated tolerance (or T).
+//!
+//! `build` fails likewise (exit 1, no file written) when the measured far-field or
+//! interpolation error exceeds `--tol` (default 1e-4), naming both.
 //! * `export FILE --npy DIR` writes every array as .npy.
 
 use std::path::PathBuf;
@@ -43,6 +48,9 @@ pub enum Sub {
         /// Seed of the random points.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Tolerance to check against (default: the one stated in the table).
+        #[arg(long)]
+        tol: Option<f64>,
     },
     /// Write the table's arrays as .npy files.
     Export {
@@ -77,6 +85,18 @@ pub struct BuildArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Stated tolerance stored in the table: chi, zeta (relative) and g (of
+    /// (4/3)a^3/r, tabulated and far field); the build fails above it.
+    #[arg(long, default_value_t = strata_runtime::table::DEFAULT_TOLERANCE)]
+    pub tol: f64,
+}
+
+/// A tolerance given on the command line: finite and > 0.
+fn check_tol(tol: f64) -> Result<f64> {
+    if !(tol.is_finite() && tol > 0.0) {
+        bail!("--tol must be a finite number > 0, got {tol}");
+    }
+    Ok(tol)
 }
 
 /// Parses `LAYER:LO:HI:N`.
@@ -148,6 +168,7 @@ pub fn run(a: Args) -> Result<()> {
                 check_points: b.check_points,
                 build_time: build_time()?,
                 progress: !b.quiet,
+                tolerance: check_tol(b.tol)?,
                 ..BuildOptions::default()
             };
             let t0 = std::time::Instant::now();
@@ -163,14 +184,34 @@ pub fn run(a: Args) -> Result<()> {
             print_info(&table);
         }
         Sub::Info { file } => print_info(&load(&file)?),
-        Sub::Check { file, points, seed } => {
+        Sub::Check {
+            file,
+            points,
+            seed,
+            tol,
+        } => {
             let table = load(&file)?;
             if points == 0 {
                 bail!("--points must be at least 1");
             }
+            let tol = match tol {
+                Some(t) => check_tol(t)?,
+                None => table.header.tolerance,
+            };
             let e = tablebuild::check(&table, points, seed, true)?;
-            println!("points,seed,max_rel_err_chi,max_rel_err_zeta,max_err_g_over_4a3_3r");
-            println!("{},{},{:e},{:e},{:e}", e.points, e.seed, e.chi, e.zeta, e.g);
+            println!(
+                "points,seed,max_rel_err_chi,max_rel_err_zeta,max_err_g_over_4a3_3r,max_err_g_far_over_4a3_3r,tolerance"
+            );
+            println!(
+                "{},{},{:e},{:e},{:e},{:e},{:e}",
+                e.points, e.seed, e.chi, e.zeta, e.g, e.far, tol
+            );
+            if let Some((what, measured)) = e.exceeds(tol) {
+                bail!(
+                    "table check failed for {}: measured {what} error {measured:.3e} exceeds the tolerance {tol:.3e}",
+                    file.display()
+                );
+            }
         }
         Sub::Export { file, npy } => {
             let table = load(&file)?;
@@ -209,9 +250,14 @@ fn print_info(t: &Table) {
         h.x.n
     );
     println!(
-        "g: w = asinh(sqrt((r-a)/h1)) in [0, {:.4}], {} nodes; far field beyond (error there {:.2e} of (4/3)a^3/r)",
-        h.w.hi, h.w.n, h.far_field_error
+        "g: w = asinh(sqrt((r-a)/h1)) in [0, {:.4}], {} nodes; far field beyond r - a = {:.1} H with {} correction terms (error {:.2e} of (4/3)a^3/r)",
+        h.w.hi,
+        h.w.n,
+        h.stack.layers()[0].thickness * h.w.hi.sinh().powi(2) / h.stack.total_thickness(),
+        h.far_terms,
+        h.far_field_error
     );
+    println!("stated tolerance: {:e}", h.tolerance);
     println!(
         "S: rho*h1 {:e} … {:e}, {} nodes (log grid)",
         h.s.lo.exp(),
@@ -220,8 +266,8 @@ fn print_info(t: &Table) {
     );
     match h.interp_error {
         Some(e) => println!(
-            "interpolation error at {} random points (seed {}): chi {:.2e}, zeta {:.2e} (relative), g {:.2e} (of (4/3)a^3/r)",
-            e.points, e.seed, e.chi, e.zeta, e.g
+            "interpolation error at {} random points (seed {}): chi {:.2e}, zeta {:.2e} (relative), g {:.2e}, far field {:.2e} (of (4/3)a^3/r)",
+            e.points, e.seed, e.chi, e.zeta, e.g, e.far
         ),
         None => println!("interpolation error: not measured"),
     }

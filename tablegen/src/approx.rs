@@ -296,26 +296,6 @@ impl Approx {
         }
         Ok(g)
     }
-
-    /// Far-field form of g for r ≫ H: g ≈ k_z(0)·HS(a, r) with HS the half-space
-    /// bracket (2a²−r²) asin(a/r) + a√(r²−a²) (m², r ≥ a). Its relative error is
-    /// O((H/r)²) (the k_z − k_z(0) part of the integral); see the tests.
-    pub fn g_far(&self, a: f64, r: f64) -> f64 {
-        self.k0 * half_space_bracket(a, r)
-    }
-}
-
-/// The half-space part of the outside-displacement bracket,
-/// (2a² − r²) asin(a/r) + a √(r² − a²) (m², r ≥ a); → (4/3) a³/r for r ≫ a.
-pub fn half_space_bracket(a: f64, r: f64) -> f64 {
-    let q = (a / r).min(1.0);
-    if q < 1e-3 {
-        // Series: (4/3)a³/r + (2/15)a⁵/r³ + (1/35)·a⁷/r⁵·(2/... ) — use the exact
-        // expansion of the closed form in q = a/r, times r²: Σ terms.
-        let q2 = q * q;
-        return r * r * q * q2 * (4.0 / 3.0 + q2 * (2.0 / 15.0 + q2 * (3.0 / 70.0)));
-    }
-    (2.0 * a * a - r * r) * q.asin() + a * (r * r - a * a).max(0.0).sqrt()
 }
 
 /// Frequency served by cache level L (m): 2^L · h₁.
@@ -513,19 +493,56 @@ mod tests {
         }
     }
 
-    /// Far field g → k_z(0)·HS(a, r) for r ≫ H.
+    /// Far field of g (runtime `table::far`) against direct quadrature well beyond
+    /// the default join (r − a = 20 H … 80 H): on the rigid-base paper stack the
+    /// leading term k_z(0)·HS is exact (S odd in ρ) to 1e-9 of (4/3)a³/r; on an
+    /// elastic base (50 µm, 4 GPa, ν 0.15 on 12 GPa, ν 0.3) the leading term alone is
+    /// off by ~1.8e-4 at 20 H and two correction terms bring it below 1e-6.
     #[test]
     fn g_far_field() {
-        let ap = Approx::new(&paper(5.0));
-        for (a, r) in [(1e-5, 0.1), (1e-4, 0.2)] {
-            let g = ap.g(a, r).unwrap();
-            let far = ap.g_far(a, r);
-            let scale = 4.0 / 3.0 * a.powi(3) / r;
-            eprintln!(
-                "a {a} r {r}: g {g:e} far {far:e} diff/scale {:e}",
-                (g - far) / scale
-            );
-            assert!(((g - far) / scale).abs() < 1e-4);
+        use strata_runtime::table::far::FarField;
+        let rigid = paper(5.0);
+        let ap = Approx::new(&rigid);
+        let far = FarField::leading(ap.k0());
+        let h = rigid.total_thickness();
+        for (a, r) in [
+            (1e-5, 0.1),
+            (1e-4, 0.2),
+            (1e-7, 20.0 * h),
+            (0.1, 0.1 + 40.0 * h),
+        ] {
+            let e = (ap.g(a, r).unwrap() - far.g(a, r)) / (4.0 / 3.0 * a.powi(3) / r);
+            assert!(e.abs() < 1e-9, "rigid a {a} r {r}: {e:e}");
         }
+        let st = Stack::new(
+            vec![Layer {
+                thickness: 50e-6,
+                young: 4e9,
+                poisson: 0.15,
+            }],
+            Base::Elastic {
+                young: 12e9,
+                poisson: 0.3,
+            },
+        )
+        .unwrap();
+        let ap = Approx::new(&st);
+        let full = FarField::new(&strata_runtime::Compliance::new(&st), 50e-6);
+        let (mut lead, mut two): (f64, f64) = (0.0, 0.0);
+        for a in [5e-8, 5e-5, 5e-3] {
+            for f in [20.0, 40.0, 80.0] {
+                let r = a + f * 50e-6;
+                let g = ap.g(a, r).unwrap();
+                let s = 4.0 / 3.0 * a.powi(3) / r;
+                lead = lead.max((g - FarField::leading(ap.k0()).g(a, r)).abs() / s);
+                let t = FarField {
+                    coeffs: full.coeffs[..3].to_vec(),
+                };
+                two = two.max((g - t.g(a, r)).abs() / s);
+            }
+        }
+        eprintln!("12 GPa base: far field error, leading term {lead:e}, two corrections {two:e}");
+        assert!(lead > 1e-4 && lead < 3e-4, "{lead}");
+        assert!(two < 1e-6, "{two}");
     }
 }

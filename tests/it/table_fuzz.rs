@@ -66,6 +66,8 @@ fn small_table(x: Axis, w: Axis, s: Axis, ratio: Option<Axis>) -> Table {
             w,
             s,
             far_field_error: 1e-9,
+            far_terms: 0,
+            tolerance: 1e-4,
             interp_error: None,
         },
         chi,
