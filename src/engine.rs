@@ -17,6 +17,7 @@ use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::rough::{Images, Model, RoughContact, Step};
 use strata_runtime::summits::find_summits;
+use strata_runtime::surface::Surface;
 use strata_runtime::table::Table;
 
 /// How a scene is solved (not what: that is the scene).
@@ -49,6 +50,29 @@ pub struct SceneSolution {
 
 macro_rules! log {
     ($quiet:expr, $($t:tt)*) => { if !$quiet { eprintln!($($t)*); } };
+}
+
+/// Logs what the reader did (units, repairs, form removal, file metadata) and the
+/// surface statistics, prints every warning (the reader's and the plausibility checks
+/// of `strata_runtime::surface::SurfaceStats`) on stderr even when `quiet`, and returns
+/// the statistics as JSON for curve.json with the warnings.
+pub fn surface_report(surface: &Surface, quiet: bool) -> (serde_json::Value, Vec<String>) {
+    for line in surface.log() {
+        log!(quiet, "surface: {line}");
+    }
+    let stats = surface.stats();
+    log!(quiet, "surface: {}", stats.describe());
+    let mut warnings: Vec<String> = surface.warnings().to_vec();
+    warnings.extend(stats.plausibility());
+    for w in &warnings {
+        eprintln!("WARNING: surface: {w}");
+    }
+    let mut json = serde_json::to_value(stats).unwrap_or_default();
+    json["repaired_points"] = serde_json::json!(surface.repaired());
+    json["read"] = serde_json::json!(surface.log());
+    json["units"] = serde_json::json!({"shape": "points (x, y)", "pixel_size": "m", "size": "m",
+        "mean_height": "m", "rms_height": "m", "rms_slope": "1", "peak_to_valley": "m"});
+    (json, warnings)
 }
 
 /// The asperity law of the scene's stack: Hertz for a homogeneous stack, otherwise
@@ -126,25 +150,11 @@ pub fn solve_scene(
     };
     let quiet = opts.quiet;
     let surface = scene.load_surface().context("surface")?;
-    if surface.repaired() > 0 {
-        log!(
-            quiet,
-            "surface: {} points (NaN/inf or spikes) replaced by the median of their neighbours (surface.repair)",
-            surface.repaired()
-        );
-    }
-    let (n0, n1) = surface.shape();
+    let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
     log!(
         quiet,
-        "surface: {n0}×{n1}, L = {:e} m, {}, RMS {:e} m; {} summits ({} dropped for κ ≤ 0)",
-        surface.extent().0,
-        if surface.is_periodic() {
-            "periodic"
-        } else {
-            "non-periodic"
-        },
-        surface.rms(),
+        "surface: {} summits ({} dropped for κ ≤ 0)",
         found.summits.len(),
         found.dropped_nonpositive_curvature
     );
@@ -211,6 +221,8 @@ pub fn solve_scene(
         "nominal_area": rc.area(),
         "summits": rc.summits().len(),
         "z_max_minus_mean": rc.top_to_mean(),
+        "surface": surface_json,
+        "warnings": warnings,
         "seconds": seconds,
         "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",
                   "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
@@ -231,17 +243,18 @@ pub fn solve_scene(
 fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<SceneSolution> {
     let quiet = opts.quiet;
     let surface = scene.load_surface().context("surface")?;
-    if surface.repaired() > 0 {
-        log!(
-            quiet,
-            "surface: {} points (NaN/inf or spikes) replaced by the median of their neighbours (surface.repair)",
-            surface.repaired()
-        );
-    }
+    let (surface_json, warnings) = surface_report(&surface, quiet);
     let (n0, n1) = surface.shape();
     if !surface.is_periodic() {
         bail!(
             "model.kind = \"bem\": the boundary-element solver is periodic; set surface.periodic = true"
+        );
+    }
+    let (dx, dy) = surface.pixel_size();
+    if n0 != n1 || (dx - dy).abs() > 1e-12 * dx {
+        bail!(
+            "model.kind = \"bem\": the boundary-element solver needs a square n×n grid with square \
+             pixels; this surface is {n0}×{n1} with pixels {dx:e} × {dy:e} m (use the N or I model)"
         );
     }
     let heights = ndarray::Array2::from_shape_vec((n0, n1), surface.heights().to_vec())
@@ -263,11 +276,6 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
         )
     };
     let effects = format!("full-field boundary elements on the {n0}×{n1} grid, periodic");
-    log!(
-        quiet,
-        "surface: {n0}×{n1}, L = {size:e} m, periodic, RMS {:e} m",
-        surface.rms()
-    );
     log!(quiet, "simulating: {effects}; {solid}");
     let loads: Vec<(String, BemLoad)> = match scene
         .load
@@ -336,6 +344,8 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
         "e_star_1": stack.top_plane_strain_modulus(),
         "nominal_area": area,
         "z_max_minus_mean": top_to_mean,
+        "surface": surface_json,
+        "warnings": warnings,
         "bem_final_error": worst_error,
         "seconds": seconds,
         "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",

@@ -6,11 +6,17 @@
 //! file = "stacks/paper.toml"   # or inline [[stack.layer]] / [stack.base] (+ name);
 //! table = "paper.strata"       # optional surrogate table for a layered stack
 //! [surface]
-//! file = "surface.npy"         # .npy (2-D f64, m) or a plain-text matrix; or [surface.generate]
-//! size = 1e-3                  # physical length of the first axis (m)
+//! file = "surface.npy"         # .x3p (ISO 25178-72), .npy (2-D f64) or a plain-text
+//!                              # matrix; or [surface.generate]. First array axis = x.
+//! size = 1e-3                  # .npy/text: length of the first axis (m, square pixels),
+//!                              # or size = [Lx, Ly] (m), or pixel_size = [dx, dy] (m);
+//!                              # an .x3p gives its own pixel sizes (no size/pixel_size)
+//! height_unit = "um"           # .npy/text: "m" (default) | "mm" | "um" | "nm"; .x3p is in m
+//! detrend = "plane"            # files: "none" (default) | "plane" | "curvature"
+//!                              # (least-squares form removed after reading)
 //! periodic = true              # default: true for generated surfaces, false for files
-//! repair = "median"            # files only: replace NaN/inf heights and spikes by the
-//!                              # median of their neighbours (default: refuse them)
+//! repair = "median"            # files only: replace NaN/inf heights, invalid points and
+//!                              # spikes by the median of their neighbours (default: refuse)
 //! [surface.generate]           # size, grid, fractal_dimension, k_min, k_max, rms, seed
 //! [model]
 //! kind = "interacting"         # "independent" | "interacting" | "bem"
@@ -33,7 +39,10 @@ use toml::{Table, Value};
 
 use strata_runtime::rough::Images;
 use strata_runtime::stack::{Stack, StackError};
-use strata_runtime::surface::{GenerateParams, Repair, Surface, SurfaceError};
+use strata_runtime::surface::{
+    Detrend, FileKind, GenerateParams, HeightUnit, ReadOptions, Repair, Spacing, Surface,
+    SurfaceError,
+};
 
 /// Errors of scene reading and validation.
 #[derive(Debug, Error)]
@@ -62,7 +71,7 @@ pub enum SceneError {
 /// Where the surface comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum SurfaceSource {
-    /// A `.npy` or text file (absolute, resolved against the scene directory).
+    /// An `.x3p`, `.npy` or text file (absolute, resolved against the scene directory).
     File(PathBuf),
     /// A generated self-affine surface.
     Generate(GenerateParams),
@@ -72,11 +81,16 @@ pub enum SurfaceSource {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurfaceSpec {
     pub source: SurfaceSource,
-    /// Physical length L of the first axis (m).
-    pub size: f64,
+    /// Lateral scale (m): `size` (L of the first axis, or [Lx, Ly]) or `pixel_size`;
+    /// `None` for an `.x3p` file, which gives its own.
+    pub spacing: Option<Spacing>,
     pub periodic: bool,
-    /// What to do with non-finite heights and spikes in a file (`repair`).
+    /// What to do with non-finite heights, invalid points and spikes in a file (`repair`).
     pub repair: Repair,
+    /// Unit of the heights of a `.npy`/text file (`height_unit`; `None`: metres).
+    pub height_unit: Option<HeightUnit>,
+    /// Form removed from a file's heights (`detrend`).
+    pub detrend: Detrend,
 }
 
 /// The model kind.
@@ -249,6 +263,92 @@ fn numbers(v: &Value, field: &str) -> Result<Vec<f64>, SceneError> {
         .collect()
 }
 
+/// A length or a pair of lengths (m), each > 0: (x, None) or (x, Some(y)).
+fn lengths(v: &Value, field: &str) -> Result<(f64, Option<f64>), SceneError> {
+    let wrong = || SceneError::WrongType {
+        field: field.into(),
+        expected: "a length (m) or an array [x, y] of two lengths (m)",
+    };
+    let xs = match v {
+        Value::Array(a) if a.len() == 2 => a
+            .iter()
+            .enumerate()
+            .map(|(i, x)| {
+                Ok((
+                    number(x, &format!("{field}[{i}]"))?,
+                    format!("{field}[{i}]"),
+                ))
+            })
+            .collect::<Result<Vec<_>, SceneError>>()?,
+        Value::Array(_) => return Err(wrong()),
+        Value::Float(_) | Value::Integer(_) => vec![(number(v, field)?, field.to_string())],
+        _ => return Err(wrong()),
+    };
+    let xs: Vec<f64> = xs
+        .into_iter()
+        .map(|(x, f)| {
+            if x > 0.0 {
+                Ok(x)
+            } else {
+                Err(SceneError::Invalid {
+                    field: f,
+                    reason: format!("{x} must be > 0 (m)"),
+                })
+            }
+        })
+        .collect::<Result<_, _>>()?;
+    Ok((xs[0], xs.get(1).copied()))
+}
+
+/// The lateral scale and height unit of a surface file: from `size` or `pixel_size`
+/// and `height_unit` for `.npy`/text; none of them for `.x3p` (from the file).
+fn file_scale(
+    sf: &Table,
+    kind: FileKind,
+) -> Result<(Option<Spacing>, Option<HeightUnit>), SceneError> {
+    if kind == FileKind::X3p {
+        for key in ["size", "pixel_size", "height_unit"] {
+            if sf.contains_key(key) {
+                return Err(SceneError::Invalid {
+                    field: format!("surface.{key}"),
+                    reason: "an .x3p file gives its own pixel sizes and is in metres (ISO 25178-72): remove this key".into(),
+                });
+            }
+        }
+        return Ok((None, None));
+    }
+    let spacing = match (sf.get("size"), sf.get("pixel_size")) {
+        (Some(_), Some(_)) => {
+            return Err(SceneError::Invalid {
+                field: "surface.pixel_size".into(),
+                reason: "give either size or pixel_size, not both".into(),
+            });
+        }
+        (None, None) => {
+            return Err(SceneError::Missing(
+                "surface.size (the first axis' length L or [Lx, Ly] in m; or surface.pixel_size = [dx, dy])"
+                    .into(),
+            ));
+        }
+        (Some(v), None) => match lengths(v, "surface.size")? {
+            (l, None) => Spacing::Size(l),
+            (lx, Some(ly)) => Spacing::Extent(lx, ly),
+        },
+        (None, Some(v)) => match lengths(v, "surface.pixel_size")? {
+            (d, None) => Spacing::Pixel(d, d),
+            (dx, Some(dy)) => Spacing::Pixel(dx, dy),
+        },
+    };
+    let unit = match string(sf, "height_unit", "surface.height_unit")? {
+        None => None,
+        Some(u) => Some(HeightUnit::parse(u).ok_or_else(|| SceneError::Invalid {
+            field: "surface.height_unit".into(),
+            reason: format!("`{u}` is not one of \"m\", \"mm\", \"um\", \"nm\""),
+        })?),
+    };
+    Ok((Some(spacing), unit))
+}
+
 fn resolve(dir: &Path, p: &str) -> PathBuf {
     let p = Path::new(p);
     if p.is_absolute() {
@@ -313,8 +413,17 @@ impl Scene {
         check_keys(
             sf,
             "surface.",
-            &["file", "size", "periodic", "generate", "repair"],
-            "file, size, periodic, generate, repair",
+            &[
+                "file",
+                "size",
+                "pixel_size",
+                "periodic",
+                "generate",
+                "repair",
+                "detrend",
+                "height_unit",
+            ],
+            "file, size, pixel_size, periodic, generate, repair, detrend, height_unit",
         )?;
         let periodic = boolean(sf, "periodic", "surface.periodic")?;
         let repair = match string(sf, "repair", "surface.repair")? {
@@ -355,11 +464,21 @@ impl Scene {
                         reason: format!("file {} does not exist", p.display()),
                     });
                 }
+                let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
+                let detrend = match string(sf, "detrend", "surface.detrend")? {
+                    None => Detrend::None,
+                    Some(d) => Detrend::parse(d).ok_or_else(|| SceneError::Invalid {
+                        field: "surface.detrend".into(),
+                        reason: format!("`{d}` is not one of \"none\", \"plane\", \"curvature\""),
+                    })?,
+                };
                 SurfaceSpec {
                     source: SurfaceSource::File(p),
-                    size: positive(sf, "size", "surface.size")?,
+                    spacing,
                     periodic: periodic.unwrap_or(false),
                     repair,
+                    height_unit,
+                    detrend,
                 }
             }
             (None, Some(_)) => {
@@ -405,6 +524,16 @@ impl Scene {
                         reason: "a generated surface is periodic".into(),
                     });
                 }
+                for key in ["pixel_size", "height_unit", "detrend"] {
+                    if sf.contains_key(key) {
+                        return Err(SceneError::Invalid {
+                            field: format!("surface.{key}"),
+                            reason:
+                                "applies to measured surfaces (surface.file), not generated ones"
+                                    .into(),
+                        });
+                    }
+                }
                 let fd = g.get("fractal_dimension").ok_or_else(|| {
                     SceneError::Missing("surface.generate.fractal_dimension".into())
                 })?;
@@ -418,9 +547,11 @@ impl Scene {
                         rms: positive(g, "rms", "surface.generate.rms")?,
                         seed: seed as u64,
                     }),
-                    size,
+                    spacing: Some(Spacing::Size(size)),
                     periodic: true,
                     repair,
+                    height_unit: None,
+                    detrend: Detrend::None,
                 }
             }
         };
@@ -599,19 +730,23 @@ impl Scene {
         })
     }
 
-    /// Builds (reads or generates) the surface. `.npy` by extension, else text.
+    /// Builds (reads or generates) the surface; a file by its extension (`.x3p`,
+    /// `.npy`, else text) with the scene's spacing, height unit, repair and detrend.
+    /// What the reader did is in [`Surface::log`].
     pub fn load_surface(&self) -> Result<Surface, SceneError> {
         let s = &self.surface;
         Ok(match &s.source {
             SurfaceSource::Generate(g) => Surface::generate(g)?,
-            SurfaceSource::File(p) => {
-                let npy = p.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
-                if npy {
-                    Surface::read_npy_with(p, s.size, s.periodic, s.repair)?
-                } else {
-                    Surface::read_text_with(p, s.size, s.periodic, s.repair)?
-                }
-            }
+            SurfaceSource::File(p) => Surface::read(
+                p,
+                &ReadOptions {
+                    spacing: s.spacing,
+                    periodic: s.periodic,
+                    repair: s.repair,
+                    height_unit: s.height_unit,
+                    detrend: s.detrend,
+                },
+            )?,
         })
     }
 }

@@ -5,10 +5,13 @@
 //! columns (which lack neighbours) are never summits. Its curvature is
 //!
 //! ```text
-//!   κ = −(z_xx + z_yy)/2,  z_xx = (z[i+1,j] − 2z[i,j] + z[i−1,j])/Δ²,  (1/m)
+//!   κ = −(z_xx + z_yy)/2,  z_xx = (z[i+1,j] − 2z[i,j] + z[i−1,j])/dx²,
+//!                          z_yy = (z[i,j+1] − 2z[i,j] + z[i,j−1])/dy²   (1/m)
 //! ```
 //!
-//! by central differences, and its radius R = 1/κ (m). Summits with κ ≤ 0 (possible
+//! by central differences, each on its own axis' pixel size (dx along the first array
+//! axis, dy along the second; rectangular pixels and grids are fine), and its radius
+//! R = 1/κ (m). The summit sits at (x, y) = (i·dx, j·dy). Summits with κ ≤ 0 (possible
 //! only on a saddle-like strict maximum) are dropped and counted.
 
 use crate::surface::Surface;
@@ -18,9 +21,9 @@ use crate::surface::Surface;
 pub struct Summit {
     /// Grid indices (i along x, j along y).
     pub index: (usize, usize),
-    /// x = iΔ (m).
+    /// x = i·dx (m).
     pub x: f64,
-    /// y = jΔ (m).
+    /// y = j·dy (m).
     pub y: f64,
     /// Height z (m).
     pub z: f64,
@@ -38,7 +41,7 @@ pub struct Summits {
 /// Finds the summits of `s` (physics.md §5), in row-major grid order.
 pub fn find_summits(s: &Surface) -> Summits {
     let (n0, n1) = s.shape();
-    let d = s.spacing();
+    let (dx, dy) = s.pixel_size();
     let periodic = s.is_periodic();
     let mut out = Vec::new();
     let mut dropped = 0;
@@ -66,8 +69,8 @@ pub fn find_summits(s: &Surface) -> Summits {
             if !is_max {
                 continue;
             }
-            let zxx = (s.z(ip, j) - 2.0 * z + s.z(im, j)) / (d * d);
-            let zyy = (s.z(i, jp) - 2.0 * z + s.z(i, jm)) / (d * d);
+            let zxx = (s.z(ip, j) - 2.0 * z + s.z(im, j)) / (dx * dx);
+            let zyy = (s.z(i, jp) - 2.0 * z + s.z(i, jm)) / (dy * dy);
             let kappa = -(zxx + zyy) / 2.0;
             if kappa.is_nan() || kappa <= 0.0 {
                 dropped += 1;
@@ -75,8 +78,8 @@ pub fn find_summits(s: &Surface) -> Summits {
             }
             out.push(Summit {
                 index: (i, j),
-                x: i as f64 * d,
-                y: j as f64 * d,
+                x: i as f64 * dx,
+                y: j as f64 * dy,
                 z,
                 radius: 1.0 / kappa,
             });
@@ -111,6 +114,82 @@ mod tests {
         let sm = f.summits[0];
         assert_eq!(sm.index, (16, 16));
         assert!((sm.radius - r).abs() < 1e-9 * r);
+    }
+
+    /// A rectangular grid (n0 ≠ n1) with rectangular pixels (dx ≠ dy), non-periodic and
+    /// periodic: the summits and radii equal a direct computation written out here
+    /// (strict 8-neighbour maxima, κ = −(z_xx/dx² + z_yy/dy²)/2 with the raw second
+    /// differences); an elliptic paraboloid z = −x²/(2R_x) − y²/(2R_y) sampled on it
+    /// has its apex curvature (1/R_x + 1/R_y)/2 exactly.
+    #[test]
+    fn rectangular_grid_direct() {
+        use crate::surface::Spacing;
+        let (n0, n1, dx, dy) = (41usize, 23usize, 1.1e-6, 2.7e-6);
+        let z: Vec<f64> = (0..n0 * n1)
+            .map(|k| {
+                let (i, j) = ((k / n1) as f64, (k % n1) as f64);
+                1e-6 * ((0.9 * i).sin() * (1.3 * j).cos() + 0.3 * (0.41 * i + 0.77 * j).sin())
+            })
+            .collect();
+        for periodic in [false, true] {
+            let s =
+                Surface::with_spacing(z.clone(), n0, n1, Spacing::Pixel(dx, dy), periodic).unwrap();
+            let at = |i: isize, j: isize| {
+                z[(i.rem_euclid(n0 as isize) as usize) * n1 + j.rem_euclid(n1 as isize) as usize]
+            };
+            let mut expect = Vec::new();
+            for i in 0..n0 as isize {
+                for j in 0..n1 as isize {
+                    let inner = i > 0 && j > 0 && i < n0 as isize - 1 && j < n1 as isize - 1;
+                    if !periodic && !inner {
+                        continue;
+                    }
+                    let c = at(i, j);
+                    let mut max = true;
+                    for di in -1..=1 {
+                        for dj in -1..=1 {
+                            if (di, dj) != (0, 0) && at(i + di, j + dj) >= c {
+                                max = false;
+                            }
+                        }
+                    }
+                    let k = -((at(i + 1, j) - 2.0 * c + at(i - 1, j)) / (dx * dx)
+                        + (at(i, j + 1) - 2.0 * c + at(i, j - 1)) / (dy * dy))
+                        / 2.0;
+                    if max && k > 0.0 {
+                        expect.push((
+                            i as usize,
+                            j as usize,
+                            i as f64 * dx,
+                            j as f64 * dy,
+                            1.0 / k,
+                        ));
+                    }
+                }
+            }
+            let got = find_summits(&s);
+            assert!(expect.len() > 10, "{}", expect.len());
+            assert_eq!(got.summits.len(), expect.len());
+            for (g, e) in got.summits.iter().zip(&expect) {
+                assert_eq!(g.index, (e.0, e.1));
+                assert_eq!((g.x, g.y), (e.2, e.3));
+                assert!((g.radius - e.4).abs() <= 1e-14 * e.4, "{g:?} {e:?}");
+            }
+        }
+        let (rx, ry) = (2e-4, 7e-5);
+        let z: Vec<f64> = (0..n0 * n1)
+            .map(|k| {
+                let x = ((k / n1) as f64 - 20.0) * dx;
+                let y = ((k % n1) as f64 - 11.0) * dy;
+                -x * x / (2.0 * rx) - y * y / (2.0 * ry)
+            })
+            .collect();
+        let s = Surface::with_spacing(z, n0, n1, Spacing::Pixel(dx, dy), false).unwrap();
+        let f = find_summits(&s);
+        assert_eq!(f.summits.len(), 1);
+        assert_eq!(f.summits[0].index, (20, 11));
+        let r = 2.0 / (1.0 / rx + 1.0 / ry);
+        assert!((f.summits[0].radius - r).abs() < 1e-9 * r);
     }
 
     /// Plateaus (equal neighbours) are not strict maxima; wrap-around matters on a

@@ -7,6 +7,7 @@ pub mod compliance;
 pub mod law;
 pub mod solve;
 pub mod study;
+pub mod surface;
 pub mod sweep;
 pub mod table;
 
@@ -39,6 +40,8 @@ pub enum Command {
     Sweep(sweep::Args),
     /// Accuracy–cost study of the solvers: DIR/report.md with tables, Pareto plots, defaults.
     Study(study::Args),
+    /// Surfaces: `export` a scene's surface to .x3p (ISO 25178-72) or .npy; `info` on a file's sizes and statistics.
+    Surface(surface::Args),
 }
 
 pub fn run(cli: Cli) -> Result<()> {
@@ -51,6 +54,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compare(a) => compare::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Study(a) => study::run(a),
+        Command::Surface(a) => surface::run(a),
     }
 }
 

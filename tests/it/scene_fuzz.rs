@@ -198,7 +198,10 @@ fn apply(text: &str, edits: &[Edit]) -> String {
 fn check(text: &str, dir: &Path) {
     match Scene::from_str_in(text, dir) {
         Ok(s) => {
-            assert!(s.surface.size.is_finite() && s.surface.size > 0.0);
+            if let Some(sp) = s.surface.spacing {
+                let (dx, dy) = sp.pixel(64, 48).expect("accepted spacing");
+                assert!(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite());
+            }
             for l in s.stack.layers() {
                 assert!(l.thickness > 0.0 && l.young > 0.0 && l.poisson <= 0.5);
             }

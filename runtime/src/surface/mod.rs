@@ -2,33 +2,52 @@
 //!
 //! A [`Surface`] holds heights z (m, positive up, i.e. towards the rigid flat) on an
 //! `n0 × n1` grid stored row-major (`z[i * n1 + j]`). Grid point (i, j) sits at
-//! x = i·Δ, y = j·Δ with Δ = L/n0 (m): the FIRST array axis is x. This matches the
-//! shared reference (`summits_km10.csv` lists x from the first .npy axis).
+//! x = i·dx, y = j·dy: the FIRST array axis is x. This matches the shared reference
+//! (`summits_km10.csv` lists x from the first .npy axis) and the x3p convention (x is
+//! the fastest index of `data.bin`, transposed on reading). Pixels may be rectangular
+//! (dx ≠ dy) and the grid non-square (n0 ≠ n1); the lateral scale is given as a
+//! [`Spacing`]: the first axis' length L (square pixels, Δ = L/n0, the historical
+//! `size`), the sides (Lx, Ly), or the pixel sizes (dx, dy).
 //!
 //! Sources:
 //! - [`Surface::generate`]: self-affine random surface, PSD ∝ |k|^(−2(1+H)), H = 3 − D_f,
 //!   nonzero for k_min ≤ |k|·L/(2π) ≤ k_max, random phases from a seeded ChaCha8
 //!   generator (reproducible), scaled to the given RMS height, zero mean.
-//! - [`Surface::read_npy`]: a 2-D little-endian f64 `.npy` file (heights in m).
-//! - [`Surface::read_text`]: a plain-text matrix, one grid row per line, numbers
-//!   separated by whitespace or commas; `#` starts a comment.
+//! - [`Surface::read`]: a file by its extension, with [`ReadOptions`] (spacing, height
+//!   unit, periodic flag, repair, form removal): `.x3p` (ISO 25178-72, feature `x3p`:
+//!   sizes and metres from the file), `.npy` (2-D little-endian f64, feature `npy`) or
+//!   a plain-text matrix, one grid row per line, numbers separated by whitespace or
+//!   commas, `#` starting a comment.
 //!
-//! Measured data (both readers) is checked, not trusted: a non-finite height (NaN or
-//! ±inf, e.g. a dropout) and a spike are refused with the file and the grid index of
-//! the first one. A spike is a height further than [`SPIKE_LIMIT`] robust standard
-//! deviations σ_d from the median of its 8 neighbours, where σ_d = 1.4826 × the median
-//! of |neighbour differences| over the whole map (at least 1e-3 × the RMS height).
-//! A smooth or random rough surface stays far below the limit (|z − median| is a few
-//! σ_d at most); one outlier pixel does not. With [`Repair::Median`] (scene key
-//! `[surface] repair = "median"`) such points are replaced by the median of their
-//! valid neighbours instead, and [`Surface::repaired`] counts them.
+//! Measured data (every reader) is checked, not trusted: a non-finite height (NaN or
+//! ±inf, e.g. a dropout, or a point an .x3p file marks invalid) and a spike are refused
+//! with the file and the grid index of the first one. A spike is a height further than
+//! [`SPIKE_LIMIT`] robust standard deviations σ_d from the median of its 8 neighbours,
+//! where σ_d = 1.4826 × the median of |neighbour differences| over the whole map (at
+//! least 1e-3 × the RMS height). A smooth or random rough surface stays far below the
+//! limit (|z − median| is a few σ_d at most); one outlier pixel does not. With
+//! [`Repair::Median`] (scene key `[surface] repair = "median"`) such points are replaced
+//! by the median of their valid neighbours instead, and [`Surface::repaired`] counts
+//! them.
+//!
+//! What a reader did (units, repairs, form removal, the file's metadata) is kept as log
+//! lines ([`Surface::log`]); what looks wrong but is not fatal (an .x3p whose main.xml
+//! checksum does not match) as [`Surface::warnings`]. [`Surface::stats`] gives the
+//! usual statistics and their plausibility warnings (module `stats`).
 
+mod form;
 #[cfg(feature = "spectral")]
 mod generate;
 mod read;
+mod stats;
+#[cfg(feature = "x3p")]
+pub mod x3p;
 
+pub use form::{Detrend, Form};
 #[cfg(feature = "spectral")]
 pub use generate::GenerateParams;
+pub use read::{FileKind, HeightUnit, ReadOptions};
+pub use stats::{MAX_RMS_HEIGHT_FRACTION, MAX_RMS_SLOPE, MIN_RMS_HEIGHT, SurfaceStats};
 
 use thiserror::Error;
 
@@ -45,6 +64,8 @@ pub enum SurfaceError {
         value: f64,
         reason: &'static str,
     },
+    #[error("surface: {0}")]
+    Unsupported(String),
     #[error(
         "surface: height at row {row}, column {col} (0-based) is {value}: missing or invalid \
          data (to interpolate it, set [surface] repair = \"median\" in the scene)"
@@ -65,6 +86,8 @@ pub enum SurfaceError {
         "surface: cannot repair row {row}, column {col} (0-based): none of its neighbours is valid"
     )]
     Unrepairable { row: usize, col: usize },
+    #[error("surface: {0}")]
+    Resources(#[from] crate::resources::ResourceError),
 }
 
 /// Spike limit in robust standard deviations of the neighbour differences (see the
@@ -81,16 +104,64 @@ pub enum Repair {
     Median,
 }
 
-/// A height map on a regular square-spaced grid.
+/// The lateral scale of an `n0 × n1` height map (m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Spacing {
+    /// Physical length L of the FIRST axis; square pixels dx = dy = L/n0 (scene
+    /// `size = L`).
+    Size(f64),
+    /// Sides (Lx, Ly): dx = Lx/n0, dy = Ly/n1 (scene `size = [Lx, Ly]`).
+    Extent(f64, f64),
+    /// Pixel sizes (dx, dy) (scene `pixel_size = [dx, dy]`).
+    Pixel(f64, f64),
+}
+
+impl Spacing {
+    /// The pixel sizes (dx, dy) (m) of an `n0 × n1` grid; each given length must be
+    /// finite and > 0 (the error names `size` or `pixel_size`).
+    pub fn pixel(self, n0: usize, n1: usize) -> Result<(f64, f64), SurfaceError> {
+        let check = |field: &'static str, v: f64| {
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(invalid(field, v, "must be a finite length > 0 (m)"))
+            }
+        };
+        let (n0f, n1f) = (n0.max(1) as f64, n1.max(1) as f64);
+        let (dx, dy) = match self {
+            Spacing::Size(l) => {
+                let d = check("size", l)? / n0f;
+                (d, d)
+            }
+            Spacing::Extent(lx, ly) => (check("size", lx)? / n0f, check("size", ly)? / n1f),
+            Spacing::Pixel(dx, dy) => (check("pixel_size", dx)?, check("pixel_size", dy)?),
+        };
+        if !(dx.is_normal() && dy.is_normal()) {
+            return Err(invalid(
+                "pixel_size",
+                dx.min(dy),
+                "pixel sizes underflow (too small a sample for the grid)",
+            ));
+        }
+        Ok((dx, dy))
+    }
+}
+
+/// A height map on a regular grid with pixels dx × dy.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Surface {
     z: Vec<f64>,
     n0: usize,
     n1: usize,
-    size: f64,
+    dx: f64,
+    dy: f64,
     periodic: bool,
     /// Points replaced by [`Repair::Median`] when read.
     repaired: usize,
+    /// What the reader did (units, repairs, form removal, file metadata).
+    log: Vec<String>,
+    /// Non-fatal problems found while reading.
+    warnings: Vec<String>,
 }
 
 fn invalid(field: &'static str, value: f64, reason: &'static str) -> SurfaceError {
@@ -103,7 +174,7 @@ fn invalid(field: &'static str, value: f64, reason: &'static str) -> SurfaceErro
 
 impl Surface {
     /// Builds a surface from row-major heights `z` (m) of shape `n0 × n1`; `size` is
-    /// the physical length L (m) of the first axis, so Δ = L/n0.
+    /// the physical length L (m) of the first axis, so dx = dy = L/n0.
     pub fn new(
         z: Vec<f64>,
         n0: usize,
@@ -111,9 +182,19 @@ impl Surface {
         size: f64,
         periodic: bool,
     ) -> Result<Self, SurfaceError> {
-        if !(size.is_finite() && size > 0.0) {
-            return Err(invalid("size", size, "must be a finite length > 0 (m)"));
-        }
+        Self::with_spacing(z, n0, n1, Spacing::Size(size), periodic)
+    }
+
+    /// Builds a surface from row-major heights `z` (m) of shape `n0 × n1` (n0 along x)
+    /// with the lateral scale `spacing`.
+    pub fn with_spacing(
+        z: Vec<f64>,
+        n0: usize,
+        n1: usize,
+        spacing: Spacing,
+        periodic: bool,
+    ) -> Result<Self, SurfaceError> {
+        let (dx, dy) = spacing.pixel(n0, n1)?;
         if n0 < 3 || n1 < 3 {
             return Err(invalid(
                 "grid",
@@ -135,25 +216,42 @@ impl Surface {
             z,
             n0,
             n1,
-            size,
+            dx,
+            dy,
             periodic,
             repaired: 0,
+            log: Vec::new(),
+            warnings: Vec::new(),
         })
     }
 
     /// Checks (or repairs, with [`Repair::Median`]) measured heights: non-finite values
-    /// and spikes (module documentation), then builds the surface.
+    /// and spikes (module documentation), then builds the surface (square pixels, L =
+    /// `size` along the first axis).
     pub fn measured(
-        mut z: Vec<f64>,
+        z: Vec<f64>,
         n0: usize,
         n1: usize,
         size: f64,
         periodic: bool,
         repair: Repair,
     ) -> Result<Self, SurfaceError> {
+        Self::measured_with(z, n0, n1, Spacing::Size(size), periodic, repair)
+    }
+
+    /// [`Surface::measured`] with any [`Spacing`].
+    pub fn measured_with(
+        mut z: Vec<f64>,
+        n0: usize,
+        n1: usize,
+        spacing: Spacing,
+        periodic: bool,
+        repair: Repair,
+    ) -> Result<Self, SurfaceError> {
         if z.len() != n0 * n1 || n0 < 3 || n1 < 3 {
-            return Surface::new(z, n0, n1, size, periodic);
+            return Surface::with_spacing(z, n0, n1, spacing, periodic);
         }
+        spacing.pixel(n0, n1)?;
         let bad = suspect_points(&z, n0, n1, periodic);
         if repair == Repair::Refuse {
             if let Some(&(k, sigmas)) = bad.first() {
@@ -169,7 +267,7 @@ impl Surface {
                     SurfaceError::NonFinite { row, col, value }
                 });
             }
-            return Surface::new(z, n0, n1, size, periodic);
+            return Surface::with_spacing(z, n0, n1, spacing, periodic);
         }
         let flagged: std::collections::HashSet<usize> = bad.iter().map(|b| b.0).collect();
         let mut fixed = Vec::with_capacity(bad.len());
@@ -190,7 +288,7 @@ impl Surface {
         for &(k, v) in &fixed {
             z[k] = v;
         }
-        let mut s = Surface::new(z, n0, n1, size, periodic)?;
+        let mut s = Surface::with_spacing(z, n0, n1, spacing, periodic)?;
         s.repaired = fixed.len();
         Ok(s)
     }
@@ -198,6 +296,17 @@ impl Surface {
     /// Number of points replaced when the surface was read with [`Repair::Median`].
     pub fn repaired(&self) -> usize {
         self.repaired
+    }
+    /// What the reader did, one line each (units, repairs, form removal, metadata).
+    pub fn log(&self) -> &[String] {
+        &self.log
+    }
+    /// Non-fatal problems found while reading (plausibility: [`Surface::stats`]).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+    pub(crate) fn note(&mut self, line: String) {
+        self.log.push(line);
     }
 
     /// Height at grid point (i, j) (m).
@@ -212,13 +321,13 @@ impl Surface {
     pub fn shape(&self) -> (usize, usize) {
         (self.n0, self.n1)
     }
-    /// Grid spacing Δ = L/n0 (m).
-    pub fn spacing(&self) -> f64 {
-        self.size / self.n0 as f64
+    /// Pixel sizes (dx, dy) (m): grid point (i, j) sits at (i·dx, j·dy).
+    pub fn pixel_size(&self) -> (f64, f64) {
+        (self.dx, self.dy)
     }
-    /// Physical extent (Lx, Ly) = (n0Δ, n1Δ) (m).
+    /// Physical extent (Lx, Ly) = (n0·dx, n1·dy) (m).
     pub fn extent(&self) -> (f64, f64) {
-        (self.size, self.n1 as f64 * self.spacing())
+        (self.n0 as f64 * self.dx, self.n1 as f64 * self.dy)
     }
     /// Nominal area A₀ = Lx·Ly (m²).
     pub fn area(&self) -> f64 {
@@ -433,7 +542,7 @@ mod tests {
         assert_eq!(s.shape(), (3, 3));
         assert_eq!(s.z(1, 2), 6.0);
         assert_eq!(s.z(2, 2), 9e-6);
-        assert!((s.spacing() - 1e-3).abs() < 1e-18);
+        assert!((s.pixel_size().0 - 1e-3).abs() < 1e-18 && s.pixel_size().0 == s.pixel_size().1);
         std::fs::write(&f, "1 2 3\n4 5\n6 7 8\n").unwrap();
         let e = Surface::read_text(&f, 1.0, false).unwrap_err();
         assert!(e.to_string().contains("ragged"), "{e}");

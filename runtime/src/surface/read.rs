@@ -1,4 +1,5 @@
-//! File readers: `.npy` (feature `npy`) and plain-text height matrices.
+//! File readers: [`Surface::read`] by extension (`.x3p`, `.npy`, else text), the
+//! `.npy` (feature `npy`) and plain-text readers, and the `.npy` writer.
 
 use std::path::Path;
 
@@ -7,12 +8,158 @@ use ndarray::Array2;
 #[cfg(feature = "npy")]
 use ndarray_npy::{ReadNpyError, ReadNpyExt};
 
-use super::{Repair, Surface, SurfaceError};
+use super::{Detrend, Repair, Spacing, Surface, SurfaceError};
+
+/// The unit of the heights in a `.npy` or text file (scene `height_unit`); `.x3p`
+/// files are in metres by the standard.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum HeightUnit {
+    /// Metres (default).
+    #[default]
+    M,
+    /// Millimetres.
+    Mm,
+    /// Micrometres.
+    Um,
+    /// Nanometres.
+    Nm,
+}
+
+impl HeightUnit {
+    /// Parses `"m" | "mm" | "um" | "µm" | "nm"`.
+    pub fn parse(s: &str) -> Option<HeightUnit> {
+        match s {
+            "m" => Some(HeightUnit::M),
+            "mm" => Some(HeightUnit::Mm),
+            "um" | "µm" | "μm" => Some(HeightUnit::Um),
+            "nm" => Some(HeightUnit::Nm),
+            _ => None,
+        }
+    }
+    /// Metres per unit.
+    pub fn metres(self) -> f64 {
+        match self {
+            HeightUnit::M => 1.0,
+            HeightUnit::Mm => 1e-3,
+            HeightUnit::Um => 1e-6,
+            HeightUnit::Nm => 1e-9,
+        }
+    }
+    /// The scene value.
+    pub fn name(self) -> &'static str {
+        match self {
+            HeightUnit::M => "m",
+            HeightUnit::Mm => "mm",
+            HeightUnit::Um => "um",
+            HeightUnit::Nm => "nm",
+        }
+    }
+}
+
+/// How [`Surface::read`] interprets a file.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ReadOptions {
+    /// Lateral scale; required for `.npy`/text, refused for `.x3p` (the file has it).
+    pub spacing: Option<Spacing>,
+    /// Whether the sample is one cell of a periodic pattern.
+    pub periodic: bool,
+    /// Non-finite heights, invalid points and spikes: refuse or repair.
+    pub repair: Repair,
+    /// Unit of the heights in `.npy`/text (default metres); `.x3p` accepts only metres.
+    pub height_unit: Option<HeightUnit>,
+    /// Form removed after reading (and repairing).
+    pub detrend: Detrend,
+}
+
+/// The file formats [`Surface::read`] knows, by extension (case-insensitive).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FileKind {
+    X3p,
+    Npy,
+    Text,
+}
+
+impl FileKind {
+    pub fn of(path: &Path) -> FileKind {
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        match ext.as_str() {
+            "x3p" => FileKind::X3p,
+            "npy" => FileKind::Npy,
+            _ => FileKind::Text,
+        }
+    }
+}
+
+fn format_err(path: &Path, e: SurfaceError) -> SurfaceError {
+    match e {
+        e @ (SurfaceError::Io { .. } | SurfaceError::Format { .. }) => e,
+        other => SurfaceError::Format {
+            path: path.display().to_string(),
+            message: other.to_string(),
+        },
+    }
+}
 
 impl Surface {
+    /// Reads a height map by extension: `.x3p` (feature `x3p`; pixel sizes, offsets
+    /// and metres from the file), `.npy` (feature `npy`) or a text matrix, both in
+    /// `height_unit` with the given spacing. Then checks (or repairs) invalid points
+    /// and spikes, and removes the form `detrend`. What was done is in
+    /// [`Surface::log`]; errors name the file (and the grid index or field).
+    pub fn read(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
+        let kind = FileKind::of(path);
+        let (z, n0, n1, spacing, mut log, warnings) = match kind {
+            FileKind::X3p => read_x3p_raw(path, opts)?,
+            FileKind::Npy | FileKind::Text => {
+                let spacing = opts.spacing.ok_or_else(|| SurfaceError::Format {
+                    path: path.display().to_string(),
+                    message: "the lateral size is missing: give size = L, size = [Lx, Ly] or \
+                              pixel_size = [dx, dy] (m)"
+                        .into(),
+                })?;
+                let (mut z, n0, n1) = if kind == FileKind::Npy {
+                    read_npy_raw(path)?
+                } else {
+                    read_text_raw(path)?
+                };
+                let unit = opts.height_unit.unwrap_or_default();
+                let f = unit.metres();
+                if f != 1.0 {
+                    z.iter_mut().for_each(|v| *v *= f);
+                }
+                let line = if opts.height_unit.is_some() {
+                    format!(
+                        "heights read in {} (height_unit = \"{}\"), converted to metres (× {f:e})",
+                        unit.name(),
+                        unit.name()
+                    )
+                } else {
+                    "heights read as metres (the default; set height_unit = \"mm\", \"um\" or \"nm\" otherwise)".to_string()
+                };
+                (z, n0, n1, spacing, vec![line], Vec::new())
+            }
+        };
+        let mut s = Surface::measured_with(z, n0, n1, spacing, opts.periodic, opts.repair)
+            .map_err(|e| format_err(path, e))?;
+        if s.repaired > 0 {
+            log.push(format!(
+                "{} points (NaN/inf, invalid or spikes) replaced by the median of their neighbours (repair = \"median\")",
+                s.repaired
+            ));
+        }
+        s.log = log;
+        s.warnings = warnings;
+        s.detrend(opts.detrend);
+        Ok(s)
+    }
+
     #[cfg(feature = "npy")]
-    /// Reads a 2-D f64 `.npy` height map (m). Wrong dtype or dimensionality, non-finite
-    /// heights and spikes are errors naming the file (and the grid index).
+    /// Reads a 2-D f64 `.npy` height map (m), `size` the length of its first axis
+    /// (square pixels). Wrong dtype or dimensionality, non-finite heights and spikes
+    /// are errors naming the file (and the grid index).
     pub fn read_npy(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
         Self::read_npy_with(path, size, periodic, Repair::Refuse)
     }
@@ -25,37 +172,13 @@ impl Surface {
         periodic: bool,
         repair: Repair,
     ) -> Result<Self, SurfaceError> {
-        let p = path.display().to_string();
-        let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
-            path: p.clone(),
-            message: e.to_string(),
-        })?;
-        let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
-            let message = match e {
-                ReadNpyError::WrongNdim(exp, got) => format!(
-                    "wrong shape: expected a 2-D array, found {got} dimension(s) (expected {exp:?})"
-                ),
-                ReadNpyError::WrongDescriptor(d) => {
-                    format!("wrong dtype: expected little-endian float64 ('<f8'), found {d}")
-                }
-                other => format!("not a valid .npy file: {other}"),
-            };
-            SurfaceError::Format {
-                path: p.clone(),
-                message,
-            }
-        })?;
-        let (n0, n1) = arr.dim();
-        let z: Vec<f64> = arr.iter().copied().collect(); // logical (C) order
-        Surface::measured(z, n0, n1, size, periodic, repair).map_err(|e| SurfaceError::Format {
-            path: p,
-            message: e.to_string(),
-        })
+        Self::read_as(path, FileKind::Npy, size, periodic, repair)
     }
 
     /// Reads a plain-text matrix of heights (m): one grid row per line, values
-    /// separated by whitespace and/or commas, `#` comments and blank lines ignored.
-    /// `nan`/`inf` entries and spikes are errors naming the file and the grid index.
+    /// separated by whitespace and/or commas, `#` comments and blank lines ignored;
+    /// `size` the length of the first axis (square pixels). `nan`/`inf` entries and
+    /// spikes are errors naming the file and the grid index.
     pub fn read_text(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
         Self::read_text_with(path, size, periodic, Repair::Refuse)
     }
@@ -67,46 +190,156 @@ impl Surface {
         periodic: bool,
         repair: Repair,
     ) -> Result<Self, SurfaceError> {
+        Self::read_as(path, FileKind::Text, size, periodic, repair)
+    }
+
+    fn read_as(
+        path: &Path,
+        kind: FileKind,
+        size: f64,
+        periodic: bool,
+        repair: Repair,
+    ) -> Result<Self, SurfaceError> {
+        let (z, n0, n1) = if kind == FileKind::Npy {
+            read_npy_raw(path)?
+        } else {
+            read_text_raw(path)?
+        };
+        Surface::measured_with(z, n0, n1, Spacing::Size(size), periodic, repair)
+            .map_err(|e| format_err(path, e))
+    }
+
+    /// Writes the heights (m) as a 2-D little-endian f64 `.npy` array n0 × n1 (first
+    /// axis x), atomically (feature `npy`).
+    #[cfg(feature = "npy")]
+    pub fn write_npy(&self, path: &Path) -> Result<(), SurfaceError> {
         let p = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
+        let io = |e: std::io::Error| SurfaceError::Io {
             path: p.clone(),
             message: e.to_string(),
-        })?;
-        let mut z = Vec::new();
-        let (mut n0, mut n1) = (0usize, 0usize);
-        for (ln, line) in text.lines().enumerate() {
-            let line = line.split('#').next().unwrap_or("").trim();
-            if line.is_empty() {
-                continue;
-            }
-            let mut count = 0;
-            for tok in line
-                .split(|c: char| c == ',' || c.is_whitespace())
-                .filter(|t| !t.is_empty())
-            {
-                let v: f64 = tok.parse().map_err(|_| SurfaceError::Format {
-                    path: p.clone(),
-                    message: format!("line {}: `{tok}` is not a number", ln + 1),
-                })?;
-                z.push(v);
-                count += 1;
-            }
-            if n0 == 0 {
-                n1 = count;
-            } else if count != n1 {
-                return Err(SurfaceError::Format {
-                    path: p,
-                    message: format!(
-                        "line {}: {count} values but the first row has {n1} (ragged matrix)",
-                        ln + 1
-                    ),
-                });
-            }
-            n0 += 1;
-        }
-        Surface::measured(z, n0, n1, size, periodic, repair).map_err(|e| SurfaceError::Format {
-            path: p,
-            message: e.to_string(),
+        };
+        let arr = Array2::from_shape_vec((self.n0, self.n1), self.z.clone())
+            .map_err(|e| io(std::io::Error::other(e)))?;
+        crate::output::write_atomic_with(path, |tmp| {
+            ndarray_npy::write_npy(tmp, &arr).map_err(std::io::Error::other)
         })
+        .map_err(io)
     }
+}
+
+#[cfg(feature = "x3p")]
+type Raw = (Vec<f64>, usize, usize, Spacing, Vec<String>, Vec<String>);
+
+#[cfg(feature = "x3p")]
+fn read_x3p_raw(path: &Path, opts: &ReadOptions) -> Result<Raw, SurfaceError> {
+    let refuse = |message: &str| SurfaceError::Format {
+        path: path.display().to_string(),
+        message: message.into(),
+    };
+    if opts.spacing.is_some() {
+        return Err(refuse(
+            "an .x3p file gives its own pixel sizes (CX/CY Increment): do not set size or pixel_size",
+        ));
+    }
+    if opts.height_unit.is_some_and(|u| u != HeightUnit::M) {
+        return Err(refuse(
+            "an .x3p file is in metres by the standard: do not set height_unit",
+        ));
+    }
+    let x = super::x3p::read_x3p(path)?;
+    let mut log = x.describe();
+    log.push("heights in metres (ISO 25178-72)".into());
+    Ok((
+        x.heights,
+        x.nx,
+        x.ny,
+        Spacing::Pixel(x.dx, x.dy),
+        log,
+        x.warnings,
+    ))
+}
+
+#[cfg(not(feature = "x3p"))]
+fn read_x3p_raw(
+    path: &Path,
+    _: &ReadOptions,
+) -> Result<(Vec<f64>, usize, usize, Spacing, Vec<String>, Vec<String>), SurfaceError> {
+    Err(SurfaceError::Unsupported(format!(
+        "{}: .x3p files need the runtime feature `x3p`",
+        path.display()
+    )))
+}
+
+/// Heights and shape of a 2-D f64 `.npy` (C order).
+#[cfg(feature = "npy")]
+fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+    let p = path.display().to_string();
+    let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
+        path: p.clone(),
+        message: e.to_string(),
+    })?;
+    let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
+        let message = match e {
+            ReadNpyError::WrongNdim(exp, got) => format!(
+                "wrong shape: expected a 2-D array, found {got} dimension(s) (expected {exp:?})"
+            ),
+            ReadNpyError::WrongDescriptor(d) => {
+                format!("wrong dtype: expected little-endian float64 ('<f8'), found {d}")
+            }
+            other => format!("not a valid .npy file: {other}"),
+        };
+        SurfaceError::Format { path: p, message }
+    })?;
+    let (n0, n1) = arr.dim();
+    Ok((arr.iter().copied().collect(), n0, n1)) // logical (C) order
+}
+
+#[cfg(not(feature = "npy"))]
+fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+    Err(SurfaceError::Unsupported(format!(
+        "{}: .npy files need the runtime feature `npy`",
+        path.display()
+    )))
+}
+
+/// Heights and shape of a plain-text matrix (one grid row per line).
+fn read_text_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+    let p = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
+        path: p.clone(),
+        message: e.to_string(),
+    })?;
+    let mut z = Vec::new();
+    let (mut n0, mut n1) = (0usize, 0usize);
+    for (ln, line) in text.lines().enumerate() {
+        let line = line.split('#').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let mut count = 0;
+        for tok in line
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|t| !t.is_empty())
+        {
+            let v: f64 = tok.parse().map_err(|_| SurfaceError::Format {
+                path: p.clone(),
+                message: format!("line {}: `{tok}` is not a number", ln + 1),
+            })?;
+            z.push(v);
+            count += 1;
+        }
+        if n0 == 0 {
+            n1 = count;
+        } else if count != n1 {
+            return Err(SurfaceError::Format {
+                path: p,
+                message: format!(
+                    "line {}: {count} values but the first row has {n1} (ragged matrix)",
+                    ln + 1
+                ),
+            });
+        }
+        n0 += 1;
+    }
+    Ok((z, n0, n1))
 }

@@ -611,7 +611,7 @@ impl Sweep {
                         SurfaceField::FractalDimension => g.fractal_dimension = x,
                         SurfaceField::Size => {
                             g.size = x;
-                            scene.surface.size = x;
+                            scene.surface.spacing = Some(strata_runtime::surface::Spacing::Size(x));
                         }
                         SurfaceField::Grid => g.grid = x as usize,
                         SurfaceField::Seed => g.seed = x as u64,

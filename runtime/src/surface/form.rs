@@ -1,0 +1,231 @@
+//! Form removal (scene key `[surface] detrend`): the least-squares plane or quadric
+//! subtracted from the heights.
+//!
+//! With u = x − x̄, v = y − ȳ about the sample centre (x = i·dx, y = j·dy), the fitted
+//! form is
+//!
+//! ```text
+//!   plane:      f = c₀ + a_x u + a_y v
+//!   curvature:  f = c₀ + a_x u + a_y v + ½ h_xx (u² − ⟨u²⟩) + h_xy u v + ½ h_yy (v² − ⟨v²⟩)
+//! ```
+//!
+//! minimising Σ (z − f)² over the grid. On a full regular grid the functions 1, u, v,
+//! u² − ⟨u²⟩, uv, v² − ⟨v²⟩ are mutually orthogonal (each sum factorises into sums over
+//! i and j, and Σu = Σu³ = 0 on a symmetric grid), so every coefficient is a projection
+//! ⟨z, φ⟩/⟨φ, φ⟩: no linear system, no conditioning issue for any dx, dy, n. The
+//! slopes a_x, a_y are dimensionless, the second derivatives h (1/m). The span is that
+//! of {1, x, y, x², xy, y²}, so this is the ordinary least-squares fit.
+
+use super::Surface;
+
+/// Which form is removed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Detrend {
+    /// Keep the heights as read (default).
+    #[default]
+    None,
+    /// Remove the least-squares plane (mean and tilt).
+    Plane,
+    /// Remove the least-squares quadric (mean, tilt and curvature).
+    Curvature,
+}
+
+impl Detrend {
+    /// Parses the scene value `"none" | "plane" | "curvature"`.
+    pub fn parse(s: &str) -> Option<Detrend> {
+        match s {
+            "none" => Some(Detrend::None),
+            "plane" => Some(Detrend::Plane),
+            "curvature" => Some(Detrend::Curvature),
+            _ => None,
+        }
+    }
+    /// The scene value.
+    pub fn name(self) -> &'static str {
+        match self {
+            Detrend::None => "none",
+            Detrend::Plane => "plane",
+            Detrend::Curvature => "curvature",
+        }
+    }
+}
+
+/// The form removed by [`Surface::detrend`] (module docs for the symbols).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Form {
+    pub kind: Detrend,
+    /// c₀: the fitted height at the sample centre (m).
+    pub offset: f64,
+    /// (a_x, a_y): the fitted slopes (1).
+    pub slope: (f64, f64),
+    /// (h_xx, h_xy, h_yy): the fitted second derivatives (1/m); zero for a plane.
+    pub curvature: (f64, f64, f64),
+    /// RMS of the removed form about its mean (m).
+    pub rms: f64,
+}
+
+impl Form {
+    /// One log line describing the removed form.
+    pub fn describe(&self) -> String {
+        let mut s = format!(
+            "detrend = \"{}\": removed the least-squares form with slopes z_x = {:.4e}, z_y = {:.4e}",
+            self.kind.name(),
+            self.slope.0,
+            self.slope.1
+        );
+        if self.kind == Detrend::Curvature {
+            let (a, b, c) = self.curvature;
+            s.push_str(&format!(
+                ", second derivatives z_xx = {a:.4e}, z_xy = {b:.4e}, z_yy = {c:.4e} 1/m"
+            ));
+        }
+        s.push_str(&format!(" (RMS of the removed form {:.4e} m)", self.rms));
+        s
+    }
+}
+
+/// Centred coordinates u_i = (i − (n − 1)/2)·d and ⟨u²⟩.
+fn centred(n: usize, d: f64) -> (Vec<f64>, f64) {
+    let c = (n as f64 - 1.0) / 2.0;
+    let u: Vec<f64> = (0..n).map(|i| (i as f64 - c) * d).collect();
+    let m2 = u.iter().map(|x| x * x).sum::<f64>() / n as f64;
+    (u, m2)
+}
+
+impl Surface {
+    /// Removes the least-squares form `kind` (module docs) from the heights and logs
+    /// it; returns the removed form. `Detrend::None` changes nothing.
+    pub fn detrend(&mut self, kind: Detrend) -> Form {
+        let (n0, n1) = self.shape();
+        let (dx, dy) = self.pixel_size();
+        let (u, mu) = centred(n0, dx);
+        let (v, mv) = centred(n1, dy);
+        let none = Form {
+            kind,
+            offset: 0.0,
+            slope: (0.0, 0.0),
+            curvature: (0.0, 0.0, 0.0),
+            rms: 0.0,
+        };
+        if kind == Detrend::None {
+            return none;
+        }
+        let quad = kind == Detrend::Curvature;
+        // Basis values at (i, j); the six projections and norms in one pass.
+        let phi = |i: usize, j: usize| -> [f64; 6] {
+            let (a, b) = (u[i], v[j]);
+            [1.0, a, b, a * a - mu, a * b, b * b - mv]
+        };
+        let m = if quad { 6 } else { 3 };
+        let (mut num, mut den) = ([0.0f64; 6], [0.0f64; 6]);
+        for i in 0..n0 {
+            for j in 0..n1 {
+                let p = phi(i, j);
+                let z = self.z[i * n1 + j];
+                for k in 0..m {
+                    num[k] += z * p[k];
+                    den[k] += p[k] * p[k];
+                }
+            }
+        }
+        let mut c = [0.0f64; 6];
+        for k in 0..m {
+            if den[k] > 0.0 {
+                c[k] = num[k] / den[k];
+            }
+        }
+        let mut form_sq = 0.0;
+        for i in 0..n0 {
+            for j in 0..n1 {
+                let p = phi(i, j);
+                let f: f64 = (0..m).map(|k| c[k] * p[k]).sum();
+                self.z[i * n1 + j] -= f;
+                form_sq += (f - c[0]) * (f - c[0]);
+            }
+        }
+        let form = Form {
+            kind,
+            offset: c[0],
+            slope: (c[1], c[2]),
+            curvature: if quad {
+                (2.0 * c[3], c[4], 2.0 * c[5])
+            } else {
+                (0.0, 0.0, 0.0)
+            },
+            rms: (form_sq / (n0 * n1) as f64).sqrt(),
+        };
+        self.note(form.describe());
+        form
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Spacing;
+    use super::*;
+
+    fn grid(n0: usize, n1: usize, dx: f64, dy: f64, f: impl Fn(f64, f64) -> f64) -> Surface {
+        let z = (0..n0 * n1)
+            .map(|k| f((k / n1) as f64 * dx, (k % n1) as f64 * dy))
+            .collect();
+        Surface::with_spacing(z, n0, n1, Spacing::Pixel(dx, dy), false).unwrap()
+    }
+
+    /// An exact plane (quadric) is removed to round-off and its coefficients come
+    /// back; the least-squares residual of a rough surface is orthogonal to every
+    /// basis monomial 1, x, y, x², xy, y² (the normal equations, checked directly).
+    #[test]
+    fn exact_forms_and_normal_equations() {
+        let (n0, n1, dx, dy) = (37, 24, 1.3e-6, 2.1e-6);
+        let (cx, cy) = ((n0 - 1) as f64 * dx / 2.0, (n1 - 1) as f64 * dy / 2.0);
+        let mut s = grid(n0, n1, dx, dy, |x, y| 2e-6 + 0.01 * x - 0.03 * y);
+        let f = s.detrend(Detrend::Plane);
+        assert!(
+            s.heights().iter().all(|z| z.abs() < 1e-19),
+            "{:?}",
+            &s.heights()[..4]
+        );
+        assert!((f.slope.0 - 0.01).abs() < 1e-14 && (f.slope.1 + 0.03).abs() < 1e-14);
+        assert!((f.offset - (2e-6 + 0.01 * cx - 0.03 * cy)).abs() < 1e-18);
+        assert!(s.log()[0].contains("detrend = \"plane\""), "{:?}", s.log());
+        let (hxx, hxy, hyy) = (50.0, -20.0, 80.0);
+        let q =
+            |x: f64, y: f64| 1e-6 + 0.02 * x + 0.5 * hxx * x * x + hxy * x * y + 0.5 * hyy * y * y;
+        let mut s = grid(n0, n1, dx, dy, q);
+        let f = s.detrend(Detrend::Curvature);
+        assert!(s.heights().iter().all(|z| z.abs() < 1e-18));
+        assert!((f.curvature.0 - hxx).abs() < 1e-9 && (f.curvature.1 - hxy).abs() < 1e-9);
+        assert!((f.curvature.2 - hyy).abs() < 1e-9);
+        // Rough surface plus form: residual ⟂ monomials.
+        let rough = |x: f64, y: f64| {
+            1e-6 * ((x * 3e5).sin() * (y * 1.7e5).cos() + (x * 7e5 + y * 2e5).sin())
+        };
+        for kind in [Detrend::Plane, Detrend::Curvature] {
+            let mut s = grid(n0, n1, dx, dy, |x, y| rough(x, y) + q(x, y));
+            s.detrend(kind);
+            let monomials: Vec<Box<dyn Fn(f64, f64) -> f64>> = vec![
+                Box::new(|_, _| 1.0),
+                Box::new(|x, _| x),
+                Box::new(|_, y| y),
+                Box::new(|x, _| x * x),
+                Box::new(|x, y| x * y),
+                Box::new(|_, y| y * y),
+            ];
+            let m = if kind == Detrend::Plane { 3 } else { 6 };
+            for (k, g) in monomials.iter().take(m).enumerate() {
+                let (mut dot, mut scale) = (0.0, 0.0);
+                for i in 0..n0 {
+                    for j in 0..n1 {
+                        let gv = g(i as f64 * dx, j as f64 * dy);
+                        dot += s.z(i, j) * gv;
+                        scale += (1e-6 * gv).abs();
+                    }
+                }
+                assert!(
+                    dot.abs() < 1e-12 * scale,
+                    "{kind:?} monomial {k}: {dot:e} {scale:e}"
+                );
+            }
+        }
+    }
+}

@@ -1,0 +1,265 @@
+//! `strata surface`: surfaces on their own (issue 15).
+//!
+//! - `strata surface export SCENE.toml --out FILE.x3p|FILE.npy [--dtype D|F|L|I]`: the
+//!   scene's surface exactly as a solve sees it (read, converted to metres, repaired,
+//!   detrended; or generated) written as ISO 25178-72 `.x3p` (pixel sizes in the file,
+//!   metres; `--dtype` the CZ data type, default `D` = lossless float64) or as a 2-D
+//!   f64 `.npy` in metres, first axis x. Written atomically; an existing file is
+//!   refused unless `--force`.
+//! - `strata surface info FILE|SCENE.toml [--size L|LX,LY | --pixel-size DX,DY]
+//!   [--height-unit U] [--periodic] [--detrend K] [--repair] [--json]`: grid, pixel
+//!   sizes, sample size, periodic flag, RMS height, RMS slope, peak-to-valley, what the
+//!   reader did, and the plausibility warnings (also on stderr). An `.x3p` needs no
+//!   size; a `.npy`/text file does.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use clap::Subcommand;
+
+use crate::cli::args::parse_list;
+use crate::scene::{Scene, SurfaceSource};
+use strata_runtime::surface::x3p::{DataType, X3pWriteOptions};
+use strata_runtime::surface::{
+    Detrend, FileKind, HeightUnit, ReadOptions, Repair, Spacing, Surface,
+};
+
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    #[command(subcommand)]
+    pub command: Cmd,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Cmd {
+    /// Write a scene's surface (as solved: converted, repaired, detrended; or generated) as .x3p (ISO 25178-72) or .npy, by the extension of --out.
+    Export(ExportArgs),
+    /// Grid, pixel sizes, sample size and statistics (RMS height and slope, peak-to-valley) of a surface file or a scene's surface.
+    Info(InfoArgs),
+}
+
+#[derive(Debug, clap::Args)]
+pub struct ExportArgs {
+    /// Scene file (TOML) whose surface is exported.
+    pub scene: PathBuf,
+    /// Output file: `.x3p` or `.npy`.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// `.x3p` height data type: D (float64, lossless), F (float32), L (int32) or I (int16).
+    #[arg(long, default_value = "D")]
+    pub dtype: String,
+    /// Overwrite an existing output file.
+    #[arg(long)]
+    pub force: bool,
+}
+
+#[derive(Debug, clap::Args)]
+pub struct InfoArgs {
+    /// A surface file (.x3p, .npy, text) or a scene (.toml).
+    pub file: PathBuf,
+    /// .npy/text: length of the first axis L (m), or LX,LY.
+    #[arg(long)]
+    pub size: Option<String>,
+    /// .npy/text: pixel sizes DX,DY (m) (or one value for square pixels).
+    #[arg(long)]
+    pub pixel_size: Option<String>,
+    /// .npy/text: unit of the heights: m (default), mm, um, nm.
+    #[arg(long)]
+    pub height_unit: Option<String>,
+    /// The sample is one cell of a periodic pattern.
+    #[arg(long)]
+    pub periodic: bool,
+    /// Remove a least-squares form first: none, plane, curvature.
+    #[arg(long, default_value = "none")]
+    pub detrend: String,
+    /// Replace invalid points and spikes by the median of their neighbours (else refused).
+    #[arg(long)]
+    pub repair: bool,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(a: Args) -> Result<()> {
+    match a.command {
+        Cmd::Export(e) => export(e),
+        Cmd::Info(i) => info(i),
+    }
+}
+
+fn export(a: ExportArgs) -> Result<()> {
+    let scene =
+        Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
+    let kind = a
+        .out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    if kind != "x3p" && kind != "npy" {
+        bail!(
+            "--out {}: the extension must be .x3p or .npy",
+            a.out.display()
+        );
+    }
+    let data_type = DataType::parse(a.dtype.trim())
+        .with_context(|| format!("--dtype `{}`: expected D, F, L or I", a.dtype))?;
+    if kind == "npy" && data_type != DataType::D {
+        bail!(
+            "--dtype {}: applies to .x3p only (.npy is float64)",
+            a.dtype
+        );
+    }
+    if a.out.exists() && !a.force {
+        bail!(
+            "--out {}: exists (use --force to overwrite)",
+            a.out.display()
+        );
+    }
+    let surface = scene.load_surface().context("surface")?;
+    crate::engine::surface_report(&surface, false);
+    let source = match &scene.surface.source {
+        SurfaceSource::File(p) => format!("file {}", p.display()),
+        SurfaceSource::Generate(g) => format!(
+            "generated: L = {:e} m, grid {}, D_f = {}, k = {}…{}, RMS {:e} m, seed {}",
+            g.size, g.grid, g.fractal_dimension, g.k_min, g.k_max, g.rms, g.seed
+        ),
+    };
+    if kind == "x3p" {
+        let comment = format!(
+            "exported by strata from scene {} ({source}); periodic = {}",
+            a.scene.display(),
+            surface.is_periodic()
+        );
+        surface
+            .write_x3p(
+                &a.out,
+                &X3pWriteOptions {
+                    data_type,
+                    comment: Some(comment),
+                },
+            )
+            .with_context(|| format!("--out {}", a.out.display()))?;
+    } else {
+        surface
+            .write_npy(&a.out)
+            .with_context(|| format!("--out {}", a.out.display()))?;
+    }
+    let (n0, n1) = surface.shape();
+    eprintln!(
+        "wrote the {n0}×{n1} surface ({source}) to {}{}",
+        a.out.display(),
+        if kind == "x3p" {
+            format!(" (data type {})", data_type.code())
+        } else {
+            String::new()
+        }
+    );
+    if surface.is_periodic() {
+        eprintln!(
+            "note: .x3p and .npy carry no periodic flag: set surface.periodic = true in a scene that reads it back"
+        );
+    }
+    Ok(())
+}
+
+fn info(a: InfoArgs) -> Result<()> {
+    let is_scene = a
+        .file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("toml"));
+    let surface = if is_scene {
+        if a.size.is_some() || a.pixel_size.is_some() || a.height_unit.is_some() {
+            bail!(
+                "--size, --pixel-size, --height-unit: a scene gives its own (its [surface] table)"
+            );
+        }
+        let scene =
+            Scene::from_file(&a.file).with_context(|| format!("scene {}", a.file.display()))?;
+        scene.load_surface().context("surface")?
+    } else {
+        let spacing = match (&a.size, &a.pixel_size) {
+            (Some(_), Some(_)) => bail!("give either --size or --pixel-size, not both"),
+            (Some(s), None) => match parse_list("--size", s, false)?[..] {
+                [l] => Some(Spacing::Size(l)),
+                [lx, ly] => Some(Spacing::Extent(lx, ly)),
+                _ => bail!("--size `{s}`: expected L or LX,LY (m)"),
+            },
+            (None, Some(s)) => match parse_list("--pixel-size", s, false)?[..] {
+                [d] => Some(Spacing::Pixel(d, d)),
+                [dx, dy] => Some(Spacing::Pixel(dx, dy)),
+                _ => bail!("--pixel-size `{s}`: expected D or DX,DY (m)"),
+            },
+            (None, None) => None,
+        };
+        if spacing.is_none() && FileKind::of(&a.file) != FileKind::X3p {
+            bail!(
+                "{}: a .npy or text file needs --size L, --size LX,LY or --pixel-size DX,DY (m)",
+                a.file.display()
+            );
+        }
+        let height_unit = match &a.height_unit {
+            None => None,
+            Some(u) => Some(
+                HeightUnit::parse(u)
+                    .with_context(|| format!("--height-unit `{u}`: expected m, mm, um or nm"))?,
+            ),
+        };
+        let detrend = Detrend::parse(&a.detrend).with_context(|| {
+            format!(
+                "--detrend `{}`: expected none, plane or curvature",
+                a.detrend
+            )
+        })?;
+        Surface::read(
+            &a.file,
+            &ReadOptions {
+                spacing,
+                periodic: a.periodic,
+                repair: if a.repair {
+                    Repair::Median
+                } else {
+                    Repair::Refuse
+                },
+                height_unit,
+                detrend,
+            },
+        )?
+    };
+    let stats = surface.stats();
+    let mut warnings: Vec<String> = surface.warnings().to_vec();
+    warnings.extend(stats.plausibility());
+    for w in &warnings {
+        eprintln!("WARNING: surface: {w}");
+    }
+    if a.json {
+        let mut v = serde_json::to_value(stats)?;
+        v["file"] = serde_json::json!(a.file.display().to_string());
+        v["repaired_points"] = serde_json::json!(surface.repaired());
+        v["read"] = serde_json::json!(surface.log());
+        v["warnings"] = serde_json::json!(warnings);
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    println!("file: {}", a.file.display());
+    println!(
+        "grid: {} × {} points (first axis x)",
+        stats.shape.0, stats.shape.1
+    );
+    println!(
+        "pixel size: dx = {:e} m, dy = {:e} m",
+        stats.pixel_size.0, stats.pixel_size.1
+    );
+    println!("size: Lx = {:e} m, Ly = {:e} m", stats.size.0, stats.size.1);
+    println!("periodic: {}", stats.periodic);
+    println!("mean height: {:e} m", stats.mean_height);
+    println!("RMS height: {:e} m", stats.rms_height);
+    println!("RMS slope: {:e}", stats.rms_slope);
+    println!("peak-to-valley: {:e} m", stats.peak_to_valley);
+    for l in surface.log() {
+        println!("read: {l}");
+    }
+    for w in &warnings {
+        println!("warning: {w}");
+    }
+    Ok(())
+}
