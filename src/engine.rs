@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use crate::scene::{LoadSpec, ModelKind, Scene};
 use anyhow::{Context, Result, bail};
-use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver};
+use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver, Geometry};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::rough::{Images, Model, RoughContact, Step};
 use strata_runtime::summits::find_summits;
@@ -235,9 +235,10 @@ pub fn solve_scene(
     })
 }
 
-/// `model.kind = "bem"`: the periodic FFT boundary-element solution of the whole
-/// surface (runtime `bem`), with the layered kernel 2S(|k|)/(E*₁|k|) computed from the
-/// stack (no χ, ζ, g table is needed or loaded). Same steps as the asperity models;
+/// `model.kind = "bem"`: the FFT boundary-element solution of the whole surface
+/// (strata-bem): on a periodic surface with the layered kernel 2S(|k|)/(E*₁|k|), on a
+/// non-periodic one with the pixel influence coefficients of the free solid, both
+/// computed from the stack (no χ, ζ, g table is needed or loaded). Same steps as the asperity models;
 /// `contacts` counts contact patches and the stiffness dP/dδ comes from one extra,
 /// warm-started solve at δ(1 + 1e-4) per step (its error ~ tolerance/1e-4 ≈ 1e-6).
 fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<SceneSolution> {
@@ -245,27 +246,21 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
     let surface = scene.load_surface().context("surface")?;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let (n0, n1) = surface.shape();
-    if !surface.is_periodic() {
-        bail!(
-            "model.kind = \"bem\": the boundary-element solver is periodic; set surface.periodic = true"
-        );
-    }
-    let (dx, dy) = surface.pixel_size();
-    if n0 != n1 || (dx - dy).abs() > 1e-12 * dx {
-        bail!(
-            "model.kind = \"bem\": the boundary-element solver needs a square n×n grid with square \
-             pixels; this surface is {n0}×{n1} with pixels {dx:e} × {dy:e} m (use the N or I model)"
-        );
-    }
+    let periodic = surface.is_periodic();
     let heights = ndarray::Array2::from_shape_vec((n0, n1), surface.heights().to_vec())
         .context("surface: heights")?;
-    let size = surface.extent().0;
+    // Rows (first index, n0 points) span extent().0, columns extent().1.
+    let (rows_side, cols_side) = surface.extent();
+    let geometry = Geometry {
+        lx: cols_side,
+        ly: rows_side,
+        periodic,
+    };
     let stack = &scene.stack;
     let t0 = Instant::now();
-    let solver = BemSolver::new(&heights, size, stack, opts.bem.unwrap_or_default())
+    let solver = BemSolver::with_geometry(&heights, geometry, stack, opts.bem.unwrap_or_default())
         .context("model.kind = \"bem\"")?;
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
-    let z_min = surface.heights().iter().copied().fold(f64::MAX, f64::min);
     let top_to_mean = z_max - surface.mean();
     let solid = if stack.is_homogeneous() {
         "homogeneous solid (kernel 2/(E*|k|))".to_string()
@@ -275,11 +270,21 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
             stack.layers().len()
         )
     };
-    let effects = format!("full-field boundary elements on the {n0}×{n1} grid, periodic");
+    let effects = if periodic {
+        format!("full-field boundary elements on the {n0}×{n1} grid, periodic")
+    } else {
+        format!(
+            "full-field boundary elements on the {n0}×{n1} grid, non-periodic (isolated sample on an unbounded solid: zero-padded convolution with pixel influence coefficients)"
+        )
+    };
     log!(quiet, "simulating: {effects}; {solid}");
     let loads: Vec<(String, BemLoad)> = match scene
         .load
-        .approaches(top_to_mean, z_max - z_min)
+        // Any approach δ ≥ 0: beyond the peak-to-valley height z_M − z_min the layers
+        // (or the unbounded solid) still compress as a whole with partial contact; the
+        // solver refuses only what its convention cannot hold (periodic, elastic base:
+        // δ < z_M − z̄).
+        .approaches(top_to_mean, f64::INFINITY)
         .context("load")?
     {
         Some(d) => d
@@ -302,7 +307,7 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
                 .collect()
         }
     };
-    let area = size * size;
+    let area = solver.area();
     let mut steps = Vec::with_capacity(loads.len());
     let mut maps = Vec::new();
     let mut warm: Option<Vec<f64>> = None;

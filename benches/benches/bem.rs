@@ -1,30 +1,182 @@
-//! FFT-BEM benches.
+//! FFT-BEM benches. Run: `cargo bench -p strata-benches --bench bem` (add `-- --quick`
+//! for a short run; a filter such as `-- floor` runs one part).
 //!
-//! `bem_512`: time per load step at n = 512 on the shared paper-like surface
-//! (`tests/reference/surface_km10.npy`), cold start, for comparison with Tamaas
-//! (`tests/python/run.sh --speed` runs both side by side and prints the ratio).
-//! Cases: homogeneous half-space (E = 4 GPa, ν = 0.15) at mean gap 0.5·(z_M − z̄), at
-//! tolerances 1e-8 and 1e-10; the paper's two-layer stack on a rigid base (E2/E1 = 1)
-//! at approach 5 µm.
-//!
-//! `bem_iteration/n`: time per constrained-conjugate-gradient iteration (two kernel
-//! products, i.e. two forward and two inverse 2-D FFTs, plus the projections) on the
-//! paper scene's generated surface (L = 1 mm, k = 2…10, RMS 3.4 µm, seed 20240611)
-//! resampled spectrally to n × n, two-layer stack E2/E1 = 1 on a rigid base, approach
-//! 5 µm, default tolerance: the wall time of a cold solve divided by its iteration
-//! count (set-up of the initial guess included, amortised). Throughput is in grid
-//! points per second.
-//!
-//! Run: `cargo bench -p strata-runtime --bench bem` (add `-- --quick` for a short run).
+//! * `bem_floor` (printed table, one run): per grid n = 256, 512, 1024, 2048 the time of
+//!   one real-to-complex 2-D FFT pair with the kernel multiply (`RealFft2::convolve`,
+//!   the floor of an iteration) and the time per constrained-CG iteration of a solve
+//!   (paper-like surface, L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm, seed 20240611,
+//!   generated at n; two-layer stack E2/E1 = 1 on a rigid base; approach 5 µm, tolerance
+//!   1e-10, warm-started from the solution at 4.75 µm as along a load curve), measured
+//!   side by side, and their ratio. Both use all cores (rayon).
+//! * `bem_fft_pair/n`, `bem_iteration/n`: the same two quantities under criterion.
+//! * `bem_512`: one load step at n = 512 on the shared paper-like surface
+//!   (`tests/reference/surface_km10.npy`) from a cold start: half-space at mean gap
+//!   0.5·(z_M − z̄) (tolerances 1e-8, 1e-10); the two-layer stack at approach 5 µm.
+//! * `bem_curve_512`: the 20-step load curve at 512² on the paper's E2/E1 = 5 stack
+//!   (the `fig15-18-E2E1-5` scene's surface, approaches 1.3…9.8 µm), warm-started.
+//! * `bem_vs_tamaas` (printed, with `STRATA_TAMAAS_DIR`): per n = 512, 2048 writes the
+//!   generated surface to `DIR/surface_n.npy`, times one cold load step under mean-
+//!   pressure (p̄ = 0.005 E*) and mean-gap (0.5·(z_M − z̄)) control on the half-space
+//!   (E = 4 GPa, ν = 0.15) at tolerance 1e-8 and writes `DIR/strata_speed.csv`;
+//!   `tests/python/run.sh --speed` runs it and Tamaas 2.9 on the same files and loads.
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use std::hint::black_box;
-use std::path::Path;
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy, resample_spectral};
+use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy};
 use strata_runtime::Stack;
+use strata_runtime::fft::RealFft2;
 use strata_runtime::surface::{GenerateParams, Surface};
 
-fn bench(c: &mut Criterion) {
+fn paper_surface(n: usize) -> Array2<f64> {
+    let s = Surface::generate(&GenerateParams {
+        size: 1e-3,
+        grid: n,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed: 20240611,
+    })
+    .expect("surface");
+    Array2::from_shape_vec((n, n), s.heights().to_vec()).expect("heights")
+}
+
+/// Median of `reps` timings of `f` (s).
+fn median(reps: usize, mut f: impl FnMut()) -> f64 {
+    let mut t: Vec<f64> = (0..reps)
+        .map(|_| {
+            let t0 = Instant::now();
+            f();
+            t0.elapsed().as_secs_f64()
+        })
+        .collect();
+    t.sort_by(f64::total_cmp);
+    t[reps / 2]
+}
+
+/// Seconds of one FFT pair with the kernel multiply on an n×n grid.
+fn pair_time(n: usize, reps: usize) -> f64 {
+    let plan = RealFft2::new(n, n).expect("plan");
+    let mut w = plan.work();
+    let input: Vec<f64> = (0..n * n).map(|i| (i as f64 * 0.37).sin()).collect();
+    let kernel: Vec<f64> = (0..plan.spectrum_len())
+        .map(|i| 1.0 / (1.0 + i as f64))
+        .collect();
+    let mut out = vec![0.0; n * n];
+    median(reps, || {
+        plan.convolve(&input, &mut out, &kernel, 0.0, &mut w)
+            .expect("convolve");
+        black_box(&out);
+    })
+}
+
+/// (seconds per iteration, iterations) of a warm-started solve on an n×n grid.
+fn iteration_time(n: usize, reps: usize) -> (f64, usize) {
+    let z = paper_surface(n);
+    let stack = Stack::paper_two_layer(1.0).expect("stack");
+    let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
+    let prev = solver.solve(BemLoad::Approach(4.75e-6)).expect("solve");
+    let init: Vec<f64> = prev.pressure.iter().copied().collect();
+    let mut iters = 0;
+    let t = median(reps, || {
+        let s = solver
+            .solve_from(BemLoad::Approach(5e-6), Some(&init))
+            .expect("solve");
+        iters = s.iterations;
+    });
+    (t / iters.max(1) as f64, iters)
+}
+
+fn floor_table(_c: &mut Criterion) {
+    if !filter_matches("floor") {
+        return;
+    }
+    println!(
+        "\nbem_floor: time per CG iteration vs one realfft 2-D pair (same run, {} threads)",
+        rayon::current_num_threads()
+    );
+    println!("| n | FFT pair (ms) | CG iteration (ms) | iteration / pair | iterations |");
+    println!("|---|---|---|---|---|");
+    for n in [256usize, 512, 1024, 2048] {
+        let reps = if n >= 2048 { 5 } else { 21 };
+        let pair = pair_time(n, reps);
+        let (it, iters) = iteration_time(n, if n >= 2048 { 3 } else { 5 });
+        let pair2 = pair_time(n, reps);
+        let pair = pair.min(pair2);
+        println!(
+            "| {n} | {:.3} | {:.3} | {:.2} | {iters} |",
+            pair * 1e3,
+            it * 1e3,
+            it / pair
+        );
+    }
+}
+
+/// Whether the command line's filter (if any) selects `name`.
+fn filter_matches(name: &str) -> bool {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    args.is_empty()
+        || args
+            .iter()
+            .any(|a| name.contains(a.as_str()) || a.contains(name))
+}
+
+fn fft_and_iteration(c: &mut Criterion) {
+    let mut g = c.benchmark_group("bem_fft_pair");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(3));
+    for n in [256usize, 512, 1024, 2048] {
+        let plan = RealFft2::new(n, n).expect("plan");
+        let mut w = plan.work();
+        let input: Vec<f64> = (0..n * n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let kernel = vec![1.0; plan.spectrum_len()];
+        let mut out = vec![0.0; n * n];
+        g.throughput(Throughput::Elements((n * n) as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| {
+                plan.convolve(&input, &mut out, &kernel, 0.0, &mut w)
+                    .expect("convolve")
+            })
+        });
+    }
+    g.finish();
+    let mut g = c.benchmark_group("bem_iteration");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(3));
+    for n in [256usize, 512] {
+        let z = paper_surface(n);
+        let stack = Stack::paper_two_layer(1.0).expect("stack");
+        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
+        let prev = solver.solve(BemLoad::Approach(4.75e-6)).expect("solve");
+        let init: Vec<f64> = prev.pressure.iter().copied().collect();
+        g.throughput(Throughput::Elements((n * n) as u64));
+        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    let t = Instant::now();
+                    let s = black_box(
+                        solver
+                            .solve_from(BemLoad::Approach(5e-6), Some(&init))
+                            .expect("solve"),
+                    );
+                    total += t.elapsed() / s.iterations.max(1) as u32;
+                }
+                total
+            })
+        });
+    }
+    g.finish();
+}
+
+fn steps(c: &mut Criterion) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reference");
     let z =
         read_heights_npy(&dir.join("surface_km10.npy")).expect("tests/reference/surface_km10.npy");
@@ -34,7 +186,7 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("bem_512");
     g.sample_size(10)
         .warm_up_time(Duration::from_millis(100))
-        .measurement_time(Duration::from_secs(10));
+        .measurement_time(Duration::from_secs(5));
     for tol in [1e-8, 1e-10] {
         let opts = BemOptions {
             tolerance: tol,
@@ -51,44 +203,90 @@ fn bench(c: &mut Criterion) {
         b.iter(|| black_box(solver.solve(BemLoad::Approach(5e-6)).expect("solve")))
     });
     g.finish();
-}
-
-fn per_iteration(c: &mut Criterion) {
-    let s = Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid: 512,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface");
-    let z512 = Array2::from_shape_vec((512, 512), s.heights().to_vec()).expect("heights");
-    let stack = Stack::paper_two_layer(1.0).expect("stack");
-    let mut g = c.benchmark_group("bem_iteration");
+    let mut g = c.benchmark_group("bem_curve_512");
     g.sample_size(10)
-        .warm_up_time(Duration::from_millis(200))
-        .measurement_time(Duration::from_secs(3));
-    for n in [64usize, 128, 256, 512] {
-        let z = resample_spectral(&z512, n).expect("resample");
-        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
-        g.throughput(Throughput::Elements((n * n) as u64));
-        g.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
-            b.iter_custom(|iters| {
-                let mut total = Duration::ZERO;
-                for _ in 0..iters {
-                    let t = Instant::now();
-                    let sol = black_box(solver.solve(BemLoad::Approach(5e-6)).expect("solve"));
-                    let elapsed = t.elapsed();
-                    total += elapsed / sol.iterations.max(1) as u32;
-                }
-                total
-            })
-        });
-    }
+        .warm_up_time(Duration::from_millis(100))
+        .measurement_time(Duration::from_secs(10));
+    let z = paper_surface(512);
+    let stack = Stack::paper_two_layer(5.0).expect("stack");
+    let loads: Vec<BemLoad> = (0..20)
+        .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
+        .collect();
+    g.bench_function("E2E1_5_20_steps", |b| {
+        b.iter(|| {
+            let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
+            black_box(solver.solve_curve(&loads).expect("curve"))
+        })
+    });
     g.finish();
 }
 
-criterion_group!(benches, bench, per_iteration);
+/// Writes an n×n f64 .npy (format 1.0, little-endian, C order).
+fn write_npy(path: &Path, z: &Array2<f64>) {
+    let (r, c) = z.dim();
+    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({r}, {c}), }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    for v in z.iter() {
+        bytes.extend_from_slice(&v.to_le_bytes());
+    }
+    std::fs::write(path, bytes).expect("write surface");
+}
+
+fn vs_tamaas(_c: &mut Criterion) {
+    let Some(dir) = std::env::var_os("STRATA_TAMAAS_DIR").map(PathBuf::from) else {
+        return;
+    };
+    std::fs::create_dir_all(&dir).expect("dir");
+    let half = Stack::half_space(4e9, 0.15).expect("stack");
+    let es = half.top_plane_strain_modulus();
+    let tol = 1e-8;
+    let mut csv = std::fs::File::create(dir.join("strata_speed.csv")).expect("csv");
+    writeln!(csv, "# strata BemSolver, half-space E=4e9 nu=0.15, tolerance {tol:e}, one cold load step, median of runs, {} threads", rayon::current_num_threads()).expect("csv");
+    writeln!(
+        csv,
+        "n,control,load,seconds,iterations,pressure_ratio,area_fraction"
+    )
+    .expect("csv");
+    for n in [512usize, 2048] {
+        let z = paper_surface(n);
+        write_npy(&dir.join(format!("surface_{n}.npy")), &z);
+        let opts = BemOptions {
+            tolerance: tol,
+            ..Default::default()
+        };
+        let solver = BemSolver::new(&z, 1e-3, &half, opts).expect("solver");
+        for (control, load) in [
+            ("pressure", BemLoad::MeanPressure(0.005 * es)),
+            ("gap", BemLoad::MeanGap(0.5 * solver.max_separation())),
+        ] {
+            let mut last = None;
+            let reps = if n >= 2048 { 3 } else { 7 };
+            let t = median(reps, || last = Some(solver.solve(load).expect("solve")));
+            let s = last.expect("solved");
+            let value = match load {
+                BemLoad::MeanPressure(p) => p,
+                BemLoad::MeanGap(g) => g,
+                _ => f64::NAN,
+            };
+            println!(
+                "strata n={n} {control} {value:e}: {t:.4} s, {} iterations, p/E* {:.8e}, A/A0 {:.5e}",
+                s.iterations, s.pressure_ratio, s.area_fraction
+            );
+            writeln!(
+                csv,
+                "{n},{control},{value:e},{t},{},{},{}",
+                s.iterations, s.pressure_ratio, s.area_fraction
+            )
+            .expect("csv");
+        }
+    }
+}
+
+criterion_group!(benches, floor_table, vs_tamaas, fft_and_iteration, steps);
 criterion_main!(benches);

@@ -1,32 +1,474 @@
-//! The one 2-D FFT helper of the workspace (feature `spectral`): unnormalised complex
-//! transforms of n×n row-major arrays, rows then columns (rustfft).
+//! The one 2-D FFT helper of the workspace (feature `spectral`): real-to-complex and
+//! complex-to-real transforms of real ny×nx row-major arrays, realfft along the rows and
+//! rustfft along the columns, rows and columns in parallel (rayon) on large grids.
+//! Used by surface generation and by the boundary-element solver (strata-bem).
+//!
+//! # Layout and conventions
+//! A plan [`RealFft2`] transforms on an `NY × NX` grid (any sizes ≥ 1). The half spectrum is
+//! stored transposed, `spec[kx · NY + ky]`, kx ∈ 0..=NX/2, ky ∈ 0..NY, so that the column
+//! transforms run on contiguous memory:
+//!
+//! ```text
+//!   Z(kx, ky) = Σ_{i<NY, j<NX} z[i, j] · exp(−2πi (ky·i/NY + kx·j/NX))      (forward)
+//!   z[i, j]   = Σ_{ky, all kx} Z(kx, ky) · exp(+2πi (ky·i/NY + kx·j/NX))    (inverse)
+//! ```
+//!
+//! Neither direction is normalised (the inverse of the forward is NX·NY times the input).
+//! The real input may occupy only the top-left `ny × nx` block of the grid (the rest is
+//! zero, as in the zero-padded convolution of a non-periodic field): the rows that are
+//! all zero are not transformed, and the inverse writes only that block.
 
-use rustfft::{FftPlanner, num_complex::Complex};
+use std::sync::Arc;
 
-/// In-place unnormalised 2-D inverse FFT of an n×n row-major array (rows, then columns).
-pub fn ifft2(a: &mut [Complex<f64>], n: usize) {
-    fft2(a, n, true);
+use rayon::prelude::*;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+pub use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
+
+/// Grids with fewer points than this run on one thread (threads cost more than they save).
+const PARALLEL_MIN_POINTS: usize = 128 * 128;
+/// Columns transposed per block (cache lines of the row spectra).
+const BLOCK: usize = 16;
+
+/// A plan for 2-D real FFTs on an `NY × NX` grid with the data in the top-left
+/// `ny × nx` block (see the module docs).
+pub struct RealFft2 {
+    grid: (usize, usize),
+    data: (usize, usize),
+    half: usize,
+    r2c: Arc<dyn RealToComplex<f64>>,
+    c2r: Arc<dyn ComplexToReal<f64>>,
+    col_fwd: Arc<dyn Fft<f64>>,
+    col_inv: Arc<dyn Fft<f64>>,
+    lanes: usize,
 }
 
-/// In-place unnormalised 2-D FFT (forward or inverse) of an n×n row-major array.
-pub fn fft2(a: &mut [Complex<f64>], n: usize, inverse: bool) {
-    let mut planner = FftPlanner::new();
-    let fft = if inverse {
-        planner.plan_fft_inverse(n)
-    } else {
-        planner.plan_fft_forward(n)
-    };
-    for row in a.chunks_mut(n) {
-        fft.process(row);
+impl std::fmt::Debug for RealFft2 {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RealFft2")
+            .field("grid", &self.grid)
+            .field("data", &self.data)
+            .field("lanes", &self.lanes)
+            .finish_non_exhaustive()
     }
-    let mut col = vec![Complex::new(0.0, 0.0); n];
-    for j in 0..n {
-        for i in 0..n {
-            col[i] = a[i * n + j];
+}
+
+/// Buffers of one transform; make one per thread of the caller with [`RealFft2::work`].
+/// Holding it across calls means no allocation per transform.
+pub struct Fft2Work {
+    /// Row spectra, `ny × (NX/2 + 1)`.
+    rows: Vec<Complex<f64>>,
+    /// The transposed half spectrum, `(NX/2 + 1) × NY`.
+    pub spec: Vec<Complex<f64>>,
+    lanes: Vec<Lane>,
+}
+
+/// Per-thread scratch of one chunk of rows or columns.
+struct Lane {
+    real: Vec<f64>,
+    scratch: Vec<Complex<f64>>,
+}
+
+/// Errors of the plan: only wrong sizes (a bug of the caller), reported, never a panic.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FftError {
+    #[error(
+        "2-D FFT: grid {grid_rows}×{grid_cols} must have sides ≥ 1 holding the {rows}×{cols} data"
+    )]
+    Shape {
+        grid_rows: usize,
+        grid_cols: usize,
+        rows: usize,
+        cols: usize,
+    },
+    #[error("2-D FFT: buffer `{what}` has {got} values, expected {expected}")]
+    Buffer {
+        what: &'static str,
+        got: usize,
+        expected: usize,
+    },
+}
+
+impl RealFft2 {
+    /// A plan on the full `ny × nx` grid (periodic fields).
+    pub fn new(ny: usize, nx: usize) -> Result<Self, FftError> {
+        Self::padded((ny, nx), (ny, nx))
+    }
+
+    /// A plan on the `grid = (NY, NX)` grid for data in its top-left `data = (ny, nx)`
+    /// block, the rest zero (zero-padded, non-periodic convolutions: NY = 2ny, NX = 2nx).
+    pub fn padded(grid: (usize, usize), data: (usize, usize)) -> Result<Self, FftError> {
+        let (gy, gx) = grid;
+        let (ny, nx) = data;
+        if ny == 0 || nx == 0 || ny > gy || nx > gx {
+            return Err(FftError::Shape {
+                grid_rows: gy,
+                grid_cols: gx,
+                rows: ny,
+                cols: nx,
+            });
         }
-        fft.process(&mut col);
-        for i in 0..n {
-            a[i * n + j] = col[i];
+        let mut real = RealFftPlanner::<f64>::new();
+        let mut cplx = FftPlanner::<f64>::new();
+        let lanes = if gy * gx >= PARALLEL_MIN_POINTS {
+            rayon::current_num_threads().max(1)
+        } else {
+            1
+        };
+        Ok(RealFft2 {
+            grid,
+            data,
+            half: gx / 2 + 1,
+            r2c: real.plan_fft_forward(gx),
+            c2r: real.plan_fft_inverse(gx),
+            col_fwd: cplx.plan_fft_forward(gy),
+            col_inv: cplx.plan_fft_inverse(gy),
+            lanes,
+        })
+    }
+
+    /// The grid (NY, NX).
+    pub fn grid(&self) -> (usize, usize) {
+        self.grid
+    }
+
+    /// The data block (ny, nx).
+    pub fn data(&self) -> (usize, usize) {
+        self.data
+    }
+
+    /// Length of the half spectrum, (NX/2 + 1)·NY.
+    pub fn spectrum_len(&self) -> usize {
+        self.half * self.grid.0
+    }
+
+    /// Buffers for [`forward`](Self::forward), [`inverse`](Self::inverse) and
+    /// [`convolve`](Self::convolve).
+    pub fn work(&self) -> Fft2Work {
+        let s = self
+            .r2c
+            .get_scratch_len()
+            .max(self.c2r.get_scratch_len())
+            .max(self.col_fwd.get_inplace_scratch_len())
+            .max(self.col_inv.get_inplace_scratch_len());
+        Fft2Work {
+            rows: vec![Complex::default(); self.data.0 * self.half],
+            spec: vec![Complex::default(); self.spectrum_len()],
+            lanes: (0..self.lanes)
+                .map(|_| Lane {
+                    real: vec![0.0; self.grid.1],
+                    scratch: vec![Complex::default(); s],
+                })
+                .collect(),
+        }
+    }
+
+    fn check(&self, what: &'static str, got: usize, expected: usize) -> Result<(), FftError> {
+        if got != expected {
+            return Err(FftError::Buffer {
+                what,
+                got,
+                expected,
+            });
+        }
+        Ok(())
+    }
+
+    /// Forward transform of the `ny × nx` real data into `work.spec` (layout in the
+    /// module docs).
+    pub fn forward(&self, input: &[f64], work: &mut Fft2Work) -> Result<(), FftError> {
+        self.check("input", input.len(), self.data.0 * self.data.1)?;
+        self.rows_forward(input, work);
+        self.transpose_in(work);
+        self.columns(&mut work.spec, &mut work.lanes, |line, _, lane| {
+            self.col_fwd.process_with_scratch(line, &mut lane.scratch);
+        });
+        Ok(())
+    }
+
+    /// Inverse transform of `work.spec` (destroyed) into the `ny × nx` block `out`.
+    /// The spectrum must be that of a real field (Hermitian along kx = 0 and NX/2).
+    pub fn inverse(&self, out: &mut [f64], work: &mut Fft2Work) -> Result<(), FftError> {
+        self.check("output", out.len(), self.data.0 * self.data.1)?;
+        self.columns(&mut work.spec, &mut work.lanes, |line, _, lane| {
+            self.col_inv.process_with_scratch(line, &mut lane.scratch);
+        });
+        self.transpose_out(work);
+        self.rows_inverse(out, work);
+        Ok(())
+    }
+
+    /// Convolution by a real spectral kernel: `out = F⁻¹[K · F[input]]`, with the kernel
+    /// in the half-spectrum layout (`kernel[kx · NY + ky]`, normalisation included) and
+    /// its (0, 0) entry replaced by `dc`. The kernel multiply happens between the forward
+    /// and inverse column transforms of each kx line, while it is in cache.
+    pub fn convolve(
+        &self,
+        input: &[f64],
+        out: &mut [f64],
+        kernel: &[f64],
+        dc: f64,
+        work: &mut Fft2Work,
+    ) -> Result<(), FftError> {
+        let n = self.data.0 * self.data.1;
+        self.check("input", input.len(), n)?;
+        self.check("output", out.len(), n)?;
+        self.check("kernel", kernel.len(), self.spectrum_len())?;
+        self.rows_forward(input, work);
+        self.transpose_in(work);
+        let gy = self.grid.0;
+        self.columns(&mut work.spec, &mut work.lanes, |line, kx, lane| {
+            self.col_fwd.process_with_scratch(line, &mut lane.scratch);
+            let z0 = line[0];
+            let k = &kernel[kx * gy..(kx + 1) * gy];
+            for (c, &kv) in line.iter_mut().zip(k) {
+                *c *= kv;
+            }
+            if kx == 0 {
+                line[0] = z0 * dc;
+            }
+            self.col_inv.process_with_scratch(line, &mut lane.scratch);
+        });
+        self.transpose_out(work);
+        self.rows_inverse(out, work);
+        Ok(())
+    }
+
+    /// Row transforms of the data block into `work.rows`.
+    fn rows_forward(&self, input: &[f64], work: &mut Fft2Work) {
+        let (ny, nx) = self.data;
+        let gx = self.grid.1;
+        let h = self.half;
+        let chunk = ny.div_ceil(work.lanes.len());
+        let r2c = &self.r2c;
+        let run = |(rows, lane): (&mut [Complex<f64>], &mut Lane), first: usize| {
+            for (r, out) in rows.chunks_mut(h).enumerate() {
+                let i = first + r;
+                lane.real[..nx].copy_from_slice(&input[i * nx..(i + 1) * nx]);
+                lane.real[nx..gx].fill(0.0);
+                // Lengths are fixed by the plan: the only error is a wrong length.
+                let _ = r2c.process_with_scratch(&mut lane.real, out, &mut lane.scratch);
+            }
+        };
+        if work.lanes.len() > 1 {
+            work.rows
+                .par_chunks_mut(chunk * h)
+                .zip(work.lanes.par_iter_mut())
+                .enumerate()
+                .for_each(|(c, pair)| run(pair, c * chunk));
+        } else {
+            run((&mut work.rows, &mut work.lanes[0]), 0);
+        }
+    }
+
+    /// Inverse row transforms of `work.rows` into the data block.
+    fn rows_inverse(&self, out: &mut [f64], work: &mut Fft2Work) {
+        let (ny, nx) = self.data;
+        let h = self.half;
+        let chunk = ny.div_ceil(work.lanes.len());
+        let c2r = &self.c2r;
+        let even = self.grid.1 % 2 == 0;
+        let run = |((rows, dst), lane): ((&mut [Complex<f64>], &mut [f64]), &mut Lane)| {
+            for (row, o) in rows.chunks_mut(h).zip(dst.chunks_mut(nx)) {
+                // A real field's row spectrum has real DC and Nyquist terms; round-off
+                // left there is dropped (realfft would report it).
+                row[0].im = 0.0;
+                if even {
+                    row[h - 1].im = 0.0;
+                }
+                let _ = c2r.process_with_scratch(row, &mut lane.real, &mut lane.scratch);
+                o.copy_from_slice(&lane.real[..nx]);
+            }
+        };
+        if work.lanes.len() > 1 {
+            work.rows
+                .par_chunks_mut(chunk * h)
+                .zip(out.par_chunks_mut(chunk * nx))
+                .zip(work.lanes.par_iter_mut())
+                .for_each(run);
+        } else {
+            run(((&mut work.rows, out), &mut work.lanes[0]));
+        }
+    }
+
+    /// Runs `f(line, kx, lane)` on every kx line (length NY) of the spectrum.
+    fn columns(
+        &self,
+        spec: &mut [Complex<f64>],
+        lanes: &mut [Lane],
+        f: impl Fn(&mut [Complex<f64>], usize, &mut Lane) + Sync,
+    ) {
+        let gy = self.grid.0;
+        let chunk = self.half.div_ceil(lanes.len());
+        let run = |(c, (block, lane)): (usize, (&mut [Complex<f64>], &mut Lane))| {
+            for (k, line) in block.chunks_mut(gy).enumerate() {
+                f(line, c * chunk + k, lane);
+            }
+        };
+        if lanes.len() > 1 {
+            spec.par_chunks_mut(chunk * gy)
+                .zip(lanes.par_iter_mut())
+                .enumerate()
+                .for_each(run);
+        } else {
+            run((0, (spec, &mut lanes[0])));
+        }
+    }
+
+    /// `rows` (ny × h) → `spec` (h × NY, zero below row ny), blocked.
+    fn transpose_in(&self, work: &mut Fft2Work) {
+        let (gy, ny, h) = (self.grid.0, self.data.0, self.half);
+        let rows = &work.rows;
+        let chunk = h.div_ceil(work.lanes.len());
+        let run = |(c, block): (usize, &mut [Complex<f64>])| {
+            let k0 = c * chunk;
+            let kn = block.len() / gy;
+            for b in (0..kn).step_by(BLOCK) {
+                let be = (b + BLOCK).min(kn);
+                for i in 0..ny {
+                    let src = &rows[i * h + k0 + b..i * h + k0 + be];
+                    for (k, &v) in src.iter().enumerate() {
+                        block[(b + k) * gy + i] = v;
+                    }
+                }
+                for k in b..be {
+                    block[k * gy + ny..(k + 1) * gy].fill(Complex::default());
+                }
+            }
+        };
+        if work.lanes.len() > 1 {
+            work.spec
+                .par_chunks_mut(chunk * gy)
+                .enumerate()
+                .for_each(run);
+        } else {
+            run((0, &mut work.spec));
+        }
+    }
+
+    /// `spec` (h × NY) → `rows` (ny × h): only the data rows, blocked.
+    fn transpose_out(&self, work: &mut Fft2Work) {
+        let (gy, ny, h) = (self.grid.0, self.data.0, self.half);
+        let spec = &work.spec;
+        let chunk = ny.div_ceil(work.lanes.len());
+        let run = |(c, block): (usize, &mut [Complex<f64>])| {
+            let i0 = c * chunk;
+            let rn = block.len() / h;
+            for b in (0..h).step_by(BLOCK) {
+                let be = (b + BLOCK).min(h);
+                for r in 0..rn {
+                    let row = &mut block[r * h + b..r * h + be];
+                    for (k, slot) in row.iter_mut().enumerate() {
+                        *slot = spec[(b + k) * gy + i0 + r];
+                    }
+                }
+            }
+        };
+        if work.lanes.len() > 1 {
+            work.rows
+                .par_chunks_mut(chunk * h)
+                .enumerate()
+                .for_each(run);
+        } else {
+            run((0, &mut work.rows));
+        }
+    }
+}
+
+/// Signed frequency index of `i` on a periodic axis of `n` points: i for i ≤ n/2,
+/// i − n above (the Nyquist index n/2 counts as positive).
+pub fn signed_index(i: usize, n: usize) -> i64 {
+    if i <= n / 2 {
+        i as i64
+    } else {
+        i as i64 - n as i64
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Direct O(n⁴) DFT of a real ny×nx field at (kx, ky).
+    fn dft(z: &[f64], ny: usize, nx: usize, kx: usize, ky: usize) -> Complex<f64> {
+        let mut acc = Complex::new(0.0, 0.0);
+        for i in 0..ny {
+            for j in 0..nx {
+                let ph = -std::f64::consts::TAU
+                    * (ky as f64 * i as f64 / ny as f64 + kx as f64 * j as f64 / nx as f64);
+                acc += Complex::from_polar(z[i * nx + j], ph);
+            }
+        }
+        acc
+    }
+
+    fn field(ny: usize, nx: usize) -> Vec<f64> {
+        (0..ny * nx)
+            .map(|i| ((i * 37 % 11) as f64) - 3.0 + 0.1 * (i as f64).sin())
+            .collect()
+    }
+
+    #[test]
+    fn forward_matches_direct_dft_on_rectangles() {
+        for (ny, nx) in [(6, 10), (8, 4), (12, 12), (5, 7), (9, 6)] {
+            let z = field(ny, nx);
+            let plan = RealFft2::new(ny, nx).unwrap();
+            let mut w = plan.work();
+            plan.forward(&z, &mut w).unwrap();
+            for kx in 0..=nx / 2 {
+                for ky in 0..ny {
+                    let d = dft(&z, ny, nx, kx, ky);
+                    let s = w.spec[kx * ny + ky];
+                    assert!(
+                        (s - d).norm() < 1e-11,
+                        "({ny},{nx}) k=({kx},{ky}): {s} vs {d}"
+                    );
+                }
+            }
+            // Round trip.
+            let mut back = vec![0.0; ny * nx];
+            plan.inverse(&mut back, &mut w).unwrap();
+            for (a, b) in back.iter().zip(&z) {
+                assert!((a / (ny * nx) as f64 - b).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn padded_convolution_is_the_linear_convolution() {
+        // Zero padding to 2ny × 2nx turns the circular convolution into the linear one.
+        let (ny, nx) = (5, 7);
+        let (gy, gx) = (10, 14);
+        let z = field(ny, nx);
+        // A real, even kernel in real space: g(di, dj), |di| < ny, |dj| < nx.
+        let g = |di: i64, dj: i64| 1.0 / (1.0 + (di * di) as f64 + 0.5 * (dj * dj) as f64);
+        let mut gr = vec![0.0; gy * gx];
+        for i in 0..gy {
+            for j in 0..gx {
+                gr[i * gx + j] = g(signed_index(i, gy), signed_index(j, gx));
+            }
+        }
+        let full = RealFft2::new(gy, gx).unwrap();
+        let mut w = full.work();
+        full.forward(&gr, &mut w).unwrap();
+        let norm = 1.0 / (gy * gx) as f64;
+        let kernel: Vec<f64> = w.spec.iter().map(|c| c.re * norm).collect();
+        assert!(w.spec.iter().all(|c| c.im.abs() < 1e-12));
+        let plan = RealFft2::padded((gy, gx), (ny, nx)).unwrap();
+        let mut w = plan.work();
+        let mut out = vec![0.0; ny * nx];
+        plan.convolve(&z, &mut out, &kernel, kernel[0], &mut w)
+            .unwrap();
+        for i in 0..ny {
+            for j in 0..nx {
+                let mut acc = 0.0;
+                for a in 0..ny {
+                    for b in 0..nx {
+                        acc += g(i as i64 - a as i64, j as i64 - b as i64) * z[a * nx + b];
+                    }
+                }
+                assert!((out[i * nx + j] - acc).abs() < 1e-11, "({i},{j})");
+            }
         }
     }
 }

@@ -88,30 +88,57 @@ fn bem_scene_matches_reference_bem_column() {
     }
 }
 
+/// A non-periodic surface is solved as an isolated sample on the unbounded layered solid
+/// (zero-padded convolution with pixel influence coefficients), not refused: more load
+/// is needed for the same separation than on the periodic cell (no neighbouring cells
+/// lift the mean plane), the log says which boundary condition was simulated.
 #[test]
-fn bem_needs_a_periodic_surface() {
+fn bem_solves_a_non_periodic_surface() {
     let d = dir("nonperiodic");
-    let scene = d.join("scene.toml");
-    std::fs::write(
-        &scene,
-        format!(
-            "[stack]\nfile = \"{}\"\n[surface]\nfile = \"{}\"\nsize = 1e-3\nperiodic = false\n[model]\nkind = \"bem\"\n[load]\nseparations = [9e-6]\n",
-            shared().join("stack_h100um_E2E1_1.toml").display(),
-            shared().join("surface_km10.npy").display(),
-        ),
-    )
-    .unwrap();
-    let o = Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args([
-            "solve",
-            scene.to_str().unwrap(),
-            "--out",
-            d.join("out").to_str().unwrap(),
-        ])
-        .output()
+    let write = |periodic: bool| {
+        let scene = d.join(format!("scene-{periodic}.toml"));
+        std::fs::write(
+            &scene,
+            format!(
+                "[stack]\nfile = \"{}\"\n[surface]\nfile = \"{}\"\nsize = 1e-3\nperiodic = {periodic}\n[model]\nkind = \"bem\"\n[load]\nseparations = [5e-6]\n",
+                shared().join("stack_h100um_E2E1_1.toml").display(),
+                shared().join("surface_km10.npy").display(),
+            ),
+        )
         .unwrap();
-    assert!(!o.status.success());
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("surface.periodic"), "{err}");
-    assert!(!d.join("out/curve.csv").exists());
+        let out = d.join(format!("out-{periodic}"));
+        let o = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args([
+                "solve",
+                scene.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--no-plots",
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let log = String::from_utf8_lossy(&o.stderr).to_string();
+        let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
+        let row: Vec<f64> = csv
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .map(|x| x.parse().unwrap())
+            .collect();
+        (log, row)
+    };
+    let (log, free) = write(false);
+    assert!(log.contains("non-periodic"), "{log}");
+    let (_, cell) = write(true);
+    assert!((free[1] - 5e-6).abs() < 1e-12, "{free:?}");
+    // Same separation: both in partial contact, with finite positive loads.
+    for r in [&free, &cell] {
+        assert!(
+            r[2] > 0.0 && r[4] > 0.0 && r[4] < 1.0 && r[6] > 0.0,
+            "{r:?}"
+        );
+    }
+    assert!(free[2] != cell[2]);
 }

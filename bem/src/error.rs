@@ -1,0 +1,73 @@
+//! Errors of the boundary-element solver.
+
+use strata_runtime::resources::ResourceError;
+use thiserror::Error;
+
+/// Errors of the boundary-element solver. Each names the offending input.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum BemError {
+    #[error(
+        "heights: the grid must be at least 4×4 (2×2 for a non-periodic sample), got {rows}×{cols}"
+    )]
+    Grid { rows: usize, cols: usize },
+    #[error("heights[{row}, {col}] = {value} is not finite")]
+    NonFiniteHeight { row: usize, col: usize, value: f64 },
+    #[error("heights: the surface is flat (zero RMS height); there is no rough contact to solve")]
+    FlatSurface,
+    #[error(
+        "heights: the largest |height| {0:e} m is too large (the RMS overflows); heights are in metres"
+    )]
+    HeightRange(f64),
+    #[error("size: the sample side {what} must be finite and > 0 (m), got {value}")]
+    Size { what: &'static str, value: f64 },
+    #[error("E*₁ must be finite and > 0 (Pa), got {0}")]
+    Modulus(f64),
+    #[error("the uniform-mode compliance C₀ must be finite and ≥ 0 (m/Pa), got {0}")]
+    UniformCompliance(f64),
+    #[error("options: tolerance must be finite and in (0, 1), got {0}")]
+    Tolerance(f64),
+    #[error("options: max_iterations must be ≥ 1")]
+    MaxIterations,
+    #[error("load: {what} = {value} is invalid: {reason}")]
+    Load {
+        what: &'static str,
+        value: f64,
+        reason: String,
+    },
+    #[error("resample: target grid must be even and ≥ 4, got {0}")]
+    Resample(usize),
+    #[error(
+        "the stack's compliance S(|k| = {k:e} 1/m) = {s} is not finite and non-negative; check the stack"
+    )]
+    Kernel { k: f64, s: f64 },
+    #[error(
+        "non-periodic influence coefficients: {0} (the Hankel transform of the stack's compliance)"
+    )]
+    Influence(String),
+    #[error("initial pressure: expected {expected} finite non-negative values, got {got}")]
+    Initial { expected: usize, got: usize },
+    #[error(
+        "not converged after {iterations} iterations (error {error:e} > tolerance {tolerance:e}); raise max_iterations or the tolerance"
+    )]
+    NotConverged {
+        iterations: usize,
+        error: f64,
+        tolerance: f64,
+    },
+    #[error("the solution became non-finite at iteration {0} (ill-posed load or stack?)")]
+    NonFinite(usize),
+    #[error("BEM: {0}")]
+    Memory(#[from] ResourceError),
+    #[error("BEM: internal FFT error: {0}")]
+    Fft(String),
+    #[error("cannot read {path}: {message}")]
+    Read { path: String, message: String },
+    #[error("cannot write {path}: {message}")]
+    Write { path: String, message: String },
+}
+
+impl From<strata_runtime::fft::FftError> for BemError {
+    fn from(e: strata_runtime::fft::FftError) -> Self {
+        BemError::Fft(e.to_string())
+    }
+}

@@ -1,0 +1,151 @@
+//! The solution of one load, its maps, and grid utilities (contact patches, spectral
+//! resampling, .npy input).
+
+use std::path::Path;
+
+use ndarray::Array2;
+use strata_runtime::fft::{RealFft2, signed_index};
+
+use crate::{BemError, BemLoad};
+
+/// The result of one load.
+#[derive(Debug, Clone)]
+pub struct BemSolution {
+    /// The load that was imposed.
+    pub load: BemLoad,
+    /// Mean pressure p̄ = P/A₀ (Pa), A₀ = Lx·Ly.
+    pub mean_pressure: f64,
+    /// p̄/E*₁.
+    pub pressure_ratio: f64,
+    /// Real contact area fraction A/A₀ (grid points with p > 0 over ny·nx).
+    pub area_fraction: f64,
+    /// Grid points in contact.
+    pub contact_points: usize,
+    /// Contact patches: connected components of the contact set (4-connected; wrapped
+    /// around on a periodic cell).
+    pub patches: usize,
+    /// Mean gap ḡ (m).
+    pub mean_gap: f64,
+    /// Approach δ of the flat from first touch (m): z_M − z̄ − ḡ + w̄ on a periodic cell,
+    /// z_M − c (the flat at c) on a non-periodic sample.
+    pub approach: f64,
+    /// Nominal separation g_n = (z_M − z̄) − δ (m), as in the asperity models.
+    pub separation: f64,
+    /// Total load P = p̄ Lx Ly (N).
+    pub total_load: f64,
+    /// Mean surface deflection w̄ (m): C₀p̄ on a periodic cell on a rigid base, 0 on an
+    /// elastic base (zero-mean convention), the free solid's mean deflection when
+    /// non-periodic.
+    pub mean_deflection: f64,
+    /// Conjugate-gradient iterations used.
+    pub iterations: usize,
+    /// Final error ε (see the crate docs).
+    pub error: f64,
+    /// Pressure map p (Pa), ny×nx, same orientation as the heights.
+    pub pressure: Array2<f64>,
+    /// Gap map g (m), ny×nx.
+    pub gap: Array2<f64>,
+}
+
+impl BemSolution {
+    /// Writes the pressure and gap maps as f64 .npy files, each atomically
+    /// ([`strata_runtime::output::write_atomic_with`]).
+    pub fn write_maps(&self, pressure_path: &Path, gap_path: &Path) -> Result<(), BemError> {
+        for (path, map) in [(pressure_path, &self.pressure), (gap_path, &self.gap)] {
+            strata_runtime::output::write_atomic_with(path, |tmp| {
+                ndarray_npy::write_npy(tmp, map).map_err(std::io::Error::other)
+            })
+            .map_err(|e| BemError::Write {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            })?;
+        }
+        Ok(())
+    }
+}
+
+/// Reads a height map (m, f64) from a .npy file.
+pub fn read_heights_npy(path: &Path) -> Result<Array2<f64>, BemError> {
+    ndarray_npy::read_npy(path).map_err(|e: ndarray_npy::ReadNpyError| BemError::Read {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// Number of connected components of `mask` (ny×nx, row-major), 4-connected, with
+/// wrap-around when `periodic`.
+pub fn count_patches(mask: &[bool], ny: usize, nx: usize, periodic: bool) -> usize {
+    let mut parent: Vec<usize> = (0..mask.len()).collect();
+    fn find(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..ny {
+        for j in 0..nx {
+            let a = i * nx + j;
+            if !mask[a] {
+                continue;
+            }
+            let right = (j + 1 < nx || periodic).then(|| i * nx + (j + 1) % nx);
+            let down = (i + 1 < ny || periodic).then(|| ((i + 1) % ny) * nx + j);
+            for b in [right, down].into_iter().flatten() {
+                if mask[b] {
+                    let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+                    if ra != rb {
+                        parent[ra] = rb;
+                    }
+                }
+            }
+        }
+    }
+    (0..mask.len())
+        .filter(|&a| mask[a] && find(&mut parent, a) == a)
+        .count()
+}
+
+/// Spectral (Fourier) resampling of a periodic n×n field to m×m (m even ≥ 4): the
+/// Fourier coefficients with |fx|, |fy| < min(n, m)/2 are kept, the rest (including
+/// the Nyquist lines) set to zero. Exact for band-limited surfaces.
+pub fn resample_spectral(field: &Array2<f64>, m: usize) -> Result<Array2<f64>, BemError> {
+    let (rows, cols) = field.dim();
+    if rows != cols || rows < 4 || !rows.is_multiple_of(2) {
+        return Err(BemError::Grid { rows, cols });
+    }
+    if m < 4 || !m.is_multiple_of(2) {
+        return Err(BemError::Resample(m));
+    }
+    resample_rect(field, m, m)
+}
+
+/// [`resample_spectral`] on rectangles: ny×nx → my×mx, keeping |fy| < min(ny, my)/2 and
+/// |fx| < min(nx, mx)/2.
+pub fn resample_rect(field: &Array2<f64>, my: usize, mx: usize) -> Result<Array2<f64>, BemError> {
+    let (ny, nx) = field.dim();
+    if my < 4 || mx < 4 || my % 2 != 0 || mx % 2 != 0 {
+        return Err(BemError::Resample(my.min(mx)));
+    }
+    let a: Vec<f64> = field.iter().copied().collect();
+    let from = RealFft2::new(ny, nx)?;
+    let mut wf = from.work();
+    from.forward(&a, &mut wf)?;
+    let to = RealFft2::new(my, mx)?;
+    let mut wt = to.work();
+    wt.spec.fill(Default::default());
+    let (ky_keep, kx_keep) = (ny.min(my) / 2, nx.min(mx) / 2);
+    for kx in 0..kx_keep {
+        for fy in -(ky_keep as i64) + 1..ky_keep as i64 {
+            let src = fy.rem_euclid(ny as i64) as usize;
+            let dst = fy.rem_euclid(my as i64) as usize;
+            debug_assert_eq!(signed_index(src, ny), fy);
+            wt.spec[kx * my + dst] = wf.spec[kx * ny + src];
+        }
+    }
+    let mut out = vec![0.0; my * mx];
+    to.inverse(&mut out, &mut wt)?;
+    let norm = 1.0 / (ny * nx) as f64;
+    out.iter_mut().for_each(|v| *v *= norm);
+    Array2::from_shape_vec((my, mx), out).map_err(|_| BemError::Resample(my))
+}

@@ -1,0 +1,133 @@
+//! The influence operator u = K p of the boundary-element solver: one real-to-complex
+//! 2-D FFT, the kernel multiply and one complex-to-real FFT per product
+//! ([`strata_runtime::fft::RealFft2::convolve`]).
+//!
+//! * Periodic cell (physics.md §2, plane-wave form): ũ(k) = 2S(|k|)/(E*₁|k|) · p̃(k) on
+//!   the (kx, ky) grid kx = 2π i/Lx, ky = 2π j/Ly; the k = 0 entry is the uniform-mode
+//!   compliance C₀ (rigid base) or 0 (zero-mean convention, elastic base).
+//! * Non-periodic sample: u_i = Σ_j G(x_i − x_j) p_j, the linear convolution with the
+//!   real-space influence coefficients G of a uniformly loaded pixel ([`crate::influence`]),
+//!   by circulant embedding on the zero-padded 2ny × 2nx grid.
+
+use strata_runtime::fft::{Fft2Work, RealFft2};
+
+use crate::BemError;
+
+/// A convolution operator on an ny × nx field.
+pub(crate) struct Operator {
+    plan: RealFft2,
+    /// Kernel in the half-spectrum layout of [`RealFft2`], normalisation included,
+    /// the (0, 0) entry set to the value with the uniform mode.
+    kernel: Vec<f64>,
+    /// Periodic: the (0, 0) entry can be switched off (zero-mean convention).
+    periodic: bool,
+}
+
+impl Operator {
+    /// Periodic operator from the kernel K(kx, ky) (m/Pa) given on the half spectrum:
+    /// `kernel_of(i, j)` with i ∈ 0..=nx/2 the x index and j ∈ 0..ny the signed-folded
+    /// y index; `k00` the uniform-mode value (m/Pa).
+    pub(crate) fn periodic(
+        ny: usize,
+        nx: usize,
+        k00: f64,
+        mut kernel_of: impl FnMut(usize, usize) -> Result<f64, BemError>,
+    ) -> Result<Self, BemError> {
+        let plan = RealFft2::new(ny, nx)?;
+        let norm = 1.0 / (ny * nx) as f64;
+        let mut kernel = vec![0.0; plan.spectrum_len()];
+        for kx in 0..=nx / 2 {
+            for ky in 0..ny {
+                let fy = if ky <= ny / 2 { ky } else { ny - ky };
+                kernel[kx * ny + ky] = if kx == 0 && ky == 0 {
+                    k00 * norm
+                } else {
+                    kernel_of(kx, fy)? * norm
+                };
+            }
+        }
+        Ok(Operator {
+            plan,
+            kernel,
+            periodic: true,
+        })
+    }
+
+    /// Free-boundary operator from real-space influence coefficients `g[dy * nx + dx]`
+    /// (m/Pa, dy < ny, dx < nx; G is even in both offsets).
+    pub(crate) fn free(ny: usize, nx: usize, g: &[f64]) -> Result<Self, BemError> {
+        let (gy, gx) = (2 * ny, 2 * nx);
+        let full = RealFft2::new(gy, gx)?;
+        // Circulant embedding: offsets −(n−1)…(n−1) wrapped onto 0…2n−1; the unused
+        // middle line (offset n) is zero.
+        let mut c = vec![0.0; gy * gx];
+        for i in 0..gy {
+            let di = if i < ny {
+                Some(i)
+            } else if i > ny {
+                Some(gy - i)
+            } else {
+                None
+            };
+            let Some(di) = di else { continue };
+            for j in 0..gx {
+                let dj = if j < nx {
+                    j
+                } else if j > nx {
+                    gx - j
+                } else {
+                    continue;
+                };
+                c[i * gx + j] = g[di * nx + dj];
+            }
+        }
+        let mut work = full.work();
+        full.forward(&c, &mut work)?;
+        drop(c);
+        let norm = 1.0 / (gy * gx) as f64;
+        // G is real and even: its transform is real (imaginary parts are round-off).
+        let kernel: Vec<f64> = work.spec.iter().map(|z| z.re * norm).collect();
+        drop(work);
+        Ok(Operator {
+            plan: RealFft2::padded((gy, gx), (ny, nx))?,
+            kernel,
+            periodic: false,
+        })
+    }
+
+    pub(crate) fn work(&self) -> Fft2Work {
+        self.plan.work()
+    }
+
+    /// out = K · input. `uniform`: include the periodic k = 0 mode (no effect on a
+    /// free-boundary operator, whose k = 0 entry is part of the linear convolution).
+    pub(crate) fn apply(
+        &self,
+        input: &[f64],
+        out: &mut [f64],
+        uniform: bool,
+        work: &mut Fft2Work,
+    ) -> Result<(), BemError> {
+        let dc = if self.periodic && !uniform {
+            0.0
+        } else {
+            self.kernel[0]
+        };
+        self.plan.convolve(input, out, &self.kernel, dc, work)?;
+        Ok(())
+    }
+
+    /// Bytes the operator and one work set take for an ny × nx field (estimate for the
+    /// memory check, before anything is allocated).
+    pub(crate) fn bytes(ny: usize, nx: usize, periodic: bool) -> u64 {
+        let (gy, gx) = if periodic { (ny, nx) } else { (2 * ny, 2 * nx) };
+        let half = (gx / 2 + 1) as u64 * gy as u64;
+        // kernel (f64) + spectrum and row spectra (complex) + set-up copies (free).
+        let setup = if periodic {
+            0
+        } else {
+            8 * (gy * gx) as u64 + 16 * half
+        };
+        8 * half + 16 * half + 16 * (ny as u64 * (gx / 2 + 1) as u64) + setup
+    }
+}

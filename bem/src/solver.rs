@@ -1,0 +1,692 @@
+//! [`BemSolver`]: one surface on one stack, many loads.
+
+use std::sync::OnceLock;
+
+use ndarray::Array2;
+use strata_runtime::compliance::Compliance;
+use strata_runtime::resources::{bytes_for, check_memory};
+use strata_runtime::stack::{Base, Stack};
+
+use crate::cg::{self, Control, Problem};
+use crate::maps::{BemSolution, count_patches, resample_rect};
+use crate::operator::Operator;
+use crate::{BemError, BemLoad, BemOptions};
+
+/// The sample: sides (m) and boundary condition. Heights are given as an ny × nx array,
+/// row index = y, column index = x; the pixel is (Lx/nx) × (Ly/ny).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Geometry {
+    /// Side along x (columns), m.
+    pub lx: f64,
+    /// Side along y (rows), m.
+    pub ly: f64,
+    /// `true`: one cell of a periodic pattern (spectral kernel); `false`: an isolated
+    /// sample on an unbounded solid, zero pressure outside (free-boundary kernel).
+    pub periodic: bool,
+}
+
+impl Geometry {
+    /// A periodic square cell of side `l` (m).
+    pub fn square(l: f64) -> Self {
+        Geometry {
+            lx: l,
+            ly: l,
+            periodic: true,
+        }
+    }
+}
+
+/// Grids below this (on either side) are solved directly; larger ones start from the
+/// solution on the half grid (coarse-to-fine) when no initial pressure is given.
+const COARSE_MIN: usize = 256;
+
+/// Uniform-mode compliance of a stack on a rigid base, C₀ = Σ hᵢ/Mᵢ (m/Pa), with the
+/// P-wave modulus Mᵢ = Eᵢ(1−νᵢ)/((1+νᵢ)(1−2νᵢ)); `None` on an elastic base (infinite).
+/// Equals lim_{k→0} 2S(k)/(E*₁k).
+pub fn uniform_compliance(stack: &Stack) -> Option<f64> {
+    match stack.base() {
+        Base::Elastic { .. } => None,
+        Base::Rigid => Some(
+            stack
+                .layers()
+                .iter()
+                .map(|l| {
+                    l.thickness * (1.0 + l.poisson) * (1.0 - 2.0 * l.poisson)
+                        / (l.young * (1.0 - l.poisson))
+                })
+                .sum(),
+        ),
+    }
+}
+
+/// The FFT-BEM for one surface on one stack. Build once, solve many loads.
+pub struct BemSolver {
+    ny: usize,
+    nx: usize,
+    geometry: Geometry,
+    /// Heights, row-major ny×nx (m).
+    z: Vec<f64>,
+    z_max: f64,
+    z_mean: f64,
+    z_rms: f64,
+    e_star1: f64,
+    /// C₀ (m/Pa) of a periodic cell on a rigid base.
+    c0: Option<f64>,
+    op: Operator,
+    options: BemOptions,
+    /// How to build the operator of the half grid (coarse-to-fine start).
+    source: KernelSource,
+    coarse: OnceLock<Option<Box<BemSolver>>>,
+}
+
+/// What the operator was built from (for the coarse grid).
+#[derive(Clone)]
+enum KernelSource {
+    /// Periodic: S(|k|) per distinct (i, j) wavenumber pair of this grid.
+    Spectral(std::sync::Arc<Vec<f64>>),
+    /// Non-periodic: the stack.
+    Stack(Stack),
+}
+
+impl std::fmt::Debug for BemSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BemSolver")
+            .field("grid", &(self.ny, self.nx))
+            .field("geometry", &self.geometry)
+            .field("e_star1", &self.e_star1)
+            .field("c0", &self.c0)
+            .field("options", &self.options)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Validated heights and their statistics.
+struct Heights {
+    z: Vec<f64>,
+    mean: f64,
+    rms: f64,
+    max: f64,
+}
+
+fn validate_heights(heights: &Array2<f64>, periodic: bool) -> Result<Heights, BemError> {
+    let (rows, cols) = heights.dim();
+    let min = if periodic { 4 } else { 2 };
+    if rows < min || cols < min {
+        return Err(BemError::Grid { rows, cols });
+    }
+    let mut z = Vec::with_capacity(rows * cols);
+    for ((row, col), &value) in heights.indexed_iter() {
+        if !value.is_finite() {
+            return Err(BemError::NonFiniteHeight { row, col, value });
+        }
+        z.push(value);
+    }
+    let n = z.len() as f64;
+    let mean = z.iter().sum::<f64>() / n;
+    let rms = (z.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt();
+    if !rms.is_finite() {
+        let big = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        return Err(BemError::HeightRange(big));
+    }
+    if rms <= 0.0 || rms <= 1e-14 * mean.abs() {
+        return Err(BemError::FlatSurface);
+    }
+    let max = z.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
+    Ok(Heights { z, mean, rms, max })
+}
+
+fn check_geometry(g: &Geometry) -> Result<(), BemError> {
+    for (what, value) in [("Lx", g.lx), ("Ly", g.ly)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(BemError::Size { what, value });
+        }
+    }
+    Ok(())
+}
+
+fn check_options(options: &BemOptions) -> Result<(), BemError> {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0 && options.tolerance < 1.0) {
+        return Err(BemError::Tolerance(options.tolerance));
+    }
+    if options.max_iterations == 0 {
+        return Err(BemError::MaxIterations);
+    }
+    Ok(())
+}
+
+impl BemSolver {
+    /// Bytes a solver needs for an ny × nx grid (heights, pressure, gap and CG vectors,
+    /// kernel and FFT buffers; the padded grid when non-periodic): the estimate checked
+    /// against [`strata_runtime::resources`] before anything is allocated.
+    pub fn memory_needed(ny: usize, nx: usize, periodic: bool) -> u64 {
+        let points = (ny as u64).saturating_mul(nx as u64);
+        // z, p, u, t, r, corr, gap, the solution's two maps, a coarse grid (1/4).
+        bytes_for(points, 8 * 9)
+            .saturating_add(bytes_for(points, 8 * 9) / 4)
+            .saturating_add(Operator::bytes(ny, nx, periodic))
+    }
+
+    /// A periodic square cell: `heights` (n×n, m; row index = y, column index = x) of
+    /// side `size` = L (m) on `stack`.
+    pub fn new(
+        heights: &Array2<f64>,
+        size: f64,
+        stack: &Stack,
+        options: BemOptions,
+    ) -> Result<Self, BemError> {
+        Self::with_geometry(heights, Geometry::square(size), stack, options)
+    }
+
+    /// Any sample: `heights` (ny × nx, m) with sides and boundary condition `geometry`.
+    /// Periodic: the kernel 2S(|k|)/(E*₁|k|) on the (kx, ky) grid, S evaluated once per
+    /// distinct |k|. Non-periodic: the pixel influence coefficients of
+    /// [`crate::influence`] (Love's closed form plus the Hankel transform of k_z).
+    pub fn with_geometry(
+        heights: &Array2<f64>,
+        geometry: Geometry,
+        stack: &Stack,
+        options: BemOptions,
+    ) -> Result<Self, BemError> {
+        if geometry.periodic {
+            let homogeneous = stack.is_homogeneous();
+            let comp = Compliance::new(stack);
+            return Self::periodic(
+                heights,
+                geometry,
+                stack.top_plane_strain_modulus(),
+                uniform_compliance(stack),
+                |k| if homogeneous { 1.0 } else { comp.s(k) },
+                options,
+            );
+        }
+        check_geometry(&geometry)?;
+        check_options(&options)?;
+        let h = validate_heights(heights, false)?;
+        let (ny, nx) = heights.dim();
+        check_memory(
+            format!("BEM grid {ny}×{nx} (non-periodic)"),
+            Self::memory_needed(ny, nx, false),
+        )?;
+        let e_star1 = stack.top_plane_strain_modulus();
+        if !(e_star1.is_finite() && e_star1 > 0.0) {
+            return Err(BemError::Modulus(e_star1));
+        }
+        let g = crate::influence::coefficients(
+            stack,
+            ny,
+            nx,
+            geometry.lx / nx as f64,
+            geometry.ly / ny as f64,
+        )?;
+        let op = Operator::free(ny, nx, &g)?;
+        Ok(Self::assemble(
+            ny,
+            nx,
+            geometry,
+            h,
+            e_star1,
+            None,
+            op,
+            options,
+            KernelSource::Stack(stack.clone()),
+        ))
+    }
+
+    /// A periodic square cell with the normalised compliance S(k) (k in rad/m) given as a
+    /// function (e.g. interpolated from a table), the top material's E*₁ (Pa), and the
+    /// uniform-mode compliance C₀ (m/Pa; `Some` on a rigid base, `None` when infinite).
+    pub fn with_compliance(
+        heights: &Array2<f64>,
+        size: f64,
+        e_star1: f64,
+        c0: Option<f64>,
+        s_of_k: impl Fn(f64) -> f64,
+        options: BemOptions,
+    ) -> Result<Self, BemError> {
+        Self::periodic(
+            heights,
+            Geometry::square(size),
+            e_star1,
+            c0,
+            s_of_k,
+            options,
+        )
+    }
+
+    fn periodic(
+        heights: &Array2<f64>,
+        geometry: Geometry,
+        e_star1: f64,
+        c0: Option<f64>,
+        s_of_k: impl Fn(f64) -> f64,
+        options: BemOptions,
+    ) -> Result<Self, BemError> {
+        check_geometry(&geometry)?;
+        if !(e_star1.is_finite() && e_star1 > 0.0) {
+            return Err(BemError::Modulus(e_star1));
+        }
+        if let Some(c) = c0.filter(|c| !(c.is_finite() && *c >= 0.0)) {
+            return Err(BemError::UniformCompliance(c));
+        }
+        check_options(&options)?;
+        let h = validate_heights(heights, true)?;
+        let (ny, nx) = heights.dim();
+        check_memory(
+            format!("BEM grid {ny}×{nx}"),
+            Self::memory_needed(ny, nx, true),
+        )?;
+        // S per distinct wavevector (i ≤ nx/2, j ≤ ny/2), computed once.
+        let (hx, hy) = (nx / 2, ny / 2);
+        let (dkx, dky) = (
+            std::f64::consts::TAU / geometry.lx,
+            std::f64::consts::TAU / geometry.ly,
+        );
+        let square = nx == ny && geometry.lx == geometry.ly;
+        let mut s_tab = vec![f64::NAN; (hx + 1) * (hy + 1)];
+        for i in 0..=hx {
+            for j in 0..=hy {
+                if i == 0 && j == 0 {
+                    continue;
+                }
+                if square && j < i {
+                    // |k| symmetric in (i, j) on a square grid.
+                    s_tab[i * (hy + 1) + j] = s_tab[j * (hy + 1) + i];
+                    continue;
+                }
+                let k = (dkx * i as f64).hypot(dky * j as f64);
+                let s = s_of_k(k);
+                if !(s.is_finite() && s >= 0.0) {
+                    return Err(BemError::Kernel { k, s });
+                }
+                s_tab[i * (hy + 1) + j] = s;
+            }
+        }
+        let s_tab = std::sync::Arc::new(s_tab);
+        let op = Self::spectral_operator(ny, nx, &geometry, e_star1, c0, &s_tab, ny, nx)?;
+        Ok(Self::assemble(
+            ny,
+            nx,
+            geometry,
+            h,
+            e_star1,
+            c0,
+            op,
+            options,
+            KernelSource::Spectral(s_tab),
+        ))
+    }
+
+    /// The periodic operator on an ny × nx grid from S tabulated on the (fy, fx) grid
+    /// of the (ty, tx) grid where it was computed (same cell; ny ≤ ty, nx ≤ tx).
+    #[allow(clippy::too_many_arguments)]
+    fn spectral_operator(
+        ny: usize,
+        nx: usize,
+        g: &Geometry,
+        e_star1: f64,
+        c0: Option<f64>,
+        s_tab: &[f64],
+        ty: usize,
+        _tx: usize,
+    ) -> Result<Operator, BemError> {
+        let (dkx, dky) = (std::f64::consts::TAU / g.lx, std::f64::consts::TAU / g.ly);
+        let hy = ty / 2;
+        Operator::periodic(ny, nx, c0.unwrap_or(0.0), |i, j| {
+            let k = (dkx * i as f64).hypot(dky * j as f64);
+            Ok(2.0 * s_tab[i * (hy + 1) + j] / (e_star1 * k))
+        })
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn assemble(
+        ny: usize,
+        nx: usize,
+        geometry: Geometry,
+        h: Heights,
+        e_star1: f64,
+        c0: Option<f64>,
+        op: Operator,
+        options: BemOptions,
+        source: KernelSource,
+    ) -> Self {
+        BemSolver {
+            ny,
+            nx,
+            geometry,
+            z: h.z,
+            z_max: h.max,
+            z_mean: h.mean,
+            z_rms: h.rms,
+            e_star1,
+            c0,
+            op,
+            options,
+            source,
+            coarse: OnceLock::new(),
+        }
+    }
+
+    /// Grid size n (rows; = columns on a square grid).
+    pub fn n(&self) -> usize {
+        self.ny
+    }
+
+    /// Grid (rows ny, columns nx).
+    pub fn shape(&self) -> (usize, usize) {
+        (self.ny, self.nx)
+    }
+
+    /// Cell side along x, Lx (m).
+    pub fn size(&self) -> f64 {
+        self.geometry.lx
+    }
+
+    /// Sides and boundary condition.
+    pub fn geometry(&self) -> Geometry {
+        self.geometry
+    }
+
+    /// Nominal area Lx·Ly (m²).
+    pub fn area(&self) -> f64 {
+        self.geometry.lx * self.geometry.ly
+    }
+
+    /// E*₁ of the top material (Pa).
+    pub fn e_star1(&self) -> f64 {
+        self.e_star1
+    }
+
+    /// z_M − z̄ (m): the separation at first touch.
+    pub fn max_separation(&self) -> f64 {
+        self.z_max - self.z_mean
+    }
+
+    /// Solves one load from a default initial guess (the half-grid solution on grids
+    /// from 256 points a side).
+    pub fn solve(&self, load: BemLoad) -> Result<BemSolution, BemError> {
+        self.solve_from(load, None)
+    }
+
+    /// Solves a sequence of loads, each warm-started from the previous ones: the last
+    /// pressure field extrapolated linearly in the load parameter from the last two
+    /// solutions (clipped at 0), which predicts both the field and the contact set.
+    pub fn solve_curve(&self, loads: &[BemLoad]) -> Result<Vec<BemSolution>, BemError> {
+        let mut out: Vec<BemSolution> = Vec::with_capacity(loads.len());
+        let mut guess = Vec::new();
+        for &load in loads {
+            let init = match out.as_slice() {
+                [.., a, b] if b.contact_points > 0 && a.contact_points > 0 => {
+                    extrapolate(a, b, load, &mut guess);
+                    Some(guess.as_slice())
+                }
+                [.., b] if b.contact_points > 0 => {
+                    guess.clear();
+                    guess.extend(b.pressure.iter());
+                    Some(guess.as_slice())
+                }
+                _ => None,
+            };
+            let s = self.solve_from(load, init)?;
+            out.push(s);
+        }
+        Ok(out)
+    }
+
+    /// Solves one load, starting from `initial` pressures (row-major ny·nx, Pa) if given.
+    pub fn solve_from(
+        &self,
+        load: BemLoad,
+        initial: Option<&[f64]>,
+    ) -> Result<BemSolution, BemError> {
+        let n2 = self.ny * self.nx;
+        let control = self.control(load)?;
+        let mut p = vec![0.0; n2];
+        match initial {
+            Some(init) => {
+                if init.len() != n2 || init.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+                    return Err(BemError::Initial {
+                        expected: n2,
+                        got: init.len(),
+                    });
+                }
+                p.copy_from_slice(init);
+            }
+            None => self.coarse_start(control, &mut p),
+        }
+        let out = cg::solve(&self.problem(), control, &mut p)?;
+        let s = self.summarise(load, control, p, out);
+        // Absurd loads (an approach of 1e300 m on a rigid base) overflow the sums.
+        if !(s.mean_pressure.is_finite() && s.mean_gap.is_finite() && s.approach.is_finite()) {
+            return Err(BemError::NonFinite(s.iterations));
+        }
+        Ok(s)
+    }
+
+    fn problem(&self) -> Problem<'_> {
+        Problem {
+            op: &self.op,
+            z: &self.z,
+            z_rms: self.z_rms,
+            stiffness: self.local_stiffness(),
+            tolerance: self.options.tolerance,
+            max_iterations: self.options.max_iterations,
+        }
+    }
+
+    /// The CG control of a load.
+    fn control(&self, load: BemLoad) -> Result<Control, BemError> {
+        let bad = |what, value, reason: &str| BemError::Load {
+            what,
+            value,
+            reason: reason.to_string(),
+        };
+        let (approach, what) = match load {
+            BemLoad::Approach(d) => (d, "approach"),
+            // A separation is an approach: δ = (z_M − z̄) − g_n.
+            BemLoad::Separation(gn) => (self.max_separation() - gn, "separation"),
+            BemLoad::MeanGap(g) => {
+                if !self.geometry.periodic {
+                    return Err(bad(
+                        "mean gap",
+                        g,
+                        "is not a load of a non-periodic sample (the mean deflection depends on the unbounded solid); give an approach, a separation or a mean pressure",
+                    ));
+                }
+                if !(g.is_finite() && g > 0.0) {
+                    return Err(bad(
+                        "mean gap",
+                        g,
+                        "must be finite and > 0 m (a zero mean gap is full contact)",
+                    ));
+                }
+                return Ok(Control::Offset {
+                    c: g + self.z_mean,
+                    uniform: false,
+                });
+            }
+            BemLoad::MeanPressure(p) => {
+                if !(p.is_finite() && p > 0.0) {
+                    return Err(bad("mean pressure", p, "must be finite and > 0 Pa"));
+                }
+                return Ok(Control::Pressure(p));
+            }
+        };
+        if !approach.is_finite() {
+            return Err(bad(what, approach, "must be finite (m)"));
+        }
+        if !self.geometry.periodic || self.c0.is_some() {
+            // The flat at c = z_M − δ: any δ (beyond the peak-to-valley height too; the
+            // layers or the unbounded solid compress as a whole).
+            return Ok(Control::Offset {
+                c: self.z_max - approach,
+                uniform: self.c0.is_some(),
+            });
+        }
+        let g = self.max_separation() - approach;
+        if g <= 0.0 {
+            return Err(bad(
+                what,
+                approach,
+                "on an elastic base the approach of a periodic cell must be < z_M − z̄, the separation > 0 (the uniform mode is unbounded: full contact)",
+            ));
+        }
+        Ok(Control::Offset {
+            c: g + self.z_mean,
+            uniform: false,
+        })
+    }
+
+    /// Coarse-to-fine start: the same load solved on the half grid (loosely), its
+    /// pressure injected on 2×2 blocks. Only on large even grids.
+    fn coarse_start(&self, control: Control, p: &mut [f64]) {
+        let Some(coarse) = self.coarse.get_or_init(|| self.build_coarse()).as_deref() else {
+            return;
+        };
+        let mut pc = vec![0.0; coarse.ny * coarse.nx];
+        coarse.coarse_start(control, &mut pc);
+        let pb = Problem {
+            tolerance: self.options.tolerance.max(1e-6),
+            ..coarse.problem()
+        };
+        if cg::solve(&pb, control, &mut pc).is_err() {
+            return;
+        }
+        for i in 0..self.ny {
+            for j in 0..self.nx {
+                p[i * self.nx + j] = pc[(i / 2) * coarse.nx + j / 2];
+            }
+        }
+    }
+
+    fn build_coarse(&self) -> Option<Box<BemSolver>> {
+        let (ny, nx) = (self.ny, self.nx);
+        if ny < COARSE_MIN || nx < COARSE_MIN || ny % 4 != 0 || nx % 4 != 0 {
+            return None;
+        }
+        let (my, mx) = (ny / 2, nx / 2);
+        let z = Array2::from_shape_vec((ny, nx), self.z.clone()).ok()?;
+        let zc = if self.geometry.periodic {
+            resample_rect(&z, my, mx).ok()?
+        } else {
+            Array2::from_shape_fn((my, mx), |(i, j)| {
+                0.25 * (z[[2 * i, 2 * j]]
+                    + z[[2 * i + 1, 2 * j]]
+                    + z[[2 * i, 2 * j + 1]]
+                    + z[[2 * i + 1, 2 * j + 1]])
+            })
+        };
+        let h = validate_heights(&zc, self.geometry.periodic).ok()?;
+        let op = match &self.source {
+            KernelSource::Spectral(s_tab) => Self::spectral_operator(
+                my,
+                mx,
+                &self.geometry,
+                self.e_star1,
+                self.c0,
+                s_tab,
+                ny,
+                nx,
+            )
+            .ok()?,
+            KernelSource::Stack(stack) => {
+                let g = crate::influence::coefficients(
+                    stack,
+                    my,
+                    mx,
+                    self.geometry.lx / mx as f64,
+                    self.geometry.ly / my as f64,
+                )
+                .ok()?;
+                Operator::free(my, mx, &g).ok()?
+            }
+        };
+        Some(Box::new(Self::assemble(
+            my,
+            mx,
+            self.geometry,
+            h,
+            self.e_star1,
+            self.c0,
+            op,
+            self.options,
+            self.source.clone(),
+        )))
+    }
+
+    /// A stiffness (Pa/m) for initial guesses: that of the longest wave on a
+    /// half-space of the top material, E*₁·π/L.
+    fn local_stiffness(&self) -> f64 {
+        self.e_star1 * std::f64::consts::PI / self.geometry.lx.max(self.geometry.ly)
+    }
+
+    fn summarise(
+        &self,
+        load: BemLoad,
+        control: Control,
+        p: Vec<f64>,
+        out: cg::CgOutcome,
+    ) -> BemSolution {
+        let (ny, nx) = (self.ny, self.nx);
+        let n2 = (ny * nx) as f64;
+        let mean_pressure = p.iter().sum::<f64>() / n2;
+        let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
+        let contact_points = contact.iter().filter(|&&c| c).count();
+        let mean_gap = out.gap.iter().sum::<f64>() / n2;
+        let (approach, mean_deflection) = if self.geometry.periodic {
+            // w̄ = C₀p̄ on a rigid base (zero-mean deflection otherwise).
+            let w = self.c0.map_or(0.0, |c0| c0 * mean_pressure);
+            (self.max_separation() - mean_gap + w, w)
+        } else {
+            // The free solid: g = w − z + c exactly, c = z_M − δ.
+            let _ = control;
+            let approach = self.z_max - out.offset;
+            (approach, mean_gap - (out.offset - self.z_mean))
+        };
+        BemSolution {
+            load,
+            mean_pressure,
+            pressure_ratio: mean_pressure / self.e_star1,
+            area_fraction: contact_points as f64 / n2,
+            contact_points,
+            patches: count_patches(&contact, ny, nx, self.geometry.periodic),
+            mean_gap,
+            approach,
+            separation: self.max_separation() - approach,
+            total_load: mean_pressure * self.area(),
+            mean_deflection,
+            iterations: out.iterations,
+            error: out.error,
+            pressure: Array2::from_shape_vec((ny, nx), p).unwrap_or_default(),
+            gap: Array2::from_shape_vec((ny, nx), out.gap).unwrap_or_default(),
+        }
+    }
+}
+
+/// Linear extrapolation of the pressure from solutions `a`, `b` (in that order) to
+/// `load`, in the load's own parameter; clipped at 0. Falls back to `b`'s field.
+fn extrapolate(a: &BemSolution, b: &BemSolution, load: BemLoad, out: &mut Vec<f64>) {
+    let param = |s: &BemSolution| match load {
+        BemLoad::MeanPressure(_) => s.mean_pressure,
+        BemLoad::MeanGap(_) => s.mean_gap,
+        BemLoad::Approach(_) | BemLoad::Separation(_) => s.approach,
+    };
+    let target = match load {
+        BemLoad::MeanPressure(p) => p,
+        BemLoad::MeanGap(g) => g,
+        BemLoad::Approach(d) => d,
+        BemLoad::Separation(g) => b.approach + b.separation - g,
+    };
+    let (pa, pb) = (param(a), param(b));
+    let f = if (pb - pa).abs() > 0.0 {
+        ((target - pb) / (pb - pa)).clamp(-1.0, 2.0)
+    } else {
+        0.0
+    };
+    out.clear();
+    out.extend(
+        a.pressure
+            .iter()
+            .zip(b.pressure.iter())
+            .map(|(&x, &y)| (y + f * (y - x)).max(0.0)),
+    );
+}
