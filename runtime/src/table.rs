@@ -827,6 +827,12 @@ mod tests {
                 "{cut}: {e}"
             );
         }
+        // A table of the previous format (1: no stated tolerance, leading far field
+        // only) is refused with the way out.
+        let mut old = bytes.clone();
+        old[8] = 1;
+        let e = Table::from_bytes(&old).unwrap_err().to_string();
+        assert!(e.contains("version 1") && e.contains("rebuild"), "{e}");
         let mut wrong = bytes.clone();
         wrong[8] = 99;
         let e = Table::from_bytes(&wrong).unwrap_err();
