@@ -149,7 +149,7 @@ impl InterpError {
             ("g far field (of (4/3)a^3/r)", self.far),
         ]
         .into_iter()
-        .find(|&(_, e)| !(e <= tol))
+        .find(|&(_, e)| e.is_nan() || e > tol)
     }
 }
 
