@@ -302,7 +302,7 @@ fn far_axis(
         None => (default_join, opts.far_max.max(20.0) * depth),
     };
     let far = choose_far_field(members, x, join, join_max, opts.tolerance)?;
-    if !(far.error <= opts.tolerance) {
+    if far.error.is_nan() || far.error > opts.tolerance {
         return Err(BuildError::Tolerance {
             what: "g far field (of (4/3)a^3/r)",
             measured: far.error,
@@ -438,7 +438,7 @@ mod tests {
     /// derivatives agree with finite differences, round trip through bytes, and
     /// stacks outside the family are refused.
     #[test]
-    fn law_for_member_and_refusals() {
+    fn slow_law_for_member_and_refusals() {
         let t = small_family();
         let bytes = t.to_bytes().unwrap();
         let t2 = Table::from_bytes(&bytes).unwrap();

@@ -188,7 +188,7 @@ pub fn choose_far_field(
             .zip(&fars)
             .map(|(st, far)| far_field_error(st, far, x, join))
             .collect();
-        let mut worst = vec![0.0_f64; FAR_TERMS + 1];
+        let mut worst = [0.0_f64; FAR_TERMS + 1];
         for e in errs {
             for (m, v) in e?.into_iter().enumerate() {
                 worst[m] = worst[m].max(v);

@@ -82,18 +82,13 @@ fn build_info_check_export() {
     assert!(text.contains("stated tolerance: 1e-2"), "{text}");
     assert!(text.contains("family: none"));
 
-    let o = strata(
-        &[
-            "table",
-            "check",
-            a.to_str().unwrap(),
-            "--points",
-            "30",
-            "--seed",
-            "3",
-        ],
-        &[],
-    );
+    let a_path = a.to_str().unwrap();
+    let check = |extra: &[&str]| {
+        let mut args = vec!["table", "check", a_path, "--points", "30", "--seed", "3"];
+        args.extend_from_slice(extra);
+        strata(&args, &[])
+    };
+    let o = check(&[]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let text = String::from_utf8_lossy(&o.stdout);
     let last: Vec<f64> = text
@@ -115,20 +110,7 @@ fn build_info_check_export() {
 
     // The same table checked against a tighter tolerance fails: exit 1, the measured
     // error and the tolerance named.
-    let o = strata(
-        &[
-            "table",
-            "check",
-            a.to_str().unwrap(),
-            "--points",
-            "30",
-            "--seed",
-            "3",
-            "--tol",
-            "1e-6",
-        ],
-        &[],
-    );
+    let o = check(&["--tol", "1e-6"]);
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(
