@@ -22,7 +22,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use crate::support::{optional_tool, repo};
+use crate::support::repo;
+use crate::tools::optional_tool;
 
 /// Nominal area of the blocks' contact faces (m²).
 const AREA: f64 = 1e-6;
@@ -67,13 +68,9 @@ fn strata_law(scene: &str, dir: &Path, extra: &[&str]) -> String {
 
 /// (overclosure, pressure) of the CSV strata wrote, overclosure ascending from 0.
 fn read_table(csv: &Path) -> Vec<(f64, f64)> {
-    let text = std::fs::read_to_string(csv).expect("law.csv");
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|x| x.parse().expect("number")).collect();
-            (v[1], v[2])
-        })
+    crate::law::read_csv(csv)
+        .iter()
+        .map(|r| (r[1], r[2]))
         .collect()
 }
 

@@ -48,7 +48,7 @@ fn fail(o: &Output) -> String {
 }
 
 /// CSV samples: (gap, overclosure, p, A/A₀, dp/dg) in loading order.
-fn read_csv(p: &Path) -> Vec<[f64; 5]> {
+pub fn read_csv(p: &Path) -> Vec<[f64; 5]> {
     let text = std::fs::read_to_string(p).expect("csv");
     let mut lines = text.lines();
     assert_eq!(

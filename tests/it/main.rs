@@ -2,6 +2,7 @@
 //! Each module is one concern; `support` holds the shared paths and helpers.
 
 mod support;
+mod tools;
 
 mod asperity;
 mod asperity_vs_bem;
