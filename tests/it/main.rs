@@ -5,6 +5,7 @@ mod support;
 
 mod asperity;
 mod asperity_vs_bem;
+mod bem_free;
 mod bem_reference;
 mod compare;
 mod compliance_cli;
