@@ -176,6 +176,8 @@ def run_speed(directory, out):
     tol = 1e-8
     rows = []
     for n in (512, 2048):
+        if not (Path(directory) / f"surface_{n}.npy").is_file():
+            continue
         z = surface(Path(directory) / f"surface_{n}.npy")
         sep = z.max() - z.mean()
         for control, value in (("pressure", 0.005 * ESTAR), ("gap", 0.5 * sep)):
