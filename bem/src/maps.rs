@@ -124,7 +124,7 @@ pub fn resample_spectral(field: &Array2<f64>, m: usize) -> Result<Array2<f64>, B
 /// |fx| < min(nx, mx)/2.
 pub fn resample_rect(field: &Array2<f64>, my: usize, mx: usize) -> Result<Array2<f64>, BemError> {
     let (ny, nx) = field.dim();
-    if my < 4 || mx < 4 || my % 2 != 0 || mx % 2 != 0 {
+    if my < 4 || mx < 4 || !my.is_multiple_of(2) || !mx.is_multiple_of(2) {
         return Err(BemError::Resample(my.min(mx)));
     }
     let a: Vec<f64> = field.iter().copied().collect();

@@ -560,7 +560,7 @@ impl BemSolver {
 
     fn build_coarse(&self) -> Option<Box<BemSolver>> {
         let (ny, nx) = (self.ny, self.nx);
-        if ny < COARSE_MIN || nx < COARSE_MIN || ny % 4 != 0 || nx % 4 != 0 {
+        if ny < COARSE_MIN || nx < COARSE_MIN || !ny.is_multiple_of(4) || !nx.is_multiple_of(4) {
             return None;
         }
         let (my, mx) = (ny / 2, nx / 2);

@@ -253,7 +253,12 @@ fn vs_tamaas(_c: &mut Criterion) {
         "n,control,load,seconds,iterations,pressure_ratio,area_fraction"
     )
     .expect("csv");
-    for n in [512usize, 2048] {
+    // STRATA_SPEED_GRIDS (e.g. "512") limits the grids; default 512 and 2048.
+    let grids: Vec<usize> = std::env::var("STRATA_SPEED_GRIDS")
+        .ok()
+        .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![512, 2048]);
+    for n in grids {
         let z = paper_surface(n);
         write_npy(&dir.join(format!("surface_{n}.npy")), &z);
         let opts = BemOptions {

@@ -267,7 +267,7 @@ impl RealFft2 {
         let h = self.half;
         let chunk = ny.div_ceil(work.lanes.len());
         let c2r = &self.c2r;
-        let even = self.grid.1 % 2 == 0;
+        let even = self.grid.1.is_multiple_of(2);
         let run = |((rows, dst), lane): ((&mut [Complex<f64>], &mut [f64]), &mut Lane)| {
             for (row, o) in rows.chunks_mut(h).zip(dst.chunks_mut(nx)) {
                 // A real field's row spectrum has real DC and Nyquist terms; round-off

@@ -3,7 +3,8 @@
 
     python compare.py tamaas SURFACE.npy OUT.csv  # homogeneous half-space, Tamaas 2.9
     python compare.py cm SURFACE.npy OUT.csv      # one layer on a rigid base, ContactMechanics 1.8
-    python compare.py speed SURFACE.npy OUT.csv   # Tamaas seconds per load step
+    python compare.py free SURFACE.npy OUT.csv    # non-periodic half-space, ContactMechanics 1.8
+    python compare.py speed DIR OUT.csv           # Tamaas seconds per load step (surfaces of the bem bench)
 
 SURFACE.npy is an n x n f64 height map (m) of a periodic cell of side L = 1 mm; run.sh
 has strata write it (its self-affine generator, the paper's parameters: D_f = 2.4,
@@ -34,6 +35,12 @@ H_LAYER = 1e-4  # single layer on rigid (ContactMechanics case)
 TAMAAS_FRACTIONS = {
     256: [0.85, 0.6, 0.4, 0.26],
     512: [0.9, 0.85, 0.75, 0.6, 0.5, 0.4, 0.3, 0.22, 0.18],
+}
+# Non-periodic (free-boundary) half-space, ContactMechanics FreeFFTElasticHalfSpace: the
+# same surface taken as an isolated sample; approaches delta (m).
+FREE_DELTAS = {
+    256: [1.0e-6, 4e-6, 9e-6, 14e-6],
+    512: [0.8e-6, 2e-6, 4e-6, 7e-6, 10e-6, 14e-6],
 }
 CM_DELTAS = {
     256: [1.2e-6, 3e-6, 4.5e-6, 6.8e-6],
@@ -126,30 +133,79 @@ def run_cm(surf, out):
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
-def run_speed(surf, out):
-    """Seconds per load step, cold start, at tolerances 1e-8 and 1e-10."""
+def run_free(surf, out):
+    from ContactMechanics import FreeFFTElasticHalfSpace
+    from ContactMechanics.Optimization import constrained_conjugate_gradients
+
     z = surface(surf)
-    sep = z.max() - z.mean()
+    n = z.shape[0]
+    zmax = z.max()
+    rms = z.std()
+    substrate = FreeFFTElasticHalfSpace((n, n), ESTAR, (L, L))
     rows = []
-    for tol in [1e-8, 1e-10]:
-        times = []
-        for _ in range(3):
-            _, model, solver = tamaas_solver(z, tol)
-            t = time.perf_counter()
-            solver.solve(0.5 * sep)
-            times.append(time.perf_counter() - t)
-        p = np.asarray(model.traction).mean() / ESTAR
-        rows.append((tol, min(times), p))
-        print(f"tamaas n={z.shape[0]} mean gap 0.5*(zM-zmean) tol {tol:g}: best of 3 {min(times):.3f} s, p/E* {p:.10e}", flush=True)
+    for delta in loads(FREE_DELTAS, z, "free"):
+        offset = delta - zmax
+        t = time.perf_counter()
+        res = constrained_conjugate_gradients(
+            substrate, z, offset=offset,
+            pentol=1e-13 * rms, forcetol=1e-12, thermotol=1e-13, maxiter=100000,
+        )
+        dt = time.perf_counter() - t
+        if not res.success:
+            raise SystemExit(f"ContactMechanics (free) did not converge at delta={delta}: {res.message}")
+        forces = np.asarray(res.jac)[:n, :n]
+        pressure = forces / (L * L / (n * n))
+        area = np.count_nonzero(pressure > 0) / pressure.size
+        rows.append((delta, pressure.mean() / ESTAR, area, dt))
+        print(f"cm free delta {delta:.3e}: p/E* {pressure.mean() / ESTAR:.8e}, A/A0 {area:.5e}, {dt:.2f} s", flush=True)
     with open(out, "w") as f:
-        f.write(f"# Tamaas 2.9 PolonskyKeerRey(gap, gap), one load step (mean gap 0.5*(zM - zmean)) from a cold start, best of 3; surface {surf}\n")
-        f.write("tolerance,seconds,pressure_ratio\n")
+        f.write(f"# ContactMechanics 1.8 FreeFFTElasticHalfSpace + constrained_conjugate_gradients, offset control; "
+                f"non-periodic half-space E*={ESTAR!r}; surface {surf} ({n}^2, L={L}) as an isolated sample\n")
+        f.write("delta,pressure_ratio,area_fraction,seconds\n")
         for r in rows:
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
+def run_speed(directory, out):
+    """Seconds per load step, cold start, tolerance 1e-8, on the surfaces the strata bench
+    wrote (DIR/surface_{512,2048}.npy), under mean-pressure (0.005 E*) and mean-gap
+    (0.5 (z_M - z_mean)) control, as in benches/benches/bem.rs (bem_vs_tamaas)."""
+    import tamaas as tm
+    from pathlib import Path
+
+    tol = 1e-8
+    rows = []
+    for n in (512, 2048):
+        if not (Path(directory) / f"surface_{n}.npy").is_file():
+            continue
+        z = surface(Path(directory) / f"surface_{n}.npy")
+        sep = z.max() - z.mean()
+        for control, value in (("pressure", 0.005 * ESTAR), ("gap", 0.5 * sep)):
+            times = []
+            for _ in range(3 if n <= 512 else 1):
+                model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [L, L], [n, n])
+                model.E = E
+                model.nu = NU
+                kind = tm.PolonskyKeerRey.pressure if control == "pressure" else tm.PolonskyKeerRey.gap
+                solver = tm.PolonskyKeerRey(model, z, tol, tm.PolonskyKeerRey.gap, kind)
+                solver.dump_freq = 10**9
+                t = time.perf_counter()
+                solver.solve(value)
+                times.append(time.perf_counter() - t)
+            p = np.asarray(model.traction).mean() / ESTAR
+            gap = np.asarray(model["gap"]).reshape(z.shape)
+            area = np.count_nonzero(gap == 0.0) / gap.size
+            rows.append((n, control, value, min(times), p, area))
+            print(f"tamaas n={n} {control} {value:e}: {min(times):.3f} s, p/E* {p:.8e}, A/A0 {area:.5e}", flush=True)
+    with open(out, "w") as f:
+        f.write("# Tamaas 2.9 PolonskyKeerRey, one load step from a cold start (best of 3 at n=512, 1 run at 2048), tolerance 1e-8\n")
+        f.write("n,control,load,seconds,iterations,pressure_ratio,area_fraction\n")
+        for n, control, value, secs, p, area in rows:
+            f.write(f"{n},{control},{value!r},{secs!r},nan,{p!r},{area!r}\n")
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
-    if len(args) != 3 or args[0] not in ("tamaas", "cm", "speed"):
+    if len(args) != 3 or args[0] not in ("tamaas", "cm", "free", "speed"):
         raise SystemExit(__doc__)
-    {"tamaas": run_tamaas, "cm": run_cm, "speed": run_speed}[args[0]](args[1], args[2])
+    {"tamaas": run_tamaas, "cm": run_cm, "free": run_free, "speed": run_speed}[args[0]](args[1], args[2])

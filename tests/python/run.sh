@@ -42,7 +42,7 @@ fail() { echo "tests/python/run.sh: ERROR: $*" >&2; exit 1; }
 
 t_start=$(date +%s)
 mkdir -p "$STRATA_PY_REF"
-rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv" "$STRATA_PY_REF/cm.csv"
+rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv" "$STRATA_PY_REF/cm.csv" "$STRATA_PY_REF/free.csv"
 if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV" || fail "cannot create a venv with $PY (install python3-venv)"
 fi
@@ -59,30 +59,36 @@ t_surf=$(date +%s)
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 "$VENV/bin/python" tests/python/compare.py tamaas "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv"
 "$VENV/bin/python" tests/python/compare.py cm "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/cm.csv"
+"$VENV/bin/python" tests/python/compare.py free "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/free.csv"
 t_py=$(date +%s)
 cargo test --test it -- --ignored bem_reference::python_ --nocapture
 t_end=$(date +%s)
 echo "python cross-checks passed: venv $((t_pip - t_start)) s, surface (cargo) $((t_surf - t_pip)) s, Python solvers $((t_py - t_surf)) s, strata comparison $((t_end - t_py)) s, total $((t_end - t_start)) s"
 
 if [ -n "$SPEED" ]; then
-    SHARED=$ROOT/../shared/reference/surface_km10.npy
-    [ -f "$SHARED" ] || fail "--speed needs $SHARED (the criterion bench uses it)"
-    "$VENV/bin/python" tests/python/compare.py speed "$SHARED" "$STRATA_PY_REF/tamaas_speed.csv"
-    cargo bench -p strata-runtime --bench bem -- halfspace_mean_gap
-    "$VENV/bin/python" - "$STRATA_PY_REF/tamaas_speed.csv" "$ROOT/target/criterion/bem_512" <<'PY'
-import csv, json, sys
-from pathlib import Path
-rows = [r for r in csv.reader(l for l in open(sys.argv[1]) if not l.startswith("#"))][1:]
-crit = Path(sys.argv[2])
-for tol, secs, _ in rows:
-    mant, exp = f"{float(tol):e}".split("e")
-    tag = f"halfspace_mean_gap_tol{float(mant):g}e{int(exp)}"  # Rust's {:e}: 1e-8
-    est_file = crit / tag / "new" / "estimates.json"
-    if not est_file.is_file():
-        print(f"tol {tol}: no criterion result {est_file}")
+    # Side by side in one run, on both cores each: strata (criterion bench `bem`, release
+    # build) writes the surfaces (n = 512, 2048) and its times; Tamaas solves the same
+    # surfaces and loads (mean pressure 0.005 E*, mean gap 0.5 (z_M - z_mean)) at the
+    # same tolerance 1e-8; the ratio table is printed.
+    SPEED_DIR=$STRATA_PY_REF/speed
+    mkdir -p "$SPEED_DIR"
+    unset OMP_NUM_THREADS
+    STRATA_TAMAAS_DIR=$SPEED_DIR cargo bench -p strata-benches --bench bem -- tamaas
+    "$VENV/bin/python" tests/python/compare.py speed "$SPEED_DIR" "$SPEED_DIR/tamaas_speed.csv"
+    "$VENV/bin/python" - "$SPEED_DIR/strata_speed.csv" "$SPEED_DIR/tamaas_speed.csv" <<'PY'
+import csv, sys
+def rows(p):
+    return [r for r in csv.DictReader(l for l in open(p) if not l.startswith("#"))]
+s = {(r["n"], r["control"]): r for r in rows(sys.argv[1])}
+print("| n | control | Tamaas (s) | strata (s) | Tamaas / strata | iterations T / s | p/E* rel. diff |")
+print("|---|---|---|---|---|---|---|")
+for t in rows(sys.argv[2]):
+    k = (t["n"], t["control"])
+    if k not in s:
         continue
-    est = json.load(open(est_file))["mean"]["point_estimate"] * 1e-9
-    print(f"n=512, one load step, tol {float(tol):g}: Tamaas {float(secs):.3f} s, strata {est:.3f} s, "
-          f"Tamaas/strata = {float(secs) / est:.2f}")
+    o = s[k]
+    ts, ss = float(t["seconds"]), float(o["seconds"])
+    dp = abs(float(o["pressure_ratio"]) / float(t["pressure_ratio"]) - 1)
+    print(f"| {k[0]} | {k[1]} | {ts:.3f} | {ss:.4f} | {ts / ss:.1f} | {t['iterations']} / {o['iterations']} | {dp:.1e} |")
 PY
 fi
