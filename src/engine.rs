@@ -52,27 +52,38 @@ macro_rules! log {
     ($quiet:expr, $($t:tt)*) => { if !$quiet { eprintln!($($t)*); } };
 }
 
-/// Logs what the reader did (units, repairs, form removal, file metadata) and the
-/// surface statistics, prints every warning (the reader's and the plausibility checks
-/// of `strata_runtime::surface::SurfaceStats`) on stderr even when `quiet`, and returns
-/// the statistics as JSON for curve.json with the warnings.
-pub fn surface_report(surface: &Surface, quiet: bool) -> (serde_json::Value, Vec<String>) {
-    for line in surface.log() {
-        log!(quiet, "surface: {line}");
-    }
-    let stats = surface.stats();
-    log!(quiet, "surface: {}", stats.describe());
-    let mut warnings: Vec<String> = surface.warnings().to_vec();
-    warnings.extend(stats.plausibility());
-    for w in &warnings {
-        eprintln!("WARNING: surface: {w}");
-    }
-    let mut json = serde_json::to_value(stats).unwrap_or_default();
+/// The reader's warnings and the plausibility warnings of the statistics
+/// (`strata_runtime::surface::SurfaceStats::plausibility`).
+pub fn surface_warnings(surface: &Surface) -> Vec<String> {
+    let mut w: Vec<String> = surface.warnings().to_vec();
+    w.extend(surface.stats().plausibility());
+    w
+}
+
+/// The statistics, repairs and reader log of a surface as JSON (curve.json
+/// `surface`, `strata surface info --json`), SI units.
+pub fn surface_json(surface: &Surface) -> serde_json::Value {
+    let mut json = serde_json::to_value(surface.stats()).unwrap_or_default();
     json["repaired_points"] = serde_json::json!(surface.repaired());
     json["read"] = serde_json::json!(surface.log());
     json["units"] = serde_json::json!({"shape": "points (x, y)", "pixel_size": "m", "size": "m",
         "mean_height": "m", "rms_height": "m", "rms_slope": "1", "peak_to_valley": "m"});
-    (json, warnings)
+    json
+}
+
+/// Logs what the reader did (units, repairs, form removal, file metadata) and the
+/// surface statistics, prints every warning ([`surface_warnings`]) on stderr even
+/// when `quiet`, and returns [`surface_json`] with the warnings.
+pub fn surface_report(surface: &Surface, quiet: bool) -> (serde_json::Value, Vec<String>) {
+    for line in surface.log() {
+        log!(quiet, "surface: {line}");
+    }
+    log!(quiet, "surface: {}", surface.stats().describe());
+    let warnings = surface_warnings(surface);
+    for w in &warnings {
+        eprintln!("WARNING: surface: {w}");
+    }
+    (surface_json(surface), warnings)
 }
 
 /// The asperity law of the scene's stack: Hertz for a homogeneous stack, otherwise

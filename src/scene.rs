@@ -81,16 +81,10 @@ pub enum SurfaceSource {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SurfaceSpec {
     pub source: SurfaceSource,
-    /// Lateral scale (m): `size` (L of the first axis, or [Lx, Ly]) or `pixel_size`;
-    /// `None` for an `.x3p` file, which gives its own.
-    pub spacing: Option<Spacing>,
-    pub periodic: bool,
-    /// What to do with non-finite heights, invalid points and spikes in a file (`repair`).
-    pub repair: Repair,
-    /// Unit of the heights of a `.npy`/text file (`height_unit`; `None`: metres).
-    pub height_unit: Option<HeightUnit>,
-    /// Form removed from a file's heights (`detrend`).
-    pub detrend: Detrend,
+    /// How a file is read: `spacing` from `size` (L of the first axis, or [Lx, Ly]) or
+    /// `pixel_size` (`None` for an `.x3p`, which gives its own; `Size(L)` for a generated
+    /// surface), `periodic`, `repair`, `height_unit`, `detrend`.
+    pub read: ReadOptions,
 }
 
 /// The model kind.
@@ -474,11 +468,13 @@ impl Scene {
                 };
                 SurfaceSpec {
                     source: SurfaceSource::File(p),
-                    spacing,
-                    periodic: periodic.unwrap_or(false),
-                    repair,
-                    height_unit,
-                    detrend,
+                    read: ReadOptions {
+                        spacing,
+                        periodic: periodic.unwrap_or(false),
+                        repair,
+                        height_unit,
+                        detrend,
+                    },
                 }
             }
             (None, Some(_)) => {
@@ -547,11 +543,12 @@ impl Scene {
                         rms: positive(g, "rms", "surface.generate.rms")?,
                         seed: seed as u64,
                     }),
-                    spacing: Some(Spacing::Size(size)),
-                    periodic: true,
-                    repair,
-                    height_unit: None,
-                    detrend: Detrend::None,
+                    read: ReadOptions {
+                        spacing: Some(Spacing::Size(size)),
+                        periodic: true,
+                        repair,
+                        ..Default::default()
+                    },
                 }
             }
         };
@@ -591,11 +588,11 @@ impl Scene {
             }
         };
         let images = match string(md, "images", "model.images")? {
-            None if surface.periodic => Images::Periodic(cells),
+            None if surface.read.periodic => Images::Periodic(cells),
             None => Images::Isolated,
             Some("isolated") => Images::Isolated,
             Some("periodic") => {
-                if !surface.periodic {
+                if !surface.read.periodic {
                     return Err(SceneError::Invalid {
                         field: "model.images".into(),
                         reason: "\"periodic\" needs a periodic surface (surface.periodic = true)"
@@ -737,16 +734,7 @@ impl Scene {
         let s = &self.surface;
         Ok(match &s.source {
             SurfaceSource::Generate(g) => Surface::generate(g)?,
-            SurfaceSource::File(p) => Surface::read(
-                p,
-                &ReadOptions {
-                    spacing: s.spacing,
-                    periodic: s.periodic,
-                    repair: s.repair,
-                    height_unit: s.height_unit,
-                    detrend: s.detrend,
-                },
-            )?,
+            SurfaceSource::File(p) => Surface::read(p, &s.read)?,
         })
     }
 }
@@ -835,7 +823,7 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
     fn good_scene() {
         let s = parse(GOOD).unwrap();
         assert_eq!(s.model.images, Images::Periodic(2));
-        assert!(s.surface.periodic);
+        assert!(s.surface.read.periodic);
         assert_eq!(s.stack.layers().len(), 1);
         let d = s.load.approaches(1e-5, 2e-5).unwrap().unwrap();
         for (x, y) in d.iter().zip([1e-6, 3e-6, 5e-6, 7e-6, 9e-6]) {

@@ -485,7 +485,7 @@ fn compare_scene(
     heading: &str,
 ) -> Result<Compared> {
     let scene = Scene::from_file(path).with_context(|| format!("scene {}", path.display()))?;
-    if !scene.surface.periodic {
+    if !scene.surface.read.periodic {
         bail!(
             "scene {}: compare runs the BEM, which needs a periodic surface (surface.periodic = true)",
             path.display()

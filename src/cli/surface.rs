@@ -226,16 +226,13 @@ fn info(a: InfoArgs) -> Result<()> {
         )?
     };
     let stats = surface.stats();
-    let mut warnings: Vec<String> = surface.warnings().to_vec();
-    warnings.extend(stats.plausibility());
+    let warnings = crate::engine::surface_warnings(&surface);
     for w in &warnings {
         eprintln!("WARNING: surface: {w}");
     }
     if a.json {
-        let mut v = serde_json::to_value(stats)?;
+        let mut v = crate::engine::surface_json(&surface);
         v["file"] = serde_json::json!(a.file.display().to_string());
-        v["repaired_points"] = serde_json::json!(surface.repaired());
-        v["read"] = serde_json::json!(surface.log());
         v["warnings"] = serde_json::json!(warnings);
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());

@@ -198,7 +198,7 @@ fn apply(text: &str, edits: &[Edit]) -> String {
 fn check(text: &str, dir: &Path) {
     match Scene::from_str_in(text, dir) {
         Ok(s) => {
-            if let Some(sp) = s.surface.spacing {
+            if let Some(sp) = s.surface.read.spacing {
                 let (dx, dy) = sp.pixel(64, 48).expect("accepted spacing");
                 assert!(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite());
             }

@@ -27,3 +27,44 @@ pub fn reference(name: &str) -> PathBuf {
     assert!(p.is_file(), "reference file missing: {}", p.display());
     p
 }
+
+/// A fresh, empty temporary directory for one test (`strata-TAG-PID`).
+#[allow(dead_code)]
+pub fn temp_dir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("strata-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
+
+/// Runs the `strata` binary with `args` (paths as given) and returns its output.
+#[allow(dead_code)]
+pub fn run_strata<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(args)
+        .output()
+        .expect("run strata")
+}
+
+/// Scene text on a homogeneous solid (E = 4 GPa, ν = 0.15) with the given `[surface]`
+/// body, `model.kind` (plus extra `[model]` lines) and `[load]` body.
+#[allow(dead_code)]
+pub fn homogeneous_scene(surface: &str, model: &str, load: &str) -> String {
+    format!(
+        "[stack]\n[[stack.layer]]\nthickness = 1e-3\nyoung = 4e9\npoisson = 0.15\n\
+         [stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+         [surface]\n{surface}\n[model]\nkind = {model}\n[load]\n{load}\n"
+    )
+}
+
+/// `strata solve SCENE --out OUT --no-plots`.
+#[allow(dead_code)]
+pub fn solve_no_plots(scene: &std::path::Path, out: &std::path::Path) -> std::process::Output {
+    run_strata(&[
+        std::ffi::OsStr::new("solve"),
+        scene.as_os_str(),
+        std::ffi::OsStr::new("--out"),
+        out.as_os_str(),
+        std::ffi::OsStr::new("--no-plots"),
+    ])
+}

@@ -4,15 +4,12 @@
 //! first), independent of strata's writer; strata's own round trip; scenes and the CLI.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
+use crate::support::{homogeneous_scene, run_strata, solve_no_plots, temp_dir};
 use strata_runtime::surface::{ReadOptions, Repair, Surface, SurfaceError};
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-x3p-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    temp_dir(&format!("x3p-{name}"))
 }
 
 /// CRC-32 (IEEE 802.3, reflected, polynomial 0xEDB88320), bit by bit.
@@ -333,29 +330,16 @@ fn handmade_int32_float64_and_datalist() {
 }
 
 fn strata(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_strata"))
-        .args(args)
-        .output()
-        .expect("run strata")
+    run_strata(args)
 }
 
-const SCENE: &str = r#"
-[stack]
-[[stack.layer]]
-thickness = 1e-3
-young = 4e9
-poisson = 0.15
-[stack.base]
-kind = "elastic"
-young = 4e9
-poisson = 0.15
-[surface]
-SURFACE
-[model]
-kind = "independent"
-[load]
-approach = { from = 1e-6, to = 6e-6, steps = 4 }
-"#;
+fn scene_with(surface: &str) -> String {
+    homogeneous_scene(
+        surface,
+        "\"independent\"",
+        "approach = { from = 1e-6, to = 6e-6, steps = 4 }",
+    )
+}
 
 /// `strata surface export` of a generated (periodic) surface to .x3p and .npy; a scene
 /// reading the .x3p (sizes from the file) solves to exactly the generated scene's
@@ -364,8 +348,7 @@ approach = { from = 1e-6, to = 6e-6, steps = 4 }
 #[test]
 fn export_round_trip_and_scene() {
     let dir = tmp("export");
-    let generated = SCENE.replace(
-        "SURFACE",
+    let generated = scene_with(
         "size = 1e-3\n[surface.generate]\ngrid = 64\nfractal_dimension = 2.4\nk_min = 2\nk_max = 10\nrms = 3.4e-6\nseed = 3",
     );
     let sg = dir.join("gen.toml");
@@ -400,21 +383,11 @@ fn export_round_trip_and_scene() {
     assert_eq!(back_npy.heights(), original.heights());
     // The scene with file = gen.x3p (periodic as the generated one) solves identically.
     let sx = dir.join("x3p.toml");
-    std::fs::write(
-        &sx,
-        SCENE.replace("SURFACE", "file = \"gen.x3p\"\nperiodic = true"),
-    )
-    .expect("scene");
+    std::fs::write(&sx, scene_with("file = \"gen.x3p\"\nperiodic = true")).expect("scene");
     let mut curves = Vec::new();
     for (sc, name) in [(&sg, "a"), (&sx, "b")] {
         let out = dir.join(name);
-        let o = strata(&[
-            "solve",
-            sc.to_str().unwrap_or_default(),
-            "--out",
-            out.to_str().unwrap_or_default(),
-            "--no-plots",
-        ]);
+        let o = solve_no_plots(sc, &out);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         curves.push(std::fs::read_to_string(out.join("curve.csv")).expect("csv"));
         if name == "b" {
@@ -434,11 +407,7 @@ fn export_round_trip_and_scene() {
     }
     assert_eq!(curves[0], curves[1]);
     // An .x3p gives its own sizes: a size in the scene is refused by name.
-    std::fs::write(
-        &sx,
-        SCENE.replace("SURFACE", "file = \"gen.x3p\"\nsize = 1e-3"),
-    )
-    .expect("scene");
+    std::fs::write(&sx, scene_with("file = \"gen.x3p\"\nsize = 1e-3")).expect("scene");
     let o = strata(&[
         "solve",
         sx.to_str().unwrap_or_default(),

@@ -611,7 +611,8 @@ impl Sweep {
                         SurfaceField::FractalDimension => g.fractal_dimension = x,
                         SurfaceField::Size => {
                             g.size = x;
-                            scene.surface.spacing = Some(strata_runtime::surface::Spacing::Size(x));
+                            scene.surface.read.spacing =
+                                Some(strata_runtime::surface::Spacing::Size(x));
                         }
                         SurfaceField::Grid => g.grid = x as usize,
                         SurfaceField::Seed => g.seed = x as u64,
@@ -630,7 +631,8 @@ impl Sweep {
                         (_, Images::Periodic(m)) => Images::Periodic(m),
                         _ => Images::Periodic(2),
                     };
-                    if matches!(scene.model.images, Images::Periodic(_)) && !scene.surface.periodic
+                    if matches!(scene.model.images, Images::Periodic(_))
+                        && !scene.surface.read.periodic
                     {
                         bail!("sweep.model.images: \"periodic\" needs a periodic surface");
                     }
