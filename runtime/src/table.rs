@@ -45,7 +45,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::law::AsperityLaw;
+use crate::law::{AsperityLaw, half_space_bracket};
 use crate::stack::{Base, Stack, StackError};
 pub use interp::Axis;
 
@@ -182,16 +182,6 @@ fn varied_ratio(stack: &Stack, vary: Vary) -> Option<f64> {
 
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
-}
-
-/// The half-space bracket (2a² − r²) asin(a/r) + a√(r² − a²) (m²), r ≥ a.
-fn half_space_bracket(a: f64, r: f64) -> f64 {
-    let q = (a / r).min(1.0);
-    if q < 1e-3 {
-        let q2 = q * q;
-        return r * r * q * q2 * (4.0 / 3.0 + q2 * (2.0 / 15.0 + q2 * (3.0 / 70.0)));
-    }
-    (2.0 * a * a - r * r) * q.asin() + a * (r * r - a * a).max(0.0).sqrt()
 }
 
 impl Table {

@@ -305,18 +305,8 @@ impl Approx {
     }
 }
 
-/// The half-space part of the outside-displacement bracket,
-/// (2a² − r²) asin(a/r) + a √(r² − a²) (m², r ≥ a); → (4/3) a³/r for r ≫ a.
-pub fn half_space_bracket(a: f64, r: f64) -> f64 {
-    let q = (a / r).min(1.0);
-    if q < 1e-3 {
-        // Series: (4/3)a³/r + (2/15)a⁵/r³ + (1/35)·a⁷/r⁵·(2/... ) — use the exact
-        // expansion of the closed form in q = a/r, times r²: Σ terms.
-        let q2 = q * q;
-        return r * r * q * q2 * (4.0 / 3.0 + q2 * (2.0 / 15.0 + q2 * (3.0 / 70.0)));
-    }
-    (2.0 * a * a - r * r) * q.asin() + a * (r * r - a * a).max(0.0).sqrt()
-}
+/// The half-space part of the outside-displacement bracket (one copy, in the runtime).
+pub use strata_runtime::law::half_space_bracket;
 
 /// Frequency served by cache level L (m): 2^L · h₁.
 fn level_omega(level: usize, h1: f64) -> f64 {
