@@ -23,22 +23,24 @@ pub enum RoughError {
         expected: usize,
         found: usize,
     },
-    #[error("N model: {0}")]
+    #[error(transparent)]
     Independent(#[from] IndependentError),
-    #[error("I model far field: {0}")]
+    #[error(transparent)]
     FarField(#[from] FarFieldError),
-    #[error("I model: {0}")]
+    #[error(transparent)]
     Newton(#[from] NewtonError),
-    #[error("pressure control: {0}")]
+    #[error(transparent)]
     Pressure(#[from] PressureError),
-    #[error("I model: {0}")]
+    #[error(transparent)]
     Memory(#[from] ResourceError),
 }
 
 /// The N model (single-asperity inversions).
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum IndependentError {
-    #[error("asperity {index}: cannot solve ζ(a)a²/R = δ for a (δ = {delta}, R = {radius})")]
+    #[error(
+        "N model: asperity {index}: cannot solve ζ(a)a²/R = δ for a (δ = {delta}, R = {radius})"
+    )]
     NoRoot {
         index: usize,
         delta: f64,
@@ -50,7 +52,7 @@ pub enum IndependentError {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum FarFieldError {
     #[error(
-        "contact radii keep leaving the far-field model's range (last bound A = {bound:e} m, \
+        "I model far field: contact radii keep leaving the far-field model's range (last bound A = {bound:e} m, \
          radius {radius:e} m) after {attempts} rebuilds"
     )]
     Bound {
@@ -64,7 +66,7 @@ pub enum FarFieldError {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum NewtonError {
     #[error(
-        "did not converge at δ = {delta:e} m: KKT residual {residual:e} (tolerance {tolerance:e}) \
+        "I model: did not converge at δ = {delta:e} m: KKT residual {residual:e} (tolerance {tolerance:e}) \
          after {newton_steps} Newton steps"
     )]
     NotConverged {
@@ -74,7 +76,7 @@ pub enum NewtonError {
         newton_steps: usize,
     },
     #[error(
-        "stalled at δ = {delta:e} m: {what} budget exhausted ({used} of {limit}; KKT residual \
+        "I model: stalled at δ = {delta:e} m: {what} budget exhausted ({used} of {limit}; KKT residual \
          {residual:e}); raise Params::{field} or reduce the load step"
     )]
     Budget {
@@ -85,9 +87,9 @@ pub enum NewtonError {
         limit: String,
         residual: f64,
     },
-    #[error("non-finite value in the {0}")]
+    #[error("I model: non-finite value in the {0}")]
     NonFinite(&'static str),
-    #[error("the Jacobian of the stationarity system is singular at δ = {delta:e} m")]
+    #[error("I model: the Jacobian of the stationarity system is singular at δ = {delta:e} m")]
     Singular { delta: f64 },
 }
 

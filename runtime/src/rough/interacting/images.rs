@@ -72,7 +72,7 @@ impl Prepared {
         let n = cand.len();
         check_memory(
             format!(
-                "pair coefficients of {n} loaded asperities ({} bytes per pair, dense Jacobian included)",
+                "I model: pair coefficients of {n} loaded asperities ({} bytes per pair, dense Jacobian included)",
                 PAIR_BYTES
             ),
             bytes_for((n as u64).saturating_mul(n as u64), PAIR_BYTES),
