@@ -1074,7 +1074,7 @@ mod outputs {
             "s.txt",
             "",
             "independent",
-            "approach = { from = 1e-6, to = 1, steps = 3 }",
+            "approach = { from = 1e-6, to = -1e-6, steps = 3 }",
         );
         let o = strata(&[
             "solve",

@@ -63,6 +63,10 @@ pub struct Params {
     pub step_time_budget: f64,
     /// Pressure control: relative tolerance on the mean pressure. Default 1e-10.
     pub pressure_tolerance: f64,
+    /// Pressure control of the N model (cheap and exact to round-off): relative tolerance
+    /// on the mean pressure, tighter so that its steps reproduce the target for
+    /// comparisons at equal pressure. Default 1e-13.
+    pub independent_pressure_tolerance: f64,
     /// Pressure control: most solves of the search. Default 200.
     pub max_pressure_iterations: usize,
 }
@@ -88,6 +92,7 @@ impl Default for Params {
             max_step_newton_steps: 20_000,
             step_time_budget: 60.0,
             pressure_tolerance: 1e-10,
+            independent_pressure_tolerance: 1e-13,
             max_pressure_iterations: 200,
         }
     }

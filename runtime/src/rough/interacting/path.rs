@@ -107,12 +107,16 @@ pub(crate) fn solve_pressure(
         }
         hi *= 2.0;
     };
+    let tol = match images {
+        None => prm.independent_pressure_tolerance,
+        Some(_) => prm.pressure_tolerance,
+    };
     let (mut lo, mut d) = (0.0, hi);
     let mut w = hi_step.radii.clone();
     let mut rate: Vec<f64> = Vec::new();
     for _ in 0..prm.max_pressure_iterations {
         let err = hi_step.mean_pressure - target;
-        if err.abs() <= prm.pressure_tolerance * target {
+        if err.abs() <= tol * target {
             return Ok(hi_step);
         }
         if err < 0.0 {
