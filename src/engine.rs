@@ -191,9 +191,11 @@ pub fn solve_scene(
         "layered solid (χ, ζ from the table; g too for the I model)"
     };
     log!(quiet, "simulating: {effects}; {layered}");
+    // Any approach δ ≥ 0 is admissible for the asperity models: steps beyond their
+    // validity are solved, logged and flagged in curve.json.
     let steps: Vec<Step> = match scene
         .load
-        .approaches(rc.top_to_mean(), rc.max_delta())
+        .approaches(rc.top_to_mean(), f64::INFINITY)
         .context("load")?
     {
         Some(d) => rc.curve(model, &d)?,
@@ -214,6 +216,16 @@ pub fn solve_scene(
         }
     };
     let seconds = t0.elapsed().as_secs_f64();
+    for (i, s) in steps.iter().enumerate() {
+        if !s.validity.is_valid() {
+            log!(
+                quiet,
+                "warning: load step {i} (δ = {:e} m) is outside the asperity model's validity: {}",
+                s.delta,
+                s.validity.describe()
+            );
+        }
+    }
     if let Some(w) = steps
         .iter()
         .filter_map(|s| s.kkt_residual)
@@ -345,6 +357,7 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
             kkt_residual: None,
             iterations: sol.iterations,
             radii: Vec::new(),
+            ..Default::default()
         });
         warm = Some(flat);
         if opts.keep_maps {

@@ -74,7 +74,7 @@ pub enum InterfaceError {
         reason: &'static str,
     },
     #[error(
-        "min_gap = {value:e} m is invalid: it must be finite, below the first-contact separation {first_contact:e} m and at least {lowest:e} m (the deepest valley)"
+        "min_gap = {value:e} m is invalid: it must be finite and below the first-contact separation {first_contact:e} m"
     )]
     MinGap {
         value: f64,
@@ -178,7 +178,9 @@ impl InterfaceLaw {
         opts: &SampleOptions,
     ) -> Result<Self, InterfaceError> {
         let g0 = rc.top_to_mean();
-        let lowest = g0 - rc.max_delta();
+        // Any separation below first contact is admissible (the flat may pass the
+        // deepest valley; the steps record where the model leaves its validity).
+        let lowest = f64::NEG_INFINITY;
         let n = opts.samples;
         if n < 2 {
             return Err(InterfaceError::TooFewSamples(n));
@@ -200,10 +202,7 @@ impl InterfaceLaw {
             });
         }
         let gaps = sample_gaps(g0, gmin, n);
-        let deltas: Vec<f64> = gaps
-            .iter()
-            .map(|&g| (g0 - g).clamp(0.0, rc.max_delta()))
-            .collect();
+        let deltas: Vec<f64> = gaps.iter().map(|&g| (g0 - g).max(0.0)).collect();
         let steps = rc.curve(model, &deltas)?;
         let p: Vec<f64> = steps.iter().map(|s| s.mean_pressure).collect();
         let k: Vec<f64> = steps.iter().map(|s| s.stiffness / rc.area()).collect();
@@ -674,7 +673,14 @@ mod tests {
         for g in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
             assert!(matches!(il.eval(g), Err(InterfaceError::NonFiniteGap(_))));
         }
-        for bad in [f64::NAN, 1e-6, 2e-6, -4.1e-6] {
+        // below the deepest valley (−4e-6 m) is admissible: the steps flag it
+        let o = SampleOptions {
+            samples: 20,
+            min_gap: -4.1e-6,
+        };
+        let deep = InterfaceLaw::sample(&rc, Model::Independent, &o).expect("beyond the valley");
+        assert!(deep.eval(-4.1e-6).expect("eval").pressure > 0.0);
+        for bad in [f64::NAN, 1e-6, 2e-6] {
             let o = SampleOptions {
                 samples: 20,
                 min_gap: bad,

@@ -71,7 +71,7 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use crate::law::AsperityLaw;
+use crate::law::{AsperityLaw, half_space_bracket};
 use crate::stack::{Base, Stack, StackError};
 pub use interp::Axis;
 
@@ -236,8 +236,6 @@ fn varied_ratio(stack: &Stack, vary: Vary) -> Option<f64> {
 fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
-
-pub use far::half_space_bracket;
 
 impl Table {
     /// Number of family members (1 without a family).

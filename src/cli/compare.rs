@@ -658,6 +658,7 @@ mod tests {
             kkt_residual: None,
             iterations: 0,
             radii: Vec::new(),
+            ..Default::default()
         }
     }
 

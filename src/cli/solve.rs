@@ -187,6 +187,10 @@ pub fn write_outputs(
             "delta": s.delta, "gap": s.gap, "load": s.load, "mean_pressure": s.mean_pressure,
             "pressure_ratio": s.pressure_ratio, "area_fraction": s.area_fraction,
             "contacts": s.contacts, "stiffness": s.stiffness, "kkt_residual": s.kkt_residual,
+            "validity": {"valid": s.validity.is_valid(), "below_mean_plane": s.validity.below_mean_plane,
+                         "beyond_deepest_valley": s.validity.beyond_deepest_valley,
+                         "area_above_nominal": s.validity.area_above_nominal,
+                         "overlapping_contacts": s.validity.overlapping_contacts},
         })).collect());
     let json = meta;
     write_atomic(

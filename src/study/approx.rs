@@ -17,7 +17,6 @@
 use anyhow::{Context, Result, bail};
 use strata_runtime::Stack;
 use strata_runtime::law::{self, AsperityLaw};
-use strata_runtime::rough::contact_radius;
 use strata_runtime::table::Table;
 use strata_tablegen::approx::Approx;
 use strata_tablegen::asperity::{Asperity, Options};
@@ -121,39 +120,12 @@ impl AsperityLaw for Direct<'_> {
     }
 }
 
-/// a′ with ζ(a′)a′²/R = δ by bisection on ln a (60 halvings of a bracket grown
-/// from the Hertz radius: relative accuracy ~1e−16 in a).
+/// a′ with ζ(a′)a′²/R = δ ([`law::contact_radius`], to round-off).
 fn radius_for(law: &dyn AsperityLaw, delta: f64) -> Result<f64> {
-    let f = |a: f64| law::interference(law, a, RADIUS) - delta;
-    let hertz = (RADIUS * delta).sqrt();
-    let (mut lo, mut hi) = (hertz, hertz);
-    for _ in 0..60 {
-        if f(lo) <= 0.0 {
-            break;
-        }
-        lo *= 0.5;
+    match law::contact_radius(law, RADIUS, delta) {
+        Some(a) if a.is_finite() => Ok(a),
+        _ => bail!("cannot solve for the contact radius at δ = {delta:e} m"),
     }
-    for _ in 0..60 {
-        if f(hi) >= 0.0 {
-            break;
-        }
-        hi *= 2.0;
-    }
-    if !(f(lo) <= 0.0 && f(hi) >= 0.0) {
-        bail!("cannot bracket the contact radius for δ = {delta:e} m");
-    }
-    for _ in 0..200 {
-        let mid = (lo * hi).sqrt();
-        if mid <= lo || mid >= hi {
-            break;
-        }
-        if f(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Ok((lo * hi).sqrt())
 }
 
 pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<Results> {
@@ -200,7 +172,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
             let delta = s.delta;
             let table_t = runner.time_batch("approx", &format!("{case},table"), 200, |i| {
                 let d = delta * (1.0 + 1e-9 * (i % 7) as f64);
-                let r = contact_radius(&tlaw, RADIUS, d).unwrap_or(0.0);
+                let r = law::contact_radius(&tlaw, RADIUS, d).unwrap_or(0.0);
                 law::force(&tlaw, r, RADIUS)
             })?;
             let row = Row {

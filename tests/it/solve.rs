@@ -176,3 +176,35 @@ fn bad_scenes_name_the_field() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 19.1 through the command: separations below the deepest valley (δ > z_M −
+/// z_min) are solved by the I model, logged as outside the model's validity and flagged
+/// per step in curve.json; the first step (inside the surface) is valid.
+#[test]
+fn separations_below_the_valley_are_solved_and_flagged() {
+    let dir = tmp("deep");
+    let sc = scene(&dir, "interacting", |t| {
+        t.replace(
+            "separations = [9e-6, 7e-6, 5e-6, 3e-6]",
+            "separations = [3e-6, -2e-5]",
+        )
+    });
+    let out = dir.join("out");
+    let o = solve(&sc, &out, &["--no-plots"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("outside the asperity model's validity"),
+        "{err}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).expect("json"))
+            .expect("valid json");
+    let steps = json["steps"].as_array().expect("steps");
+    assert_eq!(steps[0]["validity"]["valid"], true);
+    assert_eq!(steps[1]["validity"]["beyond_deepest_valley"], true);
+    assert_eq!(steps[1]["validity"]["below_mean_plane"], true);
+    assert!(steps[1]["kkt_residual"].as_f64().expect("kkt") < 1e-8);
+    assert!(steps[1]["load"].as_f64().expect("load") > steps[0]["load"].as_f64().expect("load"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,110 @@
+//! Errors of the rough-contact solvers: one type per stage, gathered in [`RoughError`].
+
+use thiserror::Error;
+
+use crate::resources::ResourceError;
+
+/// Errors of the rough-contact solvers.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum RoughError {
+    #[error("no summits: the surface has no asperity to load")]
+    NoSummits,
+    #[error("{field}: value {value} out of range: {reason}")]
+    LoadOutOfRange {
+        field: &'static str,
+        value: f64,
+        reason: String,
+    },
+    #[error("non-finite value in {0}")]
+    NonFinite(&'static str),
+    #[error("{field}: expected {expected} values (one per summit), found {found}")]
+    Length {
+        field: &'static str,
+        expected: usize,
+        found: usize,
+    },
+    #[error(transparent)]
+    Independent(#[from] IndependentError),
+    #[error(transparent)]
+    FarField(#[from] FarFieldError),
+    #[error(transparent)]
+    Newton(#[from] NewtonError),
+    #[error(transparent)]
+    Pressure(#[from] PressureError),
+    #[error(transparent)]
+    Memory(#[from] ResourceError),
+}
+
+/// The N model (single-asperity inversions).
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum IndependentError {
+    #[error(
+        "N model: asperity {index}: cannot solve ζ(a)a²/R = δ for a (δ = {delta}, R = {radius})"
+    )]
+    NoRoot {
+        index: usize,
+        delta: f64,
+        radius: f64,
+    },
+}
+
+/// The far-field model of the interaction kernel.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FarFieldError {
+    #[error(
+        "I model far field: contact radii keep leaving the far-field model's range (last bound A = {bound:e} m, \
+         radius {radius:e} m) after {attempts} rebuilds"
+    )]
+    Bound {
+        bound: f64,
+        radius: f64,
+        attempts: usize,
+    },
+}
+
+/// The active-set Newton method of the I model.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum NewtonError {
+    #[error(
+        "I model: did not converge at δ = {delta:e} m: KKT residual {residual:e} (tolerance {tolerance:e}) \
+         after {newton_steps} Newton steps"
+    )]
+    NotConverged {
+        delta: f64,
+        residual: f64,
+        tolerance: f64,
+        newton_steps: usize,
+    },
+    #[error(
+        "I model: stalled at δ = {delta:e} m: {what} budget exhausted ({used} of {limit}; KKT residual \
+         {residual:e}); raise Params::{field} or reduce the load step"
+    )]
+    Budget {
+        delta: f64,
+        what: &'static str,
+        field: &'static str,
+        used: String,
+        limit: String,
+        residual: f64,
+    },
+    #[error("I model: non-finite value in the {0}")]
+    NonFinite(&'static str),
+    #[error("I model: the Jacobian of the stationarity system is singular at δ = {delta:e} m")]
+    Singular { delta: f64 },
+}
+
+/// The pressure-controlled driver.
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum PressureError {
+    #[error("load.mean_pressures: value {target:e} Pa out of range: {reason}")]
+    OutOfRange { target: f64, reason: String },
+    #[error(
+        "load.mean_pressures: no convergence of the search for {target:e} Pa after \
+         {iterations} solves (last δ = {delta:e} m)"
+    )]
+    NoConvergence {
+        target: f64,
+        iterations: usize,
+        delta: f64,
+    },
+}

@@ -1,0 +1,345 @@
+//! The I-model energy U_E (P22), its scaled gradient F and Jacobian ∂F/∂a on a prepared
+//! geometry (interacting module docs). [`State`] is the workspace of one solve: it is
+//! allocated once and refilled at every evaluation.
+
+use super::far_field::{FarModel, NB, Vb, bracket, dot};
+use super::images::Prepared;
+use crate::law::AsperityLaw;
+use crate::rough::local::Local;
+
+/// Zero basis (inactive asperity or no far model).
+const ZB: (Vb, Vb) = ([0.0; NB], [0.0; NB]);
+
+/// [G, ∂G/∂a, c₀, c_χ, c_ζ] of an asperity (contact radius a, radius R, local quantities
+/// `l`) at distance r (P19): G = a²ζ/R inside (r ≤ a), χB(a, r)/(πR) outside, with
+/// ∂²G/∂a² = c₀ + c_χ χ″ + c_ζ ζ″ (the law gives no second derivatives of χ, ζ):
+/// outside G″ = (χ″B + 2χ′B′ + χB″)/(πR), inside G″ = (2ζ + 4aζ′ + a²ζ″)/R.
+/// `h_rel`: relative step of the differences of g (see [`bracket`]).
+pub(crate) fn g_derivs(
+    law: &dyn AsperityLaw,
+    l: &Local,
+    a: f64,
+    radius: f64,
+    r: f64,
+    h_rel: f64,
+) -> [f64; 5] {
+    if a <= 0.0 {
+        return [0.0; 5];
+    }
+    if r <= a {
+        return [
+            a * a * l.zeta / radius,
+            (2.0 * a * l.zeta + a * a * l.dzeta) / radius,
+            (2.0 * l.zeta + 4.0 * a * l.dzeta) / radius,
+            0.0,
+            a * a / radius,
+        ];
+    }
+    let (b, db, d2b) = bracket(law, a, r, h_rel);
+    let k = 1.0 / (std::f64::consts::PI * radius);
+    [
+        l.chi * k * b,
+        k * (l.dchi * b + l.chi * db),
+        k * (2.0 * l.dchi * db + l.chi * d2b),
+        k * b,
+        0.0,
+    ]
+}
+
+/// Everything the residual needs at one set of contact radii: the workspace of a solve.
+#[derive(Default)]
+pub(crate) struct State {
+    pub a: Vec<f64>,
+    pub loc: Vec<Local>,
+    /// (ℓ_i(a), dℓ_i/da) per local index (zero where a = 0 or without far model).
+    pub basis: Vec<(Vb, Vb)>,
+    /// Σ_{l≠k} G_l at k (m).
+    pub d_other: Vec<f64>,
+    /// Σ_{l≠k} Q_l N_kl (far model).
+    pub u_other: Vec<Vb>,
+    /// Per near entry (G_p, ∂G_p/∂a_p, G_q, ∂G_q/∂a_q) at its distance.
+    pub near_vals: Vec<[f64; 4]>,
+    /// Σ_near Q_q ∂²G_k/∂a_k² + Q_k Σ_self ∂²G_k/∂a_k² as [c₀, c_χ, c_ζ] (see
+    /// [`g_derivs`]): the a_k-derivative of the near part of E_k, for the Jacobian.
+    pub near_d2: Vec<[f64; 3]>,
+    /// Σ_near Q_q ∂G_k(r)/∂a_k.
+    pub e_cross: Vec<f64>,
+    /// Σ of the near self images G_k(r) and ∂G_k(r)/∂a_k.
+    pub self_g: Vec<f64>,
+    pub self_h: Vec<f64>,
+    /// F (NaN where a = 0).
+    pub f: Vec<f64>,
+    /// Scratch: active local indices and their far-field source vectors (l, Q_l, y_l).
+    act: Vec<usize>,
+    y: Vec<(usize, f64, Vb)>,
+}
+
+/// Resizes `v` to `n` copies of `x` without reallocating when it is large enough.
+fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
+    v.clear();
+    v.resize(n, x);
+}
+
+/// The energy of one approach on a prepared geometry: the law, the geometry, the
+/// interferences δ_k of the candidates (m) and the difference steps.
+pub(crate) struct Energy<'p> {
+    pub law: &'p dyn AsperityLaw,
+    pub geo: &'p Prepared,
+    pub deltas: &'p [f64],
+    /// Relative step of the differences of g in a.
+    pub h_g: f64,
+    /// Relative step of the differences of the Jacobian diagonal.
+    pub h_jac: f64,
+}
+
+impl Energy<'_> {
+    fn far(&self) -> Option<&FarModel> {
+        self.geo.far.as_ref()
+    }
+
+    /// Evaluates the state at contact radii `a` (local indices, m) into `st`.
+    pub fn eval(&self, a: &[f64], st: &mut State) {
+        let (law, geo, deltas) = (self.law, self.geo, self.deltas);
+        let n = geo.n();
+        let pi = std::f64::consts::PI;
+        st.a.clear();
+        st.a.extend_from_slice(a);
+        st.loc.clear();
+        st.loc.extend((0..n).map(|p| {
+            if a[p] > 0.0 {
+                Local::at(law, a[p], geo.radius[p])
+            } else {
+                Local::default()
+            }
+        }));
+        st.act.clear();
+        st.act.extend((0..n).filter(|&p| a[p] > 0.0));
+        refill(&mut st.basis, n, ZB);
+        refill(&mut st.d_other, n, 0.0);
+        refill(&mut st.u_other, n, [0.0; NB]);
+        if let Some(far) = self.far() {
+            for &l in &st.act {
+                st.basis[l] = far.basis(a[l]);
+            }
+            st.y.clear();
+            for &l in &st.act {
+                let mut v = st.basis[l].0;
+                v.iter_mut().for_each(|x| *x *= st.loc[l].q / pi);
+                st.y.push((l, st.loc[l].q, v));
+            }
+            for (k, &dk) in deltas.iter().enumerate() {
+                if dk <= 0.0 {
+                    continue;
+                }
+                let row = &geo.nf[k * n..(k + 1) * n];
+                let mut d = 0.0;
+                let mut u = [0.0; NB];
+                for (l, ql, yl) in &st.y {
+                    if *l == k {
+                        continue;
+                    }
+                    let nkl = &row[*l];
+                    for i in 0..NB {
+                        d += nkl[i] * yl[i];
+                        u[i] += ql * nkl[i];
+                    }
+                }
+                st.d_other[k] = d;
+                st.u_other[k] = u;
+            }
+        }
+        refill(&mut st.near_vals, geo.near.len(), [0.0; 4]);
+        refill(&mut st.near_d2, n, [0.0; 3]);
+        refill(&mut st.e_cross, n, 0.0);
+        for (e, &(p, q, r)) in geo.near.iter().enumerate() {
+            if a[p] <= 0.0 && a[q] <= 0.0 {
+                continue;
+            }
+            let dp = g_derivs(law, &st.loc[p], a[p], geo.radius[p], r, self.h_g);
+            let dq = g_derivs(law, &st.loc[q], a[q], geo.radius[q], r, self.h_g);
+            st.near_vals[e] = [dp[0], dp[1], dq[0], dq[1]];
+            st.d_other[q] += dp[0];
+            st.d_other[p] += dq[0];
+            st.e_cross[p] += st.loc[q].q * dp[1];
+            st.e_cross[q] += st.loc[p].q * dq[1];
+            for i in 0..3 {
+                st.near_d2[p][i] += st.loc[q].q * dp[2 + i];
+                st.near_d2[q][i] += st.loc[p].q * dq[2 + i];
+            }
+        }
+        refill(&mut st.self_g, n, 0.0);
+        refill(&mut st.self_h, n, 0.0);
+        for &p in &st.act {
+            for &r in &geo.near_self {
+                let d = g_derivs(law, &st.loc[p], a[p], geo.radius[p], r, self.h_g);
+                st.self_g[p] += d[0];
+                st.self_h[p] += d[1];
+                for i in 0..3 {
+                    st.near_d2[p][i] += st.loc[p].q * d[2 + i];
+                }
+            }
+        }
+        refill(&mut st.f, n, f64::NAN);
+        for i in 0..st.act.len() {
+            let p = st.act[i];
+            st.f[p] = self.f_of(
+                st,
+                p,
+                &st.loc[p],
+                &st.basis[p],
+                (st.self_g[p], st.self_h[p], st.e_cross[p]),
+            );
+        }
+    }
+
+    /// Total displacement D_k at k (m) and E_k = Σ_j Q_j ∂G_k(r_kj)/∂a_k (m²) with
+    /// asperity p at the local state `lp`, `b` (basis), and its near sums
+    /// `near` = (Σ self G, Σ self ∂G/∂a, Σ_near Q_q ∂G_p/∂a_p); others from `st`.
+    fn d_e(
+        &self,
+        st: &State,
+        p: usize,
+        lp: &Local,
+        b: &(Vb, Vb),
+        near: (f64, f64, f64),
+    ) -> (f64, f64) {
+        let mut d = st.d_other[p] + near.0;
+        let mut e = near.2 + lp.q * near.1;
+        if self.far().is_some() {
+            let n = self.geo.n();
+            let nkk = &self.geo.nf[p * n + p];
+            let mut u = st.u_other[p];
+            for i in 0..NB {
+                u[i] += lp.q * nkk[i];
+            }
+            let pi = std::f64::consts::PI;
+            d += lp.q * dot(nkk, &b.0) / pi;
+            e += (lp.dq * dot(&u, &b.0) + lp.q * dot(&u, &b.1)) / pi;
+        }
+        (d, e)
+    }
+
+    /// U_E/c (m³) at the state `st`: Σ_k Q_k (D_k + s_k − 2δ_k) (module docs).
+    pub fn energy(&self, st: &State) -> f64 {
+        let mut u = 0.0;
+        for (k, dk) in self.deltas.iter().enumerate() {
+            if st.a[k] > 0.0 {
+                let l = &st.loc[k];
+                let near = (st.self_g[k], st.self_h[k], st.e_cross[k]);
+                let (d, _) = self.d_e(st, k, l, &st.basis[k], near);
+                u += l.q * (d + l.s - 2.0 * dk);
+            }
+        }
+        u
+    }
+
+    /// F_p (m) with asperity p in the local state `lp` (module docs).
+    fn f_of(&self, st: &State, p: usize, lp: &Local, b: &(Vb, Vb), near: (f64, f64, f64)) -> f64 {
+        let (d, e) = self.d_e(st, p, lp, b, near);
+        d + lp.s - 2.0 * self.deltas[p] + (lp.q * lp.ds + e) / lp.dq
+    }
+
+    /// F_p as a function of a_p = `ap` alone, the others fixed at `st`: the Jacobian
+    /// diagonal and F_p(0⁺) of inactive asperities.
+    pub fn row(&self, st: &State, p: usize, ap: f64) -> f64 {
+        let (law, geo) = (self.law, self.geo);
+        let rp = geo.radius[p];
+        let lp = Local::at(law, ap, rp);
+        let b = self.far().map_or(ZB, |f| f.basis(ap));
+        let (mut sg, mut sh, mut ec) = (0.0, 0.0, 0.0);
+        for &r in &geo.near_self {
+            let d = g_derivs(law, &lp, ap, rp, r, self.h_g);
+            sg += d[0];
+            sh += d[1];
+        }
+        for &e in &geo.near_of[p] {
+            let (i, j, r) = geo.near[e];
+            let o = if i == p { j } else { i };
+            if st.a[o] > 0.0 {
+                ec += st.loc[o].q * g_derivs(law, &lp, ap, rp, r, self.h_g)[1];
+            }
+        }
+        self.f_of(st, p, &lp, &b, (sg, sh, ec))
+    }
+
+    /// The Jacobian ∂F_k/∂a_l on the active set `act` (row-major |act|²): off-diagonal
+    /// entries analytic, the diagonal by central differences of the local and far parts
+    /// (relative step `h_jac`) plus the analytic a-derivative of the near sums.
+    pub fn jacobian(&self, st: &State, act: &[usize]) -> Vec<f64> {
+        let geo = self.geo;
+        let (n, ma) = (geo.n(), act.len());
+        let mut jm = vec![0.0; ma * ma];
+        let pi = std::f64::consts::PI;
+        if self.far().is_some() {
+            let z: Vec<Vb> = act
+                .iter()
+                .map(|&l| {
+                    let (lq, (b, db)) = (&st.loc[l], &st.basis[l]);
+                    let mut v = [0.0; NB];
+                    for i in 0..NB {
+                        v[i] = (lq.dq * b[i] + lq.q * db[i]) / pi;
+                    }
+                    v
+                })
+                .collect();
+            for (ii, &k) in act.iter().enumerate() {
+                let row = &geo.nf[k * n..(k + 1) * n];
+                let dqk = st.loc[k].dq;
+                let out = &mut jm[ii * ma..(ii + 1) * ma];
+                for (jj, &l) in act.iter().enumerate() {
+                    if l != k {
+                        let nkl = &row[l];
+                        out[jj] = dot(nkl, &z[jj]) + st.loc[l].dq / dqk * dot(nkl, &z[ii]);
+                    }
+                }
+            }
+        }
+        let mut pos = vec![usize::MAX; n];
+        for (ii, &p) in act.iter().enumerate() {
+            pos[p] = ii;
+        }
+        for (e, &(p, q, _)) in geo.near.iter().enumerate() {
+            let (ip, iq) = (pos[p], pos[q]);
+            if ip == usize::MAX || iq == usize::MAX {
+                continue;
+            }
+            let [_, hp, _, hq] = st.near_vals[e];
+            let (dp, dq) = (st.loc[p].dq, st.loc[q].dq);
+            jm[iq * ma + ip] += hp + dp * hq / dq;
+            jm[ip * ma + iq] += hq + dq * hp / dp;
+        }
+        for (ii, &p) in act.iter().enumerate() {
+            jm[ii * ma + ii] = self.diagonal(st, p);
+        }
+        jm
+    }
+
+    /// ∂F_p/∂a_p: the local and far parts by central differences with the near sums
+    /// frozen, plus their a_p-derivative Σ_self ∂G_p/∂a_p + (∂E_p^near/∂a_p)/Q′_p.
+    fn diagonal(&self, st: &State, p: usize) -> f64 {
+        let law = self.law;
+        let h = self.h_jac * st.a[p];
+        let near = (st.self_g[p], st.self_h[p], st.e_cross[p]);
+        let frozen = |ap: f64| {
+            let lp = Local::at(law, ap, self.geo.radius[p]);
+            let b = self.far().map_or(ZB, |f| f.basis(ap));
+            self.f_of(st, p, &lp, &b, near)
+        };
+        let mut d = (frozen(st.a[p] + h) - frozen(st.a[p] - h)) / (2.0 * h);
+        let [c0, cc, cz] = st.near_d2[p];
+        if c0 != 0.0 || cc != 0.0 || cz != 0.0 {
+            let (mut d2c, mut d2z) = (0.0, 0.0);
+            if cc != 0.0 || cz != 0.0 {
+                let ha = self.h_g * st.a[p];
+                let (_, c1, _, z1) = law.chi_zeta_derivs(st.a[p] + ha);
+                let (_, c2, _, z2) = law.chi_zeta_derivs(st.a[p] - ha);
+                d2c = (c1 - c2) / (2.0 * ha);
+                d2z = (z1 - z2) / (2.0 * ha);
+            }
+            d += st.self_h[p] + (c0 + cc * d2c + cz * d2z) / st.loc[p].dq;
+        } else {
+            d += st.self_h[p];
+        }
+        d
+    }
+}

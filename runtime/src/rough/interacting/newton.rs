@@ -1,0 +1,283 @@
+//! The active-set projected Newton method of the I model (interacting module docs):
+//! Newton steps on F over the asperities in contact, backtracking on U_E (Armijo), every
+//! asperity violating F_k(0⁺) ≥ 0 activated at once, and a restart from the N-model
+//! radii on the merit Σ F² when the warm start reaches no KKT point.
+
+use super::energy::{Energy, State};
+use crate::law::contact_radius;
+use crate::rough::{Diagnostics, NewtonError, Params};
+
+/// Where one active-set Newton search ended.
+pub(crate) struct Search {
+    pub a: Vec<f64>,
+    pub kkt: f64,
+    /// Largest radius (m) refused for leaving the far-field range (0 if none).
+    pub exceeded: f64,
+}
+
+/// The search: the energy of the step, the solver parameters, the largest interference
+/// (m, the scale of every tolerance), the workspace and the diagnostics to update.
+pub(crate) struct Newton<'e, 'p> {
+    pub energy: &'e Energy<'p>,
+    pub params: &'e Params,
+    pub scale: f64,
+    pub diag: &'e mut Diagnostics,
+    /// The approach (m) and the start of the step, for the budget.
+    pub delta: f64,
+    pub start: std::time::Instant,
+}
+
+impl Newton<'_, '_> {
+    /// Fails when the step's budget ([`Params::max_step_newton_steps`],
+    /// [`Params::step_time_budget`]) is exhausted: a stall becomes a clear error.
+    fn budget(&self, kkt: f64) -> Result<(), NewtonError> {
+        let prm = self.params;
+        if self.diag.newton_steps > prm.max_step_newton_steps {
+            return Err(NewtonError::Budget {
+                delta: self.delta,
+                what: "Newton-step",
+                field: "max_step_newton_steps",
+                used: self.diag.newton_steps.to_string(),
+                limit: prm.max_step_newton_steps.to_string(),
+                residual: kkt,
+            });
+        }
+        let t = self.start.elapsed().as_secs_f64();
+        if t > prm.step_time_budget {
+            return Err(NewtonError::Budget {
+                delta: self.delta,
+                what: "time",
+                field: "step_time_budget",
+                used: format!("{t:.1} s"),
+                limit: format!("{:.1} s", prm.step_time_budget),
+                residual: kkt,
+            });
+        }
+        Ok(())
+    }
+
+    /// KKT check at `st`: the worst violations (m) over active (|F|) and inactive
+    /// (−F(0⁺)) asperities, and the inactive asperities with −F(0⁺) above the Newton
+    /// target, with −F(0⁺).
+    fn check(&self, st: &State) -> (f64, f64, Vec<(usize, f64)>) {
+        let (geo, deltas) = (self.energy.geo, self.energy.deltas);
+        let tol = self.params.newton_tolerance * self.scale;
+        let mut worst_act: f64 = 0.0;
+        let mut worst_inact: f64 = 0.0;
+        let mut violated = Vec::new();
+        for (p, &dp) in deltas.iter().enumerate() {
+            if st.a[p] > 0.0 {
+                worst_act = worst_act.max(st.f[p].abs());
+            } else if dp > 0.0 {
+                let tiny = self.params.activation_probe * (geo.radius[p] * dp).sqrt();
+                let f0 = self.energy.row(st, p, tiny);
+                worst_inact = worst_inact.max(-f0);
+                if -f0 > tol {
+                    violated.push((p, -f0));
+                }
+            }
+        }
+        (worst_act, worst_inact, violated)
+    }
+
+    /// The projected Newton / active-set iteration from the radii `a` (local indices),
+    /// backtracking on U_E (`on_energy`) or on Σ F².
+    pub fn search(&mut self, mut a: Vec<f64>, on_energy: bool) -> Result<Search, NewtonError> {
+        let en = self.energy;
+        let (geo, law) = (en.geo, en.law);
+        let prm = self.params;
+        let n = geo.n();
+        let scale = self.scale;
+        let tol = prm.newton_tolerance * scale;
+        let mut st = State::default();
+        let mut sn = State::default();
+        let mut trial = vec![0.0; n];
+        en.eval(&a, &mut st);
+        self.diag.evaluations += 1;
+        let mut u = en.energy(&st);
+        let mut exceeded: f64 = 0.0;
+        let mut converged = false;
+        let mut kkt = f64::INFINITY;
+        for _outer in 0..prm.max_activation_rounds {
+            let (worst_act, worst_inact, violated) = self.check(&st);
+            kkt = worst_act.max(worst_inact) / scale;
+            if violated.is_empty() {
+                // Done when the active set is solved (else Newton goes on from here).
+                if worst_act <= prm.round_off_floor * scale {
+                    converged = true;
+                    break;
+                }
+            } else {
+                self.diag.activation_rounds += 1;
+                // Activate every violated asperity at the radius of its single-asperity
+                // problem under the others' displacement: ζa²/R = δ_p − D_p ≈ −F_p(0⁺)/2.
+                for (p, v) in violated {
+                    let r = geo.radius[p];
+                    let d = en.deltas[p];
+                    a[p] = contact_radius(law, r, (0.5 * v).min(d))
+                        .unwrap_or(0.0)
+                        .max(prm.activation_start * (r * d).sqrt())
+                        .min(geo.a_valid);
+                }
+                en.eval(&a, &mut st);
+                self.diag.evaluations += 1;
+                u = en.energy(&st);
+            }
+            // Projected Newton on the active set, backtracking on the energy U_E.
+            for _ in 0..prm.max_newton_steps {
+                let act: Vec<usize> = (0..n).filter(|&p| a[p] > 0.0).collect();
+                let fmax = act.iter().map(|&p| st.f[p].abs()).fold(0.0, f64::max);
+                let f2: f64 = act.iter().map(|&p| st.f[p] * st.f[p]).sum();
+                if !fmax.is_finite() {
+                    return Err(NewtonError::NonFinite("I-model residual"));
+                }
+                if fmax <= tol || act.is_empty() {
+                    break;
+                }
+                self.diag.newton_steps += 1;
+                self.budget(fmax / scale)?;
+                let m = act.len();
+                let mut jm = en.jacobian(&st, &act);
+                let mut rhs: Vec<f64> = act.iter().map(|&p| -st.f[p]).collect();
+                let mut step = lu_solve(&mut jm, &mut rhs, m)
+                    .ok_or(NewtonError::NonFinite("Jacobian (singular)"))?;
+                // dU/dt/c along the step: Σ Q'_k F_k Δa_k (< 0 for a descent direction,
+                // as when the Hessian in Q = χa³/R is positive definite)
+                let mut slope: f64 = act
+                    .iter()
+                    .zip(&step)
+                    .map(|(&p, s)| st.loc[p].dq * st.f[p] * s)
+                    .sum();
+                if on_energy && (slope.is_nan() || slope >= 0.0) {
+                    // not a descent direction: steepest descent in Q, scaled by the
+                    // single-asperity curvature dδ/da = (ζ'a² + 2ζa)/R
+                    for (s, &p) in step.iter_mut().zip(&act) {
+                        let curv = st.loc[p].ddelta(a[p], geo.radius[p]);
+                        *s = -st.f[p] / (2.0 * curv);
+                    }
+                    slope = act
+                        .iter()
+                        .zip(&step)
+                        .map(|(&p, s)| st.loc[p].dq * st.f[p] * s)
+                        .sum();
+                }
+                let mut t = 1.0;
+                let mut accepted = false;
+                for _ in 0..prm.max_backtracks {
+                    trial.copy_from_slice(&a);
+                    for (ii, &p) in act.iter().enumerate() {
+                        let v = a[p] + t * step[ii];
+                        trial[p] = if v <= prm.drop_fraction * a[p] {
+                            0.0
+                        } else {
+                            v
+                        };
+                    }
+                    // The far-field model holds for a ≤ A only: stay inside, and prepare
+                    // again with a larger A if the minimum lies beyond.
+                    let beyond = act.iter().map(|&p| trial[p]).fold(0.0, f64::max);
+                    if beyond > geo.a_valid {
+                        exceeded = exceeded.max(beyond);
+                        t *= 0.5;
+                        self.diag.backtracks += 1;
+                        continue;
+                    }
+                    let dropped = act.iter().any(|&p| trial[p] == 0.0);
+                    en.eval(&trial, &mut sn);
+                    self.diag.evaluations += 1;
+                    let un = en.energy(&sn);
+                    let ft2: f64 = (0..n)
+                        .filter(|&p| trial[p] > 0.0)
+                        .map(|p| sn.f[p] * sn.f[p])
+                        .sum();
+                    // Armijo on U_E; a full Newton step that halves Σ F² is taken too
+                    // (close to the minimum the decrease of U_E is below its round-off).
+                    // The fallback merit is Σ F², taking steps that drop a contact and
+                    // tiny ones anyway, to move off a jump of G (overlapping contacts).
+                    let take = if on_energy {
+                        un <= u + prm.armijo * t * slope
+                            || (t == 1.0 && !dropped && ft2 <= 0.5 * f2)
+                    } else {
+                        dropped || ft2 < (1.0 - prm.armijo * t) * f2 || t < 1e-3
+                    };
+                    if take {
+                        std::mem::swap(&mut a, &mut trial);
+                        std::mem::swap(&mut st, &mut sn);
+                        u = un;
+                        accepted = true;
+                        break;
+                    }
+                    if fmax <= prm.round_off_floor * scale {
+                        // within the acceptance threshold and at the round-off floor of
+                        // F (differenced derivatives): stop rather than crawl
+                        break;
+                    }
+                    t *= 0.5;
+                    self.diag.backtracks += 1;
+                }
+                if !accepted {
+                    break;
+                }
+            }
+        }
+        if !converged {
+            let (worst_act, worst_inact, _) = self.check(&st);
+            kkt = worst_act.max(worst_inact) / scale;
+        }
+        Ok(Search { a, kkt, exceeded })
+    }
+
+    /// The stiffness solve at a converged state: J da/dδ = 2·1 on the active set `act`
+    /// (the derivative of F_k = … − 2δ_k); returns da/dδ on `act`.
+    pub fn rates(&self, a: &[f64], act: &[usize], delta: f64) -> Result<Vec<f64>, NewtonError> {
+        let mut st = State::default();
+        self.energy.eval(a, &mut st);
+        let mut jm = self.energy.jacobian(&st, act);
+        let mut rhs = vec![2.0; act.len()];
+        lu_solve(&mut jm, &mut rhs, act.len()).ok_or(NewtonError::Singular { delta })
+    }
+}
+
+/// Dense LU solve with partial pivoting (row-major m×m); None when singular.
+fn lu_solve(a: &mut [f64], b: &mut [f64], m: usize) -> Option<Vec<f64>> {
+    for k in 0..m {
+        let piv = (k..m).max_by(|&i, &j| {
+            a[i * m + k]
+                .abs()
+                .partial_cmp(&a[j * m + k].abs())
+                .unwrap_or(std::cmp::Ordering::Equal)
+        })?;
+        if a[piv * m + k].is_nan() || a[piv * m + k] == 0.0 {
+            return None;
+        }
+        if piv != k {
+            for c in 0..m {
+                a.swap(k * m + c, piv * m + c);
+            }
+            b.swap(k, piv);
+        }
+        let d = a[k * m + k];
+        for i in k + 1..m {
+            let f = a[i * m + k] / d;
+            if f != 0.0 {
+                for c in k..m {
+                    a[i * m + c] -= f * a[k * m + c];
+                }
+                b[i] -= f * b[k];
+            }
+        }
+    }
+    let mut x = vec![0.0; m];
+    for i in (0..m).rev() {
+        let mut s = b[i];
+        for c in i + 1..m {
+            s -= a[i * m + c] * x[c];
+        }
+        x[i] = s / a[i * m + i];
+    }
+    if x.iter().all(|v| v.is_finite()) {
+        Some(x)
+    } else {
+        None
+    }
+}

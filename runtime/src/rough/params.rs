@@ -1,0 +1,135 @@
+//! Solver parameters ([`Params`]) and per-solve diagnostics ([`Diagnostics`]) of the
+//! rough-contact models. Every tolerance of the solvers is a field here; the defaults
+//! are the values the accuracy tests and the README figures were measured with.
+
+/// Tolerances and limits of the rough-contact solvers. Relative tolerances of the I
+/// model are in units of the largest interference δ_max = max_k δ_k of the step (m).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Params {
+    /// Far-field model of the interaction sums: largest error of every modelled G and
+    /// ∂G/∂a relative to the point-force displacement (4/3)χa³/(πRr) and its
+    /// a-derivative (interacting module docs). 0 sums every image pair exactly.
+    /// Default 1e-5 (the surrogate tables' g is itself smooth in a only to ~1e-6 of that
+    /// scale and accurate to ~6e-5).
+    pub far_field_tolerance: f64,
+    /// Bound A of the far-field model as a multiple of the largest N-model (or warm
+    /// start) contact radius of the solve (interactions shrink contacts). Default 1.2.
+    pub far_field_bound_factor: f64,
+    /// How often a solve may rebuild the far-field model with a larger bound A when a
+    /// contact radius leaves it before the last rebuild sums exactly. Default 3.
+    pub far_field_rebuilds: usize,
+    /// KKT acceptance: a step is converged when every active |F_k| and every inactive
+    /// −F_k(0⁺) is below this × δ_max. Default 1e-8.
+    pub kkt_tolerance: f64,
+    /// Newton target: |F_k| ≤ this × δ_max on the active set ends a Newton round.
+    /// Default 1e-11.
+    pub newton_tolerance: f64,
+    /// Round-off floor: when |F| ≤ this × δ_max and no step decreases the merit, the
+    /// Newton round stops instead of crawling (differenced derivatives limit F). Default
+    /// 1e-9.
+    pub round_off_floor: f64,
+    /// Activation rounds (activate violated asperities, then Newton) per search.
+    /// Default 100.
+    pub max_activation_rounds: usize,
+    /// Newton steps per activation round. Default 100.
+    pub max_newton_steps: usize,
+    /// Line-search halvings per Newton step. Default 40.
+    pub max_backtracks: usize,
+    /// Armijo constant of the line search on U_E (and on Σ F² in the restart).
+    /// Default 1e-4.
+    pub armijo: f64,
+    /// A trial radius below this fraction of its previous value leaves the contact.
+    /// Default 1e-9.
+    pub drop_fraction: f64,
+    /// An inactive asperity's F_k(0⁺) is evaluated at this fraction of its Hertz radius
+    /// √(R_k δ_k). Default 1e-6.
+    pub activation_probe: f64,
+    /// Smallest start radius of an activated asperity, as a fraction of √(R_k δ_k).
+    /// Default 1e-3.
+    pub activation_start: f64,
+    /// Relative step of the central differences of g in a (∂g/∂a, ∂²g/∂a²).
+    /// Default 1e-5.
+    pub g_difference_step: f64,
+    /// Relative step of the central differences of the Jacobian diagonal. Default 1e-6.
+    pub jacobian_difference_step: f64,
+    /// Budget of one I-model step: most Newton steps over all rounds and searches
+    /// (beyond it the step fails with [`crate::rough::NewtonError::Budget`] instead of
+    /// crawling). Default 20 000 (the most two searches of
+    /// [`Params::max_activation_rounds`] × [`Params::max_newton_steps`] can take; converged
+    /// steps take 1–30, a step on overlapping contacts up to a few thousand).
+    pub max_step_newton_steps: usize,
+    /// Budget of one I-model step: wall time (s) after which it fails with
+    /// [`crate::rough::NewtonError::Budget`]. Default 60 s; ∞ disables it.
+    pub step_time_budget: f64,
+    /// Pressure control: relative tolerance on the mean pressure. Default 1e-10.
+    pub pressure_tolerance: f64,
+    /// Pressure control of the N model (cheap and exact to round-off): relative tolerance
+    /// on the mean pressure, tighter so that its steps reproduce the target for
+    /// comparisons at equal pressure. Default 1e-13.
+    pub independent_pressure_tolerance: f64,
+    /// Pressure control: most solves of the search. Default 200.
+    pub max_pressure_iterations: usize,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            far_field_tolerance: 1e-5,
+            far_field_bound_factor: 1.2,
+            far_field_rebuilds: 3,
+            kkt_tolerance: 1e-8,
+            newton_tolerance: 1e-11,
+            round_off_floor: 1e-9,
+            max_activation_rounds: 100,
+            max_newton_steps: 100,
+            max_backtracks: 40,
+            armijo: 1e-4,
+            drop_fraction: 1e-9,
+            activation_probe: 1e-6,
+            activation_start: 1e-3,
+            g_difference_step: 1e-5,
+            jacobian_difference_step: 1e-6,
+            max_step_newton_steps: 20_000,
+            step_time_budget: 60.0,
+            pressure_tolerance: 1e-10,
+            independent_pressure_tolerance: 1e-13,
+            max_pressure_iterations: 200,
+        }
+    }
+}
+
+/// The far-field model a solve used (interacting module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FarFieldInfo {
+    /// Bound A on the contact radii (m).
+    pub bound: f64,
+    /// Cut-off r_c (m): image pairs closer than this are summed exactly.
+    pub cutoff: f64,
+    /// Largest error measured when the model was built (point-force units).
+    pub measured_error: f64,
+    /// Image pairs summed exactly.
+    pub exact_pairs: usize,
+    /// Image pairs summed by the far-field model.
+    pub modelled_pairs: usize,
+}
+
+/// What one solve did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Diagnostics {
+    /// Newton steps (all rounds, all searches).
+    pub newton_steps: usize,
+    /// Activation rounds.
+    pub activation_rounds: usize,
+    /// Line-search halvings.
+    pub backtracks: usize,
+    /// Evaluations of the energy state (F, U_E).
+    pub evaluations: usize,
+    /// Searches restarted from the N-model radii on the merit Σ F².
+    pub restarts: usize,
+    /// Far-field models built for this step (rebuilds with a larger bound included).
+    pub far_field_builds: usize,
+    /// The far-field model of the final solve (None: exact sums).
+    pub far_field: Option<FarFieldInfo>,
+    /// Wall time of the step (s).
+    pub seconds: f64,
+}
