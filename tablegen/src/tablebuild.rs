@@ -61,6 +61,27 @@ pub struct BuildOptions {
     pub build_time: u64,
     /// Draw a progress bar on stderr.
     pub progress: bool,
+    /// Who draws the bars when `progress` is set (`None`: indicatif on stderr, which
+    /// draws nothing when stderr is not a terminal). The command line passes its own,
+    /// which logs lines instead in batch jobs.
+    pub bars: Option<Bars>,
+}
+
+/// A progress-bar factory: `(steps, description) -> bar`. Progress reporting never
+/// changes a table, so all factories compare equal.
+#[derive(Clone, Copy)]
+pub struct Bars(pub fn(u64, &'static str) -> ProgressBar);
+
+impl PartialEq for Bars {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for Bars {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Bars(..)")
+    }
 }
 
 impl Default for BuildOptions {
@@ -77,6 +98,7 @@ impl Default for BuildOptions {
             seed: 1,
             build_time: 0,
             progress: false,
+            bars: None,
         }
     }
 }
@@ -98,9 +120,12 @@ fn log_axis(field: &'static str, lo: f64, hi: f64, n: usize) -> Result<Axis, Bui
     })
 }
 
-fn bar(n: usize, show: bool, msg: &'static str) -> ProgressBar {
+fn bar(n: usize, show: bool, bars: Option<Bars>, msg: &'static str) -> ProgressBar {
     if !show {
         return ProgressBar::hidden();
+    }
+    if let Some(Bars(make)) = bars {
+        return make(n as u64, msg);
     }
     let pb = ProgressBar::new(n as u64);
     if let Ok(style) =
@@ -193,7 +218,12 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     let ws = w.nodes();
     let a_max = h1 * x.hi.exp();
     let omega_max = 2.0 * a_max + h1 * w_max.sinh().powi(2);
-    let pb = bar(coords.len() * xs.len(), opts.progress, "building table");
+    let pb = bar(
+        coords.len() * xs.len(),
+        opts.progress,
+        opts.bars,
+        "building table",
+    );
     let mut far_err: f64 = 0.0;
     for &c in &coords {
         let member = table.member_stack(c)?;
@@ -235,7 +265,13 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     table.header.far_field_error = far_err;
     table.validate()?;
     if opts.check_points > 0 {
-        let e = check(&table, opts.check_points, opts.seed, opts.progress)?;
+        let pb = bar(
+            opts.check_points,
+            opts.progress,
+            opts.bars,
+            "checking table",
+        );
+        let e = check_reporting(&table, opts.check_points, opts.seed, &pb)?;
         table.header.interp_error = Some(e);
     }
     Ok(table)
@@ -264,6 +300,21 @@ pub fn check(
     seed: u64,
     progress: bool,
 ) -> Result<InterpError, BuildError> {
+    check_reporting(
+        table,
+        points,
+        seed,
+        &bar(points, progress, None, "checking table"),
+    )
+}
+
+/// [`check`] advancing the caller's progress bar `pb` by one per point.
+pub fn check_reporting(
+    table: &Table,
+    points: usize,
+    seed: u64,
+    pb: &ProgressBar,
+) -> Result<InterpError, BuildError> {
     let h = &table.header;
     let mut rng = SplitMix(seed);
     let fam = h.family.map(|f| f.ratio);
@@ -275,7 +326,6 @@ pub fn check(
             (c, cx, w)
         })
         .collect();
-    let pb = bar(points, progress, "checking table");
     let errs: Vec<Result<(f64, f64, f64), BuildError>> = pts
         .par_iter()
         .map(|&(c, cx, w)| {
