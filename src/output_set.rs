@@ -236,35 +236,40 @@ fn owned_names(dir: &Path) -> BTreeSet<String> {
     owned
 }
 
+/// An I/O error of output `shown` while doing `action`, for `map_err`.
+fn io_error(
+    flag: &'static str,
+    shown: &str,
+    action: &str,
+) -> impl FnOnce(std::io::Error) -> OutputSetError + use<> {
+    let (path, action) = (shown.to_string(), action.to_string());
+    move |error| OutputSetError::Io {
+        flag,
+        path,
+        action,
+        error,
+    }
+}
+
+fn bad_target(flag: &'static str, shown: &str, reason: &'static str) -> OutputSetError {
+    OutputSetError::BadTarget {
+        flag,
+        path: shown.to_string(),
+        reason,
+    }
+}
+
 impl OutputSet {
     fn io(&self, action: impl Into<String>) -> impl FnOnce(std::io::Error) -> OutputSetError {
-        let (flag, path, action) = (self.flag, self.shown.clone(), action.into());
-        move |error: std::io::Error| OutputSetError::Io {
-            flag,
-            path,
-            action,
-            error,
-        }
+        io_error(self.flag, &self.shown, &action.into())
     }
 
     /// Starts a directory set at `target` (`flag` names the option in messages). An
     /// existing non-empty directory needs `force`.
     pub fn dir(flag: &'static str, target: &Path, force: bool) -> Result<Self, OutputSetError> {
         let shown = target.display().to_string();
-        let io = |action: &str| {
-            let (shown, action) = (shown.clone(), action.to_string());
-            move |error: std::io::Error| OutputSetError::Io {
-                flag,
-                path: shown,
-                action,
-                error,
-            }
-        };
-        let bad = |reason| OutputSetError::BadTarget {
-            flag,
-            path: shown.clone(),
-            reason,
-        };
+        let io = |action: &str| io_error(flag, &shown, action);
+        let bad = |reason| bad_target(flag, &shown, reason);
         let abs = std::path::absolute(target).map_err(io("resolving the path"))?;
         if let (Ok(cwd), Ok(t)) = (
             std::env::current_dir().and_then(|c| c.canonicalize()),
@@ -338,20 +343,8 @@ impl OutputSet {
             .map(|p| p.display().to_string())
             .collect::<Vec<_>>()
             .join(", ");
-        let io = |action: &str| {
-            let (shown, action) = (shown.clone(), action.to_string());
-            move |error: std::io::Error| OutputSetError::Io {
-                flag,
-                path: shown,
-                action,
-                error,
-            }
-        };
-        let bad = |reason| OutputSetError::BadTarget {
-            flag,
-            path: shown.clone(),
-            reason,
-        };
+        let io = |action: &str| io_error(flag, &shown, action);
+        let bad = |reason| bad_target(flag, &shown, reason);
         let mut dir: Option<PathBuf> = None;
         let mut names = Vec::new();
         for p in paths {
@@ -594,12 +587,11 @@ fn lock(flag: &'static str, shown: &str, dir: &Path, name: &str) -> Result<File,
         .truncate(false)
         .write(true)
         .open(&path)
-        .map_err(|error| OutputSetError::Io {
+        .map_err(io_error(
             flag,
-            path: shown.to_string(),
-            action: format!("creating the lock file {}", path.display()),
-            error,
-        })?;
+            shown,
+            &format!("creating the lock file {}", path.display()),
+        ))?;
     match f.try_lock() {
         Ok(()) => Ok(f),
         Err(fs::TryLockError::WouldBlock) => Err(OutputSetError::Busy {
@@ -607,12 +599,11 @@ fn lock(flag: &'static str, shown: &str, dir: &Path, name: &str) -> Result<File,
             path: shown.to_string(),
             lock: path.display().to_string(),
         }),
-        Err(fs::TryLockError::Error(error)) => Err(OutputSetError::Io {
+        Err(fs::TryLockError::Error(error)) => Err(io_error(
             flag,
-            path: shown.to_string(),
-            action: format!("locking {}", path.display()),
-            error,
-        }),
+            shown,
+            &format!("locking {}", path.display()),
+        )(error)),
     }
 }
 

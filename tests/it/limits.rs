@@ -49,7 +49,7 @@ fn lying_npy_header_is_refused() {
     let npy = d.join("liar.npy");
     let mut header =
         b"{'descr': '<f8', 'fortran_order': False, 'shape': (100000, 100000), }".to_vec();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(b' ');
     }
     header.push(b'\n');
@@ -163,12 +163,10 @@ fn thread_count_is_capped() {
     let sw = d.join("sweep.toml");
     std::fs::write(
         &sw,
-        format!(
-            "[scene]\n[scene.stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
-             [scene.surface.generate]\nsize = 1e-3\ngrid = 64\nfractal_dimension = 2.4\n\
-             k_min = 2\nk_max = 8\nrms = 3.4e-6\nseed = 1\n[scene.model]\nkind = \"independent\"\n\
-             [scene.load]\nseparations = [3e-6]\n[sweep]\nsurface.seed = [1, 2]\n"
-        ),
+        "[scene]\n[scene.stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+         [scene.surface.generate]\nsize = 1e-3\ngrid = 64\nfractal_dimension = 2.4\n\
+         k_min = 2\nk_max = 8\nrms = 3.4e-6\nseed = 1\n[scene.model]\nkind = \"independent\"\n\
+         [scene.load]\nseparations = [3e-6]\n[sweep]\nsurface.seed = [1, 2]\n",
     )
     .unwrap();
     let o = strata_in(&d)
