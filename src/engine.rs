@@ -11,45 +11,119 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::scene::{LoadSpec, ModelKind, Scene};
+use crate::progress;
+use crate::scene::{LoadSpec, ModelKind, Scene, SurfaceSource};
 use anyhow::{Context, Result, bail};
 use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver, Geometry};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
+use strata_runtime::resources;
 use strata_runtime::rough::{Images, Model, RoughContact, Step};
 use strata_runtime::summits::find_summits;
 use strata_runtime::surface::Surface;
 use strata_runtime::table::Table;
+use strata_tablegen::tablebuild::{Bars, BuildOptions};
 
 /// How a scene is solved (not what: that is the scene).
 #[derive(Debug, Clone, Default)]
 pub struct EngineOptions {
-    /// Where missing tables of layered stacks are built and cached
-    /// (default: `.strata-cache` beside the scene).
+    /// `--cache-dir`: where missing tables of layered stacks are built and cached
+    /// (default: [`crate::cache::dir`]).
     pub cache_dir: Option<PathBuf>,
-    /// No log lines on stderr (sweeps, studies).
+    /// No log lines or progress on stderr (sweeps, studies).
     pub quiet: bool,
-    /// BEM only: keep the pressure and gap maps of every step.
-    pub keep_maps: bool,
     /// BEM only: solver options (tolerance…); `None` gives the defaults.
     pub bem: Option<BemOptions>,
 }
 
+/// Receives the BEM maps as they are solved: `(step, number of steps, solution)`.
+/// Each map can be written and dropped at once, so `maps = "all"` never holds more
+/// than one step's maps.
+pub type MapSink<'a> = &'a mut dyn FnMut(usize, usize, BemSolution) -> Result<()>;
+
 /// A solved scene.
 #[derive(Debug, Clone)]
-#[allow(dead_code)] // maps, seconds: used by compare/study
 pub struct SceneSolution {
     /// One entry per load step, in the scene's order.
     pub steps: Vec<Step>,
     /// Summary for `curve.json`: model, solid, E*₁, nominal area, units…
     pub meta: serde_json::Value,
-    /// BEM with `keep_maps`: pressure (Pa) and gap (m) maps of every step.
-    pub maps: Vec<BemSolution>,
     /// Wall time of the solve, without table building (s).
     pub seconds: f64,
 }
 
 macro_rules! log {
-    ($quiet:expr, $($t:tt)*) => { if !$quiet { eprintln!($($t)*); } };
+    ($quiet:expr, $($t:tt)*) => { if !$quiet { progress::log(format!($($t)*)); } };
+}
+
+/// Bytes per grid point that generating a surface holds at its peak: the complex
+/// spectrum and its transform (16 + 16), the heights (8).
+const GENERATE_BYTES_PER_POINT: u64 = 40;
+
+/// Checks the surface's size against the memory limit before it is generated (read
+/// surfaces are checked by the reader, from the file's header).
+fn check_surface_memory(scene: &Scene) -> Result<()> {
+    if let SurfaceSource::Generate(g) = &scene.surface.source {
+        let n = g.grid as u64;
+        resources::check_memory(
+            format!(
+                "generating the {0}×{0} surface (surface.generate.grid)",
+                g.grid
+            ),
+            resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
+        )?;
+    }
+    Ok(())
+}
+
+/// The scene's surface, read or generated after a memory check, with a log line on
+/// repairs.
+pub fn load_surface(scene: &Scene, quiet: bool) -> Result<Surface> {
+    check_surface_memory(scene)?;
+    let surface = scene.load_surface()?;
+    if surface.repaired() > 0 {
+        log!(
+            quiet,
+            "surface: {} points (NaN/inf or spikes) replaced by the median of their neighbours (surface.repair)",
+            surface.repaired()
+        );
+    }
+    Ok(surface)
+}
+
+/// Table build options of the command line: progress through [`progress`].
+fn build_options(quiet: bool) -> BuildOptions {
+    BuildOptions {
+        progress: !quiet,
+        bars: Some(Bars(progress::raw_bar)),
+        ..Default::default()
+    }
+}
+
+/// The table of a layered `stack` from the cache (see [`crate::cache`]), built there
+/// once if missing. The cache must be writable before a build starts.
+pub fn cached_table(
+    stack: &strata_runtime::Stack,
+    cache_dir: Option<&Path>,
+    quiet: bool,
+    opts: Option<BuildOptions>,
+) -> Result<(Table, PathBuf)> {
+    let (dir, origin) = crate::cache::dir(cache_dir);
+    crate::cache::ensure_writable(&dir, origin)?;
+    log!(
+        quiet,
+        "stack: layered, no table given: using the table cache {} ({origin}; built once per stack)",
+        dir.display()
+    );
+    let opts = opts.unwrap_or_else(|| build_options(quiet));
+    let (t, p) =
+        strata_tablegen::tablebuild::build_and_cache(stack, &dir, &opts).with_context(|| {
+            format!(
+                "building the table of the stack into the cache {}",
+                dir.display()
+            )
+        })?;
+    log!(quiet, "stack: table {}", p.display());
+    Ok((t, p))
 }
 
 /// The reader's warnings and the plausibility warnings of the statistics
@@ -87,10 +161,11 @@ pub fn surface_report(surface: &Surface, quiet: bool) -> (serde_json::Value, Vec
 }
 
 /// The asperity law of the scene's stack: Hertz for a homogeneous stack, otherwise
-/// the surrogate table (`stack.table`, or the cache, built once if missing).
+/// the surrogate table: `stack.table` (which must exist: an input is never written),
+/// or the cache.
 pub fn law_for(
     scene: &Scene,
-    scene_path: &Path,
+    _scene_path: &Path,
     opts: &EngineOptions,
 ) -> Result<Box<dyn AsperityLaw>> {
     let quiet = opts.quiet;
@@ -106,41 +181,11 @@ pub fn law_for(
         }));
     }
     let table = match &scene.table {
-        Some(p) if p.is_file() => {
-            log!(quiet, "stack: layered, table {}", p.display());
-            Table::load(p).with_context(|| format!("stack.table: {}", p.display()))?
-        }
         Some(p) => {
-            eprintln!(
-                "stack: layered, table {} missing: building it once (this takes a while)…",
-                p.display()
-            );
-            let t = strata_tablegen::tablebuild::build(stack, &Default::default())
-                .context("building the table for the scene's stack")?;
-            t.save(p)
-                .with_context(|| format!("stack.table: saving {}", p.display()))?;
-            eprintln!("stack: table built and cached at {}", p.display());
-            t
+            log!(quiet, "stack: layered, table {}", p.display());
+            Table::load(p).with_context(|| format!("stack.table {}", p.display()))?
         }
-        None => {
-            let dir = match &opts.cache_dir {
-                Some(d) => d.to_path_buf(),
-                None => scene_path
-                    .parent()
-                    .unwrap_or(Path::new("."))
-                    .join(".strata-cache"),
-            };
-            log!(
-                quiet,
-                "stack: layered, no table given: using the cache in {} (built once if missing)",
-                dir.display()
-            );
-            let (t, p) =
-                strata_tablegen::tablebuild::build_and_cache(stack, &dir, &Default::default())
-                    .context("building/caching the table for the scene's stack")?;
-            log!(quiet, "stack: table {}", p.display());
-            t
-        }
+        None => cached_table(stack, opts.cache_dir.as_deref(), quiet, None)?.0,
     };
     let law = table
         .law_for(stack)
@@ -148,19 +193,29 @@ pub fn law_for(
     Ok(Box::new(law))
 }
 
-/// Solves a scene with the model it names. `scene_path` locates the default cache.
+/// Solves a scene with the model it names (BEM maps, if any, are dropped).
 pub fn solve_scene(
     scene: &Scene,
     scene_path: &Path,
     opts: &EngineOptions,
 ) -> Result<SceneSolution> {
+    solve_scene_with_maps(scene, scene_path, opts, &mut |_, _, _| Ok(()))
+}
+
+/// [`solve_scene`], handing every BEM step's maps to `maps` as soon as it is solved.
+pub fn solve_scene_with_maps(
+    scene: &Scene,
+    scene_path: &Path,
+    opts: &EngineOptions,
+    maps: MapSink<'_>,
+) -> Result<SceneSolution> {
     let model = match scene.model.kind {
         ModelKind::Independent => Model::Independent,
         ModelKind::Interacting => Model::Interacting(scene.model.images),
-        ModelKind::Bem => return solve_bem(scene, scene_path, opts),
+        ModelKind::Bem => return solve_bem(scene, scene_path, opts, maps),
     };
     let quiet = opts.quiet;
-    let surface = scene.load_surface().context("surface")?;
+    let surface = load_surface(scene, quiet)?;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
     log!(
@@ -172,19 +227,7 @@ pub fn solve_scene(
     let law = law_for(scene, scene_path, opts)?;
     let t0 = Instant::now();
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
-    let effects = match model {
-        Model::Independent => {
-            "independent asperities (N model): no interactions, no pairs".to_string()
-        }
-        Model::Interacting(Images::Isolated) => {
-            "interacting asperities (I model), isolated sample: interactions inside the sample only"
-                .into()
-        }
-        Model::Interacting(Images::Periodic(m)) => format!(
-            "interacting asperities (I model), periodic images on a {0}×{0} block of cells",
-            2 * m + 1
-        ),
-    };
+    let effects = model_description(model);
     let layered = if law.is_homogeneous() {
         "homogeneous solid (χ = ζ = 1, g = 0)"
     } else {
@@ -198,11 +241,22 @@ pub fn solve_scene(
         .approaches(rc.top_to_mean(), f64::INFINITY)
         .context("load")?
     {
-        Some(d) => rc.curve(model, &d)?,
+        Some(d) => {
+            let _spin = (!quiet).then(|| {
+                progress::spinner(format!("{}: {} load steps", model_short(model), d.len()))
+            });
+            rc.curve(model, &d)?
+        }
         None => {
             let LoadSpec::MeanPressures(ps) = &scene.load else {
                 bail!("load: internal error");
             };
+            let bar = (!quiet).then(|| {
+                progress::bar(
+                    ps.len() as u64,
+                    format!("{}: mean pressures", model_short(model)),
+                )
+            });
             let mut out: Vec<Step> = Vec::new();
             let mut warm: Vec<f64> = Vec::new();
             for (i, &p) in ps.iter().enumerate() {
@@ -211,6 +265,9 @@ pub fn solve_scene(
                     .with_context(|| format!("load.mean_pressures[{i}]"))?;
                 warm = s.radii.clone();
                 out.push(s);
+                if let Some(b) = &bar {
+                    b.inc();
+                }
             }
             out
         }
@@ -239,6 +296,8 @@ pub fn solve_scene(
     let meta = serde_json::json!({
         "scene": scene_path.display().to_string(),
         "model": effects,
+        "model_short": model_short(model),
+        "stack": stack_description(&scene.stack),
         "solid": layered,
         "e_star_1": law.e_star(),
         "nominal_area": rc.area(),
@@ -253,9 +312,75 @@ pub fn solve_scene(
     Ok(SceneSolution {
         steps,
         meta,
-        maps: Vec::new(),
         seconds,
     })
+}
+
+/// What the model simulates, for logs and `curve.json`.
+fn model_description(model: Model) -> String {
+    match model {
+        Model::Independent => {
+            "independent asperities (N model): no interactions, no pairs".to_string()
+        }
+        Model::Interacting(Images::Isolated) => {
+            "interacting asperities (I model), isolated sample: interactions inside the sample only"
+                .into()
+        }
+        Model::Interacting(Images::Periodic(m)) => format!(
+            "interacting asperities (I model), periodic images on a {0}×{0} block of cells",
+            2 * m + 1
+        ),
+    }
+}
+
+/// The model's short name for plot titles and legends: `N model`, `I model (periodic
+/// 5×5)`, `I model (isolated)`.
+pub fn model_short(model: Model) -> String {
+    match model {
+        Model::Independent => "N model".into(),
+        Model::Interacting(Images::Isolated) => "I model (isolated)".into(),
+        Model::Interacting(Images::Periodic(m)) => {
+            format!("I model (periodic {0}×{0})", 2 * m + 1)
+        }
+    }
+}
+
+/// A modulus in a readable unit: `4 GPa`, `210 GPa`, `800 MPa`.
+fn modulus(e: f64) -> String {
+    let (v, unit) = if e >= 1e9 {
+        (e * 1e-9, "GPa")
+    } else if e >= 1e6 {
+        (e * 1e-6, "MPa")
+    } else if e >= 1e3 {
+        (e * 1e-3, "kPa")
+    } else {
+        (e, "Pa")
+    };
+    format!(
+        "{} {unit}",
+        crate::plot::ticks::tick((v * 1e3).round() / 1e3)
+    )
+}
+
+/// A stack in a few words for plot titles: its name, else its make-up
+/// (`2 layers on a rigid base, E1 = 4 GPa`, `half-space, E = 210 GPa`).
+pub fn stack_description(stack: &strata_runtime::Stack) -> String {
+    if let Some(n) = &stack.name {
+        return n.clone();
+    }
+    if stack.is_homogeneous() {
+        return format!("half-space, E = {}", modulus(stack.top_material().0));
+    }
+    let base = match stack.base() {
+        strata_runtime::Base::Rigid => "a rigid base".to_string(),
+        strata_runtime::Base::Elastic { young, .. } => format!("a {} base", modulus(young)),
+    };
+    let n = stack.layers().len();
+    format!(
+        "{n} layer{} on {base}, E1 = {}",
+        if n == 1 { "" } else { "s" },
+        modulus(stack.top_material().0)
+    )
 }
 
 /// `model.kind = "bem"`: the FFT boundary-element solution of the whole surface
@@ -264,9 +389,14 @@ pub fn solve_scene(
 /// computed from the stack (no χ, ζ, g table is needed or loaded). Same steps as the asperity models;
 /// `contacts` counts contact patches and the stiffness dP/dδ comes from one extra,
 /// warm-started solve at δ(1 + 1e-4) per step (its error ~ tolerance/1e-4 ≈ 1e-6).
-fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<SceneSolution> {
+fn solve_bem(
+    scene: &Scene,
+    scene_path: &Path,
+    opts: &EngineOptions,
+    maps: MapSink<'_>,
+) -> Result<SceneSolution> {
     let quiet = opts.quiet;
-    let surface = scene.load_surface().context("surface")?;
+    let surface = load_surface(scene, quiet)?;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let (n0, n1) = surface.shape();
     let periodic = surface.is_periodic();
@@ -283,6 +413,7 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
     let t0 = Instant::now();
     let solver = BemSolver::with_geometry(&heights, geometry, stack, opts.bem.unwrap_or_default())
         .context("model.kind = \"bem\"")?;
+    drop(heights);
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
     let top_to_mean = z_max - surface.mean();
     let solid = if stack.is_homogeneous() {
@@ -331,11 +462,12 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
         }
     };
     let area = solver.area();
-    let mut steps = Vec::with_capacity(loads.len());
-    let mut maps = Vec::new();
+    let total = loads.len();
+    let bar = (!quiet).then(|| progress::bar(total as u64, format!("BEM {n0}×{n1}: load steps")));
+    let mut steps = Vec::with_capacity(total);
     let mut warm: Option<Vec<f64>> = None;
     let mut worst_error = 0.0f64;
-    for (name, load) in loads {
+    for (k, (name, load)) in loads.into_iter().enumerate() {
         let sol = solver
             .solve_from(load, warm.as_deref())
             .with_context(|| name.clone())?;
@@ -360,15 +492,19 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
             ..Default::default()
         });
         warm = Some(flat);
-        if opts.keep_maps {
-            maps.push(sol);
+        maps(k, total, sol)?;
+        if let Some(b) = &bar {
+            b.inc();
         }
     }
+    drop(bar);
     let seconds = t0.elapsed().as_secs_f64();
     log!(quiet, "BEM: largest final CG error {worst_error:.2e}");
     let meta = serde_json::json!({
         "scene": scene_path.display().to_string(),
         "model": effects,
+        "model_short": "BEM",
+        "stack": stack_description(stack),
         "solid": solid,
         "e_star_1": stack.top_plane_strain_modulus(),
         "nominal_area": area,
@@ -384,7 +520,15 @@ fn solve_bem(scene: &Scene, scene_path: &Path, opts: &EngineOptions) -> Result<S
     Ok(SceneSolution {
         steps,
         meta,
-        maps,
         seconds,
     })
+}
+
+/// The short name of a model kind for titles: `N model`, `I model (…)`, `BEM`.
+pub fn kind_short(scene: &Scene) -> String {
+    match scene.model.kind {
+        ModelKind::Independent => model_short(Model::Independent),
+        ModelKind::Interacting => model_short(Model::Interacting(scene.model.images)),
+        ModelKind::Bem => "BEM".into(),
+    }
 }

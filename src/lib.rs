@@ -7,8 +7,12 @@
 //! `strata-tablegen` (Fredholm solves, table builds) and `strata-bem` (the full-field
 //! solver).
 
+pub mod cache;
 pub mod cli;
+pub mod csv_out;
 pub mod engine;
+pub mod output_set;
 pub mod plot;
+pub mod progress;
 pub mod scene;
 pub mod study;

@@ -44,28 +44,49 @@ use strata_runtime::surface::{
     SurfaceError,
 };
 
-/// Errors of scene reading and validation.
+/// Errors of scene reading and validation. Each names the field; [`Scene::from_file`]
+/// adds the scene file ([`SceneError::InFile`]).
 #[derive(Debug, Error)]
 pub enum SceneError {
     #[error("cannot read scene {path}: {message}")]
     Io { path: String, message: String },
-    #[error("scene is not valid TOML: {0}")]
+    #[error("not valid TOML: {0}")]
     Syntax(String),
-    #[error("scene: unknown key `{key}` (expected one of: {expected})")]
+    #[error("unknown key `{key}` (expected one of: {expected})")]
     UnknownKey { key: String, expected: &'static str },
-    #[error("scene: missing field `{0}`")]
+    #[error("missing field `{0}`")]
     Missing(String),
-    #[error("scene: field `{field}` must be {expected}")]
+    #[error("field `{field}` must be {expected}")]
     WrongType {
         field: String,
         expected: &'static str,
     },
-    #[error("scene: field `{field}` is invalid: {reason}")]
+    #[error("field `{field}` is invalid: {reason}")]
     Invalid { field: String, reason: String },
-    #[error("scene: field `stack`: {0}")]
-    Stack(#[from] StackError),
-    #[error("scene: field `surface`: {0}")]
+    /// An error of the inline `[stack]` table.
+    #[error("stack: {0}")]
+    Stack(StackError),
+    /// An error of the stack file named by `stack.file` (the error names the file).
+    #[error(transparent)]
+    StackFile(StackError),
+    #[error(transparent)]
     Surface(#[from] SurfaceError),
+    #[error(
+        "{field} = \"{value}\": no such file {resolved} (paths in a scene are relative to the scene's directory, {dir}){hint}"
+    )]
+    MissingFile {
+        field: &'static str,
+        value: String,
+        resolved: String,
+        dir: String,
+        hint: &'static str,
+    },
+    /// Any of the above in a scene file.
+    #[error("scene {path}: {error}")]
+    InFile {
+        path: String,
+        error: Box<SceneError>,
+    },
 }
 
 /// Where the surface comes from.
@@ -137,6 +158,8 @@ pub struct OutputSpec {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
     pub stack: Stack,
+    /// The stack file (`stack.file`, resolved), if the stack is not inline.
+    pub stack_file: Option<PathBuf>,
     /// Optional table file (absolute).
     pub table: Option<PathBuf>,
     pub surface: SurfaceSpec,
@@ -352,6 +375,47 @@ fn resolve(dir: &Path, p: &str) -> PathBuf {
     }
 }
 
+/// Resolves the file field `field` = `value` against `dir` and requires the file.
+fn existing_file(
+    dir: &Path,
+    field: &'static str,
+    value: &str,
+    hint: &'static str,
+) -> Result<PathBuf, SceneError> {
+    let p = resolve(dir, value);
+    if p.is_file() {
+        return Ok(p);
+    }
+    let shown = if dir.as_os_str().is_empty() {
+        ".".to_string()
+    } else {
+        dir.display().to_string()
+    };
+    Err(SceneError::MissingFile {
+        field,
+        value: value.to_string(),
+        resolved: p.display().to_string(),
+        dir: shown,
+        hint,
+    })
+}
+
+impl SurfaceSpec {
+    /// Physical length (m) of the first axis of the surface, which has `rows` points
+    /// along it: the generated size, `size = L` or `size = [L, _]`, or dx·rows for
+    /// `pixel_size = [dx, _]`; NaN when only the file knows it (.x3p).
+    pub fn first_axis_length(&self, rows: usize) -> f64 {
+        match &self.source {
+            SurfaceSource::Generate(g) => g.size,
+            SurfaceSource::File(_) => match self.read.spacing {
+                Some(Spacing::Size(l)) | Some(Spacing::Extent(l, _)) => l,
+                Some(Spacing::Pixel(dx, _)) => dx * rows as f64,
+                None => f64::NAN,
+            },
+        }
+    }
+}
+
 impl Scene {
     /// Reads and validates a scene file; relative paths resolve against its directory.
     pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
@@ -360,7 +424,10 @@ impl Scene {
             message: e.to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        Scene::from_str_in(&text, dir)
+        Scene::from_str_in(&text, dir).map_err(|e| SceneError::InFile {
+            path: path.display().to_string(),
+            error: Box::new(e),
+        })
     }
 
     /// Parses a scene from TOML text, resolving relative paths against `dir`.
@@ -383,7 +450,10 @@ impl Scene {
             "file, table, name, layer, base",
         )?;
         let file = string(st, "file", "stack.file")?;
-        let stack = match file {
+        let stack_file = file
+            .map(|f| existing_file(dir, "stack.file", f, ""))
+            .transpose()?;
+        let stack = match &stack_file {
             Some(f) => {
                 if st.contains_key("layer") || st.contains_key("base") {
                     return Err(SceneError::Invalid {
@@ -393,15 +463,24 @@ impl Scene {
                                 .into(),
                     });
                 }
-                Stack::from_toml_file(&resolve(dir, f))?
+                Stack::from_toml_file(f).map_err(SceneError::StackFile)?
             }
             None => {
                 let mut inline = st.clone();
                 inline.remove("table");
-                Stack::from_toml_table(&inline)?
+                Stack::from_toml_table(&inline).map_err(SceneError::Stack)?
             }
         };
-        let table_path = string(st, "table", "stack.table")?.map(|t| resolve(dir, t));
+        let table_path = string(st, "table", "stack.table")?
+            .map(|t| {
+                existing_file(
+                    dir,
+                    "stack.table",
+                    t,
+                    "; build it with `strata table build STACK.toml --out FILE`, or leave `table` out to use the table cache",
+                )
+            })
+            .transpose()?;
         // [surface]
         let sf = table(&top, "surface", "surface")?;
         check_keys(
@@ -451,13 +530,7 @@ impl Scene {
             }
             (Some(_), None) => {
                 let f = string(sf, "file", "surface.file")?.unwrap_or_default();
-                let p = resolve(dir, f);
-                if !p.is_file() {
-                    return Err(SceneError::Invalid {
-                        field: "surface.file".into(),
-                        reason: format!("file {} does not exist", p.display()),
-                    });
-                }
+                let p = existing_file(dir, "surface.file", f, "")?;
                 let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
                 let detrend = match string(sf, "detrend", "surface.detrend")? {
                     None => Detrend::None,
@@ -719,6 +792,7 @@ impl Scene {
         };
         Ok(Scene {
             stack,
+            stack_file,
             table: table_path,
             surface,
             model: ModelSpec { kind, images },

@@ -66,6 +66,7 @@
 pub mod compliance;
 #[cfg(feature = "spectral")]
 pub mod fft;
+pub mod hash;
 pub mod interface;
 pub mod law;
 pub mod output;

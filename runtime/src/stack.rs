@@ -80,7 +80,7 @@ pub enum StackError {
         expected: &'static str,
         found: String,
     },
-    #[error("{location}: field `{field}` = {value} is invalid: {reason}")]
+    #[error("{location}: field `{field}` = {value:?} is invalid: {reason}")]
     Invalid {
         location: Location,
         field: &'static str,
@@ -93,7 +93,19 @@ pub enum StackError {
     NoLayersOnRigid,
     #[error("stack has no layers and no base: give [[layer]] tables and/or an elastic [base]")]
     Empty,
+    /// An error in a stack file, with the file's path.
+    #[error("stack file {path}: {error}")]
+    InFile {
+        path: String,
+        error: Box<StackError>,
+    },
 }
+
+/// Admissible Young moduli (Pa), inclusive: from far below the softest gels to far
+/// above diamond (1.2e12 Pa). Outside this range the transfer-matrix products of
+/// S(ρ) (`compliance`) over- or underflow in f64 for common neighbours (E₁ = 1e-300 Pa
+/// on a 1e9 Pa base gives NaN), so every command refuses such stacks alike.
+pub const YOUNG_RANGE: (f64, f64) = (1e-3, 1e15);
 
 /// Where in the stack file an error is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -141,6 +153,14 @@ fn check_young(location: Location, value: f64) -> Result<(), StackError> {
             field: "young",
             value,
             reason: "Young modulus must be > 0 (Pa)",
+        });
+    }
+    if !(YOUNG_RANGE.0..=YOUNG_RANGE.1).contains(&value) {
+        return Err(StackError::Invalid {
+            location,
+            field: "young",
+            value,
+            reason: "Young modulus must lie in [1e-3, 1e15] Pa (outside it S(ρ) over- or underflows)",
         });
     }
     Ok(())
@@ -300,7 +320,10 @@ impl Stack {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;
-        Stack::from_toml_str(&text)
+        Stack::from_toml_str(&text).map_err(|e| StackError::InFile {
+            path: path.display().to_string(),
+            error: Box::new(e),
+        })
     }
 
     #[cfg(feature = "toml")]
@@ -649,5 +672,46 @@ kind = "rigid"
         )
         .unwrap();
         assert!((s.top_plane_strain_modulus() - 1e9 / 0.75).abs() < 1e-3);
+    }
+
+    /// Moduli whose transfer-matrix products leave f64 are refused, naming the field;
+    /// the ends of the admissible range are accepted and give a finite S(ρ).
+    #[test]
+    fn moduli_outside_the_representable_range_are_refused() {
+        let st = |e1: &str, eb: &str| {
+            Stack::from_toml_str(&format!(
+                "[[layer]]\nthickness = 1e-4\nyoung = {e1}\npoisson = 0.3\n[base]\nkind = \"elastic\"\nyoung = {eb}\npoisson = 0.3"
+            ))
+        };
+        let e = st("1e-300", "1e9").unwrap_err().to_string();
+        assert!(
+            e.contains("layer 1") && e.contains("young") && e.contains("1e15"),
+            "{e}"
+        );
+        let e = st("1e9", "1e300").unwrap_err().to_string();
+        assert!(e.starts_with("base") && e.contains("young"), "{e}");
+        for (a, b) in [("1e-3", "1e15"), ("1e15", "1e-3")] {
+            let s = st(a, b).unwrap();
+            let c = crate::Compliance::new(&s);
+            for rho in [1e-2, 1e2, 1e4, 1e6, 1e8] {
+                assert!(c.s(rho).is_finite(), "{a} on {b}: S({rho}) = {}", c.s(rho));
+            }
+        }
+    }
+
+    #[test]
+    fn file_errors_name_the_file() {
+        let p = std::env::temp_dir().join(format!("strata-stack-{}.toml", std::process::id()));
+        std::fs::write(
+            &p,
+            "[[layer]]\nthickness = 1e-4\nyoung = -1\npoisson = 0.3\n",
+        )
+        .unwrap();
+        let e = Stack::from_toml_file(&p).unwrap_err().to_string();
+        std::fs::remove_file(&p).unwrap();
+        assert!(
+            e.starts_with(&format!("stack file {}: layer 1", p.display())),
+            "{e}"
+        );
     }
 }

@@ -13,22 +13,31 @@ fn parse_number(flag: &str, s: &str) -> Result<f64> {
     Ok(v)
 }
 
-/// Parses `a,b,c` or `LO:HI:N`. `log` selects log spacing for the range form
-/// (LO, HI > 0), else linear spacing. N ≥ 1; N = 1 gives LO.
-pub fn parse_list(flag: &str, s: &str, log: bool) -> Result<Vec<f64>> {
+/// The one spelling of value lists on the command line (`--delta`, `--rho-h`):
+/// `a,b,c` (the values), `LO:HI:N` (N values evenly spaced from LO to HI, linear) or
+/// `LO:HI:N:log` (N values geometrically spaced, LO, HI > 0). N ≥ 1; N = 1 gives LO;
+/// the end points are exact.
+pub const LIST_HELP: &str =
+    "a list `a,b,c`, or `LO:HI:N` (N linearly spaced values) or `LO:HI:N:log` (log-spaced)";
+
+/// Parses a value list (see [`LIST_HELP`]).
+pub fn parse_list(flag: &str, s: &str) -> Result<Vec<f64>> {
     let s = s.trim();
     if s.is_empty() {
         bail!("{flag}: empty list");
     }
     if s.contains(':') {
-        let parts: Vec<&str> = s.split(':').collect();
-        if parts.len() != 3 {
-            bail!("{flag}: range `{s}` must be LO:HI:N");
-        }
+        let mut parts: Vec<&str> = s.split(':').map(str::trim).collect();
+        let log = match parts.len() {
+            3 => false,
+            4 if parts[3].eq_ignore_ascii_case("log") => true,
+            4 if parts[3].eq_ignore_ascii_case("lin") => false,
+            _ => bail!("{flag}: range `{s}` must be LO:HI:N (linear) or LO:HI:N:log"),
+        };
+        parts.truncate(3);
         let lo = parse_number(flag, parts[0])?;
         let hi = parse_number(flag, parts[1])?;
         let n: usize = parts[2]
-            .trim()
             .parse()
             .map_err(|_| anyhow::anyhow!("{flag}: N in `{s}` must be a positive integer"))?;
         if n == 0 {
@@ -62,6 +71,19 @@ pub fn parse_list(flag: &str, s: &str, log: bool) -> Result<Vec<f64>> {
     s.split(',').map(|p| parse_number(flag, p)).collect()
 }
 
+/// True for a linear range `LO:HI:N` whose ends differ by 100× or more (a hint that
+/// `:log` may have been meant).
+pub fn wide_linear_range(s: &str) -> bool {
+    let parts: Vec<&str> = s.trim().split(':').map(str::trim).collect();
+    if parts.len() != 3 {
+        return false;
+    }
+    match (parts[0].parse::<f64>(), parts[1].parse::<f64>()) {
+        (Ok(lo), Ok(hi)) => lo > 0.0 && hi > 0.0 && (hi / lo >= 100.0 || lo / hi >= 100.0),
+        _ => false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -69,19 +91,34 @@ mod tests {
     #[test]
     fn lists_and_ranges() {
         assert_eq!(
-            parse_list("--x", "1,2.5,3e-3", false).unwrap(),
+            parse_list("--x", "1,2.5,3e-3").unwrap(),
             vec![1.0, 2.5, 3e-3]
         );
-        let v = parse_list("--x", "0.01:100:5", true).unwrap();
+        let v = parse_list("--x", "0.01:100:5:log").unwrap();
         assert_eq!(v.len(), 5);
         assert_eq!(v[0], 0.01);
         assert_eq!(v[4], 100.0);
         assert!((v[2] - 1.0).abs() < 1e-14);
-        let v = parse_list("--x", "0:1:3", false).unwrap();
+        let v = parse_list("--x", "0:1:3").unwrap();
         assert_eq!(v, vec![0.0, 0.5, 1.0]);
-        for bad in ["", "a", "1,,2", "1:2", "0:1:3x", "1:2:0", "nan", "inf,1"] {
-            assert!(parse_list("--x", bad, false).is_err(), "{bad}");
+        assert_eq!(parse_list("--x", "0:1:3:lin").unwrap(), v);
+        let v = parse_list("--x", "0.01:100:3").unwrap();
+        assert_eq!(v, vec![0.01, 0.01 + (100.0 - 0.01) * 0.5, 100.0]);
+        for bad in [
+            "",
+            "a",
+            "1,,2",
+            "1:2",
+            "0:1:3x",
+            "1:2:0",
+            "nan",
+            "inf,1",
+            "1:2:3:cubic",
+            "0:1:3:log",
+        ] {
+            assert!(parse_list("--x", bad).is_err(), "{bad}");
         }
-        assert!(parse_list("--x", "0:1:3", true).is_err());
+        assert!(wide_linear_range("0.01:100:5") && !wide_linear_range("0.01:100:5:log"));
+        assert!(!wide_linear_range("1:2:5") && !wide_linear_range("0:1:5"));
     }
 }

@@ -6,15 +6,17 @@
 //! compression), one row per δ, every value in shortest round-trip form. `--plot`
 //! draws force against approach with the Hertz curve for the top material (E*₁).
 //! `--profile FILE` also writes `delta,r,pressure,displacement` (m, m, Pa, m) on
-//! 0 ≤ r ≤ 3a for every δ > 0.
+//! 0 ≤ r ≤ 3a for every δ > 0. Existing `--plot`/`--profile` files are kept unless
+//! `--force`.
 
-use std::io::Write;
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use strata_runtime::Stack;
 use strata_tablegen::asperity::{Asperity, Options};
 
+use crate::csv_out::{self, num};
+use crate::output_set::OutputSet;
 use crate::plot::{self, PlotSpec, Series, Style};
 
 /// Which solution to compute.
@@ -34,23 +36,31 @@ pub struct Args {
     /// Asperity radius of curvature R (m), > 0.
     #[arg(long, allow_hyphen_values = true)]
     pub radius: f64,
-    /// Approaches δ (m, ≥ 0): a list `1e-7,2e-7` or `LO:HI:N` for N linearly spaced values.
+    /// Approaches δ (m, ≥ 0): a list `1e-7,2e-7`, or `LO:HI:N` (N linearly spaced
+    /// values) or `LO:HI:N:log` (N log-spaced values).
     #[arg(long, allow_hyphen_values = true)]
     pub delta: String,
     /// Solution model.
     #[arg(long, value_enum, default_value_t = Model::Full)]
     pub model: Model,
     /// Table for `--model approx` (a family table serves any member stack; other
-    /// stacks are refused). Without it the stack's table is built once and cached
-    /// (STRATA_CACHE_DIR, else ~/.cache/strata).
+    /// stacks are refused). Without it the stack's table is built once into the table
+    /// cache.
     #[arg(long)]
     pub table: Option<PathBuf>,
+    /// Table cache (default: STRATA_CACHE_DIR, else $XDG_CACHE_HOME/strata or
+    /// ~/.cache/strata).
+    #[arg(long)]
+    pub cache_dir: Option<PathBuf>,
     /// Draw force against approach (with Hertz) to this file (.svg or .png).
     #[arg(long)]
     pub plot: Option<PathBuf>,
     /// Write pressure and displacement profiles to this CSV file.
     #[arg(long)]
     pub profile: Option<PathBuf>,
+    /// Overwrite existing --plot and --profile files.
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -58,18 +68,40 @@ pub fn run(a: Args) -> Result<()> {
     if !(a.radius.is_finite() && a.radius > 0.0) {
         bail!("--radius: must be positive and finite, got {}", a.radius);
     }
-    let deltas = super::args::parse_list("--delta", &a.delta, false)?;
+    let deltas = super::args::parse_list("--delta", &a.delta)?;
     if let Some(bad) = deltas.iter().find(|d| **d < 0.0) {
         bail!("--delta: values must be >= 0, got {bad}");
     }
     if a.table.is_some() && a.model == Model::Full {
         bail!("--table is only used with --model approx");
     }
+    if let Some(p) = &a.plot {
+        let ext = p
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        if !matches!(ext.as_deref(), Some("svg" | "png")) {
+            bail!("--plot {}: extension must be .svg or .png", p.display());
+        }
+    }
+    let plot_set = a
+        .plot
+        .as_ref()
+        .map(|p| OutputSet::file("--plot", p, a.force))
+        .transpose()?;
+    let profile_set = a
+        .profile
+        .as_ref()
+        .map(|p| OutputSet::file("--profile", p, a.force))
+        .transpose()?;
     let (solver, approx) = match a.model {
         Model::Full => (Some(Asperity::new(&stack, Options::default())?), None),
         Model::Approx => (
             None,
-            Some(super::table::law_for_stack(&stack, a.table.as_deref())?),
+            Some(super::table::law_for_stack(
+                &stack,
+                a.table.as_deref(),
+                a.cache_dir.as_deref(),
+            )?),
         ),
     };
     let mut rows = Vec::with_capacity(deltas.len());
@@ -104,21 +136,26 @@ pub fn run(a: Args) -> Result<()> {
         }
         rows.push((d, s.a, s.force));
     }
-    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-    writeln!(out, "delta,a,force").context("writing to stdout")?;
-    for (d, r, f) in &rows {
-        writeln!(out, "{d:e},{r:e},{f:e}").context("writing to stdout")?;
+    let out = std::io::BufWriter::new(std::io::stdout().lock());
+    if let Err(e) = csv_out::write(
+        out,
+        ["delta", "a", "force"],
+        rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
+    ) && !e.is_broken_pipe()
+    {
+        bail!("writing to stdout: {e}");
     }
-    out.flush().context("writing to stdout")?;
-    if let Some(path) = &a.profile {
-        let mut text = String::from("delta,r,pressure,displacement\n");
-        for (d, r, p, u) in &profile_rows {
-            text.push_str(&format!("{d:e},{r:e},{p:e},{u:e}\n"));
-        }
-        strata_runtime::output::write_atomic(path, text.as_bytes())
-            .with_context(|| format!("writing {}", path.display()))?;
+    if let (Some(path), Some(set)) = (&a.profile, profile_set) {
+        let text = csv_out::text(
+            ["delta", "r", "pressure", "displacement"],
+            profile_rows
+                .iter()
+                .map(|(d, r, p, u)| [num(*d), num(*r), num(*p), num(*u)]),
+        )?;
+        set.write(&file_name(path), text.as_bytes())?;
+        set.commit()?;
     }
-    if let Some(path) = &a.plot {
+    if let (Some(path), Some(set)) = (&a.plot, plot_set) {
         let es = stack.top_plane_strain_modulus();
         let hertz = |d: f64| 4.0 / 3.0 * es * a.radius.sqrt() * d.powf(1.5);
         let (lo, hi) = rows.iter().fold((f64::INFINITY, 0.0f64), |(l, h), r| {
@@ -127,16 +164,20 @@ pub fn run(a: Args) -> Result<()> {
         let hz: Vec<(f64, f64)> = (0..=200)
             .map(|i| {
                 let d = lo + (hi - lo) * i as f64 / 200.0;
-                (d, hertz(d))
+                (d * 1e6, hertz(d))
             })
             .collect();
         let spec = PlotSpec {
             title: format!(
-                "{}: sphere R = {:e} m",
-                stack.name.as_deref().unwrap_or("stack"),
-                a.radius
+                "Force against approach: {}, {}, sphere R = {}",
+                match a.model {
+                    Model::Full => "full solution",
+                    Model::Approx => "second-order approximation",
+                },
+                crate::engine::stack_description(&stack),
+                crate::plot::ticks::length(a.radius)
             ),
-            x_label: "approach δ (m)".into(),
+            x_label: "approach δ (µm)".into(),
             y_label: "force P (N)".into(),
             log_x: false,
             log_y: false,
@@ -147,7 +188,7 @@ pub fn run(a: Args) -> Result<()> {
                         Model::Approx => "second-order approximation (table)",
                     }
                     .into(),
-                    points: rows.iter().map(|r| (r.0, r.2)).collect(),
+                    points: rows.iter().map(|r| (r.0 * 1e6, r.2)).collect(),
                     style: if rows.len() > 30 {
                         Style::Line
                     } else {
@@ -161,7 +202,14 @@ pub fn run(a: Args) -> Result<()> {
                 },
             ],
         };
-        plot::lines(path, &spec)?;
+        plot::lines(&set.path(&file_name(path))?, &spec)?;
+        set.commit()?;
     }
     Ok(())
+}
+
+fn file_name(p: &std::path::Path) -> String {
+    p.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }

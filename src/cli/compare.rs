@@ -39,13 +39,15 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::scene::{MapsSpec, ModelKind, Scene};
+use crate::csv_out::{self, num};
+use crate::output_set::OutputSet;
+use crate::progress;
+use crate::scene::{ModelKind, Scene};
 use anyhow::{Context, Result, bail};
-use strata_runtime::output::write_atomic;
 use strata_runtime::rough::{Images, Step};
 
-use crate::cli::solve::{curve_csv, out_dir_ready, write_maps};
-use crate::engine::{EngineOptions, solve_scene};
+use crate::cli::solve::{MapWriter, curve_csv};
+use crate::engine::{EngineOptions, solve_scene_with_maps};
 use crate::plot::{PlotSpec, Series, Style};
 
 #[derive(Debug, clap::Args)]
@@ -57,11 +59,11 @@ pub struct Args {
     /// Output directory (created if missing).
     #[arg(long)]
     pub out: PathBuf,
-    /// Overwrite files in a non-empty output directory.
+    /// Replace the outputs of a non-empty output directory.
     #[arg(long)]
     pub force: bool,
-    /// Where missing tables of layered stacks are built and cached
-    /// (default: `.strata-cache` beside the scene).
+    /// Table cache for layered stacks without `stack.table` (default: STRATA_CACHE_DIR,
+    /// else $XDG_CACHE_HOME/strata or ~/.cache/strata).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
     /// Skip the plots.
@@ -207,44 +209,58 @@ pub fn compare_rows(n: &[Step], i: &[Step], bem: &[Step], scale: f64) -> Vec<Row
         .collect()
 }
 
-fn num(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:e}")
-    } else {
-        String::new()
-    }
-}
+/// The header of compare.csv.
+const COMPARE_HEADER: [&str; 19] = [
+    "step",
+    "delta",
+    "separation",
+    "pressure_ratio_bem",
+    "p_bem",
+    "p_n",
+    "p_i",
+    "rel_p_n",
+    "rel_p_i",
+    "area_bem",
+    "area_n",
+    "area_i",
+    "area_n_at_p",
+    "area_i_at_p",
+    "rel_area_n",
+    "rel_area_i",
+    "contacts_bem",
+    "contacts_n",
+    "contacts_i",
+];
 
 /// compare.csv text (header in the module docs), full precision.
-pub fn compare_csv(rows: &[Row]) -> String {
-    let mut s = String::from(
-        "step,delta,separation,pressure_ratio_bem,p_bem,p_n,p_i,rel_p_n,rel_p_i,area_bem,area_n,area_i,area_n_at_p,area_i_at_p,rel_area_n,rel_area_i,contacts_bem,contacts_n,contacts_i\n",
-    );
-    for (k, r) in rows.iter().enumerate() {
-        let c = |x: Option<usize>| x.map(|v| v.to_string()).unwrap_or_default();
-        s.push_str(&format!(
-            "{k},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            num(r.delta),
-            num(r.separation),
-            num(r.pressure_ratio_bem),
-            num(r.p_bem),
-            num(r.p[0]),
-            num(r.p[1]),
-            num(r.rel_p[0]),
-            num(r.rel_p[1]),
-            num(r.area_bem),
-            num(r.area[0]),
-            num(r.area[1]),
-            num(r.area_at_p[0]),
-            num(r.area_at_p[1]),
-            num(r.rel_area[0]),
-            num(r.rel_area[1]),
-            r.contacts_bem,
-            c(r.contacts[0]),
-            c(r.contacts[1]),
-        ));
-    }
-    s
+pub fn compare_csv(rows: &[Row]) -> Result<String> {
+    let c = |x: Option<usize>| x.map(|v| v.to_string()).unwrap_or_default();
+    Ok(csv_out::text(
+        &COMPARE_HEADER,
+        rows.iter().enumerate().map(|(k, r)| {
+            vec![
+                k.to_string(),
+                num(r.delta),
+                num(r.separation),
+                num(r.pressure_ratio_bem),
+                num(r.p_bem),
+                num(r.p[0]),
+                num(r.p[1]),
+                num(r.rel_p[0]),
+                num(r.rel_p[1]),
+                num(r.area_bem),
+                num(r.area[0]),
+                num(r.area[1]),
+                num(r.area_at_p[0]),
+                num(r.area_at_p[1]),
+                num(r.rel_area[0]),
+                num(r.rel_area[1]),
+                r.contacts_bem.to_string(),
+                c(r.contacts[0]),
+                c(r.contacts[1]),
+            ]
+        }),
+    )?)
 }
 
 /// (max, median, count) of |x| over the finite values; None if there are none.
@@ -361,9 +377,16 @@ const COLOURS: [(u8, u8, u8); 6] = [
     (86, 180, 233),
 ];
 
-/// p_n/E*₁ against g_n and A/A₀ against p_n/E*₁ of the selected models of every scene:
-/// one colour per scene; N model dashed, I model solid, BEM dots.
-fn plots(dir: &Path, suffix: &str, cs: &[&Compared], models: &[usize]) -> Result<()> {
+/// p_n/E*₁ against g_n (µm) and A/A₀ against p_n/E*₁ of the selected models of every
+/// scene, into `dir` of the set: one colour per scene; N model dashed, I model solid,
+/// BEM dots; the legend beside the axes.
+fn plots(
+    set: &OutputSet,
+    dir: &str,
+    suffix: &str,
+    cs: &[&Compared],
+    models: &[usize],
+) -> Result<()> {
     let many = cs.len() > 1;
     let mut pg = Vec::new();
     let mut ap = Vec::new();
@@ -383,7 +406,10 @@ fn plots(dir: &Path, suffix: &str, cs: &[&Compared], models: &[usize]) -> Result
             let steps = &c.runs[m].steps;
             pg.push(Series {
                 name: name.clone(),
-                points: steps.iter().map(|s| (s.gap, s.pressure_ratio)).collect(),
+                points: steps
+                    .iter()
+                    .map(|s| (s.gap * 1e6, s.pressure_ratio))
+                    .collect(),
                 style,
             });
             ap.push(Series {
@@ -396,43 +422,21 @@ fn plots(dir: &Path, suffix: &str, cs: &[&Compared], models: &[usize]) -> Result
             });
         }
     }
-    // Room for the legend (upper left) above the curves: the y axis is extended by a
-    // point that is not drawn, by a factor growing with the number of legend entries.
-    let entries = pg.len() as f64;
-    let top = |v: &[Series]| {
-        v.iter()
-            .flat_map(|s| s.points.iter())
-            .map(|p| p.1)
-            .filter(|y| y.is_finite())
-            .fold(0.0_f64, f64::max)
-    };
-    let x_of = |v: &[Series]| v.iter().flat_map(|s| s.points.first()).map(|p| p.0).next();
-    if let Some(x) = x_of(&pg) {
-        let y = top(&pg) * 10f64.powf(0.13 * entries);
-        pg.push(Series {
-            name: String::new(),
-            points: vec![(x, y)],
-            style: Style::Spacer,
-        });
-    }
-    if let Some(x) = x_of(&ap) {
-        let y = top(&ap) * (1.0 + 0.06 * entries);
-        ap.push(Series {
-            name: String::new(),
-            points: vec![(x, y)],
-            style: Style::Spacer,
-        });
-    }
     let what = if models.len() == 3 {
         "N model, I model and BEM"
     } else {
         "I model and BEM"
     };
+    let whose = if many {
+        format!("{} scenes", cs.len())
+    } else {
+        cs.first().map(|c| c.label.clone()).unwrap_or_default()
+    };
     crate::plot::lines(
-        &dir.join(format!("pressure_gap{suffix}.svg")),
+        &set.path(&format!("{dir}pressure_gap{suffix}.svg"))?,
         &PlotSpec {
-            title: format!("mean pressure against separation: {what}"),
-            x_label: "g_n (m)".into(),
+            title: format!("Mean pressure against separation: {what}, {whose}"),
+            x_label: "separation g_n (µm)".into(),
             y_label: "p_n / E*1".into(),
             log_x: false,
             log_y: true,
@@ -440,9 +444,9 @@ fn plots(dir: &Path, suffix: &str, cs: &[&Compared], models: &[usize]) -> Result
         },
     )?;
     crate::plot::lines(
-        &dir.join(format!("area_pressure{suffix}.svg")),
+        &set.path(&format!("{dir}area_pressure{suffix}.svg"))?,
         &PlotSpec {
-            title: format!("real contact area against mean pressure: {what}"),
+            title: format!("Real contact area against mean pressure: {what}, {whose}"),
             x_label: "p_n / E*1".into(),
             y_label: "A / A0".into(),
             log_x: false,
@@ -476,15 +480,17 @@ fn images_name(images: Images) -> String {
     }
 }
 
-/// Solves one scene with the three models and writes its files into `dir`.
+/// Solves one scene with the three models and writes its files into `dir` of the set
+/// (`""` or `"stem/"`).
 fn compare_scene(
     path: &Path,
     label: Option<&str>,
-    dir: &Path,
+    set: &OutputSet,
+    dir: &str,
     a: &Args,
     heading: &str,
 ) -> Result<Compared> {
-    let scene = Scene::from_file(path).with_context(|| format!("scene {}", path.display()))?;
+    let scene = Scene::from_file(path)?;
     if !scene.surface.read.periodic {
         bail!(
             "scene {}: compare runs the BEM, which needs a periodic surface (surface.periodic = true)",
@@ -494,7 +500,6 @@ fn compare_scene(
     let mut runs = Vec::new();
     let mut scale = f64::NAN;
     let mut e_star = f64::NAN;
-    let mut maps = Vec::new();
     for (kind, (key, name)) in [
         ModelKind::Independent,
         ModelKind::Interacting,
@@ -505,36 +510,44 @@ fn compare_scene(
     {
         let mut sc = scene.clone();
         sc.model.kind = kind;
-        let bem = kind == ModelKind::Bem;
         let opts = EngineOptions {
             cache_dir: a.cache_dir.clone(),
             quiet: false,
-            keep_maps: bem && scene.output.maps != MapsSpec::None,
             bem: None,
         };
-        eprintln!("compare {}: {name}…", path.display());
-        let sol = solve_scene(&sc, path, &opts)
+        progress::log(format!("compare {}: {name}…", path.display()));
+        let mut maps = MapWriter::in_dir(
+            set,
+            &format!("{dir}maps/"),
+            if kind == ModelKind::Bem {
+                scene.output.maps
+            } else {
+                crate::scene::MapsSpec::None
+            },
+            !a.no_plots,
+            &scene.surface,
+        );
+        let sol = solve_scene_with_maps(&sc, path, &opts, &mut |k, n, m| maps.accept(k, n, m))
             .with_context(|| format!("scene {}: {name}", path.display()))?;
-        eprintln!(
+        maps.finish()?;
+        progress::log(format!(
             "compare {}: {name} took {:.3} s",
             path.display(),
             sol.seconds
-        );
-        write_atomic(
-            &dir.join(format!("curve_{key}.csv")),
-            curve_csv(&sol.steps).as_bytes(),
+        ));
+        set.write(
+            &format!("{dir}curve_{key}.csv"),
+            curve_csv(&sol.steps)?.as_bytes(),
         )?;
-        if bem {
+        if kind == ModelKind::Bem {
             scale = sol.meta["z_max_minus_mean"].as_f64().unwrap_or(f64::NAN);
             e_star = sol.meta["e_star_1"].as_f64().unwrap_or(f64::NAN);
-            maps = sol.maps;
         }
         runs.push(ModelRun {
             steps: sol.steps,
             seconds: sol.seconds,
         });
     }
-    write_maps(dir, &maps, scene.output.maps, !a.no_plots)?;
     let rows = compare_rows(&runs[0].steps, &runs[1].steps, &runs[2].steps, scale);
     let runs: [ModelRun; 3] = runs
         .try_into()
@@ -555,14 +568,17 @@ fn compare_scene(
         rows,
         e_star,
     };
-    write_atomic(&dir.join("compare.csv"), compare_csv(&c.rows).as_bytes())?;
-    write_atomic(&dir.join("compare.md"), report(&c, heading).as_bytes())?;
+    set.write(
+        &format!("{dir}compare.csv"),
+        compare_csv(&c.rows)?.as_bytes(),
+    )?;
+    set.write(&format!("{dir}compare.md"), report(&c, heading).as_bytes())?;
     if !a.no_plots
         && c.runs
             .iter()
             .any(|r| r.steps.iter().any(|s| s.contacts > 0))
     {
-        plots(dir, "", &[&c], &[0, 1, 2])?;
+        plots(set, dir, "", &[&c], &[0, 1, 2])?;
     }
     Ok(c)
 }
@@ -576,16 +592,17 @@ pub fn run(a: Args) -> Result<()> {
             a.scenes.len()
         );
     }
-    out_dir_ready(&a.out, a.force)?;
+    let set = OutputSet::dir("--out", &a.out, a.force)?;
     if a.scenes.len() == 1 {
         let c = compare_scene(
             &a.scenes[0],
             a.labels.first().map(String::as_str),
-            &a.out,
+            &set,
+            "",
             &a,
             "# Model comparison:",
         )?;
-        eprint!("{}", summary_table(&c));
+        progress::log(summary_table(&c));
     } else {
         let mut done = Vec::new();
         let mut used = std::collections::HashSet::new();
@@ -599,12 +616,11 @@ pub fn run(a: Args) -> Result<()> {
             } else {
                 format!("{stem}-{k}")
             };
-            let sub = a.out.join(&name);
-            std::fs::create_dir_all(&sub).with_context(|| format!("creating {}", sub.display()))?;
             done.push(compare_scene(
                 p,
                 a.labels.get(k).map(String::as_str),
-                &sub,
+                &set,
+                &format!("{name}/"),
                 &a,
                 "# Model comparison:",
             )?);
@@ -623,21 +639,22 @@ pub fn run(a: Args) -> Result<()> {
                 summary_table(c)
             ));
         }
-        write_atomic(&a.out.join("compare.md"), md.as_bytes())?;
+        set.write("compare.md", md.as_bytes())?;
         if !a.no_plots {
             let refs: Vec<&Compared> = done.iter().collect();
-            plots(&a.out, "", &refs, &[0, 1, 2])?;
-            plots(&a.out, "_I_bem", &refs, &[1, 2])?;
+            plots(&set, "", "", &refs, &[0, 1, 2])?;
+            plots(&set, "", "_I_bem", &refs, &[1, 2])?;
         }
         for c in &done {
-            eprint!("{}:\n{}", c.label, summary_table(c));
+            progress::log(format!("{}:\n{}", c.label, summary_table(c)));
         }
     }
-    eprintln!(
+    set.commit()?;
+    progress::log(format!(
         "wrote the comparison to {} in {:.1} s",
         a.out.display(),
         t0.elapsed().as_secs_f64()
-    );
+    ));
     Ok(())
 }
 
@@ -695,7 +712,7 @@ mod tests {
         // Area at equal pressure: N at p = 1e6 lies below its first step → empty.
         assert!(r[0].rel_area[0].is_nan());
         assert_eq!(r[1].area[0], 0.25);
-        let csv = compare_csv(&r);
+        let csv = compare_csv(&r).unwrap();
         assert_eq!(csv.lines().count(), 3);
         assert!(csv.lines().nth(1).unwrap().contains(",,"));
         let (max, med, k) = abs_stats([0.1, -0.3, f64::NAN, 0.2].into_iter()).unwrap();

@@ -2,38 +2,58 @@
 //!
 //! Output header `rho_h,k_z`, with ρ·h₁ dimensionless (h₁ the top layer's thickness)
 //! and every value printed with full f64 precision (shortest round-trip form). This
-//! interface is relied on by other tools: keep it.
+//! interface is relied on by other tools: keep it. The stack is validated as in every
+//! other command (`Stack`'s rules, moduli in [`strata_runtime::stack::YOUNG_RANGE`]);
+//! a value that is not finite is an error, never printed.
 
-use std::io::Write;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::{Result, bail};
 use strata_runtime::{Compliance, Stack};
+
+use crate::csv_out;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// Stack file (TOML).
     pub stack: PathBuf,
-    /// Values of ρ·h₁: a list `0.01,0.1,1` or `LO:HI:N` for N log-spaced values.
+    /// Values of ρ·h₁: a list `0.01,0.1,1`, or `LO:HI:N` (N linearly spaced values) or
+    /// `LO:HI:N:log` (N log-spaced values).
     #[arg(long = "rho-h", allow_hyphen_values = true)]
     pub rho_h: String,
 }
 
 pub fn run(a: Args) -> Result<()> {
     let stack = Stack::from_toml_file(&a.stack)?;
-    let rho_h = super::args::parse_list("--rho-h", &a.rho_h, true)?;
+    let rho_h = super::args::parse_list("--rho-h", &a.rho_h)?;
     if let Some(bad) = rho_h.iter().find(|x| **x < 0.0) {
-        anyhow::bail!("--rho-h: values must be >= 0, got {bad}");
+        bail!("--rho-h: values must be >= 0, got {bad}");
+    }
+    if super::args::wide_linear_range(&a.rho_h) {
+        crate::progress::log(format!(
+            "note: --rho-h {} is linearly spaced; write {}:log for log spacing",
+            a.rho_h, a.rho_h
+        ));
     }
     let comp = Compliance::new(&stack);
     // A half-space has no h₁; k_z ≡ 0 there whatever ρ is.
     let h1 = stack.top_thickness().unwrap_or(1.0);
-    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
-    writeln!(out, "rho_h,k_z").context("writing to stdout")?;
+    let mut rows = Vec::with_capacity(rho_h.len());
     for x in rho_h {
         let kz = comp.kz(x / h1);
-        writeln!(out, "{x:e},{kz:e}").context("writing to stdout")?;
+        if !kz.is_finite() {
+            bail!(
+                "stack file {}: k_z at rho_h = {x:e} is {kz} (not representable in f64 for this stack)",
+                a.stack.display()
+            );
+        }
+        rows.push([format!("{x:e}"), format!("{kz:e}")]);
     }
-    out.flush().context("writing to stdout")?;
+    let out = std::io::stdout().lock();
+    if let Err(e) = csv_out::write(out, ["rho_h", "k_z"], rows)
+        && !e.is_broken_pipe()
+    {
+        bail!("writing to stdout: {e}");
+    }
     Ok(())
 }

@@ -18,9 +18,11 @@
 //! `mean_pressures`, the separation of the largest one). The law between samples is the
 //! monotone interpolation of `strata_runtime::interface` (cubic Hermite with the
 //! solver's own slopes); the file reports how far the piecewise-linear table (what
-//! Abaqus does) is from it. Files are written atomically; existing ones are kept unless
-//! `--force`. When an Abaqus block is written, the log warns about what CalculiX 2.20
-//! would change in it (more than 200 lines, overclosure steps below 1e-10 m).
+//! Abaqus does) is from it. The files are one output set ([`crate::output_set`]):
+//! staged, then moved into place together under a lock, so `--format all` never
+//! leaves new and old files side by side; existing ones are kept unless `--force`.
+//! When an Abaqus block is written, the log warns about what CalculiX 2.20 would
+//! change in it (more than 200 lines, overclosure steps below 1e-10 m).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -28,8 +30,10 @@ use std::time::Instant;
 use crate::scene::{LoadSpec, ModelKind, Scene};
 use anyhow::{Context, Result, bail};
 use strata_runtime::interface::{InterfaceLaw, MAX_SAMPLES, SampleOptions, sample_gaps};
-use strata_runtime::output::write_atomic;
 use strata_runtime::rough::{Images, Model, RoughContact};
+
+use crate::output_set::OutputSet;
+use crate::progress;
 
 use crate::engine::{EngineOptions, law_for, solve_scene};
 
@@ -61,8 +65,8 @@ pub struct Args {
     /// Overwrite existing output files.
     #[arg(long)]
     pub force: bool,
-    /// Where missing tables of layered stacks are built and cached
-    /// (default: `.strata-cache` beside the scene).
+    /// Table cache for layered stacks without `stack.table` (default: STRATA_CACHE_DIR,
+    /// else $XDG_CACHE_HOME/strata or ~/.cache/strata).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
 }
@@ -174,9 +178,9 @@ fn solve_asperities(
     model: Model,
     a: &Args,
 ) -> Result<Solved> {
-    let surface = scene.load_surface().context("surface")?;
+    let surface = crate::engine::load_surface(scene, opts.quiet)?;
     let law = law_for(scene, path, opts)?;
-    let rc = RoughContact::from_surface(law.as_ref(), &surface).context("surface")?;
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
     let g0 = rc.top_to_mean();
     let min_gap = match a.min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
         Some(g) => g,
@@ -187,10 +191,11 @@ fn solve_asperities(
                 .gap
         }
     };
-    eprintln!(
+    progress::log(format!(
         "law: {} samples from first contact g0 = {g0:e} m down to g = {min_gap:e} m",
         a.samples
-    );
+    ));
+    let _spin = progress::spinner(format!("law: sampling {} separations", a.samples));
     let il = InterfaceLaw::sample(
         &rc,
         model,
@@ -235,7 +240,7 @@ fn solid(scene: &Scene) -> String {
 
 /// BEM: the engine's scene solve at the sample separations.
 fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Result<Solved> {
-    let surface = scene.load_surface().context("surface")?;
+    let surface = crate::engine::load_surface(scene, opts.quiet)?;
     let z_max = surface
         .heights()
         .iter()
@@ -256,10 +261,10 @@ fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Resu
     if min_gap.is_nan() || min_gap >= g0 {
         bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
     }
-    eprintln!(
+    progress::log(format!(
         "law: {} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m",
         a.samples
-    );
+    ));
     let mut sampled = scene.clone();
     sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, a.samples));
     let sol = solve_scene(&sampled, path, opts)?;
@@ -320,24 +325,18 @@ pub fn run(a: Args) -> Result<()> {
     check_samples(a.samples)?;
     check_min_gap(a.min_gap)?;
     let outs = outputs(&a)?;
-    if !a.force
-        && let Some((_, p)) = outs.iter().find(|(_, p)| p.exists())
-    {
-        bail!(
-            "--out {}: file exists (use --force to overwrite)",
-            p.display()
-        );
-    }
-    let scene =
-        Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
+    let scene = Scene::from_file(&a.scene)?;
+    let paths: Vec<PathBuf> = outs.iter().map(|(_, p)| p.clone()).collect();
+    let set = OutputSet::files("--out", &paths, a.force)?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
         ..Default::default()
     };
     let solved = match model_of(&scene) {
-        Some(m) => solve_asperities(&scene, &a.scene, &opts, m, &a)?,
-        None => solve_bem(&scene, &a.scene, &opts, &a)?,
-    };
+        Some(m) => solve_asperities(&scene, &a.scene, &opts, m, &a),
+        None => solve_bem(&scene, &a.scene, &opts, &a),
+    }
+    .with_context(|| format!("scene {}", a.scene.display()))?;
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
         for w in solved.law.calculix_warnings() {
             eprintln!("warning: {w}");
@@ -355,15 +354,15 @@ pub fn run(a: Args) -> Result<()> {
             ]),
             Format::All => bail!("internal error: --format all was not expanded"),
         };
-        if let Some(dir) = p.parent()
-            && !dir.as_os_str().is_empty()
-        {
-            std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
-        }
-        write_atomic(p, text.as_bytes()).with_context(|| format!("--out {}", p.display()))?;
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        set.write(&name, text.as_bytes())?;
     }
+    set.commit()?;
     let l = &solved.law;
-    eprintln!(
+    progress::log(format!(
         "wrote {} samples (g from {:e} to {:e} m, p up to {:e} Pa) to {} in {:.3} s; \
          piecewise-linear table within {:.1e} of p_max ({:.1e} locally where p > 1% of p_max){}",
         l.len(),
@@ -385,6 +384,6 @@ pub fn run(a: Args) -> Result<()> {
         } else {
             String::new()
         }
-    );
+    ));
     Ok(())
 }

@@ -15,11 +15,24 @@ use anyhow::Result;
 use clap::{Parser, Subcommand};
 
 /// strata: normal contact of rough surfaces on multi-layered elastic solids (SI units).
+///
+/// Paths given on the command line are relative to the current directory; paths inside
+/// a scene or sweep file are relative to that file's directory. Outputs are replaced as
+/// a whole (an existing output needs --force); tables built on demand go to one cache
+/// (--cache-dir, else STRATA_CACHE_DIR, else $XDG_CACHE_HOME/strata or ~/.cache/strata).
 #[derive(Debug, Parser)]
 #[command(name = "strata", version, about, long_about = None)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+    /// No progress bars and no log lines on stderr (errors are still printed).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+    /// Largest single allocation strata may attempt, e.g. 512M or 8G (powers of 1024;
+    /// default: STRATA_MEMORY_LIMIT, else 75 % of the machine's memory). Larger
+    /// problems fail with a message before allocating.
+    #[arg(long, global = true, value_name = "BYTES")]
+    pub memory_limit: Option<String>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -62,6 +75,19 @@ pub fn run(cli: Cli) -> Result<()> {
 /// (errors are printed once, as one chain, on stderr).
 pub fn main() -> std::process::ExitCode {
     let args = Cli::parse();
+    crate::progress::set_quiet(args.quiet);
+    if let Some(m) = &args.memory_limit {
+        match strata_runtime::resources::parse_bytes(m) {
+            Ok(b) => strata_runtime::resources::set_memory_limit(b),
+            Err(e) => {
+                eprintln!("error: --memory-limit: {e}");
+                return std::process::ExitCode::FAILURE;
+            }
+        }
+    } else if let Err(e) = strata_runtime::resources::memory_limit() {
+        eprintln!("error: {e}");
+        return std::process::ExitCode::FAILURE;
+    }
     match run(args) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {

@@ -1,6 +1,7 @@
 //! `strata solve SCENE.toml --out DIR`: load curve of a rough contact (issue 5).
 //!
-//! Writes, atomically (temporary file + rename):
+//! Writes one output set, replaced as a whole ([`crate::output_set`]: staged beside
+//! DIR, swapped in at the end, under a lock; files you put in DIR yourself are kept):
 //! - `DIR/curve.csv`, header exactly
 //!   `delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness`
 //!   (SI: δ and g_n in m, p_n in Pa, p_n/E*₁ and A/A₀ dimensionless, stiffness dP/dδ
@@ -13,25 +14,30 @@
 //!   refuses maps for the asperity models, which have no pressure field):
 //!   `DIR/maps/pressure_step_KK.npy` (Pa) and `gap_step_KK.npy` (m), n×n f64 in the
 //!   surface's orientation, their pictures `pressure_step_KK.png` / `gap_step_KK.png`
-//!   (viridis; white = no contact; skipped with `--no-plots`) and `DIR/maps/maps.csv`
+//!   (viridis, axes in mm with a scale bar; pressure in MPa, gap in µm; white = no
+//!   contact; skipped with `--no-plots`), each written as its step is solved, and
+//!   `DIR/maps/maps.csv`
 //!   (step, δ, g_n, p̄, A/A₀, contact patches, files). KK is the load step, zero-padded.
 //!   The contact-patch count of every step is also curve.csv's `contacts` column.
 //!
-//! A non-empty DIR is refused unless `--force`. Only what the scene needs is computed:
+//! A non-empty DIR is refused unless `--force`; a second `strata` writing the same DIR
+//! fails at once. Only what the scene needs is computed:
 //! a homogeneous stack loads no table (χ = ζ = 1, g = 0); a layered stack loads
 //! `stack.table` or builds the table once into the cache and says so; the independent
 //! model forms no pairs. The log (stderr) says which effects were simulated.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
-use crate::scene::{MapsSpec, Scene};
-use anyhow::{Context, Result, bail};
+use crate::csv_out;
+use crate::output_set::OutputSet;
+use crate::progress;
+use crate::scene::{MapsSpec, Scene, SurfaceSpec};
+use anyhow::{Context, Result};
 use strata_bem::BemSolution;
-use strata_runtime::output::write_atomic;
 use strata_runtime::rough::Step;
 
-use crate::engine::{EngineOptions, solve_scene};
+use crate::engine::{EngineOptions, solve_scene_with_maps};
 
 use crate::plot::{PlotSpec, Series, Style};
 
@@ -39,14 +45,15 @@ use crate::plot::{PlotSpec, Series, Style};
 pub struct Args {
     /// Scene file (TOML).
     pub scene: PathBuf,
-    /// Output directory (created if missing).
+    /// Output directory (created if missing; replaced as a whole, files you put there
+    /// yourself are kept).
     #[arg(long)]
     pub out: PathBuf,
-    /// Overwrite files in a non-empty output directory.
+    /// Replace the outputs of a non-empty output directory.
     #[arg(long)]
     pub force: bool,
-    /// Where missing tables of layered stacks are built and cached
-    /// (default: `.strata-cache` beside the scene).
+    /// Table cache for layered stacks without `stack.table` (default: STRATA_CACHE_DIR,
+    /// else $XDG_CACHE_HOME/strata or ~/.cache/strata).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
     /// Skip the plots.
@@ -54,136 +61,214 @@ pub struct Args {
     pub no_plots: bool,
 }
 
-pub fn out_dir_ready(dir: &Path, force: bool) -> Result<()> {
-    if dir.exists() {
-        if !dir.is_dir() {
-            bail!("--out {}: exists and is not a directory", dir.display());
-        }
-        let non_empty = std::fs::read_dir(dir)
-            .with_context(|| format!("--out {}", dir.display()))?
-            .next()
-            .is_some();
-        if non_empty && !force {
-            bail!(
-                "--out {}: directory is not empty (use --force to overwrite)",
-                dir.display()
-            );
-        }
-    } else {
-        std::fs::create_dir_all(dir).with_context(|| format!("--out {}", dir.display()))?;
-    }
-    Ok(())
-}
+/// The header of curve.csv.
+pub const CURVE_HEADER: [&str; 7] = [
+    "delta",
+    "gap",
+    "mean_pressure",
+    "pressure_ratio",
+    "area_fraction",
+    "contacts",
+    "stiffness",
+];
 
-/// CSV body with the fixed header; full precision.
-pub fn curve_csv(steps: &[Step]) -> String {
-    let mut s =
-        String::from("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness\n");
-    for st in steps {
-        s.push_str(&format!(
-            "{:e},{:e},{:e},{:e},{:e},{},{:e}\n",
-            st.delta,
-            st.gap,
-            st.mean_pressure,
-            st.pressure_ratio,
-            st.area_fraction,
-            st.contacts,
-            st.stiffness
-        ));
-    }
-    s
+/// curve.csv text: the fixed header, full precision.
+pub fn curve_csv(steps: &[Step]) -> Result<String> {
+    Ok(csv_out::text(
+        &CURVE_HEADER,
+        steps.iter().map(|st| {
+            [
+                csv_out::num(st.delta),
+                csv_out::num(st.gap),
+                csv_out::num(st.mean_pressure),
+                csv_out::num(st.pressure_ratio),
+                csv_out::num(st.area_fraction),
+                st.contacts.to_string(),
+                csv_out::num(st.stiffness),
+            ]
+        }),
+    )?)
 }
 
 pub fn run(a: Args) -> Result<()> {
     let t0 = Instant::now();
-    let scene =
-        Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
-    out_dir_ready(&a.out, a.force)?;
+    let scene = Scene::from_file(&a.scene)?;
+    let set = OutputSet::dir("--out", &a.out, a.force)?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
-        keep_maps: scene.output.maps != MapsSpec::None,
         ..Default::default()
     };
-    let sol = solve_scene(&scene, &a.scene, &opts)?;
-    write_maps(&a.out, &sol.maps, scene.output.maps, !a.no_plots)?;
-    write_outputs(&a.out, a.no_plots, t0, &sol.steps, sol.meta)
+    let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots, &scene.surface);
+    let sol = solve_scene_with_maps(&scene, &a.scene, &opts, &mut |k, n, m| maps.accept(k, n, m))
+        .with_context(|| format!("scene {}", a.scene.display()))?;
+    maps.finish()?;
+    write_outputs(&set, a.no_plots, &sol.steps, sol.meta)?;
+    set.commit()?;
+    progress::log(format!(
+        "wrote {} steps to {} in {:.3} s",
+        sol.steps.len(),
+        a.out.display(),
+        t0.elapsed().as_secs_f64()
+    ));
+    Ok(())
 }
 
-/// Writes the BEM maps selected by `which` into `DIR/maps` (see the module docs):
-/// .npy maps, PNG pictures when `pictures`, and `maps.csv`. Nothing for `None`.
-pub fn write_maps(out: &Path, maps: &[BemSolution], which: MapsSpec, pictures: bool) -> Result<()> {
-    let picked: Vec<usize> = match which {
-        MapsSpec::None => return Ok(()),
-        MapsSpec::All => (0..maps.len()).collect(),
-        MapsSpec::Last => maps.len().checked_sub(1).into_iter().collect(),
-    };
-    if picked.is_empty() {
-        bail!("output.maps: the solution has no maps (model.kind must be \"bem\")");
+/// Writes the BEM maps selected by the scene into `maps/` of an output set as they
+/// come (see the module docs): .npy maps, PNG pictures when `pictures`, and
+/// `maps.csv`. `last` keeps one step's maps in memory until the end; `all` none.
+pub struct MapWriter<'a> {
+    set: &'a OutputSet,
+    /// Directory of the maps inside the set, with a trailing '/' (`maps/`).
+    dir: String,
+    which: MapsSpec,
+    pictures: bool,
+    /// The scene's surface: the sample size for the pictures' axes.
+    surface: &'a SurfaceSpec,
+    rows: Vec<[String; 8]>,
+    last: Option<(usize, usize, BemSolution)>,
+}
+
+impl<'a> MapWriter<'a> {
+    pub fn new(
+        set: &'a OutputSet,
+        which: MapsSpec,
+        pictures: bool,
+        surface: &'a SurfaceSpec,
+    ) -> Self {
+        Self::in_dir(set, "maps/", which, pictures, surface)
     }
-    let dir = out.join("maps");
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    let width = (maps.len() - 1).to_string().len().max(2);
-    let mut index = String::from(
-        "step,delta,gap,mean_pressure,area_fraction,contacts,pressure_file,gap_file\n",
-    );
-    for k in picked {
-        let m = &maps[k];
+
+    /// A writer into `dir` of the set (`sub/maps/`).
+    pub fn in_dir(
+        set: &'a OutputSet,
+        dir: &str,
+        which: MapsSpec,
+        pictures: bool,
+        surface: &'a SurfaceSpec,
+    ) -> Self {
+        MapWriter {
+            set,
+            dir: dir.to_string(),
+            which,
+            pictures,
+            surface,
+            rows: Vec::new(),
+            last: None,
+        }
+    }
+
+    /// Takes step `k` of `n`'s maps.
+    pub fn accept(&mut self, k: usize, n: usize, m: BemSolution) -> Result<()> {
+        match self.which {
+            MapsSpec::None => Ok(()),
+            MapsSpec::All => self.write(k, n, &m),
+            MapsSpec::Last => {
+                self.last = Some((k, n, m));
+                Ok(())
+            }
+        }
+    }
+
+    /// Writes the pending last step and `maps.csv`.
+    pub fn finish(mut self) -> Result<()> {
+        if self.which == MapsSpec::None {
+            return Ok(());
+        }
+        if let Some((k, n, m)) = self.last.take() {
+            self.write(k, n, &m)?;
+        }
+        if self.rows.is_empty() {
+            anyhow::bail!("output.maps: the solution has no maps (model.kind must be \"bem\")");
+        }
+        let text = csv_out::text(
+            &[
+                "step",
+                "delta",
+                "gap",
+                "mean_pressure",
+                "area_fraction",
+                "contacts",
+                "pressure_file",
+                "gap_file",
+            ],
+            &self.rows,
+        )?;
+        self.set
+            .write(&format!("{}maps.csv", self.dir), text.as_bytes())?;
+        Ok(())
+    }
+
+    fn write(&mut self, k: usize, n: usize, m: &BemSolution) -> Result<()> {
+        let width = (n.max(1) - 1).to_string().len().max(2);
         let (pf, gf) = (
             format!("pressure_step_{k:0width$}.npy"),
             format!("gap_step_{k:0width$}.npy"),
         );
-        m.write_maps(&dir.join(&pf), &dir.join(&gf))?;
-        index.push_str(&format!(
-            "{k},{:e},{:e},{:e},{:e},{},{pf},{gf}\n",
-            m.approach, m.separation, m.mean_pressure, m.area_fraction, m.patches
-        ));
-        if pictures {
-            let (n0, n1) = m.pressure.dim();
-            let p: Vec<f64> = m.pressure.iter().copied().collect();
+        let d = &self.dir;
+        m.write_maps(
+            &self.set.path(&format!("{d}{pf}"))?,
+            &self.set.path(&format!("{d}{gf}"))?,
+        )?;
+        self.rows.push([
+            k.to_string(),
+            csv_out::num(m.approach),
+            csv_out::num(m.separation),
+            csv_out::num(m.mean_pressure),
+            csv_out::num(m.area_fraction),
+            m.patches.to_string(),
+            pf,
+            gf,
+        ]);
+        let (n0, n1) = m.pressure.dim();
+        // Pictures need the sample's size; an .x3p scene's size is known only to the file.
+        let size = self.surface.first_axis_length(n0);
+        if self.pictures && size.is_finite() {
+            let p: Vec<f64> = m.pressure.iter().map(|v| v * 1e-6).collect();
             crate::plot::heatmap(
-                &dir.join(format!("pressure_step_{k:0width$}.png")),
+                &self
+                    .set
+                    .path(&format!("{d}pressure_step_{k:0width$}.png"))?,
                 &crate::plot::Heatmap {
                     title: format!(
-                        "pressure, step {k}: g_n = {:.3e} m, mean p = {:.3e} Pa, A/A0 = {:.4}, {} patches",
-                        m.separation, m.mean_pressure, m.area_fraction, m.patches
+                        "contact pressure, step {k}: g_n = {:.3} µm, mean p = {:.3e} Pa, A/A0 = {:.4}, {} patches",
+                        m.separation * 1e6,
+                        m.mean_pressure,
+                        m.area_fraction,
+                        m.patches
                     ),
-                    label: "p (Pa)".into(),
+                    label: "p (MPa)".into(),
                     values: &p,
                     n0,
                     n1,
                     zero_white: true,
+                    size,
                 },
             )?;
-            let g: Vec<f64> = m.gap.iter().copied().collect();
+            let g: Vec<f64> = m.gap.iter().map(|v| v * 1e6).collect();
             crate::plot::heatmap(
-                &dir.join(format!("gap_step_{k:0width$}.png")),
+                &self.set.path(&format!("{d}gap_step_{k:0width$}.png"))?,
                 &crate::plot::Heatmap {
                     title: format!(
-                        "gap, step {k}: g_n = {:.3e} m, mean gap {:.3e} m",
-                        m.separation, m.mean_gap
+                        "gap, step {k}: g_n = {:.3} µm, mean gap {:.3} µm",
+                        m.separation * 1e6,
+                        m.mean_gap * 1e6
                     ),
-                    label: "g (m)".into(),
+                    label: "g (µm)".into(),
                     values: &g,
                     n0,
                     n1,
                     zero_white: false,
+                    size,
                 },
             )?;
         }
+        Ok(())
     }
-    write_atomic(&dir.join("maps.csv"), index.as_bytes())?;
-    Ok(())
 }
 
-/// Writes curve.csv, curve.json (`meta` plus the steps) and the plots.
-pub fn write_outputs(
-    out: &Path,
-    no_plots: bool,
-    t0: Instant,
-    steps: &[Step],
-    mut meta: serde_json::Value,
-) -> Result<()> {
-    meta["steps"] = serde_json::Value::Array(steps.iter().map(|s| serde_json::json!({
+/// The steps as JSON objects (curve.json's `steps`).
+fn steps_json(steps: &[Step]) -> serde_json::Value {
+    serde_json::Value::Array(steps.iter().map(|s| serde_json::json!({
             "delta": s.delta, "gap": s.gap, "load": s.load, "mean_pressure": s.mean_pressure,
             "pressure_ratio": s.pressure_ratio, "area_fraction": s.area_fraction,
             "contacts": s.contacts, "stiffness": s.stiffness, "kkt_residual": s.kkt_residual,
@@ -191,24 +276,39 @@ pub fn write_outputs(
                          "beyond_deepest_valley": s.validity.beyond_deepest_valley,
                          "area_above_nominal": s.validity.area_above_nominal,
                          "overlapping_contacts": s.validity.overlapping_contacts},
-        })).collect());
-    let json = meta;
-    write_atomic(
-        &out.join("curve.json"),
-        serde_json::to_string_pretty(&json)?.as_bytes(),
+        })).collect())
+}
+
+/// Writes curve.csv, curve.json (`meta` plus the steps) and the plots into `set`.
+pub fn write_outputs(
+    set: &OutputSet,
+    no_plots: bool,
+    steps: &[Step],
+    mut meta: serde_json::Value,
+) -> Result<()> {
+    meta["steps"] = steps_json(steps);
+    set.write("curve.csv", curve_csv(steps)?.as_bytes())?;
+    set.write(
+        "curve.json",
+        serde_json::to_string_pretty(&meta)?.as_bytes(),
     )?;
     if !no_plots && steps.iter().any(|s| s.contacts > 0) {
-        let pg: Vec<(f64, f64)> = steps.iter().map(|s| (s.gap, s.pressure_ratio)).collect();
+        let model = meta["model_short"].as_str().unwrap_or("model").to_string();
+        let stack = meta["stack"].as_str().unwrap_or("").to_string();
+        let pg: Vec<(f64, f64)> = steps
+            .iter()
+            .map(|s| (s.gap * 1e6, s.pressure_ratio))
+            .collect();
         crate::plot::lines(
-            &out.join("pressure_gap.svg"),
+            &set.path("pressure_gap.svg")?,
             &PlotSpec {
-                title: "mean pressure against separation".into(),
-                x_label: "g_n (m)".into(),
+                title: format!("Mean pressure against separation: {model}, {stack}"),
+                x_label: "separation g_n (µm)".into(),
                 y_label: "p_n / E*1".into(),
                 log_x: false,
                 log_y: true,
                 series: vec![Series {
-                    name: "strata".into(),
+                    name: model.clone(),
                     points: pg,
                     style: Style::Line,
                 }],
@@ -219,29 +319,20 @@ pub fn write_outputs(
             .map(|s| (s.pressure_ratio, s.area_fraction))
             .collect();
         crate::plot::lines(
-            &out.join("area_pressure.svg"),
+            &set.path("area_pressure.svg")?,
             &PlotSpec {
-                title: "real contact area against mean pressure".into(),
+                title: format!("Real contact area against mean pressure: {model}, {stack}"),
                 x_label: "p_n / E*1".into(),
                 y_label: "A / A0".into(),
                 log_x: false,
                 log_y: false,
                 series: vec![Series {
-                    name: "strata".into(),
+                    name: model,
                     points: ap,
                     style: Style::Line,
                 }],
             },
         )?;
     }
-    // curve.csv last: a run that fails or is interrupted before this point leaves no
-    // new curve (and an existing one untouched), never a curve that looks complete.
-    write_atomic(&out.join("curve.csv"), curve_csv(steps).as_bytes())?;
-    eprintln!(
-        "wrote {} steps to {} in {:.3} s",
-        steps.len(),
-        out.display(),
-        t0.elapsed().as_secs_f64()
-    );
     Ok(())
 }

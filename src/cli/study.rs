@@ -1,7 +1,7 @@
 //! `strata study [--quick] --out DIR [--report FILE]`: the accuracy–cost study
 //! (issue 7; the measurements are in `crate::study`).
 //!
-//! Writes, atomically:
+//! Writes one output set (replaced as a whole under a lock, [`crate::output_set`]):
 //! - `DIR/report.md`: machine, tables per stage, the defaults and where they sit on
 //!   the Pareto front, proposed changes;
 //! - `DIR/*.svg`: log–log error-against-time plots with the front marked;
@@ -16,8 +16,8 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use strata_runtime::output::write_atomic;
 
+use crate::output_set::OutputSet;
 use crate::study::{self, Inputs, Mode, report};
 
 #[derive(Debug, clap::Args)]
@@ -34,7 +34,7 @@ pub struct Args {
     /// Also write the report to this file, with plot links relative to its directory.
     #[arg(long)]
     pub report: Option<PathBuf>,
-    /// Overwrite files in a non-empty output directory.
+    /// Replace the outputs of a non-empty output directory (and an existing --report).
     #[arg(long)]
     pub force: bool,
     /// Image format of the plots.
@@ -96,30 +96,39 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
-    super::solve::out_dir_ready(&a.out, a.force)?;
+    let set = OutputSet::dir("--out", &a.out, a.force)?;
+    let report_set = a
+        .report
+        .as_ref()
+        .map(|r| OutputSet::file("--report", r, a.force))
+        .transpose()?;
     let inputs = Inputs {
         scene: a.scene.clone(),
         table: a.table.clone(),
     };
     let result = study::run(mode, &inputs)?;
-    report::plots(&result, &a.out, &a.format)?;
+    report::plots(&result, set.root(), &a.format)?;
     let mut command = format!("strata study{} --out {}", mode.flag(), a.out.display());
     if let Some(r) = &a.report {
         command.push_str(&format!(" --report {}", r.display()));
     }
     let md = report::markdown(&result, "", &a.format, &command);
-    let path = a.out.join("report.md");
-    write_atomic(&path, md.as_bytes()).with_context(|| path.display().to_string())?;
-    let (errors, timings) = report::csvs(&result);
-    for (name, text) in [("errors.csv", errors), ("timings.csv", timings)] {
-        let p = a.out.join(name);
-        write_atomic(&p, text.as_bytes()).with_context(|| p.display().to_string())?;
-    }
-    if let Some(r) = &a.report {
+    set.write("report.md", md.as_bytes())?;
+    let (errors, timings) = report::csvs(&result)?;
+    set.write("errors.csv", errors.as_bytes())?;
+    set.write("timings.csv", timings.as_bytes())?;
+    set.commit()?;
+    if let (Some(r), Some(rs)) = (&a.report, report_set) {
         let prefix = link_prefix(r, &a.out)?;
         let md = report::markdown(&result, &prefix, &a.format, &command);
-        write_atomic(r, md.as_bytes()).with_context(|| format!("--report {}", r.display()))?;
+        let name = r
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        rs.write(&name, md.as_bytes())?;
+        rs.commit()?;
     }
+    let path = a.out.join("report.md");
     println!("report: {}", path.display());
     for line in report::summary(&result) {
         println!("  {line}");

@@ -179,12 +179,12 @@ fn info(a: InfoArgs) -> Result<()> {
     } else {
         let spacing = match (&a.size, &a.pixel_size) {
             (Some(_), Some(_)) => bail!("give either --size or --pixel-size, not both"),
-            (Some(s), None) => match parse_list("--size", s, false)?[..] {
+            (Some(s), None) => match parse_list("--size", s)?[..] {
                 [l] => Some(Spacing::Size(l)),
                 [lx, ly] => Some(Spacing::Extent(lx, ly)),
                 _ => bail!("--size `{s}`: expected L or LX,LY (m)"),
             },
-            (None, Some(s)) => match parse_list("--pixel-size", s, false)?[..] {
+            (None, Some(s)) => match parse_list("--pixel-size", s)?[..] {
                 [d] => Some(Spacing::Pixel(d, d)),
                 [dx, dy] => Some(Spacing::Pixel(dx, dy)),
                 _ => bail!("--pixel-size `{s}`: expected D or DX,DY (m)"),

@@ -2,24 +2,29 @@
 //! model parameters, in parallel (rayon), with shards for batch schedulers (issue 9,
 //! part 3). The sweep file format and the case order are documented in [`spec`].
 //!
-//! Outputs of an unsharded run (all written atomically):
+//! Outputs of an unsharded run (one output set, replaced as a whole under a lock,
+//! [`crate::output_set`]):
 //! - `DIR/sweep.csv`: one row per case and load step, header
 //!   `case,<swept columns…>,model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness`
 //!   where the swept columns are the axes in case order except `model.kind` (that is
 //!   the `model` column); `case` and `step` count from 0; results are SI and full
 //!   precision (`{:e}`), as in `strata solve`'s curve.csv;
 //! - `DIR/sweep.json`: the sidecar (strata version, sweep fingerprint, case count,
-//!   shard, columns, axes, per-case wall times);
+//!   shard, columns, axes, per-case wall times, the CSV's row count and FNV-1a
+//!   checksum, the input files and their checksums);
 //! - `DIR/pressure_gap*.svg`, `DIR/area_pressure*.svg`, `DIR/bands.csv`: summary plots
 //!   with the scatter over seeds ([`plots`]).
 //!
 //! `--shard I/N` (1 ≤ I ≤ N) runs the cases with `id % N == I − 1` (round robin, so
 //! expensive corners of a grid spread over all shards) and writes
-//! `DIR/shard-I-of-N.csv` + `.json`; several shards may share DIR. `strata sweep merge
-//! DIR --out FILE` checks that shards 1…N are all there, come from the same sweep
-//! (fingerprint: FNV-1a of the strata version, the sweep file and the base scene
-//! file), share the header and hold every case exactly once, and writes the rows
-//! sorted by case and step: byte for byte the `sweep.csv` of an unsharded run.
+//! `DIR/shard-I-of-N.csv` + `.json` (a file set of its own: several shards may share
+//! DIR and run at once). `strata sweep merge DIR --out FILE` checks that shards 1…N
+//! are all there, that each CSV still has the row count and checksum its sidecar
+//! recorded (a truncated, cut or edited shard is refused), that they come from the
+//! same sweep (fingerprint: FNV-1a of the strata version, the sweep file, the base
+//! scene file and the content of every file it reads: stack, table, surface), share
+//! the header and hold every case exactly once, and writes the rows sorted by case and
+//! step: byte for byte the `sweep.csv` of an unsharded run.
 //!
 //! Per-case results do not depend on the thread count or scheduling: each case is
 //! solved alone and sequentially (the solvers are not parallel inside), and rows are
@@ -28,20 +33,19 @@
 mod plots;
 pub mod spec;
 
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::PathBuf;
 use std::time::Instant;
 
+use crate::csv_out::{self, num};
+use crate::output_set::OutputSet;
+use crate::progress;
 use crate::scene::ModelKind;
 use anyhow::{Context, Result, anyhow, bail};
 use rayon::prelude::*;
-use strata_runtime::output::write_atomic;
+use strata_runtime::hash::fnv1a;
 use strata_runtime::rough::Step;
 use strata_runtime::table::Table;
 
-use crate::cli::solve::out_dir_ready;
 use crate::engine::{EngineOptions, law_for, solve_scene};
 use spec::{Case, Sweep};
 
@@ -67,11 +71,11 @@ pub struct Args {
     /// Overwrite: a non-empty DIR (unsharded), or this shard's own files.
     #[arg(long)]
     pub force: bool,
-    /// Where missing tables of layered stacks are built and cached
-    /// (default: `.strata-cache` beside the sweep file).
+    /// Table cache for layered stacks without `stack.table` (default: STRATA_CACHE_DIR,
+    /// else $XDG_CACHE_HOME/strata or ~/.cache/strata).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
-    /// Worker threads (default: RAYON_NUM_THREADS or all cores).
+    /// Worker threads, at most 4 per core (default: RAYON_NUM_THREADS or all cores).
     #[arg(long)]
     pub threads: Option<usize>,
     /// Skip the summary plots.
@@ -132,79 +136,75 @@ fn shard_stem(i: usize, n: usize) -> String {
 }
 
 /// `case,<columns>,model,step,…`.
-fn header(sweep: &Sweep) -> String {
-    let mut h = String::from("case");
-    for (_, a) in sweep.column_axes() {
-        h.push(',');
-        h.push_str(&a.name);
-    }
-    h.push(',');
-    h.push_str(RESULT_COLUMNS);
+fn header(sweep: &Sweep) -> Vec<String> {
+    let mut h = vec!["case".to_string()];
+    h.extend(sweep.column_axes().map(|(_, a)| a.name.clone()));
+    h.extend(RESULT_COLUMNS.split(',').map(String::from));
     h
 }
 
-fn case_rows(sweep: &Sweep, case: &Case, steps: &[Step], out: &mut String) {
-    let mut prefix = case.id.to_string();
-    for (k, _) in sweep.column_axes() {
-        prefix.push(',');
-        prefix.push_str(&case.values[k].to_string());
-    }
-    prefix.push(',');
-    prefix.push_str(Sweep::model_name(&case.scene));
+/// The CSV records of one case's steps.
+fn case_rows(sweep: &Sweep, case: &Case, steps: &[Step], out: &mut Vec<Vec<String>>) {
+    let mut prefix = vec![case.id.to_string()];
+    prefix.extend(sweep.column_axes().map(|(k, _)| case.values[k].to_string()));
+    prefix.push(Sweep::model_name(&case.scene).to_string());
     for (i, st) in steps.iter().enumerate() {
-        out.push_str(&format!(
-            "{prefix},{i},{:e},{:e},{:e},{:e},{:e},{},{:e}\n",
-            st.delta,
-            st.gap,
-            st.mean_pressure,
-            st.pressure_ratio,
-            st.area_fraction,
-            st.contacts,
-            st.stiffness
-        ));
+        let mut r = prefix.clone();
+        r.extend([
+            i.to_string(),
+            num(st.delta),
+            num(st.gap),
+            num(st.mean_pressure),
+            num(st.pressure_ratio),
+            num(st.area_fraction),
+            st.contacts.to_string(),
+            num(st.stiffness),
+        ]);
+        out.push(r);
     }
 }
 
-/// Progress on stderr: `cases done / total, elapsed`; rewritten in place on a
-/// terminal, one line every few seconds otherwise (batch logs).
-struct Progress {
-    total: usize,
-    done: AtomicUsize,
-    start: Instant,
-    last: Mutex<f64>,
-    tty: bool,
+/// Plot captions: the sweep's title (else its file stem) and the base stack.
+fn caption(sweep: &Sweep) -> String {
+    let name = sweep.title.clone().unwrap_or_else(|| {
+        sweep
+            .path
+            .file_stem()
+            .map_or("sweep".into(), |s| s.to_string_lossy().into_owned())
+    });
+    format!(
+        "{name}, {}",
+        crate::engine::stack_description(&sweep.base.stack)
+    )
 }
 
-impl Progress {
-    fn new(total: usize) -> Self {
-        Progress {
-            total,
-            done: AtomicUsize::new(0),
-            start: Instant::now(),
-            last: Mutex::new(0.0),
-            tty: std::io::stderr().is_terminal(),
-        }
+/// Most worker threads per core that `--threads` (or RAYON_NUM_THREADS) may ask for:
+/// the cases are CPU-bound, more threads only add memory and contention.
+pub const THREADS_PER_CORE: usize = 4;
+
+/// The worker-thread count: `--threads`, else RAYON_NUM_THREADS, else 0 (all cores);
+/// refused above [`THREADS_PER_CORE`] per core.
+fn thread_count(flag: Option<usize>) -> Result<usize> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let cap = THREADS_PER_CORE * cores;
+    let (n, from) = match flag {
+        Some(n) => (n, "--threads"),
+        None => match std::env::var("RAYON_NUM_THREADS") {
+            Ok(v) => (
+                v.trim()
+                    .parse()
+                    .map_err(|_| anyhow!("RAYON_NUM_THREADS = `{v}`: not a number of threads"))?,
+                "RAYON_NUM_THREADS",
+            ),
+            Err(_) => (0, "default"),
+        },
+    };
+    if n > cap {
+        bail!(
+            "{from} {n}: at most {cap} worker threads ({THREADS_PER_CORE} per core, {cores} core(s) here)"
+        );
     }
-    fn tick(&self) {
-        let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-        let t = self.start.elapsed().as_secs_f64();
-        let every = if self.tty { 0.2 } else { 5.0 };
-        let Ok(mut last) = self.last.lock() else {
-            return;
-        };
-        if done == self.total || t - *last >= every {
-            *last = t;
-            let line = format!("sweep: {done}/{} cases done, {t:.1} s elapsed", self.total);
-            if self.tty {
-                eprint!("\r{line}");
-                if done == self.total {
-                    eprintln!();
-                }
-            } else {
-                eprintln!("{line}");
-            }
-        }
-    }
+    Ok(n)
 }
 
 /// Loads (or builds into the cache) the table of every distinct layered stack once,
@@ -239,24 +239,22 @@ fn prepare_tables(cases: &mut [Case], sweep: &Sweep, opts: &EngineOptions) -> Re
                 }
             };
             if let Err(e) = loaded[k].1.family_coordinate(&c.scene.stack) {
-                let dir = opts.cache_dir.clone().unwrap_or_else(|| {
-                    sweep
-                        .path
-                        .parent()
-                        .unwrap_or(Path::new("."))
-                        .join(".strata-cache")
-                });
-                eprintln!(
-                    "sweep: table {} does not serve the stack of case {} ({e}); using the table cache in {} (built once if missing)",
+                let (dir, _) = crate::cache::dir(opts.cache_dir.as_deref());
+                progress::log(format!(
+                    "sweep: table {} does not serve the stack of case {} ({e}); using the table cache {} (built once if missing)",
                     p.display(),
                     c.id,
                     dir.display()
-                );
+                ));
                 resolved = None;
             }
         }
         c.scene.table = resolved.clone();
-        law_for(&c.scene, &sweep.path, opts).with_context(|| format!("case {}", c.id))?;
+        let loud = EngineOptions {
+            quiet: false,
+            ..opts.clone()
+        };
+        law_for(&c.scene, &sweep.path, &loud).with_context(|| format!("case {}", c.id))?;
         seen.push((c.scene.stack.clone(), original, resolved));
     }
     Ok(())
@@ -274,73 +272,62 @@ fn run_sweep(a: Args) -> Result<()> {
         .sweep
         .clone()
         .ok_or_else(|| anyhow!("missing the sweep file"))?;
-    let sweep = Sweep::from_file(&path).with_context(|| format!("sweep {}", path.display()))?;
+    let sweep = Sweep::from_file(&path)?;
     let shard = a.shard.as_deref().map(parse_shard).transpose()?;
     let (si, sn) = shard.unwrap_or((1, 1));
     let ids: Vec<usize> = (0..sweep.cases).filter(|id| id % sn == si - 1).collect();
     if a.list {
-        let mut s = String::from("case");
-        for ax in &sweep.axes {
-            s.push(',');
-            s.push_str(&ax.name);
-        }
-        s.push('\n');
-        for &id in &ids {
-            let v: Vec<String> = sweep
-                .case_values(id)
-                .iter()
-                .map(|v| v.to_string())
-                .collect();
-            s.push_str(&format!("{id},{}\n", v.join(",")));
-        }
+        let mut head = vec!["case".to_string()];
+        head.extend(sweep.axes.iter().map(|ax| ax.name.clone()));
+        let head: Vec<&str> = head.iter().map(String::as_str).collect();
+        let s = csv_out::text(
+            &head,
+            ids.iter().map(|&id| {
+                std::iter::once(id.to_string())
+                    .chain(sweep.case_values(id).iter().map(|v| v.to_string()))
+                    .collect::<Vec<_>>()
+            }),
+        )?;
         // A closed pipe (`| head`) is not an error.
         if let Err(e) = std::io::Write::write_all(&mut std::io::stdout().lock(), s.as_bytes())
             && e.kind() != std::io::ErrorKind::BrokenPipe
         {
             return Err(e).context("writing the case list");
         }
-        eprintln!(
+        progress::log(format!(
             "sweep: {} cases in all{}",
             sweep.cases,
             match shard {
                 Some((i, n)) => format!(", {} in shard {i}/{n}", ids.len()),
                 None => String::new(),
             }
-        );
+        ));
         return Ok(());
     }
     let out = a
         .out
         .clone()
         .ok_or_else(|| anyhow!("--out DIR is required (or --list)"))?;
-    let stem = match shard {
-        None => {
-            out_dir_ready(&out, a.force)?;
-            "sweep".to_string()
-        }
+    let threads = thread_count(a.threads)?;
+    let (stem, set) = match shard {
+        None => ("sweep".to_string(), OutputSet::dir("--out", &out, a.force)?),
         Some((i, n)) => {
             if out.exists() && !out.is_dir() {
                 bail!("--out {}: exists and is not a directory", out.display());
             }
-            std::fs::create_dir_all(&out).with_context(|| format!("--out {}", out.display()))?;
             let stem = shard_stem(i, n);
-            for ext in ["csv", "json"] {
-                let f = out.join(format!("{stem}.{ext}"));
-                if f.exists() && !a.force {
-                    bail!(
-                        "--out {}: {} exists (use --force to overwrite)",
-                        out.display(),
-                        f.display()
-                    );
-                }
-            }
+            let files = [
+                out.join(format!("{stem}.csv")),
+                out.join(format!("{stem}.json")),
+            ];
+            let set = OutputSet::files("--out", &files, a.force)?;
             if n > sweep.cases {
-                eprintln!(
+                progress::log(format!(
                     "sweep: warning: {n} shards for {} cases; some shards are empty",
                     sweep.cases
-                );
+                ));
             }
-            stem
+            (stem, set)
         }
     };
     // Build and validate every case of this shard before any solving.
@@ -356,11 +343,11 @@ fn run_sweep(a: Args) -> Result<()> {
     };
     prepare_tables(&mut cases, &sweep, &opts)?;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads.unwrap_or(0))
+        .num_threads(threads)
         .build()
         .context("--threads: cannot start the worker threads")?;
     let threads = pool.current_num_threads();
-    eprintln!(
+    progress::log(format!(
         "sweep: {} — {} cases{} on {threads} thread(s); axes: {}",
         path.display(),
         cases.len(),
@@ -374,12 +361,12 @@ fn run_sweep(a: Args) -> Result<()> {
             .map(|x| format!("{} ({})", x.name, x.values.len()))
             .collect::<Vec<_>>()
             .join(", ")
-    );
+    ));
     // Expensive cases first (scheduling only; results go back to case order).
     let mut order: Vec<usize> = (0..cases.len()).collect();
     let hint: Vec<f64> = cases.iter().map(Sweep::cost_hint).collect();
     order.sort_by(|&x, &y| hint[y].total_cmp(&hint[x]).then(x.cmp(&y)));
-    let progress = Progress::new(cases.len());
+    let bar = progress::bar(cases.len() as u64, "sweep: cases");
     let keep_going = a.keep_going;
     let mut solved: Vec<(usize, CaseOut)> = pool.install(|| {
         order
@@ -390,11 +377,11 @@ fn run_sweep(a: Args) -> Result<()> {
                 let t = Instant::now();
                 let sol = solve_scene(&c.scene, &sweep.path, &opts)
                     .with_context(|| format!("case {} ({})", c.id, sweep.describe(&c.values)));
-                progress.tick();
+                bar.inc();
                 let steps = match sol {
                     Ok(sol) => Ok(sol.steps),
                     Err(e) if keep_going => {
-                        eprintln!("sweep: error (continuing): {e:#}");
+                        progress::log(format!("sweep: error (continuing): {e:#}"));
                         Err(format!("{e:#}"))
                     }
                     Err(e) => return Err(e),
@@ -404,50 +391,66 @@ fn run_sweep(a: Args) -> Result<()> {
             })
             .collect::<Result<Vec<_>>>()
     })?;
+    drop(bar);
     solved.sort_by_key(|(k, _)| *k);
-    let mut csv = header(&sweep);
-    csv.push('\n');
+    let mut rows = Vec::new();
     let mut failed = Vec::new();
     for (k, r) in &solved {
         match &r.steps {
-            Ok(steps) => case_rows(&sweep, &cases[*k], steps, &mut csv),
+            Ok(steps) => case_rows(&sweep, &cases[*k], steps, &mut rows),
             Err(e) => failed.push(serde_json::json!({"case": cases[*k].id, "error": e})),
         }
     }
-    let csv_path = out.join(format!("{stem}.csv"));
-    write_atomic(&csv_path, csv.as_bytes())?;
+    let head = header(&sweep);
+    let csv = csv_out::text(&head, &rows)?;
+    set.write(&format!("{stem}.csv"), csv.as_bytes())?;
     let seconds = t0.elapsed().as_secs_f64();
+    let inputs: Vec<serde_json::Value> = sweep
+        .inputs
+        .iter()
+        .map(|p| {
+            let sum = std::fs::read(p).map(|b| format!("{:016x}", fnv1a(&b)));
+            serde_json::json!({"path": p.display().to_string(),
+                               "fnv1a": sum.unwrap_or_else(|e| format!("unreadable: {e}"))})
+        })
+        .collect();
     let sidecar = serde_json::json!({
         "strata_version": env!("CARGO_PKG_VERSION"),
         "sweep": path.display().to_string(),
         "title": sweep.title,
+        "caption": caption(&sweep),
         "fingerprint": format!("{:016x}", sweep.fingerprint),
+        "inputs": inputs,
         "cases": sweep.cases,
         "mode": format!("{:?}", sweep.mode).to_lowercase(),
         "axes": sweep.axes.iter().map(|x| serde_json::json!({
             "name": x.name, "values": x.values.iter().map(|v| v.to_string()).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "shard": shard.map(|(i, n)| serde_json::json!({"index": i, "count": n})),
-        "header": header(&sweep),
+        "header": head.join(","),
+        "rows": rows.len(),
+        "csv_fnv1a": format!("{:016x}", fnv1a(csv.as_bytes())),
         "case_ids": cases.iter().map(|c| c.id).collect::<Vec<_>>(),
         "case_seconds": solved.iter().map(|(_, r)| r.seconds).collect::<Vec<_>>(),
         "failed": failed,
         "threads": threads,
         "seconds": seconds,
     });
-    write_atomic(
-        &out.join(format!("{stem}.json")),
+    set.write(
+        &format!("{stem}.json"),
         serde_json::to_string_pretty(&sidecar)?.as_bytes(),
     )?;
     if shard.is_none() && !a.no_plots {
-        plots::write(&out, &csv, sweep.title.as_deref())?;
+        plots::write(&set, "", &csv, &caption(&sweep))?;
     }
-    eprintln!(
+    set.commit()?;
+    let csv_path = out.join(format!("{stem}.csv"));
+    progress::log(format!(
         "sweep: wrote {} ({} cases, {} rows) in {seconds:.2} s",
         csv_path.display(),
         cases.len(),
-        csv.lines().count() - 1
-    );
+        rows.len()
+    ));
     if !failed.is_empty() {
         bail!(
             "{} case(s) failed (listed in {}; their rows are absent): {}",
@@ -522,9 +525,9 @@ fn merge(a: MergeArgs) -> Result<()> {
         bail!("merge: {}: shard index out of 1..={n}", f.csv.display());
     }
     let mut fingerprint: Option<(String, PathBuf)> = None;
-    let mut head: Option<String> = None;
+    let mut head: Option<Vec<String>> = None;
     let mut total: Option<u64> = None;
-    let mut rows: Vec<(usize, usize, String)> = Vec::new();
+    let mut rows: Vec<(usize, usize, Vec<String>)> = Vec::new();
     let mut failed: Vec<usize> = Vec::new();
     let mut title: Option<String> = None;
     let mut step_col = 0;
@@ -553,7 +556,7 @@ fn merge(a: MergeArgs) -> Result<()> {
         match &fingerprint {
             None => fingerprint = Some((fp, f.csv.clone())),
             Some((g, first)) if *g != fp => bail!(
-                "merge: {} comes from a different sweep than {} (fingerprint {fp} ≠ {g}: sweep file, base scene or strata version differ)",
+                "merge: {} comes from a different sweep than {} (fingerprint {fp} ≠ {g}: the sweep file, the base scene, a file it reads (stack, table, surface) or the strata version differ)",
                 f.csv.display(),
                 first.display()
             ),
@@ -577,30 +580,67 @@ fn merge(a: MergeArgs) -> Result<()> {
             );
         }
         if title.is_none() {
-            title = meta["title"].as_str().map(str::to_string);
+            title = meta["caption"]
+                .as_str()
+                .or(meta["title"].as_str())
+                .map(str::to_string);
         }
-        let text = std::fs::read_to_string(&f.csv)
-            .with_context(|| format!("merge: {}", f.csv.display()))?;
-        let mut lines = text.lines();
-        let h = lines
-            .next()
-            .ok_or_else(|| anyhow!("merge: {} is empty", f.csv.display()))?;
+        let bytes = std::fs::read(&f.csv).with_context(|| format!("merge: {}", f.csv.display()))?;
+        // The shard must be exactly what its run wrote: row count and checksum.
+        let (want_rows, want_sum) = (meta["rows"].as_u64(), meta["csv_fnv1a"].as_str());
+        let (Some(want_rows), Some(want_sum)) = (want_rows, want_sum) else {
+            bail!(
+                "merge: {}: no row count or checksum (written by an older strata: rerun the shard)",
+                side.display()
+            );
+        };
+        let sum = format!("{:016x}", fnv1a(&bytes));
+        let mut reader = csv::ReaderBuilder::new()
+            .has_headers(true)
+            .from_reader(bytes.as_slice());
+        let h: Vec<String> = reader
+            .headers()
+            .with_context(|| format!("merge: {}: no CSV header", f.csv.display()))?
+            .iter()
+            .map(String::from)
+            .collect();
+        let mut records = Vec::new();
+        for (ln, r) in reader.records().enumerate() {
+            let r = r.with_context(|| format!("merge: {} row {}", f.csv.display(), ln + 1))?;
+            records.push(r.iter().map(String::from).collect::<Vec<String>>());
+        }
+        if records.len() as u64 != want_rows {
+            bail!(
+                "merge: {} has {} rows but its run wrote {want_rows} ({}): the shard is truncated or was edited; rerun it with --shard {}/{n} --force",
+                f.csv.display(),
+                records.len(),
+                side.display(),
+                f.index
+            );
+        }
+        if sum != want_sum {
+            bail!(
+                "merge: {} differs from what its run wrote (checksum {sum} ≠ {want_sum} in {}): the shard was cut or edited; rerun it with --shard {}/{n} --force",
+                f.csv.display(),
+                side.display(),
+                f.index
+            );
+        }
         match &head {
             None => {
                 step_col = h
-                    .split(',')
+                    .iter()
                     .position(|c| c == "step")
                     .ok_or_else(|| anyhow!("merge: {}: no `step` column", f.csv.display()))?;
-                head = Some(h.to_string());
+                head = Some(h);
             }
-            Some(g) if g != h => bail!(
+            Some(g) if *g != h => bail!(
                 "merge: {} has a different header than the other shards",
                 f.csv.display()
             ),
             _ => {}
         }
-        for (ln, line) in lines.enumerate() {
-            let fields: Vec<&str> = line.split(',').collect();
+        for (ln, fields) in records.into_iter().enumerate() {
             let parse = |k: usize, what: &str| -> Result<usize> {
                 fields.get(k).and_then(|x| x.parse().ok()).ok_or_else(|| {
                     anyhow!("merge: {} line {}: bad {what}", f.csv.display(), ln + 2)
@@ -615,7 +655,7 @@ fn merge(a: MergeArgs) -> Result<()> {
                     f.index
                 );
             }
-            rows.push((case, step, line.to_string()));
+            rows.push((case, step, fields));
         }
     }
     rows.sort_by_key(|r| (r.0, r.1));
@@ -635,35 +675,33 @@ fn merge(a: MergeArgs) -> Result<()> {
             c % n + 1
         );
     }
-    let mut csv = head.unwrap_or_default();
-    csv.push('\n');
-    for r in &rows {
-        csv.push_str(&r.2);
-        csv.push('\n');
-    }
-    if a.out.exists() && !a.force {
-        bail!(
-            "--out {}: exists (use --force to overwrite)",
-            a.out.display()
-        );
-    }
-    write_atomic(&a.out, csv.as_bytes())?;
+    let head = head.unwrap_or_default();
+    let csv = csv_out::text(&head, rows.iter().map(|r| &r.2))?;
+    let set = OutputSet::file("--out", &a.out, a.force)?;
+    let name = a
+        .out
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    set.write(&name, csv.as_bytes())?;
     if let Some(p) = &a.plots {
-        out_dir_ready(p, a.force)?;
-        plots::write(p, &csv, title.as_deref())?;
+        let plots_set = OutputSet::dir("--plots", p, a.force)?;
+        plots::write(&plots_set, "", &csv, title.as_deref().unwrap_or("sweep"))?;
+        plots_set.commit()?;
     }
-    eprintln!(
+    set.commit()?;
+    progress::log(format!(
         "merge: {n} shard(s), {total} cases, {} rows → {}",
         rows.len(),
         a.out.display()
-    );
+    ));
     if !failed.is_empty() {
         failed.sort_unstable();
-        eprintln!(
+        progress::log(format!(
             "merge: warning: {} case(s) failed in their shards and have no rows: {:?}",
             failed.len(),
             failed
-        );
+        ));
     }
     Ok(())
 }

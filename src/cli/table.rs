@@ -1,9 +1,11 @@
 //! `strata table build|info|check|export`: surrogate tables of χ, ζ, g and S
 //! (physics.md §4; format and interpolation in `strata_runtime::table`).
 //!
-//! * `build STACK.toml --out FILE [--vary LAYER:LO:HI:N]` builds a table (a family
-//!   when `--vary` is given: LAYER is a layer number ≥ 2 or `base`, LO/HI the range of
-//!   E_LAYER/E₁, N log-spaced members), in parallel, with a progress bar on stderr.
+//! * `build STACK.toml --out FILE [--vary LAYER:LO:HI:N] [--force]` builds a table (a
+//!   family when `--vary` is given: LAYER is a layer number ≥ 2 or `base`, LO/HI the
+//!   range of E_LAYER/E₁, N log-spaced members), in parallel, with progress on stderr.
+//!   An existing FILE is kept unless `--force`; the file is written as an output set
+//!   (staged, then renamed into place under a lock).
 //!   The header's build time is SOURCE_DATE_EPOCH when set (else now): with it fixed,
 //!   a rebuild reproduces the file byte for byte.
 //! * `info FILE` prints the header.
@@ -14,14 +16,17 @@
 //!
 //! `build` fails likewise (exit 1, no file written) when the measured far-field or
 //! interpolation error exceeds `--tol` (default 1e-4), naming both.
-//! * `export FILE --npy DIR` writes every array as .npy.
+//! * `export FILE --npy DIR [--force]` writes every array as .npy (one output set).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use strata_runtime::Stack;
 use strata_runtime::table::{Table, Vary};
-use strata_tablegen::tablebuild::{self, BuildOptions};
+use strata_tablegen::tablebuild::{self, Bars, BuildOptions};
+
+use crate::output_set::OutputSet;
+use crate::progress;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -59,6 +64,9 @@ pub enum Sub {
         /// Output directory.
         #[arg(long)]
         npy: PathBuf,
+        /// Replace the outputs of a non-empty directory.
+        #[arg(long)]
+        force: bool,
     },
 }
 
@@ -82,9 +90,9 @@ pub struct BuildArgs {
     /// Random points for the interpolation error stored in the header (0: skip).
     #[arg(long, default_value_t = 1000)]
     pub check_points: usize,
-    /// No progress bar.
+    /// Overwrite an existing table file.
     #[arg(long)]
-    pub quiet: bool,
+    pub force: bool,
     /// Stated tolerance stored in the table: chi, zeta (relative) and g (of
     /// (4/3)a^3/r, tabulated and far field); the build fails above it.
     #[arg(long, default_value_t = strata_runtime::table::DEFAULT_TOLERANCE)]
@@ -161,26 +169,32 @@ pub fn run(a: Args) -> Result<()> {
         Sub::Build(b) => {
             let stack = Stack::from_toml_file(&b.stack)?;
             let family = b.vary.as_deref().map(parse_vary).transpose()?;
+            let set = OutputSet::file("--out", &b.out, b.force)?;
             let opts = BuildOptions {
                 nx: b.nx,
                 nw: b.nw,
                 family,
                 check_points: b.check_points,
                 build_time: build_time()?,
-                progress: !b.quiet,
+                progress: true,
+                bars: Some(Bars(progress::raw_bar)),
                 tolerance: check_tol(b.tol)?,
                 ..BuildOptions::default()
             };
             let t0 = std::time::Instant::now();
             let table = tablebuild::build(&stack, &opts)?;
-            table
-                .save(&b.out)
-                .with_context(|| format!("writing {}", b.out.display()))?;
-            eprintln!(
+            let name = b
+                .out
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            set.write(&name, &table.to_bytes()?)?;
+            set.commit()?;
+            progress::log(format!(
                 "wrote {} in {:.1} s",
                 b.out.display(),
                 t0.elapsed().as_secs_f64()
-            );
+            ));
             print_info(&table);
         }
         Sub::Info { file } => print_info(&load(&file)?),
@@ -198,7 +212,8 @@ pub fn run(a: Args) -> Result<()> {
                 Some(t) => check_tol(t)?,
                 None => table.header.tolerance,
             };
-            let e = tablebuild::check(&table, points, seed, true)?;
+            let bar = progress::bar(points as u64, "table check: direct solves");
+            let e = tablebuild::check_with(&table, points, seed, bar.bar())?;
             println!(
                 "points,seed,max_rel_err_chi,max_rel_err_zeta,max_err_g_over_4a3_3r,max_err_g_far_over_4a3_3r,tolerance"
             );
@@ -213,11 +228,14 @@ pub fn run(a: Args) -> Result<()> {
                 );
             }
         }
-        Sub::Export { file, npy } => {
+        Sub::Export { file, npy, force } => {
             let table = load(&file)?;
-            let files = strata_runtime::table::export::export_npy(&table, &npy)?;
+            let set = OutputSet::dir("--npy", &npy, force)?;
+            let files = strata_runtime::table::export::export_npy(&table, set.root())?;
+            set.commit()?;
             for f in files {
-                println!("{}", f.display());
+                let name = f.file_name().map(PathBuf::from).unwrap_or(f);
+                println!("{}", npy.join(name).display());
             }
         }
     }
@@ -275,39 +293,26 @@ fn print_info(t: &Table) {
 
 /// The table-backed asperity law of `stack` for `strata asperity --model approx`:
 /// from `table` when given (refusing stacks the table does not serve), else from the
-/// per-stack cache (STRATA_CACHE_DIR, else $XDG_CACHE_HOME/strata, else
-/// $HOME/.cache/strata), building and caching the table there on first use.
+/// table cache ([`crate::cache`]), building and caching the table there on first use.
 pub fn law_for_stack(
     stack: &Stack,
     table: Option<&std::path::Path>,
+    cache_dir: Option<&std::path::Path>,
 ) -> Result<strata_runtime::table::TableLaw> {
     if let Some(p) = table {
-        let t = Table::load(p).with_context(|| format!("loading table {}", p.display()))?;
+        let t = Table::load(p).with_context(|| format!("--table {}", p.display()))?;
         return t
             .law_for(stack)
-            .with_context(|| format!("table {} cannot serve this stack", p.display()));
+            .with_context(|| format!("--table {} cannot serve this stack", p.display()));
     }
-    let dir = if let Some(d) = std::env::var_os("STRATA_CACHE_DIR") {
-        PathBuf::from(d)
-    } else if let Some(d) = std::env::var_os("XDG_CACHE_HOME") {
-        PathBuf::from(d).join("strata")
-    } else if let Some(h) = std::env::var_os("HOME") {
-        PathBuf::from(h).join(".cache/strata")
-    } else {
-        std::env::temp_dir().join("strata-cache")
-    };
-    eprintln!(
-        "no --table given: using the table cache in {} (building this stack's table on first use, about a minute)",
-        dir.display()
-    );
     let opts = BuildOptions {
         check_points: 200,
         build_time: build_time()?,
         progress: true,
+        bars: Some(Bars(progress::raw_bar)),
         ..BuildOptions::default()
     };
-    let (t, path) = tablebuild::build_and_cache(stack, &dir, &opts)?;
-    eprintln!("using table {}", path.display());
+    let (t, _) = crate::engine::cached_table(stack, cache_dir, false, Some(opts))?;
     Ok(t.law_for(stack)?)
 }
 

@@ -315,13 +315,20 @@ impl Errors {
             .push((stage.into(), case.into(), quantity.into(), value));
     }
 
-    /// CSV `stage,case,quantity,value` (case quoted), values with 10 significant digits.
-    pub fn csv(&self) -> String {
-        let mut s = String::from("stage,case,quantity,value\n");
-        for (st, c, q, v) in &self.rows {
-            s.push_str(&format!("{st},\"{c}\",{q},{v:.9e}\n"));
-        }
-        s
+    /// CSV `stage,case,quantity,value` (quoted where needed), values with 10
+    /// significant digits.
+    pub fn csv(&self) -> Result<String> {
+        Ok(crate::csv_out::text(
+            ["stage", "case", "quantity", "value"],
+            self.rows.iter().map(|(st, c, q, v)| {
+                [
+                    st.to_string(),
+                    c.to_string(),
+                    q.to_string(),
+                    format!("{v:.9e}"),
+                ]
+            }),
+        )?)
     }
 }
 
@@ -345,7 +352,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
     let machine_start = machine::Machine::detect();
     let mut runner = Runner::new(mode)?;
     let mut errors = Errors::default();
-    let stage = |name: &str| eprintln!("study ({}): {name} …", mode.name());
+    let stage = |name: &str| crate::progress::log(format!("study ({}): {name} …", mode.name()));
     stage("Fredholm solver");
     let fredholm = fredholm::run(&mut runner, &mut errors).context("Fredholm stage")?;
     stage("tables");
@@ -355,7 +362,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
     stage("rough contact");
     let rough = rough::run(&mut runner, &mut errors, inputs).context("rough-contact stage")?;
     let seconds = t0.elapsed().as_secs_f64();
-    eprintln!("study ({}): done in {seconds:.1} s", mode.name());
+    crate::progress::log(format!("study ({}): done in {seconds:.1} s", mode.name()));
     Ok(Study {
         mode,
         fredholm,

@@ -937,14 +937,26 @@ pub fn summary(study: &Study) -> Vec<String> {
 }
 
 /// `errors.csv` and `timings.csv`.
-pub fn csvs(study: &Study) -> (String, String) {
-    let mut t = String::from("stage,case,median_seconds,min_seconds,max_seconds,runs\n");
-    for (st, c, tm) in &study.timings {
-        let _ = writeln!(
-            t,
-            "{st},\"{c}\",{:.6e},{:.6e},{:.6e},{}",
-            tm.median, tm.min, tm.max, tm.runs
-        );
-    }
-    (study.errors.csv(), t)
+pub fn csvs(study: &Study) -> Result<(String, String)> {
+    let t = crate::csv_out::text(
+        [
+            "stage",
+            "case",
+            "median_seconds",
+            "min_seconds",
+            "max_seconds",
+            "runs",
+        ],
+        study.timings.iter().map(|(st, c, tm)| {
+            [
+                st.clone(),
+                c.clone(),
+                format!("{:.6e}", tm.median),
+                format!("{:.6e}", tm.min),
+                format!("{:.6e}", tm.max),
+                tm.runs.to_string(),
+            ]
+        }),
+    )?;
+    Ok((study.errors.csv()?, t))
 }

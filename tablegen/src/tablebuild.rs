@@ -27,7 +27,7 @@ use thiserror::Error;
 
 use crate::approx::{Approx, ApproxError};
 use crate::tablecheck::{FarChoice, choose_far_field};
-pub use crate::tablecheck::{SplitMix, check};
+pub use crate::tablecheck::{SplitMix, check, check_with};
 
 /// Errors of table building and checking.
 #[derive(Debug, Error)]
@@ -87,6 +87,27 @@ pub struct BuildOptions {
     /// layer depth); the join starts at 20 H and doubles while the far field is
     /// outside the tolerance. Ignored when `w_max` is given.
     pub far_max: f64,
+    /// Who draws the bars when `progress` is set (`None`: indicatif on stderr, which
+    /// draws nothing when stderr is not a terminal). The command line passes its own,
+    /// which logs lines instead in batch jobs.
+    pub bars: Option<Bars>,
+}
+
+/// A progress-bar factory: `(steps, description) -> bar`. Progress reporting never
+/// changes a table, so all factories compare equal.
+#[derive(Clone, Copy)]
+pub struct Bars(pub fn(u64, &'static str) -> ProgressBar);
+
+impl PartialEq for Bars {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Debug for Bars {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Bars(..)")
+    }
 }
 
 impl Default for BuildOptions {
@@ -103,6 +124,7 @@ impl Default for BuildOptions {
             seed: 1,
             build_time: 0,
             progress: false,
+            bars: None,
             tolerance: DEFAULT_TOLERANCE,
             far_max: 20.0 * 128.0,
         }
@@ -126,9 +148,12 @@ fn log_axis(field: &'static str, lo: f64, hi: f64, n: usize) -> Result<Axis, Bui
     })
 }
 
-pub(crate) fn bar(n: usize, show: bool, msg: &'static str) -> ProgressBar {
+pub(crate) fn bar(n: usize, show: bool, bars: Option<Bars>, msg: &'static str) -> ProgressBar {
     if !show {
         return ProgressBar::hidden();
+    }
+    if let Some(Bars(make)) = bars {
+        return make(n as u64, msg);
     }
     let pb = ProgressBar::new(n as u64);
     if let Ok(style) =
@@ -225,7 +250,12 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     let ws = w.nodes();
     let a_max = h1 * x.hi.exp();
     let omega_max = 2.0 * a_max + h1 * w.hi.sinh().powi(2);
-    let pb = bar(members.len() * xs.len(), opts.progress, "building table");
+    let pb = bar(
+        members.len() * xs.len(),
+        opts.progress,
+        opts.bars,
+        "building table",
+    );
     for member in &members {
         let ap = Approx::with_cache(member, omega_max);
         let rows: Vec<Result<Row, ApproxError>> = xs
@@ -257,7 +287,13 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     pb.finish_and_clear();
     table.validate()?;
     if opts.check_points > 0 {
-        let e = check(&table, opts.check_points, opts.seed, opts.progress)?;
+        let pb = bar(
+            opts.check_points,
+            opts.progress,
+            opts.bars,
+            "checking table",
+        );
+        let e = check_with(&table, opts.check_points, opts.seed, &pb)?;
         table.header.interp_error = Some(e);
         if let Some((what, measured)) = e.exceeds(opts.tolerance) {
             return Err(BuildError::Tolerance {

@@ -44,6 +44,21 @@ pub fn check(
     seed: u64,
     progress: bool,
 ) -> Result<InterpError, BuildError> {
+    check_with(
+        table,
+        points,
+        seed,
+        &bar(points, progress, None, "checking table"),
+    )
+}
+
+/// [`check`] advancing the caller's progress bar `pb` by one per point.
+pub fn check_with(
+    table: &Table,
+    points: usize,
+    seed: u64,
+    pb: &indicatif::ProgressBar,
+) -> Result<InterpError, BuildError> {
     let h = &table.header;
     let mut rng = SplitMix(seed);
     let fam = h.family.map(|f| f.ratio);
@@ -56,7 +71,6 @@ pub fn check(
             (c, cx, w, wf)
         })
         .collect();
-    let pb = bar(points, progress, "checking table");
     let errs: Vec<Result<[f64; 4], BuildError>> = pts
         .par_iter()
         .enumerate()

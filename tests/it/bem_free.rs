@@ -204,7 +204,8 @@ fn memory_limit_is_an_error_not_an_abort() {
     assert!(!o.status.success(), "{err}");
     assert!(o.status.code().is_some(), "killed by a signal: {err}");
     assert!(
-        err.contains("BEM grid 2048×2048") && err.contains("memory limit"),
+        (err.contains("BEM grid 2048×2048") || err.contains("2048×2048 surface"))
+            && err.contains("memory limit"),
         "{err}"
     );
     assert!(!out.join("curve.csv").exists());

@@ -68,7 +68,7 @@ fn compliance_log_range() {
         "compliance",
         stack.to_str().unwrap(),
         "--rho-h",
-        "1e-3:1e3:7",
+        "1e-3:1e3:7:log",
     ]);
     assert!(out.status.success());
     let rows = parse_csv(&out.stdout);
@@ -85,6 +85,39 @@ fn compliance_log_range() {
     let out = strata(&["compliance", hs.to_str().unwrap(), "--rho-h", "0.1,1,10"]);
     assert!(out.status.success());
     assert!(parse_csv(&out.stdout).iter().all(|r| r.1 == 0.0));
+    // One spelling everywhere: LO:HI:N is linear (here too), with a hint on stderr.
+    let out = strata(&[
+        "compliance",
+        stack.to_str().unwrap(),
+        "--rho-h",
+        "0.01:100:3",
+    ]);
+    assert!(out.status.success());
+    let rows = parse_csv(&out.stdout);
+    let want = [0.01, 0.01 + (100.0 - 0.01) * 0.5, 100.0];
+    assert_eq!(rows.iter().map(|r| r.0).collect::<Vec<_>>(), want);
+    assert!(String::from_utf8_lossy(&out.stderr).contains(":log for log spacing"));
+}
+
+/// Moduli outside [1e-3, 1e15] Pa (E₁ = 1e-300, a 1e300 base) are refused as in every
+/// other command, naming the file and the field; k_z is never printed as NaN.
+#[test]
+fn unrepresentable_moduli_are_refused() {
+    for (name, layer_e, base_e, needle) in [
+        ("tiny.toml", "1e-300", "1e9", "layer 1"),
+        ("huge.toml", "4e9", "1e300", "base"),
+    ] {
+        let p = tmp_stack(
+            name,
+            &format!(
+                "[[layer]]\nthickness = 1e-4\nyoung = {layer_e}\npoisson = 0.3\n[base]\nkind = \"elastic\"\nyoung = {base_e}\npoisson = 0.3\n"
+            ),
+        );
+        assert_fails(
+            &["compliance", p.to_str().unwrap(), "--rho-h", "1e-4,1,1e4"],
+            &[p.to_str().unwrap(), needle, "young", "[1e-3, 1e15]"],
+        );
+    }
 }
 
 fn assert_fails(args: &[&str], needles: &[&str]) {
@@ -135,8 +168,12 @@ fn bad_rho_h_flags() {
     let s = stack.to_str().unwrap();
     assert_fails(&["compliance", s, "--rho-h", "abc"], &["--rho-h", "abc"]);
     assert_fails(
-        &["compliance", s, "--rho-h", "0:10:5"],
+        &["compliance", s, "--rho-h", "0:10:5:log"],
         &["--rho-h", "LO > 0"],
+    );
+    assert_fails(
+        &["compliance", s, "--rho-h", "1:10:5:cubic"],
+        &["--rho-h", "LO:HI:N:log"],
     );
     assert_fails(&["compliance", s, "--rho-h", "-1"], &["--rho-h", ">= 0"]);
     assert_fails(&["compliance", s, "--rho-h", ""], &["--rho-h", "empty"]);

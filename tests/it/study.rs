@@ -40,16 +40,17 @@ fn tiny(out: &Path) {
 /// errors.csv as (stage, case, quantity) → value.
 fn errors(dir: &Path) -> HashMap<(String, String, String), f64> {
     let text = std::fs::read_to_string(dir.join("errors.csv")).unwrap();
-    let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("stage,case,quantity,value"));
-    lines
-        .map(|l| {
-            let (stage, rest) = l.split_once(",\"").unwrap();
-            let (case, rest) = rest.split_once("\",").unwrap();
-            let (q, v) = rest.rsplit_once(',').unwrap();
+    let mut r = csv::Reader::from_reader(text.as_bytes());
+    assert_eq!(
+        r.headers().unwrap().iter().collect::<Vec<_>>(),
+        ["stage", "case", "quantity", "value"]
+    );
+    r.records()
+        .map(|rec| {
+            let rec = rec.unwrap();
             (
-                (stage.to_string(), case.to_string(), q.to_string()),
-                v.parse().unwrap(),
+                (rec[0].to_string(), rec[1].to_string(), rec[2].to_string()),
+                rec[3].parse().unwrap(),
             )
         })
         .collect()

@@ -31,10 +31,65 @@ pub fn reference(name: &str) -> PathBuf {
 /// A fresh, empty temporary directory for one test (`strata-TAG-PID`).
 #[allow(dead_code)]
 pub fn temp_dir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-{tag}-{}", std::process::id()));
+    fresh_dir(tag, "")
+}
+
+/// The `strata` binary, with the environment a test needs: no inherited progress or
+/// kill settings, and the table cache in `cache` (never the user's).
+#[allow(dead_code)]
+pub fn strata_in(cache: &std::path::Path) -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_strata"));
+    c.env("STRATA_CACHE_DIR", cache)
+        .env_remove("STRATA_TEST_KILL_AT")
+        .env_remove("STRATA_PROGRESS")
+        .env_remove("STRATA_LOG_INTERVAL")
+        .env_remove("STRATA_MEMORY_LIMIT");
+    c
+}
+
+/// A fresh temporary directory for one test.
+#[allow(dead_code)]
+pub fn fresh_dir(module: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("strata-{module}-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d
+}
+
+/// Every file below `dir` (relative path → bytes), hidden ones included; empty when
+/// `dir` does not exist.
+#[allow(dead_code)]
+pub fn snapshot(dir: &std::path::Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    fn go(
+        root: &std::path::Path,
+        dir: &std::path::Path,
+        out: &mut std::collections::BTreeMap<String, Vec<u8>>,
+    ) {
+        let Ok(rd) = std::fs::read_dir(dir) else {
+            return;
+        };
+        for e in rd.filter_map(|e| e.ok()) {
+            let p = e.path();
+            if p.is_dir() {
+                go(root, &p, out);
+            } else {
+                let rel = p.strip_prefix(root).expect("below root");
+                out.insert(
+                    rel.to_string_lossy().into_owned(),
+                    std::fs::read(&p).expect("read"),
+                );
+            }
+        }
+    }
+    let mut out = std::collections::BTreeMap::new();
+    go(dir, dir, &mut out);
+    out
+}
+
+/// stderr of a finished command.
+#[allow(dead_code)]
+pub fn stderr_of(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
 /// Runs the `strata` binary with `args` (paths as given) and returns its output.

@@ -92,7 +92,7 @@ fn small_sweep_rows_columns_and_single_solves() {
     let sw = write_sweep(&dir, "sweep.toml", &format!("{BASE}{AXES}"));
     let out = dir.join("out");
     let err = ok(&strata(&["sweep", s(&sw), "--out", s(&out)]));
-    assert!(err.contains("12/12 cases done"), "{err}");
+    assert!(err.contains("12 cases, 36 rows"), "{err}");
     let csv = std::fs::read_to_string(out.join("sweep.csv")).expect("sweep.csv");
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(lines[0], HEADER);
@@ -285,7 +285,10 @@ fn merge_refuses_bad_shard_sets() {
     ]));
     std::fs::copy(a.join("shard-1-of-2.csv"), a.join("shard-2-of-2.csv")).unwrap();
     let e = fails(&merge(&a));
-    assert!(e.contains("does not belong to shard 2/2"), "{e}");
+    assert!(
+        e.contains("shard-2-of-2.csv") && e.contains("differs from what its run wrote"),
+        "{e}"
+    );
     // another sweep file
     let b = dir.join("foreign");
     run(&sw, &b, "1/2");
@@ -538,4 +541,91 @@ fn bandwidth_study_and_table_stacks() {
             .unwrap()
     };
     assert!(p("1,5,independent,2,") > 1.05 * p("0,1,independent,2,"));
+}
+
+/// A shard is merged only as its run wrote it (row count and FNV-1a checksum in the
+/// sidecar), and only with shards run against the same physics (the fingerprint hashes
+/// the content of the stack file the base scene reads): a last row cut short, two
+/// dropped rows and a stack file changed between shards are refused, naming the file.
+#[test]
+fn merge_refuses_truncated_cut_and_physics_changed_shards() {
+    let dir = tmp("merge-damage");
+    let stack = dir.join("stack.toml");
+    let half_space = |e: &str| {
+        std::fs::write(
+            &stack,
+            format!("[base]\nkind = \"elastic\"\nyoung = {e}\npoisson = 0.15\n"),
+        )
+        .unwrap()
+    };
+    half_space("4e9");
+    let base = BASE.replace(
+        "[scene.stack]\n[[scene.stack.layer]]\nthickness = 1e-3\nyoung = 4e9\npoisson = 0.15\n[scene.stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n",
+        "[scene.stack]\nfile = \"stack.toml\"\n",
+    );
+    assert!(base.contains("file = \"stack.toml\""));
+    let sw = write_sweep(&dir, "sweep.toml", &format!("{base}{AXES}"));
+    let shards = |out: &Path| {
+        for i in ["1/2", "2/2"] {
+            ok(&strata(&["sweep", s(&sw), "--out", s(out), "--shard", i]));
+        }
+    };
+    let merge = |d: &Path| strata(&["sweep", "merge", s(d), "--out", s(&d.join("m.csv"))]);
+    // Intact shards merge.
+    let good = dir.join("good");
+    shards(&good);
+    ok(&merge(&good));
+    // The last row cut to a prefix of its last number (`3.102e-3` → `3.102`).
+    let cut = dir.join("cut");
+    shards(&cut);
+    let f = cut.join("shard-1-of-2.csv");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let e_pos = text.trim_end().rfind('e').unwrap();
+    std::fs::write(&f, &text[..e_pos]).unwrap();
+    let e = fails(&merge(&cut));
+    assert!(
+        e.contains("shard-1-of-2.csv") && e.contains("checksum"),
+        "{e}"
+    );
+    assert!(!cut.join("m.csv").exists());
+    // Two rows dropped.
+    let dropped = dir.join("dropped");
+    shards(&dropped);
+    let f = dropped.join("shard-2-of-2.csv");
+    let text = std::fs::read_to_string(&f).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let kept: Vec<&str> = lines
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| *i != 3 && *i != 4)
+        .map(|(_, l)| *l)
+        .collect();
+    std::fs::write(&f, kept.join("\n") + "\n").unwrap();
+    let e = fails(&merge(&dropped));
+    assert!(
+        e.contains("shard-2-of-2.csv") && e.contains(&format!("has {} rows", lines.len() - 3)),
+        "{e}"
+    );
+    // The stack file changed between the shards (same sweep and scene files).
+    let physics = dir.join("physics");
+    ok(&strata(&[
+        "sweep",
+        s(&sw),
+        "--out",
+        s(&physics),
+        "--shard",
+        "1/2",
+    ]));
+    half_space("5e9");
+    ok(&strata(&[
+        "sweep",
+        s(&sw),
+        "--out",
+        s(&physics),
+        "--shard",
+        "2/2",
+    ]));
+    let e = fails(&merge(&physics));
+    assert!(e.contains("different sweep") && e.contains("stack"), "{e}");
+    half_space("4e9");
 }

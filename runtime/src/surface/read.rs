@@ -227,6 +227,71 @@ impl Surface {
     }
 }
 
+/// Checks a `.npy` header's shape against the file's length and the memory limit
+/// before ndarray-npy allocates the array it claims (a 928-byte file may claim
+/// 100000×100000). Float64 data; the reader holds about three copies (array, heights,
+/// surface). Headers it cannot parse are left to ndarray-npy's own errors.
+#[cfg(feature = "npy")]
+fn check_npy_size(path: &Path) -> Result<(), String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let len = file.metadata().map_err(|e| e.to_string())?.len();
+    let mut head = Vec::new();
+    file.take(65_536 + 12)
+        .read_to_end(&mut head)
+        .map_err(|e| e.to_string())?;
+    if head.len() < 10 || &head[..6] != b"\x93NUMPY" {
+        return Ok(());
+    }
+    let (start, hlen) = if head[6] == 1 {
+        (10, u16::from_le_bytes([head[8], head[9]]) as usize)
+    } else if head.len() >= 12 {
+        (
+            12,
+            u32::from_le_bytes([head[8], head[9], head[10], head[11]]) as usize,
+        )
+    } else {
+        return Ok(());
+    };
+    let Some(text) = head.get(start..start + hlen).map(String::from_utf8_lossy) else {
+        return Ok(());
+    };
+    if !text.contains("f8'") {
+        return Ok(()); // another dtype: ndarray-npy refuses it before allocating
+    }
+    let Some(shape) = text
+        .split_once("'shape'")
+        .and_then(|(_, r)| r.split_once('('))
+        .and_then(|(_, r)| r.split_once(')'))
+        .map(|(inside, _)| inside)
+    else {
+        return Ok(());
+    };
+    let dims: Vec<u64> = shape
+        .split(',')
+        .map(str::trim)
+        .filter(|d| !d.is_empty())
+        .filter_map(|d| d.parse().ok())
+        .collect();
+    let count = dims.iter().try_fold(1u64, |n, &d| n.checked_mul(d));
+    let data = len.saturating_sub((start + hlen) as u64);
+    let shown = dims
+        .iter()
+        .map(u64::to_string)
+        .collect::<Vec<_>>()
+        .join("×");
+    match count.and_then(|c| c.checked_mul(8)) {
+        Some(bytes) if bytes <= data => crate::resources::check_memory(
+            format!("reading a {shown} height map"),
+            bytes.saturating_mul(3),
+        )
+        .map_err(|e| e.to_string()),
+        _ => Err(format!(
+            "the header claims a {shown} array of float64 but the file holds only {data} bytes of data: truncated, or not a valid .npy file"
+        )),
+    }
+}
+
 #[cfg(feature = "x3p")]
 type Raw = (Vec<f64>, usize, usize, Spacing, Vec<String>, Vec<String>);
 
@@ -277,6 +342,10 @@ fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
         path: p.clone(),
         message: e.to_string(),
+    })?;
+    check_npy_size(path).map_err(|message| SurfaceError::Format {
+        path: p.clone(),
+        message,
     })?;
     let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
         let message = match e {

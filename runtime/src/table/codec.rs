@@ -15,6 +15,7 @@
 //! format version is reported as such, not as corrupt.
 
 use super::{FORMAT_VERSION, Table, TableError};
+use crate::hash::fnv1a;
 
 /// File signature.
 pub const MAGIC: &[u8; 8] = b"STRATATB";
@@ -23,16 +24,6 @@ const PREFIX: usize = 28;
 /// decoder runs with this limit, so a damaged length prefix inside the payload cannot
 /// make bincode allocate more than this (it asked for 3e18 bytes and aborted before).
 pub const MAX_PAYLOAD: u64 = 1 << 30;
-
-/// FNV-1a 64-bit hash.
-fn fnv1a(data: &[u8]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for &b in data {
-        h ^= u64::from(b);
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
-    }
-    h
-}
 
 /// Serialises a table (header and arrays) to bytes.
 pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {

@@ -17,11 +17,10 @@
 //! `pressure_gap` (x = g_n in m, y = p_n/E*₁) or `area_pressure` (x = p_n/E*₁,
 //! y = A/A₀)), i.e. the scatter over seeds in numbers.
 
-use std::path::{Path, PathBuf};
-
 use anyhow::{Context, Result, anyhow, bail};
-use strata_runtime::output::write_atomic;
 
+use crate::csv_out::{self, num};
+use crate::output_set::OutputSet;
 use crate::plot::{PlotSpec, Series, Style};
 
 /// Points of the mean curve.
@@ -44,7 +43,7 @@ struct Panel {
     groups: Vec<Group>,
 }
 
-fn col(header: &[&str], name: &str) -> Result<usize> {
+fn col(header: &[String], name: &str) -> Result<usize> {
     header
         .iter()
         .position(|h| *h == name)
@@ -58,11 +57,14 @@ fn parse_f(s: &str, what: &str, line: usize) -> Result<f64> {
 
 /// Groups the rows of a sweep CSV into panels, series and sample curves.
 fn panels(csv: &str) -> Result<Vec<Panel>> {
-    let mut lines = csv.lines();
-    let header: Vec<&str> = lines
-        .next()
-        .ok_or_else(|| anyhow!("sweep CSV: empty"))?
-        .split(',')
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(true)
+        .from_reader(csv.as_bytes());
+    let header: Vec<String> = reader
+        .headers()
+        .context("sweep CSV: no header")?
+        .iter()
+        .map(String::from)
         .collect();
     let (i_case, i_model) = (col(&header, "case")?, col(&header, "model")?);
     let (i_gap, i_p, i_a) = (
@@ -82,8 +84,9 @@ fn panels(csv: &str) -> Result<Vec<Panel>> {
         .collect();
     let mut out: Vec<Panel> = Vec::new();
     let mut last_case: Option<String> = None;
-    for (n, line) in lines.enumerate() {
-        let f: Vec<&str> = line.split(',').collect();
+    for (n, record) in reader.records().enumerate() {
+        let record = record.with_context(|| format!("sweep CSV line {}", n + 2))?;
+        let f: Vec<&str> = record.iter().collect();
         if f.len() != header.len() {
             bail!(
                 "sweep CSV line {}: {} fields, header has {}",
@@ -229,12 +232,13 @@ fn sanitize(s: &str) -> String {
         .collect()
 }
 
-/// Writes the summary plots and `bands.csv` of a sweep CSV into `dir`; returns the
-/// files written.
-pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>> {
+/// Writes the summary plots and `bands.csv` of a sweep CSV into `dir` (`""` or
+/// `"sub/"`) of an output set; returns the files written (relative to the set).
+/// `caption` names the sweep and its stack (`bandwidth study, paper two-layer`).
+pub fn write(set: &OutputSet, dir: &str, csv: &str, caption: &str) -> Result<Vec<String>> {
     let panels = panels(csv)?;
     let mut written = Vec::new();
-    let mut bands = String::from("panel,model,k_max,plot,x,mean,min,max,samples\n");
+    let mut bands: Vec<Vec<String>> = Vec::new();
     for p in &panels {
         let suffix: String = p
             .key
@@ -253,7 +257,7 @@ pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>>
         let panel_label = if desc.is_empty() {
             "all".to_string()
         } else {
-            desc.replace(',', ";")
+            desc.clone()
         };
         // k_M shades in order of appearance, per model
         let k_index = |g: &Group| {
@@ -264,7 +268,13 @@ pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>>
                 .unwrap_or(0)
         };
         for (plot, file, x_label, y_label, log_y) in [
-            ("pressure_gap", "pressure_gap", "g_n (m)", "p_n / E*1", true),
+            (
+                "pressure_gap",
+                "pressure_gap",
+                "separation g_n (µm)",
+                "p_n / E*1",
+                true,
+            ),
             (
                 "area_pressure",
                 "area_pressure",
@@ -276,7 +286,7 @@ pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>>
             let pick = |c: &Curve| -> Vec<(f64, f64)> {
                 c.steps
                     .iter()
-                    .map(|&(g, pr, a)| if log_y { (g, pr) } else { (pr, a) })
+                    .map(|&(g, pr, a)| if log_y { (g * 1e6, pr) } else { (pr, a) })
                     .collect()
             };
             let mut faint = Vec::new();
@@ -305,12 +315,19 @@ pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>>
                 }
                 if let Some(b) = band(&samples, log_y) {
                     for &(x, mean, min, max) in &b {
-                        bands.push_str(&format!(
-                            "{panel_label},{},{},{plot},{x:e},{mean:e},{min:e},{max:e},{}\n",
-                            g.model,
-                            g.k_max.as_deref().unwrap_or(""),
-                            samples.len()
-                        ));
+                        // bands.csv keeps SI: g_n in m.
+                        let x_si = if log_y { x * 1e-6 } else { x };
+                        bands.push(vec![
+                            panel_label.clone(),
+                            g.model.clone(),
+                            g.k_max.clone().unwrap_or_default(),
+                            plot.to_string(),
+                            num(x_si),
+                            num(mean),
+                            num(min),
+                            num(max),
+                            samples.len().to_string(),
+                        ]);
                     }
                     bold.push(Series {
                         name: format!("{name} (mean of {})", samples.len()),
@@ -327,20 +344,17 @@ pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>>
                 continue; // nothing in contact: no chart
             }
             let what = if log_y {
-                "mean pressure against separation"
+                "Mean pressure against separation"
             } else {
-                "real contact area against mean pressure"
+                "Real contact area against mean pressure"
             };
-            let mut t = match title {
-                Some(t) => format!("{t}: {what}"),
-                None => what.to_string(),
-            };
+            let mut t = format!("{what}: {caption}");
             if !desc.is_empty() {
                 t.push_str(&format!(" ({desc})"));
             }
-            let path = dir.join(format!("{file}{suffix}.svg"));
+            let rel = format!("{dir}{file}{suffix}.svg");
             crate::plot::lines(
-                &path,
+                &set.path(&rel)?,
                 &PlotSpec {
                     title: t,
                     x_label: x_label.into(),
@@ -350,12 +364,18 @@ pub fn write(dir: &Path, csv: &str, title: Option<&str>) -> Result<Vec<PathBuf>>
                     series: faint,
                 },
             )?;
-            written.push(path);
+            written.push(rel);
         }
     }
-    let path = dir.join("bands.csv");
-    write_atomic(&path, bands.as_bytes()).with_context(|| path.display().to_string())?;
-    written.push(path);
+    let rel = format!("{dir}bands.csv");
+    let text = csv_out::text(
+        [
+            "panel", "model", "k_max", "plot", "x", "mean", "min", "max", "samples",
+        ],
+        &bands,
+    )?;
+    set.write(&rel, text.as_bytes())?;
+    written.push(rel);
     Ok(written)
 }
 

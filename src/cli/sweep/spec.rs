@@ -39,6 +39,7 @@ use std::path::{Path, PathBuf};
 
 use crate::scene::{ModelKind, Scene, SurfaceSource};
 use anyhow::{Context, Result, anyhow, bail};
+use strata_runtime::hash::Fnv1a;
 use strata_runtime::rough::Images;
 use strata_runtime::stack::{Base, Stack};
 use toml::Value as Toml;
@@ -177,8 +178,11 @@ pub struct Sweep {
     pub axes: Vec<Axis>,
     /// The base scene.
     pub base: Scene,
-    /// FNV-1a (64 bit) of the strata version, the sweep file and the base scene file.
+    /// FNV-1a (64 bit) of the strata version, the sweep file, the base scene file and
+    /// the content of every file the base scene reads ([`input_files`]).
     pub fingerprint: u64,
+    /// The files the base scene reads, hashed into the fingerprint.
+    pub inputs: Vec<PathBuf>,
     /// Number of cases.
     pub cases: usize,
 }
@@ -191,19 +195,14 @@ pub struct Case {
     pub scene: Scene,
 }
 
-/// FNV-1a, 64 bit.
-pub fn fnv1a(parts: &[&[u8]]) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    for p in parts {
-        for &b in *p {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        // separator, so that ("ab", "c") and ("a", "bc") differ
-        h ^= 0xff;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+/// The files a scene reads besides itself: its stack file, table and surface file.
+pub fn input_files(scene: &Scene) -> Vec<PathBuf> {
+    let mut v: Vec<PathBuf> = scene.stack_file.iter().cloned().collect();
+    v.extend(scene.table.iter().cloned());
+    if let SurfaceSource::File(p) = &scene.surface.source {
+        v.push(p.clone());
     }
-    h
+    v
 }
 
 fn scalar(v: &Toml, kind: Kind, field: &str) -> Result<Value> {
@@ -351,8 +350,8 @@ impl Sweep {
     /// Reads and validates a sweep file.
     pub fn from_file(path: &Path) -> Result<Sweep> {
         let text = std::fs::read_to_string(path)
-            .with_context(|| format!("cannot read sweep file {}", path.display()))?;
-        Sweep::from_str_at(&text, path)
+            .with_context(|| format!("sweep {}: cannot read it", path.display()))?;
+        Sweep::from_str_at(&text, path).with_context(|| format!("sweep {}", path.display()))
     }
 
     /// Parses a sweep from its text; `path` locates relative paths.
@@ -377,8 +376,13 @@ impl Sweep {
                 let p = dir.join(p);
                 let t = std::fs::read_to_string(&p)
                     .with_context(|| format!("scene: cannot read {}", p.display()))?;
-                let s = Scene::from_str_in(&t, p.parent().unwrap_or(Path::new(".")))
-                    .with_context(|| format!("scene {}", p.display()))?;
+                let s =
+                    Scene::from_str_in(&t, p.parent().unwrap_or(Path::new("."))).map_err(|e| {
+                        crate::scene::SceneError::InFile {
+                            path: p.display().to_string(),
+                            error: Box::new(e),
+                        }
+                    })?;
                 (s, t)
             }
             Some(Toml::Table(t)) => {
@@ -459,18 +463,24 @@ impl Sweep {
                 n
             }
         };
-        let fingerprint = fnv1a(&[
-            env!("CARGO_PKG_VERSION").as_bytes(),
-            text.as_bytes(),
-            scene_text.as_bytes(),
-        ]);
+        let mut hash = Fnv1a::default();
+        hash.part(env!("CARGO_PKG_VERSION").as_bytes())
+            .part(text.as_bytes())
+            .part(scene_text.as_bytes());
+        let inputs = input_files(&base);
+        for f in &inputs {
+            let bytes = std::fs::read(f)
+                .with_context(|| format!("reading {} for the sweep's fingerprint", f.display()))?;
+            hash.part(&bytes);
+        }
         let sweep = Sweep {
             path: path.to_path_buf(),
             title,
             mode,
             axes,
             base,
-            fingerprint,
+            fingerprint: hash.finish(),
+            inputs,
             cases,
         };
         sweep.check_applicable()?;

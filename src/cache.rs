@@ -1,0 +1,83 @@
+//! The table cache: one place for the surrogate tables strata builds on demand (a
+//! layered stack without `stack.table` in `solve`, `law`, `compare`, `sweep`, and
+//! `asperity --model approx` without `--table`). A table is named after the stack's
+//! nondimensional fingerprint (`stack-<hex>.strata`), so every scene and command with
+//! the same stack shares it.
+//!
+//! Location, first that applies:
+//! 1. `--cache-dir DIR` of the command;
+//! 2. the environment variable `STRATA_CACHE_DIR`;
+//! 3. `$XDG_CACHE_HOME/strata`;
+//! 4. `$HOME/.cache/strata`;
+//! 5. `strata-cache` in the system's temporary directory.
+//!
+//! The directory is checked for writing before a table is built (a build takes
+//! seconds to minutes), so a read-only cache fails at once.
+
+use std::path::{Path, PathBuf};
+
+use thiserror::Error;
+
+/// A cache directory that cannot take a table.
+#[derive(Debug, Error)]
+#[error(
+    "table cache {path} ({origin}) is not writable: {error}; point --cache-dir or STRATA_CACHE_DIR to a writable directory"
+)]
+pub struct CacheError {
+    pub path: String,
+    pub origin: &'static str,
+    pub error: std::io::Error,
+}
+
+/// The cache directory and where its location comes from (see the module docs).
+pub fn dir(flag: Option<&Path>) -> (PathBuf, &'static str) {
+    if let Some(d) = flag {
+        return (d.to_path_buf(), "--cache-dir");
+    }
+    let env = |k: &str| std::env::var_os(k).filter(|v| !v.is_empty());
+    if let Some(d) = env("STRATA_CACHE_DIR") {
+        (PathBuf::from(d), "STRATA_CACHE_DIR")
+    } else if let Some(d) = env("XDG_CACHE_HOME") {
+        (PathBuf::from(d).join("strata"), "$XDG_CACHE_HOME/strata")
+    } else if let Some(h) = env("HOME") {
+        (
+            PathBuf::from(h).join(".cache/strata"),
+            "$HOME/.cache/strata",
+        )
+    } else {
+        (
+            std::env::temp_dir().join("strata-cache"),
+            "the temporary directory",
+        )
+    }
+}
+
+/// Creates `dir` if needed and checks that a file can be written there.
+pub fn ensure_writable(dir: &Path, origin: &'static str) -> Result<(), CacheError> {
+    let fail = |error| CacheError {
+        path: dir.display().to_string(),
+        origin,
+        error,
+    };
+    std::fs::create_dir_all(dir).map_err(fail)?;
+    let probe = dir.join(format!(".strata-write-test-{}", std::process::id()));
+    std::fs::write(&probe, b"").map_err(fail)?;
+    std::fs::remove_file(&probe).map_err(fail)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flag_wins_and_unwritable_fails() {
+        let d = std::env::temp_dir().join(format!("strata-cache-test-{}", std::process::id()));
+        assert_eq!(dir(Some(&d)), (d.clone(), "--cache-dir"));
+        ensure_writable(&d, "--cache-dir").unwrap();
+        let file = d.join("plain-file");
+        std::fs::write(&file, "x").unwrap();
+        let e = ensure_writable(&file.join("sub"), "--cache-dir").unwrap_err();
+        assert!(e.to_string().contains("not writable"), "{e}");
+        std::fs::remove_dir_all(&d).unwrap();
+    }
+}

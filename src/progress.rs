@@ -1,0 +1,266 @@
+//! Progress and log lines on stderr, one mechanism for every command (indicatif).
+//!
+//! Three modes, chosen once per process:
+//! - **bar** (stderr is a terminal): indicatif bars drawn in place; log lines are
+//!   printed above them;
+//! - **log** (stderr is a file or a pipe: batch jobs, CI): no bars; every running
+//!   operation prints one line every [`log_interval`] (default 5 s) with its count, the
+//!   elapsed time and the time left, and a last line when it ends;
+//! - **off** (`--quiet`): neither progress nor log lines; errors are still printed.
+//!
+//! `STRATA_PROGRESS=bar|log|off` overrides the choice; `STRATA_LOG_INTERVAL` (seconds,
+//! ≥ 0.05) sets the interval of the log mode. Long operations take a [`Progress`]
+//! ([`bar`] with a count, [`spinner`] without); plain messages go through [`log`], so
+//! that they never tear a bar apart.
+
+use std::borrow::Cow;
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
+
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+/// How progress is shown (see the module docs).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// Bars drawn in place on a terminal.
+    Bar,
+    /// Periodic log lines (stderr is not a terminal).
+    Log,
+    /// Nothing (`--quiet`).
+    Off,
+}
+
+static QUIET: AtomicBool = AtomicBool::new(false);
+static MODE: OnceLock<Mode> = OnceLock::new();
+static MULTI: OnceLock<MultiProgress> = OnceLock::new();
+
+/// `--quiet`: no progress and no log lines from now on (errors are still printed).
+pub fn set_quiet(quiet: bool) {
+    QUIET.store(quiet, Ordering::Relaxed);
+}
+
+/// The mode in force: `Off` when quiet, else `STRATA_PROGRESS`, else `Bar` on a
+/// terminal and `Log` otherwise.
+pub fn mode() -> Mode {
+    if QUIET.load(Ordering::Relaxed) {
+        return Mode::Off;
+    }
+    *MODE.get_or_init(|| match std::env::var("STRATA_PROGRESS").as_deref() {
+        Ok("bar") => Mode::Bar,
+        Ok("log") => Mode::Log,
+        Ok("off") => Mode::Off,
+        _ if std::io::stderr().is_terminal() => Mode::Bar,
+        _ => Mode::Log,
+    })
+}
+
+/// Interval of the log mode's lines: `STRATA_LOG_INTERVAL` seconds (at least 0.05),
+/// default 5 s.
+pub fn log_interval() -> Duration {
+    let s = std::env::var("STRATA_LOG_INTERVAL")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|v| v.is_finite())
+        .unwrap_or(5.0)
+        .clamp(0.05, 3600.0);
+    Duration::from_secs_f64(s)
+}
+
+fn multi() -> &'static MultiProgress {
+    MULTI.get_or_init(|| MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))
+}
+
+/// Prints one log line on stderr (above any bar); nothing when quiet.
+pub fn log(line: impl std::fmt::Display) {
+    match mode() {
+        Mode::Off => {}
+        Mode::Bar => multi().suspend(|| eprintln!("{line}")),
+        Mode::Log => eprintln!("{line}"),
+    }
+}
+
+/// Seconds in a short human form: `4.2 s`, `3 min 05 s`, `1 h 02 min`.
+pub fn human_duration(d: Duration) -> String {
+    let s = d.as_secs_f64();
+    if s < 60.0 {
+        format!("{s:.1} s")
+    } else if s < 3600.0 {
+        format!("{} min {:02} s", (s / 60.0) as u64, (s % 60.0) as u64)
+    } else {
+        format!(
+            "{} h {:02} min",
+            (s / 3600.0) as u64,
+            ((s % 3600.0) / 60.0) as u64
+        )
+    }
+}
+
+/// The log-mode line of a bar: `what: 12/97 (12 %), 4.2 s elapsed, about 30.1 s left`
+/// (a spinner: `what: 4.2 s elapsed`).
+pub fn status_line(pb: &ProgressBar) -> String {
+    let what = pb.message();
+    let elapsed = human_duration(pb.elapsed());
+    match pb.length() {
+        Some(n) if n > 0 => {
+            let k = pb.position().min(n);
+            let left = if k > 0 && k < n {
+                format!(", about {} left", human_duration(pb.eta()))
+            } else {
+                String::new()
+            };
+            format!(
+                "{what}: {k}/{n} ({} %), {elapsed} elapsed{left}",
+                100 * k / n
+            )
+        }
+        _ => format!("{what}: {elapsed} elapsed"),
+    }
+}
+
+/// One line every `interval` while the bar runs, and a last one when it ends (if it
+/// ran for at least one interval).
+fn spawn_logger(pb: &ProgressBar, interval: Duration, ended: Arc<AtomicBool>) {
+    let weak = pb.downgrade();
+    let spawned = std::thread::Builder::new()
+        .name("strata-progress".into())
+        .spawn(move || {
+            let step = interval.min(Duration::from_millis(50));
+            let mut last = Instant::now();
+            loop {
+                std::thread::sleep(step);
+                let Some(pb) = weak.upgrade() else { return };
+                if pb.is_finished() {
+                    last_line(&pb, interval, &ended);
+                    return;
+                }
+                if last.elapsed() >= interval {
+                    last = Instant::now();
+                    eprintln!("{}", status_line(&pb));
+                }
+            }
+        });
+    // Without a thread the work goes on silently; that is no reason to fail it.
+    drop(spawned);
+}
+
+/// The last line of a logged operation (once, and only if it ran for at least one
+/// interval).
+fn last_line(pb: &ProgressBar, interval: Duration, ended: &AtomicBool) {
+    if pb.elapsed() >= interval && !ended.swap(true, Ordering::SeqCst) {
+        eprintln!("{} (done)", status_line(pb));
+    }
+}
+
+fn make(len: Option<u64>, what: Cow<'static, str>, ended: Arc<AtomicBool>) -> ProgressBar {
+    match mode() {
+        Mode::Off => ProgressBar::hidden(),
+        Mode::Log => {
+            let pb =
+                ProgressBar::with_draw_target(len, ProgressDrawTarget::hidden()).with_message(what);
+            spawn_logger(&pb, log_interval(), ended);
+            pb
+        }
+        Mode::Bar => {
+            let template = if len.is_some() {
+                "{msg} [{elapsed_precise}] {wide_bar} {pos}/{len} (eta {eta})"
+            } else {
+                "{spinner} {msg} [{elapsed_precise}]"
+            };
+            let pb = ProgressBar::with_draw_target(len, ProgressDrawTarget::hidden());
+            if let Ok(style) = ProgressStyle::with_template(template) {
+                pb.set_style(style);
+            }
+            let pb = multi().add(pb.with_message(what));
+            if len.is_none() {
+                pb.enable_steady_tick(Duration::from_millis(120));
+            }
+            pb
+        }
+    }
+}
+
+/// A raw indicatif bar of `len` steps following the mode (for crates that take a bar
+/// factory, such as `strata_tablegen`'s table builds).
+pub fn raw_bar(len: u64, what: &'static str) -> ProgressBar {
+    make(Some(len), Cow::Borrowed(what), Arc::default())
+}
+
+/// A running operation; the bar (or the log lines) ends when it is dropped.
+#[derive(Debug)]
+pub struct Progress {
+    pb: ProgressBar,
+    /// The last log line was printed (by the drop or the logger thread).
+    ended: Arc<AtomicBool>,
+}
+
+impl Progress {
+    /// One more step done.
+    pub fn inc(&self) {
+        self.pb.inc(1);
+    }
+
+    /// `k` steps done.
+    pub fn set_position(&self, k: u64) {
+        self.pb.set_position(k);
+    }
+
+    /// Changes the description.
+    pub fn set_message(&self, what: impl Into<Cow<'static, str>>) {
+        self.pb.set_message(what);
+    }
+
+    /// The underlying bar (for `par_iter().progress_with(...)`).
+    pub fn bar(&self) -> &ProgressBar {
+        &self.pb
+    }
+}
+
+impl Drop for Progress {
+    fn drop(&mut self) {
+        self.pb.finish_and_clear();
+        // Here rather than in the logger thread, which the process may outrun.
+        if mode() == Mode::Log {
+            last_line(&self.pb, log_interval(), &self.ended);
+        }
+    }
+}
+
+fn progress(len: Option<u64>, what: Cow<'static, str>) -> Progress {
+    let ended = Arc::new(AtomicBool::new(false));
+    Progress {
+        pb: make(len, what, Arc::clone(&ended)),
+        ended,
+    }
+}
+
+/// An operation of `len` counted steps described by `what` (`"BEM: load steps"`).
+pub fn bar(len: u64, what: impl Into<Cow<'static, str>>) -> Progress {
+    progress(Some(len), what.into())
+}
+
+/// An operation without a count: a spinner with the elapsed time.
+pub fn spinner(what: impl Into<Cow<'static, str>>) -> Progress {
+    progress(None, what.into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn status_lines_count_and_time() {
+        let pb = ProgressBar::with_draw_target(Some(40), ProgressDrawTarget::hidden())
+            .with_message("BEM: load steps");
+        pb.set_position(10);
+        let s = status_line(&pb);
+        assert!(s.starts_with("BEM: load steps: 10/40 (25 %), "), "{s}");
+        assert!(s.contains("elapsed") && s.contains("left"), "{s}");
+        let sp = ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden())
+            .with_message("I model");
+        assert!(status_line(&sp).starts_with("I model: 0.0 s elapsed"));
+        assert_eq!(human_duration(Duration::from_secs(185)), "3 min 05 s");
+        assert_eq!(human_duration(Duration::from_secs(3720)), "1 h 02 min");
+    }
+}
