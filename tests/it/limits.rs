@@ -126,12 +126,10 @@ fn huge_bem_grid_under_a_small_limit_is_refused() {
     refused(&o, &["--memory-limit", "`lots`"]);
 }
 
-/// The I model past its memory limit (37k summits under 64 MiB) exits 1 with a
-/// message. Needs the I-model memory estimate of the rough-contact engineer (it calls
-/// `strata_runtime::resources::check_memory`, which `--memory-limit` sets): ignored
-/// in this branch until that check is merged.
+/// The I model past its memory limit (a 1024² surface with k_max = 400 under 64 MiB)
+/// exits 1 with a message: the I model estimates its pair storage and calls
+/// `strata_runtime::resources::check_memory`, which `--memory-limit` sets.
 #[test]
-#[ignore = "needs the I-model memory check (runtime rough); un-ignore after the merge"]
 fn i_model_past_its_limit_is_refused() {
     let d = dir("imodel");
     let sc = write_scene(
