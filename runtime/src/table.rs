@@ -6,7 +6,7 @@
 //! * `x` axis: c_x = ln(a/h₁), uniform (h₁ = top layer thickness).
 //! * optional family axis: c_f = ln(E_v/E₁), uniform, where E_v is the Young modulus of
 //!   one chosen layer (`Vary::Layer(i)`, 1-based, i ≥ 2) or of the elastic base.
-//! * χ, ζ: arrays [member][x], dimensionless.
+//! * χ, ζ: arrays `[member][x]`, dimensionless.
 //! * g: stored as g·r/a³ (dimensionless, bounded: → (4/3)k_z(0) far away) over
 //!   (x, w) with w = asinh(√((r − a)/h₁)). This coordinate (rather than a/r, which
 //!   physics.md suggests) keeps the data smooth where it matters: near the contact
@@ -19,7 +19,7 @@
 //!   even Taylor coefficients of k_z (exact to all orders on a rigid base with none).
 //!   Its error is measured by the builder at 1, 2 and 4 × the join and stored in the
 //!   header (`far_field_error`); `strata table check` re-measures it beyond the join.
-//! * S: arrays [member][s] over c_s = ln(ρ h₁).
+//! * S: arrays `[member][s]` over c_s = ln(ρ h₁).
 //!
 //! A table is nondimensional: a stack whose thicknesses are all scaled by one factor
 //! and whose moduli are all scaled by another is served by the same table.
@@ -208,13 +208,13 @@ pub struct Header {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Table {
     pub header: Header,
-    /// χ [member][x].
+    /// χ `[member][x]`.
     pub chi: Vec<f64>,
-    /// ζ [member][x].
+    /// ζ `[member][x]`.
     pub zeta: Vec<f64>,
-    /// g·r/a³ [member][x][w].
+    /// g·r/a³ `[member][x][w]`.
     pub g: Vec<f64>,
-    /// S [member][s].
+    /// S `[member][s]`.
     pub s: Vec<f64>,
     /// k_z(0) per member.
     pub k0: Vec<f64>,

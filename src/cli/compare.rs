@@ -12,7 +12,7 @@
 //! - area at equal pressure: A_X(p_k)/A_k − 1, A_X(p) interpolated log–log between the
 //!   model's steps (exact at a step of equal pressure, e.g. `mean_pressures` loads).
 //!
-//! Writes, for one scene, into DIR (for several, into DIR/<scene stem>/ each, plus the
+//! Writes, for one scene, into DIR (for several, into `DIR/<scene stem>/` each, plus the
 //! combined files below):
 //! - `compare.csv`: per BEM step `step,delta,separation,pressure_ratio_bem,p_bem,p_n,
 //!   p_i,rel_p_n,rel_p_i,area_bem,area_n,area_i,area_n_at_p,area_i_at_p,rel_area_n,

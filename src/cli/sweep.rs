@@ -13,7 +13,7 @@
 //!   shard, columns, axes, per-case wall times, the CSV's row count and FNV-1a
 //!   checksum, the input files and their checksums);
 //! - `DIR/pressure_gap*.svg`, `DIR/area_pressure*.svg`, `DIR/bands.csv`: summary plots
-//!   with the scatter over seeds ([`plots`]).
+//!   with the scatter over seeds (module `plots`).
 //!
 //! `--shard I/N` (1 ≤ I ≤ N) runs the cases with `id % N == I − 1` (round robin, so
 //! expensive corners of a grid spread over all shards) and writes

@@ -2,7 +2,7 @@
 //!
 //! Files written into the target directory (all float64):
 //! `chi.npy`, `zeta.npy` [member, x]; `g_r_over_a3.npy` [member, x, w];
-//! `s.npy` [member, s]; `k0.npy` [member]; the coordinate axes `ln_x.npy` = ln(a/h₁),
+//! `s.npy` `[member, s]`; `k0.npy` `[member]`; the coordinate axes `ln_x.npy` = ln(a/h₁),
 //! `w.npy`, `ln_rho_h1.npy` and, for a family, `ln_ratio.npy` = ln(E_v/E₁).
 
 use std::path::{Path, PathBuf};

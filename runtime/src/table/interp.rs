@@ -18,8 +18,8 @@ pub struct Axis {
     pub n: usize,
 }
 
-/// Interpolation weights along one axis: the value is Σ w[k]·f[start + k] and the
-/// derivative with respect to the coordinate is Σ dw[k]·f[start + k], k < len.
+/// Interpolation weights along one axis: the value is `Σ w[k]·f[start + k]` and the
+/// derivative with respect to the coordinate is `Σ dw[k]·f[start + k]`, k < len.
 #[derive(Debug, Clone, Copy)]
 pub struct Weights {
     pub start: usize,
@@ -171,7 +171,7 @@ pub fn eval2(ax: &Axis, ay: &Axis, f: &[f64], cx: f64, cy: f64) -> f64 {
     v
 }
 
-/// Interpolates along a leading (slowest) axis: out[k] = Σ w_i f[(start+i)·block + k].
+/// Interpolates along a leading (slowest) axis: `out[k] = Σ w_i f[(start+i)·block + k]`.
 pub fn slice_leading(axis: &Axis, f: &[f64], block: usize, c: f64) -> Vec<f64> {
     let wt = axis.weights(c);
     let mut out = vec![0.0; block];

@@ -25,9 +25,9 @@
 //!   as NaN, to be refused or repaired like any missing height.
 //!
 //! The grid is returned with the first axis x (`heights[i·SizeY + j]` = point (i, j)),
-//! the [`Surface`] convention. Units are metres by the standard.
+//! the [`Surface`](crate::surface::Surface) convention. Units are metres by the standard.
 //!
-//! [`Surface::write_x3p`] writes the same layout (submodule `write`).
+//! [`Surface::write_x3p`](crate::surface::Surface::write_x3p) writes the same layout (submodule `write`).
 
 mod write;
 
