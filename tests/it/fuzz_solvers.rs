@@ -11,7 +11,6 @@
 
 use ndarray::Array2;
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 use strata_bem::{BemLoad, BemOptions, BemSolver};
 use strata_runtime::law::Homogeneous;
 use strata_runtime::rough::{Images, Model, RoughContact, contact_radius};
@@ -20,19 +19,7 @@ use strata_runtime::{Base, Layer, Stack};
 use strata_tablegen::asperity::{Asperity, Options};
 
 fn config(cases: u32) -> ProptestConfig {
-    let env = |k: &str| std::env::var(k).ok();
-    ProptestConfig {
-        cases: env("PROPTEST_CASES")
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(cases),
-        rng_seed: RngSeed::Fixed(
-            env("PROPTEST_RNG_SEED")
-                .and_then(|s| s.parse().ok())
-                .unwrap_or(0x501e),
-        ),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    crate::support::fuzz_config(cases, 0x501e)
 }
 
 /// A number near `typical` (log-uniform over ±2 decades) or a hostile value.

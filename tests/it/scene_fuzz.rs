@@ -11,24 +11,11 @@
 use std::path::{Path, PathBuf};
 
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 use strata::scene::{LoadSpec, Scene, SurfaceSource};
 
 /// Fixed case count and seed unless PROPTEST_CASES / PROPTEST_RNG_SEED say otherwise.
 fn config(cases: u32) -> ProptestConfig {
-    let env = |k: &str| std::env::var(k).ok();
-    ProptestConfig {
-        cases: env("PROPTEST_CASES")
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(cases),
-        rng_seed: RngSeed::Fixed(
-            env("PROPTEST_RNG_SEED")
-                .and_then(|s| s.parse().ok())
-                .unwrap_or(0x5ce4e),
-        ),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    crate::support::fuzz_config(cases, 0x5ce4e)
 }
 
 /// A directory with a small surface file and a stack file the scenes can point to,

@@ -123,3 +123,23 @@ pub fn solve_no_plots(scene: &std::path::Path, out: &std::path::Path) -> std::pr
         std::ffi::OsStr::new("--no-plots"),
     ])
 }
+
+/// The proptest configuration of the fuzz modules: `cases` cases (PROPTEST_CASES
+/// overrides), a fixed seed per module (PROPTEST_RNG_SEED overrides), no persistence
+/// files: CI runs the same cases every time; longer runs set the variables.
+#[allow(dead_code)]
+pub fn fuzz_config(cases: u32, seed: u64) -> proptest::test_runner::Config {
+    let env = |k: &str| std::env::var(k).ok();
+    proptest::test_runner::Config {
+        cases: env("PROPTEST_CASES")
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(cases),
+        rng_seed: proptest::test_runner::RngSeed::Fixed(
+            env("PROPTEST_RNG_SEED")
+                .and_then(|s| s.parse().ok())
+                .unwrap_or(seed),
+        ),
+        failure_persistence: None,
+        ..proptest::test_runner::Config::default()
+    }
+}

@@ -8,25 +8,12 @@
 //! Longer run: `PROPTEST_CASES=100000 cargo test -p strata-runtime --test table_fuzz`.
 
 use proptest::prelude::*;
-use proptest::test_runner::RngSeed;
 use strata_runtime::law::AsperityLaw;
 use strata_runtime::stack::Stack;
 use strata_runtime::table::{Axis, FORMAT_VERSION, Family, Header, Table, Vary, codec};
 
 fn config(cases: u32) -> ProptestConfig {
-    let env = |k: &str| std::env::var(k).ok();
-    ProptestConfig {
-        cases: env("PROPTEST_CASES")
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(cases),
-        rng_seed: RngSeed::Fixed(
-            env("PROPTEST_RNG_SEED")
-                .and_then(|s| s.parse().ok())
-                .unwrap_or(0x7ab1e),
-        ),
-        failure_persistence: None,
-        ..ProptestConfig::default()
-    }
+    crate::support::fuzz_config(cases, 0x7ab1e)
 }
 
 /// A small, valid two-layer family table (contents smooth and plausible, not physical).
