@@ -224,18 +224,9 @@ fn steps(c: &mut Criterion) {
 /// Writes an n×n f64 .npy (format 1.0, little-endian, C order).
 fn write_npy(path: &Path, z: &Array2<f64>) {
     let (r, c) = z.dim();
-    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({r}, {c}), }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    for v in z.iter() {
-        bytes.extend_from_slice(&v.to_le_bytes());
-    }
-    std::fs::write(path, bytes).expect("write surface");
+    Surface::new(z.iter().copied().collect(), r, c, 1e-3, true)
+        .and_then(|s| s.write_npy(path))
+        .expect("write surface");
 }
 
 fn vs_tamaas(_c: &mut Criterion) {

@@ -188,22 +188,10 @@ fn write_cross_check_surface() {
     let p = python_surface_params();
     let s = Surface::generate(&p).expect("surface");
     let n = p.grid;
-    let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': ({n}, {n}), }}");
-    // magic (6) + version (2) + header length (2) + header + '\n', a multiple of 64.
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
-    bytes.extend_from_slice(header.as_bytes());
-    for z in s.heights() {
-        bytes.extend_from_slice(&z.to_le_bytes());
-    }
     let dir = python_reference_dir();
     std::fs::create_dir_all(&dir).expect("python reference dir");
     let path = dir.join("surface.npy");
-    std::fs::write(&path, bytes).expect("write surface.npy");
+    s.write_npy(&path).expect("write surface.npy");
     // Round trip through the reader the comparisons use.
     let back = read_heights_npy(&path).expect("read back");
     assert_eq!(back.dim(), (n, n));
