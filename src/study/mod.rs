@@ -27,6 +27,8 @@
 //!   1 is on the front, ≤ [`pareto::NEAR`] is "near".
 
 pub mod approx;
+mod defaults;
+mod figures;
 pub mod fredholm;
 pub mod machine;
 pub mod pareto;
