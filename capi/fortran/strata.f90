@@ -65,13 +65,13 @@ module strata
   integer(c_int32_t), parameter, public :: STRATA_FORMAT_ABAQUS = 1
 
   public :: c_strata_last_error_message, c_strata_version, c_strata_table_load, &
-       c_strata_table_free, c_strata_surface_load, c_strata_surface_generate, &
-       c_strata_surface_free, c_strata_law_new, c_strata_law_pressure, &
+       c_strata_table_free, c_strata_surface_load, c_strata_surface_read, &
+       c_strata_surface_info, c_strata_surface_generate, c_strata_surface_free, c_strata_law_new, c_strata_law_pressure, &
        c_strata_law_area_fraction, c_strata_law_dp_dg, c_strata_law_first_contact_gap, &
        c_strata_law_min_gap, c_strata_law_write, c_strata_law_free
   public :: strata_last_error_message, strata_version, strata_table_load, &
-       strata_table_free, strata_surface_load, strata_surface_generate, &
-       strata_surface_free, strata_law_new, strata_law_pressure, &
+       strata_table_free, strata_surface_load, strata_surface_read, strata_surface_info, &
+       strata_surface_generate, strata_surface_free, strata_law_new, strata_law_pressure, &
        strata_law_area_fraction, strata_law_dp_dg, strata_law_first_contact_gap, &
        strata_law_min_gap, strata_law_write, strata_law_free
 
@@ -114,6 +114,30 @@ module strata
        type(c_ptr), value :: out
        integer(c_int32_t) :: code
      end function c_strata_surface_load
+
+     !> int32_t strata_surface_read(const char *path, double dx, double dy,
+     !>     const char *height_unit, const char *detrend, int32_t periodic,
+     !>     StrataSurface **out)
+     function c_strata_surface_read(path, dx, dy, height_unit, detrend, periodic, out) &
+          bind(C, name="strata_surface_read") result(code)
+       import :: c_char, c_double, c_int32_t, c_ptr
+       character(kind=c_char), dimension(*), intent(in) :: path, height_unit, detrend
+       real(c_double), value :: dx, dy
+       integer(c_int32_t), value :: periodic
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_surface_read
+
+     !> int32_t strata_surface_info(const StrataSurface *surface, size_t *nx,
+     !>     size_t *ny, double *dx, double *dy, double *rms)
+     function c_strata_surface_info(surface, nx, ny, dx, dy, rms) &
+          bind(C, name="strata_surface_info") result(code)
+       import :: c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: surface
+       integer(c_size_t), intent(out) :: nx, ny
+       real(c_double), intent(out) :: dx, dy, rms
+       integer(c_int32_t) :: code
+     end function c_strata_surface_info
 
      !> int32_t strata_surface_generate(double size, size_t grid, double fractal_dimension,
      !>     double k_min, double k_max, double rms, uint64_t seed, StrataSurface **out)
@@ -290,6 +314,37 @@ contains
     surface = c_null_ptr
     code = c_strata_surface_load(c_path(path), size, flag, c_loc(surface))
   end function strata_surface_load
+
+  !> Reads a measured surface: .x3p (pixel sizes and metres from the file: dx = dy = 0),
+  !> a 2-D f64 .npy or a text matrix with pixel sizes dx, dy (m); `height_unit` "m",
+  !> "mm", "um", "nm" ("" = metres), `detrend` "none", "plane", "curvature" ("" = none).
+  function strata_surface_read(path, dx, dy, height_unit, detrend, periodic, surface) &
+       result(code)
+    character(*), intent(in) :: path, height_unit, detrend
+    real(c_double), intent(in) :: dx, dy
+    logical, intent(in) :: periodic
+    type(c_ptr), intent(out), target :: surface
+    integer(c_int32_t) :: code
+    integer(c_int32_t) :: flag
+    flag = 0
+    if (periodic) flag = 1
+    surface = c_null_ptr
+    code = c_strata_surface_read(c_path(path), dx, dy, c_path(height_unit), &
+         c_path(detrend), flag, c_loc(surface))
+  end function strata_surface_read
+
+  !> The grid (nx x ny points, first axis = x), pixel sizes dx, dy (m) and RMS height
+  !> (m) of a surface.
+  function strata_surface_info(surface, nx, ny, dx, dy, rms) result(code)
+    type(c_ptr), intent(in) :: surface
+    integer, intent(out) :: nx, ny
+    real(c_double), intent(out) :: dx, dy, rms
+    integer(c_int32_t) :: code
+    integer(c_size_t) :: n0, n1
+    code = c_strata_surface_info(surface, n0, n1, dx, dy, rms)
+    nx = int(n0)
+    ny = int(n1)
+  end function strata_surface_info
 
   !> Generates a periodic self-affine surface: side `size` (m), `grid` points per side,
   !> fractal dimension in [2, 3), wavenumbers k_min..k_max (units of 2 pi/L), RMS

@@ -96,6 +96,32 @@ int32_t strata_surface_load(const char *path,
                             int32_t periodic,
                             struct StrataSurface **out);
 
+// Reads a measured surface in any format strata knows, as a scene's `[surface]`
+// with `file = path` does: ISO 25178-72 `.x3p` (pixel sizes and metres from the
+// file: pass `dx = dy = 0`), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
+// per line; first axis = x). For `.npy`/text, `dx`, `dy` are the pixel sizes (m,
+// both > 0); `height_unit` is `"m"`, `"mm"`, `"um"` or `"nm"` (NULL or `""`: metres;
+// `.x3p` accepts only metres). `detrend` is `"none"`, `"plane"` or `"curvature"`
+// (NULL or `""`: none): the least-squares form removed after reading. `periodic`
+// (0/1): whether the sample repeats periodically. Non-finite heights and invalid
+// points are refused with their row and column.
+int32_t strata_surface_read(const char *path,
+                            double dx,
+                            double dy,
+                            const char *height_unit,
+                            const char *detrend,
+                            int32_t periodic,
+                            struct StrataSurface **out);
+
+// The grid and extent of a surface: `nx × ny` points (first axis = x), pixel
+// sizes `dx`, `dy` (m) and the RMS height about the mean (m).
+int32_t strata_surface_info(const struct StrataSurface *surface,
+                            size_t *nx,
+                            size_t *ny,
+                            double *dx,
+                            double *dy,
+                            double *rms);
+
 // Generates a periodic self-affine surface, exactly as a scene's
 // `[surface.generate]` (physics.md §5): side `size` (m), `grid` points per side,
 // fractal dimension D_f ∈ [2, 3), wavenumbers `k_min`…`k_max` in units of 2π/L,

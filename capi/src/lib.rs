@@ -38,7 +38,9 @@ use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources::ResourceError;
 use strata_runtime::rough::{Images, Model, RoughContact, RoughError};
 use strata_runtime::stack::{Stack, StackError};
-use strata_runtime::surface::{GenerateParams, Surface, SurfaceError};
+use strata_runtime::surface::{
+    Detrend, GenerateParams, HeightUnit, ReadOptions, Repair, Spacing, Surface, SurfaceError,
+};
 use strata_runtime::table::{Table, TableError};
 use thiserror::Error;
 
@@ -188,6 +190,20 @@ unsafe fn path_arg(name: &'static str, p: *const c_char) -> Result<PathBuf, Capi
     Ok(PathBuf::from(s))
 }
 
+/// An optional UTF-8 string argument: NULL or `""` is None.
+unsafe fn str_arg(name: &'static str, p: *const c_char) -> Result<Option<String>, CapiError> {
+    if p.is_null() {
+        return Ok(None);
+    }
+    // SAFETY: the caller passes a NUL-terminated string (checked non-NULL above).
+    let s = unsafe { CStr::from_ptr(p) };
+    let s = s.to_str().map_err(|_| CapiError::Invalid {
+        name,
+        reason: "not valid UTF-8".into(),
+    })?;
+    Ok((!s.is_empty()).then(|| s.to_string()))
+}
+
 fn finite(name: &'static str, v: f64) -> Result<f64, CapiError> {
     if v.is_finite() {
         Ok(v)
@@ -325,6 +341,103 @@ mod exported {
                 Surface::read_text(&p, size, periodic != 0)?
             };
             unsafe { put("out", out, StrataSurface { surface }) }
+        })
+    }
+
+    /// Reads a measured surface in any format strata knows, as a scene's `[surface]`
+    /// with `file = path` does: ISO 25178-72 `.x3p` (pixel sizes and metres from the
+    /// file: pass `dx = dy = 0`), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
+    /// per line; first axis = x). For `.npy`/text, `dx`, `dy` are the pixel sizes (m,
+    /// both > 0); `height_unit` is `"m"`, `"mm"`, `"um"` or `"nm"` (NULL or `""`: metres;
+    /// `.x3p` accepts only metres). `detrend` is `"none"`, `"plane"` or `"curvature"`
+    /// (NULL or `""`: none): the least-squares form removed after reading. `periodic`
+    /// (0/1): whether the sample repeats periodically. Non-finite heights and invalid
+    /// points are refused with their row and column.
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_surface_read(
+        path: *const c_char,
+        dx: f64,
+        dy: f64,
+        height_unit: *const c_char,
+        detrend: *const c_char,
+        periodic: i32,
+        out: *mut *mut StrataSurface,
+    ) -> i32 {
+        guard(|| {
+            let p = unsafe { path_arg("path", path) }?;
+            let dx = finite("dx", dx)?;
+            let dy = finite("dy", dy)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let unit = match unsafe { str_arg("height_unit", height_unit) }? {
+                None => None,
+                Some(u) => Some(HeightUnit::parse(&u).ok_or_else(|| CapiError::Invalid {
+                    name: "height_unit",
+                    reason: format!("`{u}` is not one of \"m\", \"mm\", \"um\", \"nm\""),
+                })?),
+            };
+            let detrend = match unsafe { str_arg("detrend", detrend) }? {
+                None => Detrend::None,
+                Some(d) => Detrend::parse(&d).ok_or_else(|| CapiError::Invalid {
+                    name: "detrend",
+                    reason: format!("`{d}` is not one of \"none\", \"plane\", \"curvature\""),
+                })?,
+            };
+            let spacing = if dx == 0.0 && dy == 0.0 {
+                None
+            } else {
+                Some(Spacing::Pixel(dx, dy))
+            };
+            let opts = ReadOptions {
+                spacing,
+                periodic: periodic != 0,
+                repair: Repair::Refuse,
+                height_unit: unit,
+                detrend,
+            };
+            let surface = Surface::read(&p, &opts)?;
+            unsafe { put("out", out, StrataSurface { surface }) }
+        })
+    }
+
+    /// The grid and extent of a surface: `nx × ny` points (first axis = x), pixel
+    /// sizes `dx`, `dy` (m) and the RMS height about the mean (m).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_surface_info(
+        surface: *const StrataSurface,
+        nx: *mut usize,
+        ny: *mut usize,
+        dx: *mut f64,
+        dy: *mut f64,
+        rms: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let s = &unsafe { get("surface", surface) }?.surface;
+            for (name, null) in [
+                ("nx", nx.is_null()),
+                ("ny", ny.is_null()),
+                ("dx", dx.is_null()),
+                ("dy", dy.is_null()),
+                ("rms", rms.is_null()),
+            ] {
+                if null {
+                    return Err(CapiError::Null(name));
+                }
+            }
+            let (n0, n1) = s.shape();
+            let (px, py) = s.pixel_size();
+            // SAFETY: every pointer is non-NULL (checked above) and, per the API
+            // contract, writable.
+            unsafe {
+                *nx = n0;
+                *ny = n1;
+                *dx = px;
+                *dy = py;
+                *rms = s.rms();
+            }
+            Ok(())
         })
     }
 

@@ -616,7 +616,7 @@ fn fortran_module_matches_the_header() {
     }
     assert_eq!(
         (constants, functions),
-        (17, 15),
+        (17, 17),
         "header changed: update the count and the module"
     );
 }
@@ -639,4 +639,202 @@ fn c_host_survives_a_memory_limit() {
     assert!(err.contains("memory limit"), "{err}");
     assert!(err.contains("1.00 KiB"), "{err}");
     eprintln!("{err}");
+}
+
+/// A measured surface read through the ABI (`strata_surface_read`) is the surface the
+/// runtime reads: an .x3p written by the runtime comes back with its grid, pixel sizes
+/// and RMS height exactly (float64 storage); a text matrix in µm with dx ≠ dy has the
+/// hand-computed RMS in metres; bad units, detrend names, scales and files are refused
+/// with their codes and messages naming the argument.
+#[test]
+fn surface_read_through_the_abi() {
+    use strata_runtime::surface::x3p::X3pWriteOptions;
+    let dir = tmp("surface-read");
+    let generated = Surface::generate(&GenerateParams {
+        size: 1e-3,
+        grid: 64,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed: 7,
+    })
+    .expect("surface");
+    let x3p = dir.join("sample.x3p");
+    generated
+        .write_x3p(&x3p, &X3pWriteOptions::default())
+        .expect("write x3p");
+    let info = |s: *const StrataSurface| {
+        let (mut nx, mut ny, mut dx, mut dy, mut rms) = (0usize, 0usize, 0.0, 0.0, 0.0);
+        let code = unsafe { strata_surface_info(s, &mut nx, &mut ny, &mut dx, &mut dy, &mut rms) };
+        assert_eq!(code, STRATA_OK, "{}", last_error());
+        (nx, ny, dx, dy, rms)
+    };
+    let mut s: *mut StrataSurface = std::ptr::null_mut();
+    let path = c(&x3p.display().to_string());
+    unsafe {
+        assert_eq!(
+            strata_surface_read(
+                path.as_ptr(),
+                0.0,
+                0.0,
+                std::ptr::null(),
+                std::ptr::null(),
+                1,
+                &mut s
+            ),
+            STRATA_OK,
+            "{}",
+            last_error()
+        );
+    }
+    let (nx, ny, dx, dy, rms) = info(s);
+    assert_eq!((nx, ny), (64, 64));
+    assert_eq!((dx, dy), generated.pixel_size());
+    assert_eq!(rms, generated.rms());
+    unsafe { strata_surface_free(s) };
+
+    // A 3 × 4 text matrix in µm, pixel sizes 2 µm × 3 µm: RMS about the mean by hand.
+    let z_um = [
+        [1.0, 2.0, 3.0, 4.0],
+        [0.5, -1.0, 2.5, 0.0],
+        [-2.0, 1.5, 0.25, 3.0],
+    ];
+    let text = dir.join("sample.txt");
+    let body: String = z_um
+        .iter()
+        .map(|r| {
+            r.iter()
+                .map(|v| v.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+                + "\n"
+        })
+        .collect();
+    std::fs::write(&text, body).expect("write text");
+    let flat: Vec<f64> = z_um.iter().flatten().map(|v| v * 1e-6).collect();
+    let mean = flat.iter().sum::<f64>() / 12.0;
+    let rms_hand = (flat.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / 12.0).sqrt();
+    let tpath = c(&text.display().to_string());
+    let mut t: *mut StrataSurface = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(
+            strata_surface_read(
+                tpath.as_ptr(),
+                2e-6,
+                3e-6,
+                c("um").as_ptr(),
+                c("").as_ptr(),
+                0,
+                &mut t
+            ),
+            STRATA_OK,
+            "{}",
+            last_error()
+        );
+    }
+    let (nx, ny, dx, dy, rms) = info(t);
+    assert_eq!((nx, ny, dx, dy), (3, 4, 2e-6, 3e-6));
+    assert!(
+        (rms - rms_hand).abs() <= 1e-14 * rms_hand,
+        "{rms} vs {rms_hand}"
+    );
+    // Plane detrend leaves a smaller RMS.
+    let mut tp: *mut StrataSurface = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(
+            strata_surface_read(
+                tpath.as_ptr(),
+                2e-6,
+                3e-6,
+                c("um").as_ptr(),
+                c("plane").as_ptr(),
+                0,
+                &mut tp
+            ),
+            STRATA_OK
+        );
+    }
+    assert!(info(tp).4 < rms);
+    unsafe {
+        strata_surface_free(t);
+        strata_surface_free(tp);
+    }
+
+    // Errors: code and a message naming the argument; `out` untouched.
+    let mut e: *mut StrataSurface = std::ptr::null_mut();
+    let cases: [(i32, &str, &str, f64, f64, &str, &str); 6] = [
+        (
+            STRATA_ERR_INVALID_ARGUMENT,
+            "height_unit",
+            "sample.txt",
+            2e-6,
+            3e-6,
+            "furlong",
+            "",
+        ),
+        (
+            STRATA_ERR_INVALID_ARGUMENT,
+            "detrend",
+            "sample.txt",
+            2e-6,
+            3e-6,
+            "um",
+            "wavy",
+        ),
+        (
+            STRATA_ERR_INVALID_ARGUMENT,
+            "dx",
+            "sample.txt",
+            f64::NAN,
+            3e-6,
+            "um",
+            "",
+        ),
+        (
+            STRATA_ERR_SURFACE,
+            "pixel",
+            "sample.x3p",
+            1e-6,
+            1e-6,
+            "",
+            "",
+        ),
+        (
+            STRATA_ERR_SURFACE,
+            "no-such.npy",
+            "no-such.npy",
+            1e-6,
+            1e-6,
+            "",
+            "",
+        ),
+        (STRATA_ERR_SURFACE, "size", "sample.txt", 0.0, 0.0, "", ""),
+    ];
+    for (code, needle, file, dx, dy, unit, detrend) in cases {
+        let p = c(&dir.join(file).display().to_string());
+        let got = unsafe {
+            strata_surface_read(
+                p.as_ptr(),
+                dx,
+                dy,
+                c(unit).as_ptr(),
+                c(detrend).as_ptr(),
+                0,
+                &mut e,
+            )
+        };
+        assert_eq!(got, code, "{file} {needle}: {}", last_error());
+        assert!(
+            last_error().to_lowercase().contains(needle),
+            "`{needle}` not in: {}",
+            last_error()
+        );
+        assert!(e.is_null());
+    }
+    let (mut n, mut v) = (0usize, 0.0);
+    let code =
+        unsafe { strata_surface_info(std::ptr::null(), &mut n, &mut n, &mut v, &mut v, &mut v) };
+    assert_eq!(code, STRATA_ERR_NULL);
+    let _ = std::fs::remove_dir_all(&dir);
 }
