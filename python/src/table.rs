@@ -26,8 +26,8 @@ pub struct PyTable {
 
 /// χ, ζ, g and S of one stack, interpolated from a table ([`Table::law_for`]).
 ///
-/// Units: a, r in m; χ, ζ dimensionless; g in m² (the interaction term of the paper's
-/// eq. 21); S dimensionless with ρ in 1/m. Lookups outside the table's range of a are
+/// Units: a, r in m; χ, ζ dimensionless; g in m² (the layers' term of the surface
+/// displacement, paper eq. 21); S dimensionless with ρ in 1/m. Lookups outside the table's range of a are
 /// refused (strata.TableError).
 #[pyclass(name = "AsperityLaw", module = "strata", frozen)]
 pub struct PyAsperityLaw {
@@ -182,9 +182,10 @@ impl PyAsperityLaw {
         conv::map(py, a, "a", Kind::Table, |a| Ok(self.law.try_chi_zeta(a)?.1))
     }
 
-    /// g(a, r) (m²) for r ≥ a: the displacement at distance r caused by an asperity of
-    /// contact radius a, u(r) = g(a, r)/R (physics.md §4; paper eq. 21); the far field
-    /// beyond the tabulated range.
+    /// g(a, r) (m²) for r ≥ a: the layers' correction to the half-space displacement
+    /// outside an asperity of contact radius a, u(r) = χ(a)/(πR) [(2a² − r²) asin(a/r)
+    /// + a√(r² − a²) + g(a, r)] (physics.md §4; paper eq. 21; 0 on a half-space); the
+    /// far field beyond the tabulated range.
     fn g<'py>(
         &self,
         py: Python<'py>,
