@@ -2,11 +2,10 @@
 //!
 //! pyo3 bindings of the strata workspace for the pure-Python package `strata`
 //! (python/python/strata/), built by maturin (`pip install ./python`). The classes
-//! mirror the library's concepts in SI units: [`stack::PyStack`], [`table::PyTable`]
-//! and [`table::PyAsperityLaw`], [`surface::PySurface`], [`solve::PyScene`] (solved by
-//! the engine of `strata solve`, so the numbers are the CLI's), [`law::PyContactLaw`]
-//! and [`asperity::indent`]. Every error is a `strata.StrataError` subclass carrying the
-//! library's message chain ([`errors`]); inputs (dtype, shape, finite values, files)
+//! mirror the library's concepts in SI units: `Stack`, `Table` and `AsperityLaw`,
+//! `Surface`, `Scene` (solved by the engine of `strata solve`, so the numbers are the
+//! CLI's), `ContactLaw` and `indent`. Every error is a `strata.StrataError` subclass
+//! carrying the library's message chain (module `errors`); inputs (dtype, shape, finite values, files)
 //! are checked before any library call, never left to a panic. Long solves release
 //! the GIL.
 
