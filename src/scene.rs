@@ -693,7 +693,7 @@ impl Scene {
 
 /// The `[surface]` table of a scene whose relative paths resolve against `dir`.
 fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
-    let sf = table(&top, "surface", "surface")?;
+    let sf = table(top, "surface", "surface")?;
     check_keys(
         sf,
         "surface.",

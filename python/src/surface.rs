@@ -90,6 +90,7 @@ impl PySurface {
     /// in units of 2π/L, RMS height `rms` (m), seed of the generator. Periodic.
     #[staticmethod]
     #[pyo3(signature = (size, grid, fractal_dimension, k_min, k_max, rms, seed=1))]
+    #[allow(clippy::too_many_arguments)]
     fn generate(
         py: Python<'_>,
         size: f64,
