@@ -11,16 +11,8 @@ import numpy as np
 from . import _strata
 from .topography import as_surface
 
-#: The columns of curve.csv, in its order (``strata solve``).
-CURVE_COLUMNS = (
-    "delta",
-    "gap",
-    "mean_pressure",
-    "pressure_ratio",
-    "area_fraction",
-    "contacts",
-    "stiffness",
-)
+#: The columns of curve.csv, in its order (``strata solve``; from the library).
+CURVE_COLUMNS = tuple(_strata.CURVE_COLUMNS)
 
 
 @dataclass
