@@ -68,3 +68,18 @@ def test_surface_from_array_equals_generated(root):
     assert a.pixel_size == g.pixel_size and a.periodic
     b = strata.Surface(g.heights, pixel_size=g.pixel_size, periodic=True)
     assert b.extent == pytest.approx(g.extent, rel=1e-15)
+
+
+def test_python_c_one_liner_equals_cli(root, cli, tmp_path):
+    """`python -c "import strata; ..."` on the README's main scene: curve.csv's values."""
+    import subprocess
+    import sys
+    scene = root / "scenes" / "paper-E2E1-5-interacting.toml"
+    cli("solve", scene, "--out", tmp_path / "out", "--no-plots", "-q")
+    code = "import strata, sys; strata.solve(sys.argv[1]).to_csv(sys.argv[2])"
+    subprocess.run([sys.executable, "-c", code, str(scene), str(tmp_path / "py.csv")], check=True)
+    h1, cli_cols = read_curve_csv(tmp_path / "out" / "curve.csv")
+    h2, py_cols = read_curve_csv(tmp_path / "py.csv")
+    assert h1 == h2
+    for name in h1:
+        np.testing.assert_allclose(py_cols[name], cli_cols[name], rtol=1e-12, atol=0.0, err_msg=name)
