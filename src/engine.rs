@@ -19,7 +19,7 @@ use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;
 use strata_runtime::rough::{Images, Model, RoughContact, Step};
 use strata_runtime::summits::find_summits;
-use strata_runtime::surface::Surface;
+use strata_runtime::surface::{GenerateParams, Surface};
 use strata_runtime::table::Table;
 use strata_tablegen::tablebuild::{Bars, BuildOptions};
 
@@ -33,6 +33,9 @@ pub struct EngineOptions {
     pub quiet: bool,
     /// BEM only: solver options (tolerance…); `None` gives the defaults.
     pub bem: Option<BemOptions>,
+    /// A table already in memory for a layered stack, used before `stack.table` and
+    /// the cache (the Python package passes its `Table` objects this way).
+    pub table: Option<std::sync::Arc<Table>>,
 }
 
 /// Receives the BEM maps as they are solved: `(step, number of steps, solution)`.
@@ -63,15 +66,21 @@ const GENERATE_BYTES_PER_POINT: u64 = 40;
 /// surfaces are checked by the reader, from the file's header).
 fn check_surface_memory(scene: &Scene) -> Result<()> {
     if let SurfaceSource::Generate(g) = &scene.surface.source {
-        let n = g.grid as u64;
-        resources::check_memory(
-            format!(
-                "generating the {0}×{0} surface (surface.generate.grid)",
-                g.grid
-            ),
-            resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
-        )?;
+        check_generate_memory(g)?;
     }
+    Ok(())
+}
+
+/// Checks the memory that generating the surface `g` needs against the limit.
+pub fn check_generate_memory(g: &GenerateParams) -> Result<()> {
+    let n = g.grid as u64;
+    resources::check_memory(
+        format!(
+            "generating the {0}×{0} surface (surface.generate.grid)",
+            g.grid
+        ),
+        resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
+    )?;
     Ok(())
 }
 
@@ -180,12 +189,16 @@ pub fn law_for(
             e_star: stack.top_plane_strain_modulus(),
         }));
     }
-    let table = match &scene.table {
-        Some(p) => {
+    let table = match (&opts.table, &scene.table) {
+        (Some(t), _) => {
+            log!(quiet, "stack: layered, table given in memory");
+            Table::clone(t)
+        }
+        (None, Some(p)) => {
             log!(quiet, "stack: layered, table {}", p.display());
             Table::load(p).with_context(|| format!("stack.table {}", p.display()))?
         }
-        None => cached_table(stack, opts.cache_dir.as_deref(), quiet, None)?.0,
+        (None, None) => cached_table(stack, opts.cache_dir.as_deref(), quiet, None)?.0,
     };
     let law = table
         .law_for(stack)
@@ -202,6 +215,16 @@ pub fn solve_scene(
     solve_scene_with_maps(scene, scene_path, opts, &mut |_, _, _| Ok(()))
 }
 
+/// [`solve_scene`] on a surface already loaded (BEM maps, if any, are dropped).
+pub fn solve_surface(
+    scene: &Scene,
+    scene_path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+) -> Result<SceneSolution> {
+    solve_surface_with_maps(scene, scene_path, surface, opts, &mut |_, _, _| Ok(()))
+}
+
 /// [`solve_scene`], handing every BEM step's maps to `maps` as soon as it is solved.
 pub fn solve_scene_with_maps(
     scene: &Scene,
@@ -209,13 +232,25 @@ pub fn solve_scene_with_maps(
     opts: &EngineOptions,
     maps: MapSink<'_>,
 ) -> Result<SceneSolution> {
+    let surface = load_surface(scene, opts.quiet)?;
+    solve_surface_with_maps(scene, scene_path, surface, opts, maps)
+}
+
+/// [`solve_scene_with_maps`] on a surface already loaded (or built in memory, as the
+/// Python package does): the scene's `[surface]` is not read again.
+pub fn solve_surface_with_maps(
+    scene: &Scene,
+    scene_path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+    maps: MapSink<'_>,
+) -> Result<SceneSolution> {
     let model = match scene.model.kind {
         ModelKind::Independent => Model::Independent,
         ModelKind::Interacting => Model::Interacting(scene.model.images),
-        ModelKind::Bem => return solve_bem(scene, scene_path, opts, maps),
+        ModelKind::Bem => return solve_bem(scene, scene_path, surface, opts, maps),
     };
     let quiet = opts.quiet;
-    let surface = load_surface(scene, quiet)?;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
     log!(
@@ -392,11 +427,11 @@ pub fn stack_description(stack: &strata_runtime::Stack) -> String {
 fn solve_bem(
     scene: &Scene,
     scene_path: &Path,
+    surface: Surface,
     opts: &EngineOptions,
     maps: MapSink<'_>,
 ) -> Result<SceneSolution> {
     let quiet = opts.quiet;
-    let surface = load_surface(scene, quiet)?;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let (n0, n1) = surface.shape();
     let periodic = surface.is_periodic();

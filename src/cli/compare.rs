@@ -513,7 +513,7 @@ fn compare_scene(
         let opts = EngineOptions {
             cache_dir: a.cache_dir.clone(),
             quiet: false,
-            bem: None,
+            ..Default::default()
         };
         progress::log(format!("compare {}: {name}…", path.display()));
         let mut maps = MapWriter::in_dir(

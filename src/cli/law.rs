@@ -35,7 +35,8 @@ use strata_runtime::rough::{Images, Model, RoughContact};
 use crate::output_set::OutputSet;
 use crate::progress;
 
-use crate::engine::{EngineOptions, law_for, solve_scene};
+use crate::engine::{EngineOptions, law_for, solve_surface};
+use strata_runtime::surface::Surface;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -71,13 +72,51 @@ pub struct Args {
     pub cache_dir: Option<PathBuf>,
 }
 
-/// What was solved, for the headers.
-struct Solved {
-    law: InterfaceLaw,
-    model: String,
-    solid: String,
-    e_star: f64,
-    nominal_area: f64,
+/// A sampled contact law and what was solved, for the headers.
+#[derive(Debug, Clone)]
+pub struct SampledLaw {
+    /// p(g), A(g)/A₀ and dp/dg (monotone interpolation of the samples).
+    pub law: InterfaceLaw,
+    /// The model, in words.
+    pub model: String,
+    /// The solid, in words.
+    pub solid: String,
+    /// E*₁ (Pa).
+    pub e_star: f64,
+    /// Nominal area A₀ (m²).
+    pub nominal_area: f64,
+}
+
+impl SampledLaw {
+    /// The Abaqus/CalculiX `*SURFACE BEHAVIOR` block with its `**` comment lines
+    /// naming the scene (`scene`: how it is shown), the model and the solid.
+    pub fn abaqus_block(&self, scene: &str) -> String {
+        self.law.abaqus_block(&[
+            "strata law: pressure-overclosure table of a rough (layered) interface".into(),
+            format!("scene: {scene}"),
+            format!("model: {}", self.model),
+            format!("solid: {}", self.solid),
+        ])
+    }
+}
+
+/// The contact law of a scene on its (already loaded) `surface`: `samples` separations
+/// from first contact down to `min_gap` (default: the smallest separation the scene's
+/// load reaches), by the scene's model (N, I or BEM), as `strata law` samples it.
+pub fn sample_law(
+    scene: &Scene,
+    path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+    samples: usize,
+    min_gap: Option<f64>,
+) -> Result<SampledLaw> {
+    check_samples(samples)?;
+    check_min_gap(min_gap)?;
+    match model_of(scene) {
+        Some(m) => solve_asperities(scene, path, surface, opts, m, samples, min_gap),
+        None => solve_bem(scene, path, surface, opts, samples, min_gap),
+    }
 }
 
 fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
@@ -174,15 +213,17 @@ fn check_min_gap(g: Option<f64>) -> Result<()> {
 fn solve_asperities(
     scene: &Scene,
     path: &Path,
+    surface: Surface,
     opts: &EngineOptions,
     model: Model,
-    a: &Args,
-) -> Result<Solved> {
-    let surface = crate::engine::load_surface(scene, opts.quiet)?;
+    samples: usize,
+    min_gap: Option<f64>,
+) -> Result<SampledLaw> {
     let law = law_for(scene, path, opts)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
     let g0 = rc.top_to_mean();
-    let min_gap = match a.min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+    let given = min_gap.is_some();
+    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
         Some(g) => g,
         None => {
             let p = largest_pressure(&scene.load)?;
@@ -192,24 +233,17 @@ fn solve_asperities(
         }
     };
     progress::log(format!(
-        "law: {} samples from first contact g0 = {g0:e} m down to g = {min_gap:e} m",
-        a.samples
+        "law: {samples} samples from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
-    let _spin = progress::spinner(format!("law: sampling {} separations", a.samples));
-    let il = InterfaceLaw::sample(
-        &rc,
-        model,
-        &SampleOptions {
-            samples: a.samples,
-            min_gap,
+    let _spin = progress::spinner(format!("law: sampling {samples} separations"));
+    let il = InterfaceLaw::sample(&rc, model, &SampleOptions { samples, min_gap }).context(
+        if given {
+            "--min-gap"
+        } else {
+            "sampling the load curve"
         },
-    )
-    .context(if a.min_gap.is_some() {
-        "--min-gap"
-    } else {
-        "sampling the load curve"
-    })?;
-    Ok(Solved {
+    )?;
+    Ok(SampledLaw {
         law: il,
         model: describe(Some(model)),
         solid: solid(scene),
@@ -239,21 +273,27 @@ fn solid(scene: &Scene) -> String {
 }
 
 /// BEM: the engine's scene solve at the sample separations.
-fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Result<Solved> {
-    let surface = crate::engine::load_surface(scene, opts.quiet)?;
+fn solve_bem(
+    scene: &Scene,
+    path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+    samples: usize,
+    min_gap: Option<f64>,
+) -> Result<SampledLaw> {
     let z_max = surface
         .heights()
         .iter()
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     let g0 = z_max - surface.mean();
-    let min_gap = match a.min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
         Some(g) => g,
         None => {
             let p = largest_pressure(&scene.load)?;
             let mut one = scene.clone();
             one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_scene(&one, path, opts)
+            let s = solve_surface(&one, path, surface.clone(), opts)
                 .context("load.mean_pressures: the largest one sets the default --min-gap")?;
             s.steps.first().context("BEM: no step")?.gap
         }
@@ -262,12 +302,12 @@ fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Resu
         bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
     }
     progress::log(format!(
-        "law: {} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m",
-        a.samples
+        "law: {samples} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
+    let area = surface.extent().0 * surface.extent().1;
     let mut sampled = scene.clone();
-    sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, a.samples));
-    let sol = solve_scene(&sampled, path, opts)?;
+    sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
+    let sol = solve_surface(&sampled, path, surface, opts)?;
     let mut steps = sol.steps;
     // First contact: the flat touches the highest grid point only, p = A = 0 exactly
     // (the iterative solve may leave round-off there).
@@ -275,9 +315,8 @@ fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Resu
         s.mean_pressure = 0.0;
         s.area_fraction = 0.0;
     }
-    let area = surface.extent().0 * surface.extent().1;
     let il = InterfaceLaw::from_steps(&steps, area).context("BEM load curve")?;
-    Ok(Solved {
+    Ok(SampledLaw {
         law: il,
         model: describe(None),
         solid: solid(scene),
@@ -288,7 +327,7 @@ fn solve_bem(scene: &Scene, path: &Path, opts: &EngineOptions, a: &Args) -> Resu
 
 const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (highest summit touching); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
 
-fn json(s: &Solved, scene: &Path) -> Result<String> {
+fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
     let g0 = s.law.first_contact_gap();
     let law: Vec<serde_json::Value> = s
         .law
@@ -332,11 +371,9 @@ pub fn run(a: Args) -> Result<()> {
         cache_dir: a.cache_dir.clone(),
         ..Default::default()
     };
-    let solved = match model_of(&scene) {
-        Some(m) => solve_asperities(&scene, &a.scene, &opts, m, &a),
-        None => solve_bem(&scene, &a.scene, &opts, &a),
-    }
-    .with_context(|| format!("scene {}", a.scene.display()))?;
+    let solved = crate::engine::load_surface(&scene, opts.quiet)
+        .and_then(|surface| sample_law(&scene, &a.scene, surface, &opts, a.samples, a.min_gap))
+        .with_context(|| format!("scene {}", a.scene.display()))?;
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
         for w in solved.law.calculix_warnings() {
             eprintln!("warning: {w}");
@@ -346,12 +383,7 @@ pub fn run(a: Args) -> Result<()> {
         let text = match f {
             Format::Csv => solved.law.csv(),
             Format::Json => json(&solved, &a.scene)?,
-            Format::Abaqus => solved.law.abaqus_block(&[
-                "strata law: pressure-overclosure table of a rough (layered) interface".into(),
-                format!("scene: {}", a.scene.display()),
-                format!("model: {}", solved.model),
-                format!("solid: {}", solved.solid),
-            ]),
+            Format::Abaqus => solved.abaqus_block(&a.scene.display().to_string()),
             Format::All => bail!("internal error: --format all was not expanded"),
         };
         let name = p

@@ -147,7 +147,7 @@ pub fn parse_vary(s: &str) -> Result<(Vary, f64, f64, usize)> {
 }
 
 /// Build time for the header: SOURCE_DATE_EPOCH when set, else now.
-fn build_time() -> Result<u64> {
+pub fn build_time() -> Result<u64> {
     match std::env::var("SOURCE_DATE_EPOCH") {
         Ok(v) => v
             .trim()

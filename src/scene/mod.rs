@@ -208,6 +208,23 @@ impl Scene {
         let top: Table = text
             .parse()
             .map_err(|e: toml::de::Error| SceneError::Syntax(e.to_string()))?;
+        Scene::from_table_in(top, dir, None)
+    }
+
+    /// A scene from its TOML tables; with `surface`, the `[surface]` table is not
+    /// read (and must be absent): the Python package passes a surface built in memory
+    /// this way, its `[stack]`, `[model]` and `[load]` validated as a file's.
+    pub fn from_table_in(
+        top: Table,
+        dir: &Path,
+        surface: Option<SurfaceSpec>,
+    ) -> Result<Scene, SceneError> {
+        if surface.is_some() && top.contains_key("surface") {
+            return Err(SceneError::Invalid {
+                field: "surface".into(),
+                reason: "the surface is given separately".into(),
+            });
+        }
         check_keys(
             &top,
             "",
@@ -254,149 +271,10 @@ impl Scene {
                 )
             })
             .transpose()?;
-        // [surface]
-        let sf = table(&top, "surface", "surface")?;
-        check_keys(
-            sf,
-            "surface.",
-            &[
-                "file",
-                "size",
-                "pixel_size",
-                "periodic",
-                "generate",
-                "repair",
-                "detrend",
-                "height_unit",
-            ],
-            "file, size, pixel_size, periodic, generate, repair, detrend, height_unit",
-        )?;
-        let periodic = boolean(sf, "periodic", "surface.periodic")?;
-        let repair = match string(sf, "repair", "surface.repair")? {
-            None | Some("none") => Repair::Refuse,
-            Some("median") if sf.contains_key("file") => Repair::Median,
-            Some("median") => {
-                return Err(SceneError::Invalid {
-                    field: "surface.repair".into(),
-                    reason: "applies to measured surfaces (surface.file), not generated ones"
-                        .into(),
-                });
-            }
-            Some(other) => {
-                return Err(SceneError::Invalid {
-                    field: "surface.repair".into(),
-                    reason: format!("`{other}` is not one of \"none\", \"median\""),
-                });
-            }
-        };
-        let surface = match (sf.get("file"), sf.get("generate")) {
-            (Some(_), Some(_)) => {
-                return Err(SceneError::Invalid {
-                    field: "surface.file".into(),
-                    reason: "give either `file` or [surface.generate], not both".into(),
-                });
-            }
-            (None, None) => {
-                return Err(SceneError::Missing(
-                    "surface.file (or a [surface.generate] table)".into(),
-                ));
-            }
-            (Some(_), None) => {
-                let f = string(sf, "file", "surface.file")?.unwrap_or_default();
-                let p = existing_file(dir, "surface.file", f, "")?;
-                let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
-                let detrend = match string(sf, "detrend", "surface.detrend")? {
-                    None => Detrend::None,
-                    Some(d) => Detrend::parse(d).ok_or_else(|| SceneError::Invalid {
-                        field: "surface.detrend".into(),
-                        reason: format!("`{d}` is not one of \"none\", \"plane\", \"curvature\""),
-                    })?,
-                };
-                SurfaceSpec {
-                    source: SurfaceSource::File(p),
-                    read: ReadOptions {
-                        spacing,
-                        periodic: periodic.unwrap_or(false),
-                        repair,
-                        height_unit,
-                        detrend,
-                    },
-                }
-            }
-            (None, Some(_)) => {
-                let g = table(sf, "generate", "surface.generate")?;
-                check_keys(
-                    g,
-                    "surface.generate.",
-                    &[
-                        "size",
-                        "grid",
-                        "fractal_dimension",
-                        "k_min",
-                        "k_max",
-                        "rms",
-                        "seed",
-                    ],
-                    "size, grid, fractal_dimension, k_min, k_max, rms, seed",
-                )?;
-                let size = match (g.get("size"), sf.get("size")) {
-                    (Some(_), _) => positive(g, "size", "surface.generate.size")?,
-                    (None, Some(_)) => positive(sf, "size", "surface.size")?,
-                    (None, None) => {
-                        return Err(SceneError::Missing("surface.generate.size".into()));
-                    }
-                };
-                let grid = integer(g, "grid", "surface.generate.grid")?;
-                if !(4..=16384).contains(&grid) {
-                    return Err(SceneError::Invalid {
-                        field: "surface.generate.grid".into(),
-                        reason: format!("{grid} must be in [4, 16384]"),
-                    });
-                }
-                let seed = integer(g, "seed", "surface.generate.seed")?;
-                if seed < 0 {
-                    return Err(SceneError::Invalid {
-                        field: "surface.generate.seed".into(),
-                        reason: format!("{seed} must be ≥ 0"),
-                    });
-                }
-                if periodic == Some(false) {
-                    return Err(SceneError::Invalid {
-                        field: "surface.periodic".into(),
-                        reason: "a generated surface is periodic".into(),
-                    });
-                }
-                for key in ["pixel_size", "height_unit", "detrend"] {
-                    if sf.contains_key(key) {
-                        return Err(SceneError::Invalid {
-                            field: format!("surface.{key}"),
-                            reason:
-                                "applies to measured surfaces (surface.file), not generated ones"
-                                    .into(),
-                        });
-                    }
-                }
-                let fd = g.get("fractal_dimension").ok_or_else(|| {
-                    SceneError::Missing("surface.generate.fractal_dimension".into())
-                })?;
-                SurfaceSpec {
-                    source: SurfaceSource::Generate(GenerateParams {
-                        size,
-                        grid: grid as usize,
-                        fractal_dimension: number(fd, "surface.generate.fractal_dimension")?,
-                        k_min: positive(g, "k_min", "surface.generate.k_min")?,
-                        k_max: positive(g, "k_max", "surface.generate.k_max")?,
-                        rms: positive(g, "rms", "surface.generate.rms")?,
-                        seed: seed as u64,
-                    }),
-                    read: ReadOptions {
-                        spacing: Some(Spacing::Size(size)),
-                        periodic: true,
-                        repair,
-                        ..Default::default()
-                    },
-                }
-            }
+        // [surface] (or one given in memory)
+        let surface = match surface {
+            Some(s) => s,
+            None => parse_surface(&top, dir)?,
         };
         // [model]
         let md = table(&top, "model", "model")?;
@@ -584,6 +462,151 @@ impl Scene {
             SurfaceSource::File(p) => Surface::read(p, &s.read)?,
         })
     }
+}
+
+/// The `[surface]` table of a scene whose relative paths resolve against `dir`.
+fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
+    let sf = table(top, "surface", "surface")?;
+    check_keys(
+        sf,
+        "surface.",
+        &[
+            "file",
+            "size",
+            "pixel_size",
+            "periodic",
+            "generate",
+            "repair",
+            "detrend",
+            "height_unit",
+        ],
+        "file, size, pixel_size, periodic, generate, repair, detrend, height_unit",
+    )?;
+    let periodic = boolean(sf, "periodic", "surface.periodic")?;
+    let repair = match string(sf, "repair", "surface.repair")? {
+        None | Some("none") => Repair::Refuse,
+        Some("median") if sf.contains_key("file") => Repair::Median,
+        Some("median") => {
+            return Err(SceneError::Invalid {
+                field: "surface.repair".into(),
+                reason: "applies to measured surfaces (surface.file), not generated ones".into(),
+            });
+        }
+        Some(other) => {
+            return Err(SceneError::Invalid {
+                field: "surface.repair".into(),
+                reason: format!("`{other}` is not one of \"none\", \"median\""),
+            });
+        }
+    };
+    Ok(match (sf.get("file"), sf.get("generate")) {
+        (Some(_), Some(_)) => {
+            return Err(SceneError::Invalid {
+                field: "surface.file".into(),
+                reason: "give either `file` or [surface.generate], not both".into(),
+            });
+        }
+        (None, None) => {
+            return Err(SceneError::Missing(
+                "surface.file (or a [surface.generate] table)".into(),
+            ));
+        }
+        (Some(_), None) => {
+            let f = string(sf, "file", "surface.file")?.unwrap_or_default();
+            let p = existing_file(dir, "surface.file", f, "")?;
+            let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
+            let detrend = match string(sf, "detrend", "surface.detrend")? {
+                None => Detrend::None,
+                Some(d) => Detrend::parse(d).ok_or_else(|| SceneError::Invalid {
+                    field: "surface.detrend".into(),
+                    reason: format!("`{d}` is not one of \"none\", \"plane\", \"curvature\""),
+                })?,
+            };
+            SurfaceSpec {
+                source: SurfaceSource::File(p),
+                read: ReadOptions {
+                    spacing,
+                    periodic: periodic.unwrap_or(false),
+                    repair,
+                    height_unit,
+                    detrend,
+                },
+            }
+        }
+        (None, Some(_)) => {
+            let g = table(sf, "generate", "surface.generate")?;
+            check_keys(
+                g,
+                "surface.generate.",
+                &[
+                    "size",
+                    "grid",
+                    "fractal_dimension",
+                    "k_min",
+                    "k_max",
+                    "rms",
+                    "seed",
+                ],
+                "size, grid, fractal_dimension, k_min, k_max, rms, seed",
+            )?;
+            let size = match (g.get("size"), sf.get("size")) {
+                (Some(_), _) => positive(g, "size", "surface.generate.size")?,
+                (None, Some(_)) => positive(sf, "size", "surface.size")?,
+                (None, None) => {
+                    return Err(SceneError::Missing("surface.generate.size".into()));
+                }
+            };
+            let grid = integer(g, "grid", "surface.generate.grid")?;
+            if !(4..=16384).contains(&grid) {
+                return Err(SceneError::Invalid {
+                    field: "surface.generate.grid".into(),
+                    reason: format!("{grid} must be in [4, 16384]"),
+                });
+            }
+            let seed = integer(g, "seed", "surface.generate.seed")?;
+            if seed < 0 {
+                return Err(SceneError::Invalid {
+                    field: "surface.generate.seed".into(),
+                    reason: format!("{seed} must be ≥ 0"),
+                });
+            }
+            if periodic == Some(false) {
+                return Err(SceneError::Invalid {
+                    field: "surface.periodic".into(),
+                    reason: "a generated surface is periodic".into(),
+                });
+            }
+            for key in ["pixel_size", "height_unit", "detrend"] {
+                if sf.contains_key(key) {
+                    return Err(SceneError::Invalid {
+                        field: format!("surface.{key}"),
+                        reason: "applies to measured surfaces (surface.file), not generated ones"
+                            .into(),
+                    });
+                }
+            }
+            let fd = g
+                .get("fractal_dimension")
+                .ok_or_else(|| SceneError::Missing("surface.generate.fractal_dimension".into()))?;
+            SurfaceSpec {
+                source: SurfaceSource::Generate(GenerateParams {
+                    size,
+                    grid: grid as usize,
+                    fractal_dimension: number(fd, "surface.generate.fractal_dimension")?,
+                    k_min: positive(g, "k_min", "surface.generate.k_min")?,
+                    k_max: positive(g, "k_max", "surface.generate.k_max")?,
+                    rms: positive(g, "rms", "surface.generate.rms")?,
+                    seed: seed as u64,
+                }),
+                read: ReadOptions {
+                    spacing: Some(Spacing::Size(size)),
+                    periodic: true,
+                    repair,
+                    ..Default::default()
+                },
+            }
+        }
+    })
 }
 
 impl LoadSpec {

@@ -1,0 +1,71 @@
+#!/usr/bin/env bash
+# Tests the Python package as a user meets it: a fresh venv, the README's install
+# command (`pip install ./python`), pytest (+ SurfaceTopography for the adapter test,
+# matplotlib for the examples), then the two examples.
+#
+# Usage: python/ci.sh [--ci]
+#   --ci  CI mode: SurfaceTopography must be installed and its test must run
+#         (STRATA_REQUIRE_TOOLS=1); the examples run headless (MPLBACKEND=Agg).
+#
+# Build cost: maturin builds with the workspace's dev profile and the same
+# CARGO_TARGET_DIR as `cargo test` (MATURIN_PEP517_ARGS="--profile dev"), so after
+# `cargo test --workspace` only pyo3, numpy and the bindings are compiled; without
+# --ci the README's release build is used unless STRATA_PY_PROFILE is set. The
+# numbers do not depend on the profile (no fast-math in Rust).
+# Environment: PYTHON (default python3), CARGO_TARGET_DIR (default ./target),
+#   STRATA_BIN (the CLI the tests compare with; default $CARGO_TARGET_DIR/debug/strata,
+#   built here if missing), STRATA_PY_PROFILE (dev | release).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$PWD
+CI_MODE=""
+for a in "$@"; do
+    case "$a" in
+        --ci) CI_MODE=1 ;;
+        *) echo "usage: python/ci.sh [--ci]" >&2; exit 2 ;;
+    esac
+done
+fail() { echo "python/ci.sh: ERROR: $*" >&2; exit 1; }
+PY=${PYTHON:-python3}
+export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$ROOT/target}
+PROFILE=${STRATA_PY_PROFILE:-$([ -n "$CI_MODE" ] && echo dev || echo release)}
+export MATURIN_PEP517_ARGS="--profile $PROFILE"
+t0=$(date +%s)
+
+WORK=$(mktemp -d)
+trap 'rm -rf "$WORK"' EXIT
+"$PY" -m venv "$WORK/venv" || fail "cannot create a venv with $PY (install python3-venv)"
+VPY="$WORK/venv/bin/python"
+"$VPY" -m pip install --quiet --disable-pip-version-check --upgrade pip \
+    || fail "pip cannot reach PyPI"
+
+echo "== python: pip install ./python (maturin, profile $PROFILE, CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
+t1=$(date +%s)
+"$VPY" -m pip install --disable-pip-version-check ./python \
+    || fail "pip install ./python failed"
+t2=$(date +%s)
+echo "   pip install ./python: $((t2 - t1)) s"
+
+"$VPY" -m pip install --quiet --disable-pip-version-check pytest matplotlib SurfaceTopography \
+    || fail "pip could not install pytest, matplotlib, SurfaceTopography"
+t3=$(date +%s)
+echo "   pytest, matplotlib, SurfaceTopography: $((t3 - t2)) s"
+
+export STRATA_BIN=${STRATA_BIN:-$CARGO_TARGET_DIR/debug/strata}
+if [ ! -x "$STRATA_BIN" ]; then
+    cargo build --bin strata
+fi
+if [ -n "$CI_MODE" ]; then export STRATA_REQUIRE_TOOLS=1 MPLBACKEND=Agg; fi
+# Run from outside the source tree: the installed package is imported, not python/python/.
+(cd "$WORK" && "$VPY" -m pytest -q -p no:cacheprovider "$ROOT/python/tests") || fail "pytest failed"
+t4=$(date +%s)
+echo "   pytest: $((t4 - t3)) s"
+
+echo "== python: examples"
+(cd "$WORK" && "$VPY" "$ROOT/python/examples/fig15_curve.py" --out "$WORK/fig15.png" --grid 128) \
+    || fail "examples/fig15_curve.py failed"
+(cd "$WORK" && "$VPY" "$ROOT/python/examples/surfacetopography_example.py" --out "$WORK/st.png") \
+    || fail "examples/surfacetopography_example.py failed"
+t5=$(date +%s)
+echo "   examples: $((t5 - t4)) s"
+echo "== python: passed in $((t5 - t0)) s"

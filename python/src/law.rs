@@ -1,0 +1,153 @@
+//! `strata.ContactLaw`: the sampled contact law p(g), A(g)/A₀, dp/dg of a rough
+//! interface (strata_runtime::interface) and its Abaqus/CalculiX table.
+
+use std::path::PathBuf;
+
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use strata::cli::law::SampledLaw;
+
+use crate::conv;
+use crate::errors::{Kind, err};
+
+/// The contact law of a rough interface, sampled from first contact g₀ = z_M − z̄ down
+/// to a smallest separation (Scene.law): p(g) (Pa), A(g)/A₀ and dp/dg (Pa/m) at any
+/// separation g (m; scalar or array), by the monotone interpolation of the samples
+/// (p = 0 for g ≥ g₀). g is the separation of the mean planes (paper eq. 26).
+#[pyclass(name = "ContactLaw", module = "strata", frozen)]
+pub struct PyContactLaw {
+    pub sampled: SampledLaw,
+    /// The scene, for the Abaqus block's comments.
+    pub scene: String,
+}
+
+#[pymethods]
+impl PyContactLaw {
+    /// Mean (nominal) pressure p(g) = P/A₀ (Pa).
+    fn pressure<'py>(
+        &self,
+        py: Python<'py>,
+        gap: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        conv::map(py, gap, "gap", Kind::Law, |g| {
+            Ok(self.sampled.law.pressure(g)?)
+        })
+    }
+
+    /// Real contact area fraction A(g)/A₀.
+    fn area_fraction<'py>(
+        &self,
+        py: Python<'py>,
+        gap: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        conv::map(py, gap, "gap", Kind::Law, |g| {
+            Ok(self.sampled.law.area_fraction(g)?)
+        })
+    }
+
+    /// dp/dg (Pa/m, ≤ 0): minus the interface's normal stiffness per unit area.
+    fn dp_dg<'py>(&self, py: Python<'py>, gap: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        conv::map(py, gap, "gap", Kind::Law, |g| {
+            Ok(self.sampled.law.dp_dg(g)?)
+        })
+    }
+
+    /// The samples as arrays: gap (m), overclosure g₀ − g (m), mean_pressure (Pa),
+    /// area_fraction, dp_dg (Pa/m), in loading order.
+    #[getter]
+    fn samples<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let l = &self.sampled.law;
+        let g0 = l.first_contact_gap();
+        let (mut g, mut p, mut d, mut a) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (gi, pi, di, ai) in l.samples() {
+            g.push(gi);
+            p.push(pi);
+            d.push(di);
+            a.push(ai);
+        }
+        let h: Vec<f64> = g.iter().map(|g| g0 - g).collect();
+        let out = PyDict::new(py);
+        out.set_item("gap", g.into_pyarray(py))?;
+        out.set_item("overclosure", h.into_pyarray(py))?;
+        out.set_item("mean_pressure", p.into_pyarray(py))?;
+        out.set_item("area_fraction", a.into_pyarray(py))?;
+        out.set_item("dp_dg", d.into_pyarray(py))?;
+        Ok(out)
+    }
+
+    /// g₀ = z_M − z̄, the separation at first contact (m).
+    #[getter]
+    fn first_contact_gap(&self) -> f64 {
+        self.sampled.law.first_contact_gap()
+    }
+
+    /// The smallest sampled separation (m).
+    #[getter]
+    fn min_gap(&self) -> f64 {
+        self.sampled.law.min_gap()
+    }
+
+    /// The model, in words.
+    #[getter]
+    fn model(&self) -> String {
+        self.sampled.model.clone()
+    }
+
+    /// The solid, in words.
+    #[getter]
+    fn solid(&self) -> String {
+        self.sampled.solid.clone()
+    }
+
+    /// E*₁ (Pa).
+    #[getter]
+    fn e_star1(&self) -> f64 {
+        self.sampled.e_star
+    }
+
+    /// Nominal area A₀ (m²).
+    #[getter]
+    fn nominal_area(&self) -> f64 {
+        self.sampled.nominal_area
+    }
+
+    /// The samples as CSV text (`strata law --format csv`).
+    fn csv(&self) -> String {
+        self.sampled.law.csv()
+    }
+
+    /// The `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block for Abaqus and
+    /// CalculiX (`strata law --format abaqus`): lines `pressure, overclosure`.
+    fn abaqus(&self) -> String {
+        self.sampled.abaqus_block(&self.scene)
+    }
+
+    /// Writes the Abaqus block to `path` atomically (a reader never sees half a file).
+    fn write_abaqus(&self, path: PathBuf) -> PyResult<()> {
+        strata_runtime::output::write_atomic(&path, self.abaqus().as_bytes())
+            .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))
+            .map_err(err(Kind::Law))
+    }
+
+    /// What CalculiX 2.20 would change in the Abaqus block (more than 200 lines,
+    /// overclosure steps below 1e-10 m).
+    fn calculix_warnings(&self) -> Vec<String> {
+        self.sampled.law.calculix_warnings()
+    }
+
+    fn __len__(&self) -> usize {
+        self.sampled.law.len()
+    }
+
+    fn __repr__(&self) -> String {
+        let l = &self.sampled.law;
+        format!(
+            "ContactLaw({} samples, g from {:e} to {:e} m, {})",
+            l.len(),
+            l.first_contact_gap(),
+            l.min_gap(),
+            self.sampled.model
+        )
+    }
+}

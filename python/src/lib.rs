@@ -1,0 +1,55 @@
+//! # strata-python: the native module `strata._strata`
+//!
+//! pyo3 bindings of the strata workspace for the pure-Python package `strata`
+//! (python/python/strata/), built by maturin (`pip install ./python`). The classes
+//! mirror the library's concepts in SI units: `Stack`, `Table` and `AsperityLaw`,
+//! `Surface`, `Scene` (solved by the engine of `strata solve`, so the numbers are the
+//! CLI's), `ContactLaw` and `indent`. Every error is a `strata.StrataError` subclass
+//! carrying the library's message chain (module `errors`); inputs (dtype, shape, finite values, files)
+//! are checked before any library call, never left to a panic. Long solves release
+//! the GIL.
+
+#![deny(clippy::unwrap_used, clippy::expect_used)]
+
+use pyo3::prelude::*;
+
+mod asperity;
+mod conv;
+mod errors;
+mod law;
+mod solve;
+mod stack;
+mod surface;
+mod table;
+
+/// Runs `f` with the progress and log lines of the `strata` library on stderr
+/// (`progress`) or silenced.
+pub(crate) fn with_progress<T>(progress: bool, f: impl FnOnce() -> T) -> T {
+    strata::progress::set_quiet(!progress);
+    let out = f();
+    strata::progress::set_quiet(false);
+    out
+}
+
+/// A JSON value (curve.json's summary, surface statistics) as Python objects.
+pub(crate) fn json_to_py<'py>(
+    py: Python<'py>,
+    v: &serde_json::Value,
+) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?.call_method1("loads", (v.to_string(),))
+}
+
+#[pymodule]
+fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    errors::register(m)?;
+    m.add_class::<stack::PyStack>()?;
+    m.add_class::<table::PyTable>()?;
+    m.add_class::<table::PyAsperityLaw>()?;
+    m.add_class::<surface::PySurface>()?;
+    m.add_class::<solve::PyScene>()?;
+    m.add_class::<law::PyContactLaw>()?;
+    m.add_function(wrap_pyfunction!(asperity::indent, m)?)?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("CURVE_COLUMNS", strata::cli::solve::CURVE_HEADER.to_vec())?;
+    Ok(())
+}

@@ -1,0 +1,410 @@
+//! `strata.Scene`: a rough-contact case (stack, surface, model, load) from a scene file
+//! or from Python objects, solved by the engine of `strata solve` (same numbers as the
+//! CLI's curve.csv), and its contact law as `strata law` samples it.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use strata::engine::{EngineOptions, solve_surface_with_maps};
+use strata::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
+use strata_bem::BemSolution;
+use strata_runtime::surface::{ReadOptions, Spacing, Surface};
+use strata_runtime::table::Table;
+
+use crate::errors::{Kind, err, require_file, to_py};
+use crate::law::PyContactLaw;
+use crate::stack::{PyStack, stack_of};
+use crate::surface::PySurface;
+use crate::table::table_arg;
+
+/// A rough-contact case: a material stack, a surface, a model and a load.
+///
+/// Scene.from_file(path) reads a scene TOML file (as `strata solve` does); or
+///
+/// Scene(stack, surface, model="interacting", load=..., images=None, image_cells=None, table=None)
+///
+/// builds one from Python objects: stack a strata.Stack (or a stack file), surface a
+/// strata.Surface, model "independent" (N model), "interacting" (I model) or "bem"
+/// (full-field FFT boundary elements), load a dict as the scene's [load] table:
+/// {"separations": [...]} (m), {"approach": {"from": m, "to": m, "steps": n}} or
+/// {"mean_pressures": [...]} (Pa); images "periodic" or "isolated", image_cells m
+/// ((2m+1)² block); table a strata.Table or a `.strata` path for a layered stack
+/// (default: the table cache). Fields are validated as in a scene file, and errors
+/// (strata.SceneError) name them (`load.approach.steps`, `model.images`, ...).
+#[pyclass(name = "Scene", module = "strata", frozen)]
+pub struct PyScene {
+    scene: Scene,
+    /// The scene file, or `<python>` for a scene built in memory.
+    path: PathBuf,
+    /// A surface given in memory (replaces the scene's `[surface]`).
+    surface: Option<Surface>,
+    /// A table given in memory.
+    table: Option<Arc<Table>>,
+}
+
+/// serde_json → TOML (the `[model]` and `[load]` tables given as Python dicts).
+fn json_to_toml(v: &serde_json::Value, field: &str) -> PyResult<toml::Value> {
+    use serde_json::Value as J;
+    Ok(match v {
+        J::Bool(b) => toml::Value::Boolean(*b),
+        J::Number(n) => match n.as_i64() {
+            Some(i) => toml::Value::Integer(i),
+            None => toml::Value::Float(n.as_f64().unwrap_or(f64::NAN)),
+        },
+        J::String(s) => toml::Value::String(s.clone()),
+        J::Array(a) => toml::Value::Array(
+            a.iter()
+                .enumerate()
+                .map(|(i, x)| json_to_toml(x, &format!("{field}[{i}]")))
+                .collect::<PyResult<_>>()?,
+        ),
+        J::Object(o) => toml::Value::Table(
+            o.iter()
+                .map(|(k, x)| Ok((k.clone(), json_to_toml(x, &format!("{field}.{k}"))?)))
+                .collect::<PyResult<_>>()?,
+        ),
+        J::Null => {
+            return Err(to_py(
+                Kind::Scene,
+                anyhow::anyhow!("field `{field}`: None is not a value"),
+            ));
+        }
+    })
+}
+
+/// A Python value (dict, list, numbers, strings; numpy arrays through `tolist`) as
+/// TOML, by way of JSON.
+fn py_to_toml(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<toml::Value> {
+    let py = obj.py();
+    let json = py.import("json")?;
+    let default = py.eval(
+        c"lambda o: o.tolist() if hasattr(o, 'tolist') else repr(o)",
+        None,
+        None,
+    )?;
+    let kwargs = PyDict::new(py);
+    kwargs.set_item("default", default)?;
+    kwargs.set_item("allow_nan", true)?;
+    let text: String = json
+        .call_method("dumps", (obj,), Some(&kwargs))
+        .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("{field}: {e}")))?
+        .extract()?;
+    // NaN and infinities are not JSON: serde refuses them here (the scene would too).
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|_| {
+        to_py(
+            Kind::Scene,
+            anyhow::anyhow!("{field}: every number must be finite, got {text}"),
+        )
+    })?;
+    json_to_toml(&v, field)
+}
+
+/// The scene's surface in memory: spacing, periodicity (the reader's options are not
+/// used, the file name only labels it).
+fn memory_surface_spec(s: &Surface) -> SurfaceSpec {
+    let (dx, dy) = s.pixel_size();
+    SurfaceSpec {
+        source: SurfaceSource::File(PathBuf::from("<numpy array>")),
+        read: ReadOptions {
+            spacing: Some(Spacing::Pixel(dx, dy)),
+            periodic: s.is_periodic(),
+            ..Default::default()
+        },
+    }
+}
+
+/// The label of an in-memory scene (curve.json's `scene`).
+const MEMORY: &str = "<python>";
+
+#[pymethods]
+impl PyScene {
+    #[new]
+    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        stack: &Bound<'_, PyAny>,
+        surface: &Bound<'_, PySurface>,
+        model: &str,
+        load: Option<&Bound<'_, PyAny>>,
+        images: Option<&str>,
+        image_cells: Option<i64>,
+        table: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let stack = stack_of(stack, "Scene: stack")?;
+        let surface = surface.get().surface.clone();
+        let load = load.ok_or_else(|| {
+            to_py(
+                Kind::Scene,
+                anyhow::anyhow!("missing field `load`: give load={{\"separations\": [...]}}, {{\"approach\": {{\"from\": ..., \"to\": ..., \"steps\": ...}}}} or {{\"mean_pressures\": [...]}}"),
+            )
+        })?;
+        let stack_toml: toml::Table = stack
+            .to_toml_string()
+            .parse()
+            .map_err(|e: toml::de::Error| to_py(Kind::Stack, anyhow::anyhow!("{e}")))?;
+        let mut md = toml::Table::new();
+        md.insert("kind".into(), toml::Value::String(model.into()));
+        if let Some(i) = images {
+            md.insert("images".into(), toml::Value::String(i.into()));
+        }
+        if let Some(c) = image_cells {
+            md.insert("image_cells".into(), toml::Value::Integer(c));
+        }
+        let mut top = toml::Table::new();
+        top.insert("stack".into(), toml::Value::Table(stack_toml));
+        top.insert("model".into(), toml::Value::Table(md));
+        top.insert("load".into(), py_to_toml(load, "load")?);
+        let scene = Scene::from_table_in(top, Path::new("."), Some(memory_surface_spec(&surface)))
+            .map_err(err(Kind::Scene))?;
+        Ok(PyScene {
+            scene,
+            path: PathBuf::from(MEMORY),
+            surface: Some(surface),
+            table: table_arg(table)?,
+        })
+    }
+
+    /// Reads a scene TOML file (paths inside it are relative to its directory).
+    #[staticmethod]
+    fn from_file(path: PathBuf) -> PyResult<Self> {
+        require_file("Scene.from_file", &path)?;
+        Ok(PyScene {
+            scene: Scene::from_file(&path).map_err(err(Kind::Scene))?,
+            path,
+            surface: None,
+            table: None,
+        })
+    }
+
+    /// Parses a scene from TOML text; relative paths resolve against `dir`.
+    #[staticmethod]
+    #[pyo3(signature = (text, dir=PathBuf::from(".")))]
+    fn from_toml(text: &str, dir: PathBuf) -> PyResult<Self> {
+        Ok(PyScene {
+            scene: Scene::from_str_in(text, &dir).map_err(err(Kind::Scene))?,
+            path: PathBuf::from(MEMORY),
+            surface: None,
+            table: None,
+        })
+    }
+
+    /// The material stack.
+    #[getter]
+    fn stack(&self) -> PyStack {
+        PyStack {
+            stack: self.scene.stack.clone(),
+        }
+    }
+
+    /// "independent", "interacting" or "bem".
+    #[getter]
+    fn model(&self) -> &'static str {
+        match self.scene.model.kind {
+            ModelKind::Independent => "independent",
+            ModelKind::Interacting => "interacting",
+            ModelKind::Bem => "bem",
+        }
+    }
+
+    /// The scene file (or "<python>").
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.path.clone()
+    }
+
+    /// The scene's surface (read or generated now, or the one given).
+    fn surface(&self, py: Python<'_>) -> PyResult<PySurface> {
+        Ok(PySurface {
+            surface: py.detach(|| self.load_surface(false))?,
+        })
+    }
+
+    /// Solves the load curve with the scene's model, by the engine of `strata solve`:
+    /// returns a dict of numpy arrays with the columns of curve.csv (delta, gap,
+    /// mean_pressure, pressure_ratio, area_fraction, contacts, stiffness) plus load,
+    /// kkt_residual (NaN where none), valid, and `meta` (curve.json's summary).
+    /// maps ("none", "last", "all"; BEM only) adds the pressure (Pa) and gap (m) maps.
+    /// Releases the GIL; progress=True prints progress and log lines on stderr.
+    #[pyo3(signature = (progress=false, cache_dir=None, maps="none", table=None))]
+    fn solve<'py>(
+        &self,
+        py: Python<'py>,
+        progress: bool,
+        cache_dir: Option<PathBuf>,
+        maps: &str,
+        table: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let keep = match maps {
+            "none" => 0,
+            "last" => 1,
+            "all" => 2,
+            other => {
+                return Err(to_py(
+                    Kind::Scene,
+                    anyhow::anyhow!("maps: `{other}` is not one of \"none\", \"last\", \"all\""),
+                ));
+            }
+        };
+        if keep > 0 && self.scene.model.kind != ModelKind::Bem {
+            return Err(to_py(
+                Kind::Scene,
+                anyhow::anyhow!(
+                    "maps: pressure and gap maps come from the full-field solution and need model \"bem\""
+                ),
+            ));
+        }
+        let opts = self.options(progress, cache_dir, table)?;
+        let mut kept: Vec<(usize, BemSolution)> = Vec::new();
+        let sol = py.detach(|| {
+            crate::with_progress(progress, || {
+                let surface = self.load_surface(progress)?;
+                solve_surface_with_maps(&self.scene, &self.path, surface, &opts, &mut |k, _, m| {
+                    if keep == 1 {
+                        kept.clear();
+                    }
+                    if keep > 0 {
+                        kept.push((k, m));
+                    }
+                    Ok(())
+                })
+                .with_context_path(&self.path)
+                .map_err(err(Kind::Solve))
+            })
+        })?;
+        let out = curve_dict(py, &sol.steps)?;
+        out.set_item("meta", crate::json_to_py(py, &sol.meta)?)?;
+        let list = PyList::empty(py);
+        for (k, m) in kept {
+            let d = PyDict::new(py);
+            d.set_item("step", k)?;
+            d.set_item("delta", m.approach)?;
+            d.set_item("gap", m.separation)?;
+            d.set_item("mean_pressure", m.mean_pressure)?;
+            d.set_item("area_fraction", m.area_fraction)?;
+            d.set_item("contacts", m.patches)?;
+            d.set_item("pressure", m.pressure.into_pyarray(py))?;
+            d.set_item("gap_map", m.gap.into_pyarray(py))?;
+            list.append(d)?;
+        }
+        out.set_item("maps", list)?;
+        Ok(out)
+    }
+
+    /// The contact law p(g) of the scene's interface, sampled as `strata law` does:
+    /// `samples` separations from first contact down to `min_gap` (m; default the
+    /// smallest separation the load reaches). Releases the GIL.
+    #[pyo3(signature = (samples=200, min_gap=None, progress=false, cache_dir=None, table=None))]
+    fn law(
+        &self,
+        py: Python<'_>,
+        samples: usize,
+        min_gap: Option<f64>,
+        progress: bool,
+        cache_dir: Option<PathBuf>,
+        table: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<PyContactLaw> {
+        let opts = self.options(progress, cache_dir, table)?;
+        let sampled = py.detach(|| {
+            crate::with_progress(progress, || {
+                let surface = self.load_surface(progress)?;
+                strata::cli::law::sample_law(
+                    &self.scene,
+                    &self.path,
+                    surface,
+                    &opts,
+                    samples,
+                    min_gap,
+                )
+                .with_context_path(&self.path)
+                .map_err(err(Kind::Law))
+            })
+        })?;
+        Ok(PyContactLaw {
+            sampled,
+            scene: self.path.display().to_string(),
+        })
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Scene({}, model {}, {})",
+            self.path.display(),
+            self.model(),
+            strata::engine::stack_description(&self.scene.stack)
+        )
+    }
+}
+
+/// Adds "scene PATH" to an engine error, as the CLI does.
+trait WithPath<T> {
+    fn with_context_path(self, p: &Path) -> anyhow::Result<T>;
+}
+
+impl<T> WithPath<T> for anyhow::Result<T> {
+    fn with_context_path(self, p: &Path) -> anyhow::Result<T> {
+        use anyhow::Context;
+        self.with_context(|| format!("scene {}", p.display()))
+    }
+}
+
+impl PyScene {
+    fn options(
+        &self,
+        progress: bool,
+        cache_dir: Option<PathBuf>,
+        table: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<EngineOptions> {
+        let table = match table_arg(table)? {
+            Some(t) => Some(t),
+            None => self.table.clone(),
+        };
+        Ok(EngineOptions {
+            cache_dir,
+            quiet: !progress,
+            table,
+            ..Default::default()
+        })
+    }
+
+    fn load_surface(&self, progress: bool) -> PyResult<Surface> {
+        match &self.surface {
+            Some(s) => Ok(s.clone()),
+            None => strata::engine::load_surface(&self.scene, !progress)
+                .with_context_path(&self.path)
+                .map_err(err(Kind::Surface)),
+        }
+    }
+}
+
+/// The curve.csv columns (and load, kkt_residual, valid) as numpy arrays.
+pub fn curve_dict<'py>(
+    py: Python<'py>,
+    steps: &[strata_runtime::rough::Step],
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let col = |f: &dyn Fn(&strata_runtime::rough::Step) -> f64| -> Vec<f64> {
+        steps.iter().map(f).collect()
+    };
+    d.set_item("delta", col(&|s| s.delta).into_pyarray(py))?;
+    d.set_item("gap", col(&|s| s.gap).into_pyarray(py))?;
+    d.set_item("mean_pressure", col(&|s| s.mean_pressure).into_pyarray(py))?;
+    d.set_item(
+        "pressure_ratio",
+        col(&|s| s.pressure_ratio).into_pyarray(py),
+    )?;
+    d.set_item("area_fraction", col(&|s| s.area_fraction).into_pyarray(py))?;
+    let contacts: Vec<i64> = steps.iter().map(|s| s.contacts as i64).collect();
+    d.set_item("contacts", contacts.into_pyarray(py))?;
+    d.set_item("stiffness", col(&|s| s.stiffness).into_pyarray(py))?;
+    d.set_item("load", col(&|s| s.load).into_pyarray(py))?;
+    d.set_item(
+        "kkt_residual",
+        col(&|s| s.kkt_residual.unwrap_or(f64::NAN)).into_pyarray(py),
+    )?;
+    let valid: Vec<bool> = steps.iter().map(|s| s.validity.is_valid()).collect();
+    d.set_item("valid", valid.into_pyarray(py))?;
+    Ok(d)
+}

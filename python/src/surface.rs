@@ -1,0 +1,242 @@
+//! `strata.Surface`: a height map on a regular grid, from a numpy array, generated
+//! (self-affine, physics.md §5) or read from `.npy`, `.x3p` or text files.
+
+use std::path::PathBuf;
+
+use pyo3::prelude::*;
+use strata_runtime::surface::{
+    Detrend, GenerateParams, HeightUnit, ReadOptions, Repair, Spacing, Surface,
+};
+
+use crate::conv;
+use crate::errors::{Kind, err, require_file, to_py};
+
+/// A height map z (m) on an n0 × n1 grid (first axis x), pixels dx × dy (m), periodic
+/// or not. Heights are positive towards the rigid flat.
+///
+/// Surface(heights, size=None, pixel_size=None, periodic=False, repair="none")
+///
+/// heights: 2-D float array (m); size: the length of the first axis (m, square
+/// pixels) or (Lx, Ly); pixel_size: (dx, dy) (m). Exactly one of size and pixel_size.
+/// Non-finite heights and spikes are refused (strata.SurfaceError naming the row and
+/// column) unless repair="median" replaces them by the median of their neighbours.
+#[pyclass(name = "Surface", module = "strata", frozen)]
+pub struct PySurface {
+    pub surface: Surface,
+}
+
+fn spacing(
+    size: Option<&Bound<'_, PyAny>>,
+    pixel: Option<(f64, f64)>,
+) -> PyResult<Option<Spacing>> {
+    match (size, pixel) {
+        (Some(_), Some(_)) => Err(to_py(
+            Kind::Surface,
+            anyhow::anyhow!("give either size or pixel_size, not both"),
+        )),
+        (None, Some((dx, dy))) => Ok(Some(Spacing::Pixel(dx, dy))),
+        (Some(s), None) => {
+            if let Ok(l) = s.extract::<f64>() {
+                Ok(Some(Spacing::Size(l)))
+            } else if let Ok((lx, ly)) = s.extract::<(f64, f64)>() {
+                Ok(Some(Spacing::Extent(lx, ly)))
+            } else {
+                Err(to_py(
+                    Kind::Surface,
+                    anyhow::anyhow!("size: expected a length L (m) or (Lx, Ly)"),
+                ))
+            }
+        }
+        (None, None) => Ok(None),
+    }
+}
+
+fn repair_of(s: &str) -> PyResult<Repair> {
+    match s {
+        "none" | "refuse" => Ok(Repair::Refuse),
+        "median" => Ok(Repair::Median),
+        other => Err(to_py(
+            Kind::Surface,
+            anyhow::anyhow!("repair: `{other}` is not one of \"none\", \"median\""),
+        )),
+    }
+}
+
+#[pymethods]
+impl PySurface {
+    #[new]
+    #[pyo3(signature = (heights, size=None, pixel_size=None, periodic=false, repair="none"))]
+    fn new(
+        heights: &Bound<'_, PyAny>,
+        size: Option<&Bound<'_, PyAny>>,
+        pixel_size: Option<(f64, f64)>,
+        periodic: bool,
+        repair: &str,
+    ) -> PyResult<Self> {
+        let (z, n0, n1) = conv::heights(heights)?;
+        let sp = spacing(size, pixel_size)?.ok_or_else(|| {
+            to_py(
+                Kind::Surface,
+                anyhow::anyhow!("the lateral size is missing: give size=L, size=(Lx, Ly) or pixel_size=(dx, dy) (m)"),
+            )
+        })?;
+        let surface = Surface::measured_with(z, n0, n1, sp, periodic, repair_of(repair)?)
+            .map_err(err(Kind::Surface))?;
+        Ok(PySurface { surface })
+    }
+
+    /// A self-affine random surface (physics.md §5; the paper's §5): side `size` (m),
+    /// `grid` points per side, fractal dimension D_f in [2, 3), wavenumbers k_min…k_max
+    /// in units of 2π/L, RMS height `rms` (m), seed of the generator. Periodic.
+    #[staticmethod]
+    #[pyo3(signature = (size, grid, fractal_dimension, k_min, k_max, rms, seed=1))]
+    #[allow(clippy::too_many_arguments)]
+    fn generate(
+        py: Python<'_>,
+        size: f64,
+        grid: usize,
+        fractal_dimension: f64,
+        k_min: f64,
+        k_max: f64,
+        rms: f64,
+        seed: u64,
+    ) -> PyResult<Self> {
+        let p = GenerateParams {
+            size,
+            grid,
+            fractal_dimension,
+            k_min,
+            k_max,
+            rms,
+            seed,
+        };
+        strata::engine::check_generate_memory(&p).map_err(err(Kind::Surface))?;
+        let surface = py
+            .detach(|| Surface::generate(&p))
+            .map_err(err(Kind::Surface))?;
+        Ok(PySurface { surface })
+    }
+
+    /// Reads a height map by extension: `.x3p` (sizes and units from the file: give
+    /// neither size nor pixel_size), `.npy` (2-D float64) or a text matrix (both need
+    /// size or pixel_size, heights in `height_unit`: "m" (default), "mm", "um", "nm").
+    /// detrend: "none", "plane" or "curvature"; repair: "none" or "median".
+    #[staticmethod]
+    #[pyo3(signature = (path, size=None, pixel_size=None, periodic=false, height_unit=None, detrend="none", repair="none"))]
+    fn read(
+        path: PathBuf,
+        size: Option<&Bound<'_, PyAny>>,
+        pixel_size: Option<(f64, f64)>,
+        periodic: bool,
+        height_unit: Option<&str>,
+        detrend: &str,
+        repair: &str,
+    ) -> PyResult<Self> {
+        require_file("Surface.read", &path)?;
+        let height_unit = height_unit
+            .map(|u| {
+                HeightUnit::parse(u).ok_or_else(|| {
+                    to_py(
+                        Kind::Surface,
+                        anyhow::anyhow!(
+                            "height_unit: `{u}` is not one of \"m\", \"mm\", \"um\", \"nm\""
+                        ),
+                    )
+                })
+            })
+            .transpose()?;
+        let detrend = Detrend::parse(detrend).ok_or_else(|| {
+            to_py(
+                Kind::Surface,
+                anyhow::anyhow!(
+                    "detrend: `{detrend}` is not one of \"none\", \"plane\", \"curvature\""
+                ),
+            )
+        })?;
+        let opts = ReadOptions {
+            spacing: spacing(size, pixel_size)?,
+            periodic,
+            repair: repair_of(repair)?,
+            height_unit,
+            detrend,
+        };
+        Ok(PySurface {
+            surface: Surface::read(&path, &opts).map_err(err(Kind::Surface))?,
+        })
+    }
+
+    /// Writes the heights (m) as a 2-D float64 `.npy` file, atomically.
+    fn write_npy(&self, path: PathBuf) -> PyResult<()> {
+        self.surface.write_npy(&path).map_err(err(Kind::Surface))
+    }
+
+    /// The heights (m) as a new n0 × n1 float64 array (first axis x).
+    #[getter]
+    fn heights<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let (n0, n1) = self.surface.shape();
+        conv::array(py, self.surface.heights().to_vec(), &[n0, n1])
+    }
+
+    /// (n0, n1) grid points.
+    #[getter]
+    fn shape(&self) -> (usize, usize) {
+        self.surface.shape()
+    }
+
+    /// (dx, dy) pixel sizes (m).
+    #[getter]
+    fn pixel_size(&self) -> (f64, f64) {
+        self.surface.pixel_size()
+    }
+
+    /// (Lx, Ly) sides of the sample (m).
+    #[getter]
+    fn extent(&self) -> (f64, f64) {
+        self.surface.extent()
+    }
+
+    /// Whether the sample is one cell of a periodic pattern.
+    #[getter]
+    fn periodic(&self) -> bool {
+        self.surface.is_periodic()
+    }
+
+    /// Mean height (m).
+    #[getter]
+    fn mean(&self) -> f64 {
+        self.surface.mean()
+    }
+
+    /// RMS height about the mean (m).
+    #[getter]
+    fn rms(&self) -> f64 {
+        self.surface.rms()
+    }
+
+    /// Statistics, repairs and the reader's log as a dict (what `strata surface info
+    /// --json` prints), SI units.
+    #[getter]
+    fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        crate::json_to_py(py, &strata::engine::surface_json(&self.surface))
+    }
+
+    /// Warnings of the reader and of the statistics' plausibility checks.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        strata::engine::surface_warnings(&self.surface)
+    }
+
+    fn __repr__(&self) -> String {
+        let (n0, n1) = self.surface.shape();
+        let (lx, ly) = self.surface.extent();
+        format!(
+            "Surface({n0}×{n1}, {lx:e} × {ly:e} m, rms {:e} m, {})",
+            self.surface.rms(),
+            if self.surface.is_periodic() {
+                "periodic"
+            } else {
+                "non-periodic"
+            }
+        )
+    }
+}
