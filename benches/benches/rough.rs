@@ -13,7 +13,18 @@
 //!   solved state of the last step, with the default far-field tolerance or with exact
 //!   pair-by-pair image sums (`/exact`) — the solver's hot path.
 //!
-//! Run: `cargo bench -p strata-runtime --bench rough`.
+//! * `stall/<stack>/<case>` (issue 19.2: every step of the elastic-base stay/stall cases
+//!   of tests/it/stalls.rs in < 1 s): one cold I-model step (problem preparation
+//!   included) on the stacks A (50 µm, 4 GPa, ν 0.15 on 12 GPa) and B (50 µm, 10 MPa,
+//!   ν 0.49 on 2 MPa), tables built here, on the issue's surface (512², k 2…10, seeds
+//!   4242 and 1); `stall/<stack>/path60/<images>`: the 60-step path to 1.5 (z_M − z_min)
+//!   (divide by 60 for a step).
+//! * `control/<stack>/<images>/{separation,pressure}`: one cold separation-controlled
+//!   step at δ = 0.8 (z_M − z̄) and one pressure-controlled step to the mean pressure it
+//!   gives (issue 19.2: they must cost about the same), side by side in one run.
+//!
+//! Run: `cargo bench -p strata-benches --bench rough` (`-- stall`, `-- control` for
+//! the groups above).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -120,12 +131,103 @@ fn benches(c: &mut Criterion) {
     }
 }
 
+/// A 50 µm layer (E, ν) on an elastic half-space (E_b, ν 0.3) and its law from a table
+/// built here (as tests/it/stalls.rs).
+fn elastic_base_law(young: f64, poisson: f64, base: f64) -> strata_runtime::table::TableLaw {
+    use strata_runtime::stack::{Base, Layer};
+    let st = strata_runtime::Stack::new(
+        vec![Layer {
+            thickness: 50e-6,
+            young,
+            poisson,
+        }],
+        Base::Elastic {
+            young: base,
+            poisson: 0.3,
+        },
+    )
+    .expect("stack");
+    let opts = strata_tablegen::tablebuild::BuildOptions {
+        x_range: (1e-3, 1e2),
+        nx: 81,
+        check_points: 0,
+        ..Default::default()
+    };
+    strata_tablegen::tablebuild::build(&st, &opts)
+        .expect("table")
+        .law_for(&st)
+        .expect("law")
+}
+
+fn seeded(seed: u64) -> Surface {
+    Surface::generate(&GenerateParams {
+        size: 1e-3,
+        grid: 512,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed,
+    })
+    .expect("surface")
+}
+
+fn stalls(c: &mut Criterion) {
+    let a = elastic_base_law(4e9, 0.15, 12e9);
+    let b = elastic_base_law(10e6, 0.49, 2e6);
+    let (s4242, s1) = (seeded(4242), seeded(1));
+    let per = Images::Periodic(2);
+    // (id, law, surface, images, δ (m) or fraction of z_M − z_min)
+    let cases: [(&str, &dyn AsperityLaw, &Surface, Images, f64, bool); 8] = [
+        ("A/4242/periodic/5um", &a, &s4242, per, 5e-6, false),
+        ("A/4242/periodic/7um", &a, &s4242, per, 7e-6, false),
+        ("A/4242/periodic/9um", &a, &s4242, per, 9e-6, false),
+        ("A/1/periodic/27of40pv", &a, &s1, per, 27.0 / 40.0, true),
+        ("A/1/isolated/pv", &a, &s1, Images::Isolated, 1.0, true),
+        ("B/4242/periodic/3um", &b, &s4242, per, 3e-6, false),
+        ("B/4242/periodic/5um", &b, &s4242, per, 5e-6, false),
+        ("B/4242/periodic/9um", &b, &s4242, per, 9e-6, false),
+    ];
+    for (id, law, s, images, x, frac) in cases {
+        let rc = RoughContact::from_surface(law, s).expect("summits");
+        let d = if frac { x * rc.max_delta() } else { x };
+        let m = Model::Interacting(images);
+        c.bench_function(&format!("stall/{id}"), |bch| {
+            bch.iter(|| black_box(rc.solve(m, black_box(d), &[]).expect("solve")))
+        });
+    }
+    for (name, law) in [("A", &a as &dyn AsperityLaw), ("B", &b)] {
+        let rc = RoughContact::from_surface(law, &s1).expect("summits");
+        let ds: Vec<f64> = (1..=60).map(|i| rc.max_delta() * i as f64 / 40.0).collect();
+        for (tag, images) in [("periodic", per), ("isolated", Images::Isolated)] {
+            let m = Model::Interacting(images);
+            c.bench_function(&format!("stall/{name}/path60/{tag}"), |bch| {
+                bch.iter(|| black_box(rc.curve(m, black_box(&ds)).expect("path")))
+            });
+        }
+    }
+    for (name, law) in [("A", &a as &dyn AsperityLaw), ("B", &b)] {
+        let rc = RoughContact::from_surface(law, &s4242).expect("summits");
+        let d = 0.8 * rc.top_to_mean();
+        for (tag, images) in [("periodic", per), ("isolated", Images::Isolated)] {
+            let m = Model::Interacting(images);
+            let p = rc.solve(m, d, &[]).expect("solve").mean_pressure;
+            c.bench_function(&format!("control/{name}/{tag}/separation"), |bch| {
+                bch.iter(|| black_box(rc.solve(m, black_box(d), &[]).expect("solve")))
+            });
+            c.bench_function(&format!("control/{name}/{tag}/pressure"), |bch| {
+                bch.iter(|| black_box(rc.solve_pressure(m, black_box(p), &[]).expect("solve")))
+            });
+        }
+    }
+}
+
 criterion_group! {
     name = rough;
     config = Criterion::default()
         .sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(3));
-    targets = benches
+    targets = benches, stalls
 }
 criterion_main!(rough);

@@ -13,7 +13,11 @@
 //!   edge the half-space part behaves like (r − a)^{3/2}, a polynomial in w; the
 //!   kernel's scales h₁ … H sit at fixed w ≈ 1 … 2.5 whatever a is (on the a/r axis
 //!   they crowd into a/r → 0 for small a — measured errors ~1e-3 there), and w grows
-//!   like ½ ln r far away. For r − a > h₁ sinh²(w_max) (the join: 20 H by default,
+//!   like ½ ln r far away. g is analytic in r at the edge (k_z decays exponentially),
+//!   so g·r/a³ is even in w: its interpolant takes zero w-slope at w = 0
+//!   ([`interp::Grid2::even_in_y`]); a one-sided slope there would add a spurious
+//!   √(r − a) term whose a-derivative diverges at the edge (the I model differentiates
+//!   g in a and r there). For r − a > h₁ sinh²(w_max) (the join: 20 H by default,
 //!   farther out when the builder needs it) g is the far field of [`far`]:
 //!   k_z(0)·HS(a, r) plus `far_terms` Laplacian corrections k_{2m}(−Δ_r)^m HS from the
 //!   even Taylor coefficients of k_z (exact to all orders on a rigid base with none).
@@ -530,7 +534,7 @@ impl Table {
             w: h.w,
             s_axis: h.s,
             cz: interp::Pair1::new(h.x, &chi, &zeta),
-            g: interp::Grid2::new(h.x, h.w, &g),
+            g: interp::Grid2::even_in_y(h.x, h.w, &g),
             s,
         })
     }

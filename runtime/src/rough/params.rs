@@ -61,7 +61,9 @@ pub struct Params {
     /// Budget of one I-model step: wall time (s) after which it fails with
     /// [`crate::rough::NewtonError::Budget`]. Default 60 s; ∞ disables it.
     pub step_time_budget: f64,
-    /// Pressure control: relative tolerance on the mean pressure. Default 1e-10.
+    /// Pressure control of the I model: relative tolerance on the mean pressure.
+    /// Default 1e-8: the I-model solve itself is accurate to its KKT acceptance
+    /// ([`Params::kkt_tolerance`], 1e-8 of δ_max), which moves p_n by a few 1e-9.
     pub pressure_tolerance: f64,
     /// Pressure control of the N model (cheap and exact to round-off): relative tolerance
     /// on the mean pressure, tighter so that its steps reproduce the target for
@@ -91,7 +93,7 @@ impl Default for Params {
             jacobian_difference_step: 1e-6,
             max_step_newton_steps: 20_000,
             step_time_budget: 60.0,
-            pressure_tolerance: 1e-10,
+            pressure_tolerance: 1e-8,
             independent_pressure_tolerance: 1e-13,
             max_pressure_iterations: 200,
         }

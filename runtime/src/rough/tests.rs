@@ -531,3 +531,64 @@ fn interaction_rejects_bad_input() {
     assert!(e.to_string().contains("radii"), "{e}");
     assert!(rc.interaction(Images::Isolated, -1.0).is_err());
 }
+
+/// Issue 19.2: G (the displacement an asperity causes at distance r) and ∂G/∂a are
+/// continuous at the contact edge r = a, so U_E is C¹ and its minimum exists when one
+/// contact grows over another asperity's centre. G: inside value at r = a against the
+/// outside one at a(1 + 1e-12), to 1e-9. ∂G/∂a: inside against the outside limit r → a⁺
+/// (extrapolated past the √(r − a) edge term of B₀), to 1e-5 of 2a/R on a homogeneous
+/// solid (where inside G is eq. P18, `law::displacement`, to round-off) and 1e-4 on the
+/// shipped table (E2/E1 = 0.2 and 5, a/h₁ = 0.01…10; measured ≤ 2.5e-5). Inside, ∂G/∂a
+/// and ∂²G/∂a² match central differences of G to 1e-6 and 1e-3 of 2a/R and 2/R.
+#[test]
+fn g_continuous_at_the_contact_edge() {
+    use super::interacting::energy::g_derivs;
+    use super::local::Local;
+    let hom = Homogeneous { e_star: 1e9 };
+    let soft = paper_law(0.2);
+    let stiff = paper_law(5.0);
+    let laws: [(&str, &dyn AsperityLaw); 3] = [("hom", &hom), ("0.2", &soft), ("5", &stiff)];
+    let radius = 1e-4;
+    for (name, law) in laws {
+        for x in [0.01, 0.3, 1.0, 3.0, 10.0] {
+            let a = x * 1e-4;
+            let l = Local::at(law, a, radius);
+            let at = |r: f64| g_derivs(law, &l, a, radius, r, 1e-5);
+            let (gi, go) = (at(a), at(a * (1.0 + 1e-12)));
+            let slope = 2.0 * a / radius;
+            // outside ∂G/∂a at r → a⁺: D(ε) = D₀ + c√ε + O(ε) (the edge term of B₀),
+            // extrapolated from ε = 1e-6 and 4e-6
+            let d0 = 2.0 * at(a * (1.0 + 1e-6))[1] - at(a * (1.0 + 4e-6))[1];
+            let (e0, e1) = ((gi[0] - go[0]) / go[0], (gi[1] - d0) / slope);
+            eprintln!("{name} a/h {x}: G jump {e0:+.2e}, dG/da jump {e1:+.2e}");
+            assert!(e0.abs() < 1e-9, "{name} {x}: {e0:e}");
+            let tol = if law.is_homogeneous() { 1e-5 } else { 1e-4 };
+            assert!(e1.abs() < tol, "{name} {x}: {e1:e}");
+            if law.is_homogeneous() {
+                for r in [0.0, 0.5 * a, a] {
+                    let p18 = crate::law::displacement(law, a, radius, r);
+                    assert!((at(r)[0] / p18 - 1.0).abs() < 1e-13);
+                }
+            }
+            // inside: derivatives in a against central differences of G at r = a/2
+            let r = 0.5 * a;
+            let g_of = |b: f64| g_derivs(law, &Local::at(law, b, radius), b, radius, r, 1e-5);
+            let h = 1e-4 * a;
+            let (gp, gm, g0) = (g_of(a + h), g_of(a - h), g_of(a));
+            let d1 = (gp[0] - gm[0]) / (2.0 * h);
+            let d2 = (gp[1] - gm[1]) / (2.0 * h);
+            let (_, c1, _, _) = law.chi_zeta_derivs(a + h);
+            let (_, c2, _, _) = law.chi_zeta_derivs(a - h);
+            let g2 = g0[2] + g0[3] * (c1 - c2) / (2.0 * h);
+            assert!(
+                (g0[1] - d1).abs() < 1e-6 * slope,
+                "{name} {x}: {} {d1}",
+                g0[1]
+            );
+            assert!(
+                (g2 - d2).abs() < 1e-3 * 2.0 / radius,
+                "{name} {x}: {g2} {d2}"
+            );
+        }
+    }
+}

@@ -198,6 +198,19 @@ pub fn node_slopes(n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
         .collect()
 }
 
+/// [`node_slopes`] of data even about the first node, f(c₀ − t) = f(c₀ + t): the
+/// central stencil with the mirrored values f(−k) = f(k) at the first two nodes, so the
+/// slope at the first node is exactly 0 (the interpolant stays even there).
+pub fn node_slopes_even(n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
+    let mut m = node_slopes(n, &f);
+    if n >= Axis::MIN_NODES {
+        let (_, c) = slope_stencil(2, n);
+        m[0] = 0.0;
+        m[1] = c[0] * f(1) + c[1] * f(0) + c[3] * f(2) + c[4] * f(3);
+    }
+    m
+}
+
 /// Cell index, local coordinate t ∈ [0, 1] and the Hermite basis (value and d/dt) at c.
 #[inline]
 pub fn cell(axis: &Axis, c: f64) -> (usize, [f64; 4], [f64; 4]) {
@@ -285,6 +298,24 @@ pub struct Grid2 {
 impl Grid2 {
     /// From f[i * ay.n + j] (both axes ≥ 6 nodes).
     pub fn new(ax: Axis, ay: Axis, f: &[f64]) -> Self {
+        Self::build(ax, ay, f, false)
+    }
+
+    /// From f[i * ay.n + j] even in y about ay.lo (f(x, y₀ − t) = f(x, y₀ + t)): the
+    /// y slopes at the first y node are 0 ([`node_slopes_even`]), so the interpolant is
+    /// even there too, without the spurious linear term a one-sided stencil leaves.
+    pub fn even_in_y(ax: Axis, ay: Axis, f: &[f64]) -> Self {
+        Self::build(ax, ay, f, true)
+    }
+
+    fn build(ax: Axis, ay: Axis, f: &[f64], even_y: bool) -> Self {
+        let slopes_y = |g: &dyn Fn(usize) -> f64| {
+            if even_y {
+                node_slopes_even(ay.n, g)
+            } else {
+                node_slopes(ay.n, g)
+            }
+        };
         let (nx, ny) = (ax.n, ay.n);
         let mut mx = vec![0.0; nx * ny];
         let mut my = vec![0.0; nx * ny];
@@ -296,9 +327,9 @@ impl Grid2 {
             }
         }
         for i in 0..nx {
-            let row = node_slopes(ny, |j| f[i * ny + j]);
+            let row = slopes_y(&|j| f[i * ny + j]);
             my[i * ny..(i + 1) * ny].copy_from_slice(&row);
-            let rowx = node_slopes(ny, |j| mx[i * ny + j]);
+            let rowx = slopes_y(&|j| mx[i * ny + j]);
             mxy[i * ny..(i + 1) * ny].copy_from_slice(&rowx);
         }
         let data = (0..nx * ny).map(|k| [f[k], mx[k], my[k], mxy[k]]).collect();

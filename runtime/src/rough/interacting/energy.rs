@@ -10,11 +10,65 @@ use crate::rough::local::Local;
 /// Zero basis (inactive asperity or no far model).
 const ZB: (Vb, Vb) = ([0.0; NB], [0.0; NB]);
 
-/// [G, ∂G/∂a, c₀, c_χ, c_ζ] of an asperity (contact radius a, radius R, local quantities
-/// `l`) at distance r (P19): G = a²ζ/R inside (r ≤ a), χB(a, r)/(πR) outside, with
-/// ∂²G/∂a² = c₀ + c_χ χ″ + c_ζ ζ″ (the law gives no second derivatives of χ, ζ):
-/// outside G″ = (χ″B + 2χ′B′ + χB″)/(πR), inside G″ = (2ζ + 4aζ′ + a²ζ″)/R.
-/// `h_rel`: relative step of the differences of g (see [`bracket`]).
+/// Relative step ε/a of the one-sided differences of g in r at the contact edge
+/// ([`inside_bracket`]): small against h₁ for the table's a/h₁ ≤ 1e3, large against the
+/// round-off of g.
+const EDGE_STEP: f64 = 1e-5;
+
+/// Relative step of the central differences in a of the g part of [`inside_bracket`].
+const INSIDE_STEP: f64 = 1e-3;
+
+/// The bracket M(a, r) (m²) of G inside the contact circle, r ≤ a, and ∂M/∂a (m),
+/// ∂²M/∂a² (-): G = χ(a) M(a, r)/(πR), the same form as outside (G = χB/(πR)).
+///
+/// Inside its own contact an asperity's surface is displaced by the second-order
+/// displacement of eq. (P18), u(r) = (2a²ζ − r²)/(2R): a parabola in r, so an asperity
+/// centre at r < a feels u(r), not the centre value a²ζ/R that eq. (P19) uses (which
+/// jumps by ≈ a²/(2R) at r = a, so U_E has no minimum where a contact grows over another
+/// centre: the I-model stall of issue 19). strata uses the parabola in r that joins the
+/// outside displacement with its value and slope at r = a,
+///
+/// ```text
+/// M(a, r) = B(a, a) + (πa − g_r(a)) (a² − r²)/(2a),
+/// B(a, a) = πa²/2 + g(a, a),  g_r(a) = ∂g/∂r (a, a⁺),
+/// ```
+///
+/// (−χ(πa − g_r)/(πR) is ∂u/∂r at r = a⁺; the half-space part of B has ∂B₀/∂r = −πa
+/// there). Then G is continuous at r = a and so is ∂G/∂a (to the accuracy of g_r: the
+/// one-sided difference of the law's g), so U_E is C¹ and its minimum exists. On a
+/// homogeneous solid M = π(2a² − r²)/2 and G is eq. (P18) inside exactly; on a layered
+/// solid it differs from (P18) by the second-order approximation's own mismatch at the
+/// edge. Only overlapping contacts (flagged in the step's validity) reach it.
+pub(crate) fn inside_bracket(law: &dyn AsperityLaw, a: f64, r: f64) -> (f64, f64, f64) {
+    let pi = std::f64::consts::PI;
+    // half-space part π(2a² − r²)/2, exact derivatives
+    let (hs, dhs, d2hs) = (0.5 * pi * (2.0 * a * a - r * r), 2.0 * pi * a, 2.0 * pi);
+    if law.is_homogeneous() {
+        return (hs, dhs, d2hs);
+    }
+    // g part m(x) = g(x, x) − g_r(x) (x² − r²)/(2x)
+    let part = |x: f64| {
+        // g_r from forward differences D(ε) = D₀ + c√ε + O(ε) (a table interpolated in
+        // w ∝ √(r − a) carries a (r − a)^{3/2} term): D₀ ≈ 2D(ε) − D(4ε)
+        let e = EDGE_STEP * x;
+        let (g0, g1, g4) = (law.g(x, x), law.g(x, x + e), law.g(x, x + 4.0 * e));
+        let gr = 2.0 * (g1 - g0) / e - (g4 - g0) / (4.0 * e);
+        g0 - gr * (x * x - r * r) / (2.0 * x)
+    };
+    let h = INSIDE_STEP * a;
+    let (m0, mp, mm) = (part(a), part(a + h), part(a - h));
+    (
+        hs + m0,
+        dhs + (mp - mm) / (2.0 * h),
+        d2hs + (mp - 2.0 * m0 + mm) / (h * h),
+    )
+}
+
+/// [G, ∂G/∂a, c₀, c_χ] of an asperity (contact radius a, radius R, local quantities `l`)
+/// at distance r: G = χ(a)B(a, r)/(πR) outside (r > a, eq. P19, [`bracket`]) and
+/// χ(a)M(a, r)/(πR) inside ([`inside_bracket`]), with ∂²G/∂a² = c₀ + c_χ χ″ (the law
+/// gives no second derivatives of χ): G″ = (χ″B + 2χ′B′ + χB″)/(πR).
+/// `h_rel`: relative step of the differences of g outside (see [`bracket`]).
 pub(crate) fn g_derivs(
     law: &dyn AsperityLaw,
     l: &Local,
@@ -22,27 +76,21 @@ pub(crate) fn g_derivs(
     radius: f64,
     r: f64,
     h_rel: f64,
-) -> [f64; 5] {
+) -> [f64; 4] {
     if a <= 0.0 {
-        return [0.0; 5];
+        return [0.0; 4];
     }
-    if r <= a {
-        return [
-            a * a * l.zeta / radius,
-            (2.0 * a * l.zeta + a * a * l.dzeta) / radius,
-            (2.0 * l.zeta + 4.0 * a * l.dzeta) / radius,
-            0.0,
-            a * a / radius,
-        ];
-    }
-    let (b, db, d2b) = bracket(law, a, r, h_rel);
+    let (b, db, d2b) = if r <= a {
+        inside_bracket(law, a, r)
+    } else {
+        bracket(law, a, r, h_rel)
+    };
     let k = 1.0 / (std::f64::consts::PI * radius);
     [
         l.chi * k * b,
         k * (l.dchi * b + l.chi * db),
         k * (2.0 * l.dchi * db + l.chi * d2b),
         k * b,
-        0.0,
     ]
 }
 
@@ -59,9 +107,9 @@ pub(crate) struct State {
     pub u_other: Vec<Vb>,
     /// Per near entry (G_p, ∂G_p/∂a_p, G_q, ∂G_q/∂a_q) at its distance.
     pub near_vals: Vec<[f64; 4]>,
-    /// Σ_near Q_q ∂²G_k/∂a_k² + Q_k Σ_self ∂²G_k/∂a_k² as [c₀, c_χ, c_ζ] (see
+    /// Σ_near Q_q ∂²G_k/∂a_k² + Q_k Σ_self ∂²G_k/∂a_k² as [c₀, c_χ] (see
     /// [`g_derivs`]): the a_k-derivative of the near part of E_k, for the Jacobian.
-    pub near_d2: Vec<[f64; 3]>,
+    pub near_d2: Vec<[f64; 2]>,
     /// Σ_near Q_q ∂G_k(r)/∂a_k.
     pub e_cross: Vec<f64>,
     /// Σ of the near self images G_k(r) and ∂G_k(r)/∂a_k.
@@ -149,7 +197,7 @@ impl Energy<'_> {
             }
         }
         refill(&mut st.near_vals, geo.near.len(), [0.0; 4]);
-        refill(&mut st.near_d2, n, [0.0; 3]);
+        refill(&mut st.near_d2, n, [0.0; 2]);
         refill(&mut st.e_cross, n, 0.0);
         for (e, &(p, q, r)) in geo.near.iter().enumerate() {
             if a[p] <= 0.0 && a[q] <= 0.0 {
@@ -162,7 +210,7 @@ impl Energy<'_> {
             st.d_other[p] += dq[0];
             st.e_cross[p] += st.loc[q].q * dp[1];
             st.e_cross[q] += st.loc[p].q * dq[1];
-            for i in 0..3 {
+            for i in 0..2 {
                 st.near_d2[p][i] += st.loc[q].q * dp[2 + i];
                 st.near_d2[q][i] += st.loc[p].q * dq[2 + i];
             }
@@ -174,7 +222,7 @@ impl Energy<'_> {
                 let d = g_derivs(law, &st.loc[p], a[p], geo.radius[p], r, self.h_g);
                 st.self_g[p] += d[0];
                 st.self_h[p] += d[1];
-                for i in 0..3 {
+                for i in 0..2 {
                     st.near_d2[p][i] += st.loc[p].q * d[2 + i];
                 }
             }
@@ -326,20 +374,15 @@ impl Energy<'_> {
             self.f_of(st, p, &lp, &b, near)
         };
         let mut d = (frozen(st.a[p] + h) - frozen(st.a[p] - h)) / (2.0 * h);
-        let [c0, cc, cz] = st.near_d2[p];
-        if c0 != 0.0 || cc != 0.0 || cz != 0.0 {
-            let (mut d2c, mut d2z) = (0.0, 0.0);
-            if cc != 0.0 || cz != 0.0 {
-                let ha = self.h_g * st.a[p];
-                let (_, c1, _, z1) = law.chi_zeta_derivs(st.a[p] + ha);
-                let (_, c2, _, z2) = law.chi_zeta_derivs(st.a[p] - ha);
-                d2c = (c1 - c2) / (2.0 * ha);
-                d2z = (z1 - z2) / (2.0 * ha);
-            }
-            d += st.self_h[p] + (c0 + cc * d2c + cz * d2z) / st.loc[p].dq;
-        } else {
-            d += st.self_h[p];
+        let [c0, cc] = st.near_d2[p];
+        let mut d2c = 0.0;
+        if cc != 0.0 {
+            let ha = self.h_g * st.a[p];
+            let (_, c1, _, _) = law.chi_zeta_derivs(st.a[p] + ha);
+            let (_, c2, _, _) = law.chi_zeta_derivs(st.a[p] - ha);
+            d2c = (c1 - c2) / (2.0 * ha);
         }
+        d += st.self_h[p] + (c0 + cc * d2c) / st.loc[p].dq;
         d
     }
 }

@@ -5,8 +5,14 @@
 //! Q_j = χ(a_j)a_j³/R_j,  s_j = (a_j²/R_j)(ζ(a_j) + 1/5),
 //! ```
 //!
-//! G_l(r) = a_l²ζ(a_l)/R_l for r ≤ a_l and the outside displacement of physics.md §4 for
-//! r > a_l. Its gradient, scaled by the positive c·Q_k'(a_k), is
+//! G_l(r) the displacement asperity l causes at distance r: the outside displacement of
+//! physics.md §4 for r > a_l and, inside l's contact (r ≤ a_l, only where contacts
+//! overlap), the parabola in r of eq. (P18) joined to it with value and slope at r = a_l
+//! (`energy::inside_bracket`). The paper's (P19) uses the centre value a_l²ζ(a_l)/R_l
+//! inside, which jumps by ≈ a_l²/(2R_l) at r = a_l: U_E then has no minimum where a
+//! contact grows over another asperity's centre and the Newton iteration crawled
+//! towards the jump (issue 19); with G and ∂G/∂a continuous U_E is C¹. Its gradient,
+//! scaled by the positive c·Q_k'(a_k), is
 //!
 //! ```text
 //! F_k = D_k + s_k − 2δ_k + (Q_k s_k' + Σ_j Q_j ∂G_k(r_kj)/∂a_k) / Q_k',   D_k = Σ_{l≠k} G_l(r_lk)
@@ -18,7 +24,8 @@
 //! homogeneous solid): each Newton step backtracks on U_E itself (Armijo) and stays
 //! inside a ≥ 0 and the far-field range a ≤ A; every asperity violating F_k(0⁺) ≥ 0 is
 //! activated at once, at the radius of its single-asperity problem under the others'
-//! displacement. A load path ([`RoughContact::curve`]) starts each step from the
+//! displacement scaled down (½, ¼, …) until U_E decreases; below the KKT acceptance a
+//! Newton round stops at the noise floor of F instead of crawling. A load path ([`RoughContact::curve`]) starts each step from the
 //! previous radii extrapolated with da/dδ (the stiffness solve gives it). The residual
 //! of both KKT conditions, relative to the largest interference, is returned with each
 //! step and must be below [`Params::kkt_tolerance`](crate::rough::Params::kkt_tolerance) (1e-8). With periodic images, every source asperity is

@@ -1,7 +1,9 @@
 //! The active-set projected Newton method of the I model (interacting module docs):
 //! Newton steps on F over the asperities in contact, backtracking on U_E (Armijo), every
-//! asperity violating F_k(0⁺) ≥ 0 activated at once, and a restart from the N-model
-//! radii on the merit Σ F² when the warm start reaches no KKT point.
+//! asperity violating F_k(0⁺) ≥ 0 activated at once (its start radius scaled until U_E
+//! decreases), a round ended at the noise floor of F once below the KKT acceptance, and
+//! a restart from the N-model radii on the merit Σ F² when the warm start reaches no
+//! KKT point.
 
 use super::energy::{Energy, State};
 use crate::law::contact_radius;
@@ -98,30 +100,53 @@ impl Newton<'_, '_> {
         let mut exceeded: f64 = 0.0;
         let mut converged = false;
         let mut kkt = f64::INFINITY;
+        // Set when Newton stopped at the noise floor of F below the KKT acceptance.
+        let mut at_floor = false;
         for _outer in 0..prm.max_activation_rounds {
             let (worst_act, worst_inact, violated) = self.check(&st);
             kkt = worst_act.max(worst_inact) / scale;
             if violated.is_empty() {
                 // Done when the active set is solved (else Newton goes on from here).
-                if worst_act <= prm.round_off_floor * scale {
+                if worst_act <= prm.round_off_floor * scale
+                    || (at_floor && worst_act <= prm.kkt_tolerance * scale)
+                {
                     converged = true;
                     break;
                 }
             } else {
                 self.diag.activation_rounds += 1;
+                at_floor = false;
                 // Activate every violated asperity at the radius of its single-asperity
-                // problem under the others' displacement: ζa²/R = δ_p − D_p ≈ −F_p(0⁺)/2.
-                for (p, v) in violated {
-                    let r = geo.radius[p];
-                    let d = en.deltas[p];
-                    a[p] = contact_radius(law, r, (0.5 * v).min(d))
-                        .unwrap_or(0.0)
-                        .max(prm.activation_start * (r * d).sqrt())
-                        .min(geo.a_valid);
+                // problem under the others' displacement: ζa²/R = δ_p − D_p ≈ −F_p(0⁺)/2,
+                // scaled by t = 1, ½, ¼, … until U_E decreases (many contacts entering
+                // at once overlap, and U_E rises, so a Newton step would drop them all
+                // and the next round bring them back: U_E ~ −t³ for small t).
+                let target: Vec<(usize, f64, f64)> = violated
+                    .iter()
+                    .map(|&(p, v)| {
+                        let r = geo.radius[p];
+                        let d = en.deltas[p];
+                        let full = contact_radius(law, r, (0.5 * v).min(d))
+                            .unwrap_or(0.0)
+                            .min(geo.a_valid);
+                        (p, full, prm.activation_start * (r * d).sqrt())
+                    })
+                    .collect();
+                let u_before = u;
+                let mut t = 1.0;
+                for _ in 0..prm.max_backtracks {
+                    for &(p, full, floor) in &target {
+                        a[p] = (t * full).max(floor).min(geo.a_valid);
+                    }
+                    en.eval(&a, &mut st);
+                    self.diag.evaluations += 1;
+                    u = en.energy(&st);
+                    if u < u_before {
+                        break;
+                    }
+                    t *= 0.5;
+                    self.diag.backtracks += 1;
                 }
-                en.eval(&a, &mut st);
-                self.diag.evaluations += 1;
-                u = en.energy(&st);
             }
             // Projected Newton on the active set, backtracking on the energy U_E.
             for _ in 0..prm.max_newton_steps {
@@ -216,6 +241,18 @@ impl Newton<'_, '_> {
                     self.diag.backtracks += 1;
                 }
                 if !accepted {
+                    break;
+                }
+                // Below the KKT acceptance, a step that does not halve max |F| has
+                // reached the noise floor of F (differenced derivatives, table
+                // interpolation): stop rather than crawl.
+                let fnew = act
+                    .iter()
+                    .filter(|&&p| a[p] > 0.0)
+                    .map(|&p| st.f[p].abs())
+                    .fold(0.0, f64::max);
+                if fmax <= prm.kkt_tolerance * scale && fnew > 0.5 * fmax {
+                    at_floor = true;
                     break;
                 }
             }

@@ -53,13 +53,21 @@ pub(crate) fn curve(
     Ok(out)
 }
 
-/// Finds the approach giving mean pressure `target` (Pa) with `model`: the bracket
-/// [0, hi] grows from hi = z_M − z_min by doubling until p(hi) ≥ target (at most
-/// [`crate::rough::Params::max_pressure_iterations`] doublings), then safeguarded Newton
-/// on δ (slope: the stiffness dP/dδ/A₀) to the relative tolerance
-/// [`crate::rough::Params::pressure_tolerance`]. The I model prepares one problem for
-/// the bracket and warm-starts every iterate from the previous radii extrapolated with
-/// da/dδ, so a pressure-controlled step costs a few warm-started solves.
+/// Factor by which a pressure search prepares its I-model problem beyond the approach
+/// it solves (the candidates and far-field bound then serve the next iterates too).
+const PREPARE_MARGIN: f64 = 1.25;
+
+/// Finds the approach giving mean pressure `target` (Pa) with `model` by safeguarded
+/// Newton on δ ([`newton_on_delta`], slope: the stiffness dP/dδ/A₀) to the relative
+/// tolerance [`crate::rough::Params::pressure_tolerance`]
+/// ([`crate::rough::Params::independent_pressure_tolerance`] for the N model). The N
+/// model starts at z_M − z_min. The I model starts at the N model's approach for the
+/// target (cheap and exact; interactions lower the load at equal approach, so the I
+/// model's approach lies beyond it) and solves every iterate on one prepared problem
+/// (prepared for [`PREPARE_MARGIN`] × the approach, again only if an iterate goes
+/// beyond), warm-started from the previous radii with a² extrapolated linearly in δ:
+/// a pressure-controlled step costs one problem and a few warm-started solves, as a
+/// separation-controlled step costs one problem and one cold solve.
 pub(crate) fn solve_pressure(
     rc: &RoughContact<'_>,
     model: Model,
@@ -74,82 +82,91 @@ pub(crate) fn solve_pressure(
         }
         .into());
     }
+    let n_model = newton_on_delta(
+        rc,
+        target,
+        prm.independent_pressure_tolerance,
+        rc.max_delta(),
+        |d| rc.solve_independent(d),
+    )?;
     let images = match model {
-        Model::Independent => None,
-        Model::Interacting(im) => Some(im),
+        Model::Independent => return Ok(n_model),
+        Model::Interacting(im) => im,
     };
-    // Bracket: the N model is cheap; the I model's pressure at δ is below the N
-    // model's, so the N-model bracket is a lower bound of the I-model one.
-    let mut hi = rc.max_delta().max(f64::MIN_POSITIVE);
-    let mut grown = 0;
-    let mut problem: Option<Problem> = None;
-    let mut hi_step = loop {
-        let s = match images {
-            None => rc.solve_independent(hi)?,
-            Some(im) => {
-                let pb = problem.insert(Problem::new(rc, im, hi, warm)?);
-                pb.solve(hi, warm)?.0
+    let mut problem: Option<(f64, Problem)> = None;
+    let mut w: Vec<f64> = warm.to_vec();
+    let mut last: Option<(f64, Vec<f64>)> = None; // (δ, da/dδ) of the previous iterate
+    newton_on_delta(rc, target, prm.pressure_tolerance, n_model.delta, |d| {
+        let pb = match &mut problem {
+            Some((dp, pb)) if d <= *dp => pb,
+            _ => {
+                let dp = PREPARE_MARGIN * d;
+                &mut problem.insert((dp, Problem::new(rc, images, dp, &w)?)).1
             }
         };
-        if s.mean_pressure >= target {
-            break s;
-        }
-        grown += 1;
-        if grown > prm.max_pressure_iterations || !(2.0 * hi).is_finite() {
-            return Err(PressureError::OutOfRange {
-                target,
-                reason: format!(
-                    "not reached at approach δ = {hi:e} m ({:e} Pa there)",
-                    s.mean_pressure
-                ),
+        if let Some((d0, rate)) = &last {
+            for (wk, r) in w.iter_mut().zip(rate) {
+                if *wk > 0.0 {
+                    let p2 = *wk * *wk + 2.0 * *wk * r * (d - d0);
+                    *wk = if p2 > 0.0 { p2.sqrt() } else { 0.0 };
+                }
             }
-            .into());
         }
-        hi *= 2.0;
-    };
-    let tol = match images {
-        None => prm.independent_pressure_tolerance,
-        Some(_) => prm.pressure_tolerance,
-    };
-    let (mut lo, mut d) = (0.0, hi);
-    let mut w = hi_step.radii.clone();
-    let mut rate: Vec<f64> = Vec::new();
+        let (s, rate) = pb.solve(d, &w)?;
+        w.clone_from(&s.radii);
+        last = Some((d, rate));
+        Ok(s)
+    })
+}
+
+/// Safeguarded Newton on the approach: from δ = `start` (m), solve(δ) gives a step whose
+/// mean pressure p(δ) is compared with `target` (Pa); the next δ is the Newton step
+/// δ − (p − target)/(dP/dδ/A₀) when it stays inside the bracket [lo, hi] known so far
+/// (lo: p < target, hi: p > target, initially [0, ∞)), else the bracket's midpoint, or
+/// 2δ while no iterate has reached the target. Done at |p − target| ≤ `tol`·target.
+fn newton_on_delta(
+    rc: &RoughContact<'_>,
+    target: f64,
+    tol: f64,
+    start: f64,
+    mut solve: impl FnMut(f64) -> Result<Step, RoughError>,
+) -> Result<Step, RoughError> {
+    let prm = &rc.params;
+    let (mut lo, mut hi) = (0.0, f64::INFINITY);
+    let mut d = start.max(f64::MIN_POSITIVE);
     for _ in 0..prm.max_pressure_iterations {
-        let err = hi_step.mean_pressure - target;
+        let s = solve(d)?;
+        let err = s.mean_pressure - target;
         if err.abs() <= tol * target {
-            return Ok(hi_step);
+            return Ok(s);
         }
         if err < 0.0 {
             lo = d;
         } else {
             hi = d;
         }
-        let slope = hi_step.stiffness / rc.area();
-        let mut next = d - err / slope;
-        if !next.is_finite() || next <= lo || next >= hi {
-            next = 0.5 * (lo + hi);
+        if hi.is_finite() && hi - lo <= 1e-15 * hi {
+            return Ok(s);
         }
-        if (hi - lo) <= 1e-15 * hi {
-            return Ok(hi_step);
+        let mut next = d - err / (s.stiffness / rc.area());
+        if !(next.is_finite() && next > lo && next < hi) {
+            next = if hi.is_finite() {
+                0.5 * (lo + hi)
+            } else {
+                2.0 * d
+            };
         }
-        // warm start: a² extrapolated linearly in δ
-        for (k, wk) in w.iter_mut().enumerate() {
-            let r = rate.get(k).copied().unwrap_or(0.0);
-            if *wk > 0.0 {
-                let p2 = *wk * *wk + 2.0 * *wk * r * (next - d);
-                *wk = if p2 > 0.0 { p2.sqrt() } else { 0.0 };
+        if !next.is_finite() {
+            return Err(PressureError::OutOfRange {
+                target,
+                reason: format!(
+                    "not reached at approach δ = {d:e} m ({:e} Pa there)",
+                    s.mean_pressure
+                ),
             }
+            .into());
         }
         d = next;
-        hi_step = match (&mut problem, images) {
-            (Some(pb), Some(_)) => {
-                let (s, r) = pb.solve(d, &w)?;
-                rate = r;
-                s
-            }
-            _ => rc.solve_independent(d)?,
-        };
-        w.clone_from(&hi_step.radii);
     }
     Err(PressureError::NoConvergence {
         target,
