@@ -35,16 +35,7 @@ fn surface(k_max: f64) -> Surface {
 }
 
 fn surface_on(grid: usize, k_max: f64) -> Surface {
-    Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface")
+    Surface::generate(&GenerateParams::paper(grid, k_max)).expect("surface")
 }
 
 /// 20 approaches up to g_n ≈ 0.13 (z_M − z̄), as in the paper's curves.

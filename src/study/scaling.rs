@@ -94,15 +94,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Results> {
     let law = table.law_for(&stack)?;
     let mut rows = Vec::new();
     for (grid, k_max) in sizes {
-        let s = Surface::generate(&GenerateParams {
-            size: 1e-3,
-            grid,
-            fractal_dimension: 2.4,
-            k_min: 2.0,
-            k_max,
-            rms: 3.4e-6,
-            seed: 20240611,
-        })?;
+        let s = Surface::generate(&GenerateParams::paper(grid, k_max))?;
         let base = status_bytes("VmRSS");
         let _ = std::fs::write("/proc/self/clear_refs", "5");
         let t0 = Instant::now();

@@ -1,35 +1,12 @@
 //! The grid far field and Krylov Newton steps (issue 20) against exact pair sums.
 
 use crate::law::{AsperityLaw, Homogeneous};
+use crate::rough::tests::{paper_law, path};
 use crate::rough::{Images, Model, Params, RoughContact, Step};
 use crate::surface::{GenerateParams, Surface};
 
-fn paper_law(ratio: f64) -> crate::table::TableLaw {
-    let p =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/paper-two-layer.strata");
-    let table = crate::table::Table::load(&p).expect("shipped table readable");
-    let stack = crate::stack::Stack::paper_two_layer(ratio).expect("stack");
-    table.law_for(&stack).expect("law")
-}
-
 fn surface(grid: usize, k_max: f64) -> Surface {
-    Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface")
-}
-
-/// 20 approaches up to 0.87 (z_M − z̄).
-fn path(rc: &RoughContact) -> Vec<f64> {
-    (1..=20)
-        .map(|i| 0.87 * rc.top_to_mean() * i as f64 / 20.0)
-        .collect()
+    Surface::generate(&GenerateParams::paper(grid, k_max)).expect("surface")
 }
 
 fn curve(law: &dyn AsperityLaw, s: &Surface, images: Images, prm: Params) -> Vec<Step> {
