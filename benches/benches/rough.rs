@@ -23,8 +23,16 @@
 //!   step at δ = 0.8 (z_M − z̄) and one pressure-controlled step to the mean pressure it
 //!   gives (issue 19.2: they must cost about the same), side by side in one run.
 //!
-//! Run: `cargo bench -p strata-benches --bench rough` (`-- stall`, `-- control` for
-//! the groups above).
+//! * `scaling/table-E2E1=5/periodic5x5/grid<n>-km<k_M>` (issue 20): the I-model
+//!   20-step curve against the number of summits N on generated surfaces (L = 1 mm,
+//!   D_f = 2.4, k_m = 2) of about 1e3, 4e3 and 1e4 summits, cold as above: above
+//!   `Params::dense_pair_limit` loaded asperities the far field runs on the FFT grid
+//!   with sparse near corrections and conjugate-gradient Newton steps. The 1e5-summit
+//!   point (grid 2048, k_M = 840) runs only with `STRATA_BENCH_LARGE=1` (minutes per
+//!   sample). Peak memory and the fitted exponents: `strata study` ("I model at scale").
+//!
+//! Run: `cargo bench -p strata-benches --bench rough` (`-- stall`, `-- control`,
+//! `-- scaling` for the groups above).
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -34,16 +42,11 @@ use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::{GenerateParams, Surface};
 
 fn surface(k_max: f64) -> Surface {
-    Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid: 512,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface")
+    surface_on(512, k_max)
+}
+
+fn surface_on(grid: usize, k_max: f64) -> Surface {
+    Surface::generate(&GenerateParams::paper(grid, k_max)).expect("surface")
 }
 
 /// 20 approaches up to g_n ≈ 0.13 (z_M − z̄), as in the paper's curves.
@@ -222,6 +225,50 @@ fn stalls(c: &mut Criterion) {
     }
 }
 
+/// The I-model curve against N (module docs).
+fn scaling(c: &mut Criterion, law: &dyn AsperityLaw) {
+    let mut sizes = vec![(512, 64.0), (512, 128.0), (1024, 200.0)];
+    if std::env::var("STRATA_BENCH_LARGE").is_ok() {
+        sizes.push((2048, 840.0));
+    }
+    for (grid, km) in sizes {
+        let s = surface_on(grid, km);
+        let n = RoughContact::from_surface(law, &s)
+            .expect("summits")
+            .summits()
+            .len();
+        let d = deltas(&RoughContact::from_surface(law, &s).expect("summits"));
+        let id = format!("scaling/table-E2E1=5/periodic5x5/grid{grid}-km{km}-N{n}");
+        c.bench_function(&id, |b| {
+            b.iter(|| {
+                let rc = RoughContact::from_surface(law, black_box(&s)).expect("summits");
+                black_box(
+                    rc.curve(Model::Interacting(Images::Periodic(2)), black_box(&d))
+                        .expect("solve"),
+                )
+            })
+        });
+    }
+}
+
+fn scaling_benches(c: &mut Criterion) {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/paper-two-layer.strata");
+    let table = strata_runtime::table::Table::load(&path).expect("shipped table");
+    let stack = strata_runtime::Stack::paper_two_layer(5.0).expect("stack");
+    let law = table.law_for(&stack).expect("law");
+    scaling(c, &law);
+}
+
+criterion_group! {
+    name = scale;
+    config = Criterion::default()
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(1))
+        .measurement_time(Duration::from_secs(1));
+    targets = scaling_benches
+}
+
 criterion_group! {
     name = rough;
     config = Criterion::default()
@@ -230,4 +277,4 @@ criterion_group! {
         .measurement_time(Duration::from_secs(3));
     targets = benches, stalls
 }
-criterion_main!(rough);
+criterion_main!(rough, scale);

@@ -34,6 +34,7 @@ pub mod machine;
 pub mod pareto;
 pub mod report;
 pub mod rough;
+pub mod scaling;
 pub mod tables;
 
 use std::hint::black_box;
@@ -341,6 +342,7 @@ pub struct Study {
     pub tables: tables::Results,
     pub approx: approx::Results,
     pub rough: rough::Results,
+    pub scaling: scaling::Results,
     pub errors: Errors,
     pub timings: Vec<(String, String, Timing)>,
     pub machine_start: machine::Machine,
@@ -363,6 +365,8 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
     let approx = approx::run(&mut runner, &mut errors, inputs).context("approximation stage")?;
     stage("rough contact");
     let rough = rough::run(&mut runner, &mut errors, inputs).context("rough-contact stage")?;
+    stage("I model at scale");
+    let scaling = scaling::run(mode, inputs).context("I model at scale stage")?;
     let seconds = t0.elapsed().as_secs_f64();
     crate::progress::log(format!("study ({}): done in {seconds:.1} s", mode.name()));
     Ok(Study {
@@ -371,6 +375,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
         tables,
         approx,
         rough,
+        scaling,
         errors,
         timings: runner.log,
         machine_start,

@@ -406,6 +406,7 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
     if !r.far.is_empty() {
         far_section(w, r, prefix, ext);
     }
+    w.push_str(&super::scaling::markdown(&study.scaling));
     let _ = writeln!(
         w,
         "## Regenerating\n\n```sh\ncargo run --release -- study{} --out docs/accuracy-cost \\\n    --report docs/accuracy-cost.md --force\n```\n\nwrites this page (`--report`), its plots, `errors.csv` and `timings.csv` \

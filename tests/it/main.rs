@@ -23,6 +23,7 @@ mod outputs;
 mod progress;
 mod rectangular;
 mod rough_reference;
+mod scale;
 mod scene_fuzz;
 mod soft_stacks;
 mod solve;

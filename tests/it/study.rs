@@ -86,10 +86,21 @@ fn tiny_study_is_reproducible_and_sound() {
         "## 2. Surrogate tables",
         "## 3. Second-order approximation",
         "## 4. Rough contact",
+        "## 5. I model at scale",
         "## Regenerating",
     ] {
         assert!(report.contains(section), "report lacks {section}");
     }
+    // the scaling section fitted a time exponent from its two curves
+    let fitted = report
+        .split("Fitted exponents: time ∝ N^")
+        .nth(1)
+        .and_then(|s| s.split(',').next())
+        .and_then(|s| s.parse::<f64>().ok());
+    assert!(
+        fitted.is_some_and(|e| e.is_finite()),
+        "no fitted time exponent"
+    );
     let mut plots = 0;
     for part in report.split("](").skip(1) {
         let file = part.split(')').next().unwrap();

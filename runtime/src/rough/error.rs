@@ -60,6 +60,8 @@ pub enum FarFieldError {
         radius: f64,
         attempts: usize,
     },
+    #[error("I model far field: the interaction grid could not be planned: {0}")]
+    Grid(String),
 }
 
 /// The active-set Newton method of the I model.

@@ -15,6 +15,12 @@ pub struct Params {
     /// Bound A of the far-field model as a multiple of the largest N-model (or warm
     /// start) contact radius of the solve (interactions shrink contacts). Default 1.2.
     pub far_field_bound_factor: f64,
+    /// Loaded asperities above which the I model holds its far-field pair sums on an
+    /// FFT grid with sparse near corrections (memory O(N), Newton steps by conjugate
+    /// gradients) instead of the dense per-pair coefficients and Jacobian (memory
+    /// O(N²)); below it the dense path is faster. Needs the `spectral` feature (else
+    /// always dense). Default 1500.
+    pub dense_pair_limit: usize,
     /// How often a solve may rebuild the far-field model with a larger bound A when a
     /// contact radius leaves it before the last rebuild sums exactly. Default 3.
     pub far_field_rebuilds: usize,
@@ -78,6 +84,7 @@ impl Default for Params {
         Params {
             far_field_tolerance: 1e-5,
             far_field_bound_factor: 1.2,
+            dense_pair_limit: 1500,
             far_field_rebuilds: 3,
             kkt_tolerance: 1e-8,
             newton_tolerance: 1e-11,
@@ -113,6 +120,11 @@ pub struct FarFieldInfo {
     pub exact_pairs: usize,
     /// Image pairs summed by the far-field model.
     pub modelled_pairs: usize,
+    /// Cells (x, y) of the FFT grid carrying the far field ((0, 0): dense pair sums,
+    /// [`Params::dense_pair_limit`]).
+    pub grid_cells: (usize, usize),
+    /// Radius (m) within which the grid's pairs are corrected exactly (0: dense).
+    pub near_radius: f64,
 }
 
 /// What one solve did.

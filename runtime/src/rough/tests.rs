@@ -302,7 +302,7 @@ fn far_field_matches_exact_sums() {
 
 /// The shipped family table (tables/paper-two-layer.strata) on the paper's stack
 /// with E2/E1 = `ratio`.
-fn paper_law(ratio: f64) -> crate::table::TableLaw {
+pub(crate) fn paper_law(ratio: f64) -> crate::table::TableLaw {
     let p =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tables/paper-two-layer.strata");
     let table = crate::table::Table::load(&p).expect("shipped table readable");
@@ -312,20 +312,11 @@ fn paper_law(ratio: f64) -> crate::table::TableLaw {
 
 /// The paper's surface (scenes/paper-E2E1-5-interacting.toml) with k_M = `k_max`.
 fn paper_surface(k_max: f64) -> Surface {
-    Surface::generate(&crate::surface::GenerateParams {
-        size: 1e-3,
-        grid: 512,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface")
+    Surface::generate(&crate::surface::GenerateParams::paper(512, k_max)).expect("surface")
 }
 
 /// 20 approaches up to 0.87 (z_M − z̄), as the benches.
-fn path(rc: &RoughContact) -> Vec<f64> {
+pub(crate) fn path(rc: &RoughContact) -> Vec<f64> {
     (1..=20)
         .map(|i| 0.87 * rc.top_to_mean() * i as f64 / 20.0)
         .collect()

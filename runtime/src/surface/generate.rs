@@ -25,6 +25,23 @@ pub struct GenerateParams {
     pub seed: u64,
 }
 
+impl GenerateParams {
+    /// The paper's surface family (physics.md §5; scenes/paper-E2E1-5-interacting.toml):
+    /// L = 1 mm, D_f = 2.4, k_m = 2, RMS 3.4 µm, seed 20240611, on an n = `grid` grid up
+    /// to k_M = `k_max` (the benches, the study and the scale tests grow both).
+    pub fn paper(grid: usize, k_max: f64) -> GenerateParams {
+        GenerateParams {
+            size: 1e-3,
+            grid,
+            fractal_dimension: 2.4,
+            k_min: 2.0,
+            k_max,
+            rms: 3.4e-6,
+            seed: 20240611,
+        }
+    }
+}
+
 impl Surface {
     /// Generates a self-affine surface (physics.md §5). Amplitudes |ẑ(k)| ∝ |k|^(−(1+H))
     /// for k_min ≤ |k|L/(2π) ≤ k_max (k integer multiples of 2π/L), uniform random

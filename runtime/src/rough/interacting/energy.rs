@@ -4,6 +4,7 @@
 
 use super::far_field::{FarModel, NB, Vb, bracket, dot};
 use super::images::Prepared;
+use super::near::GridWork;
 use crate::law::AsperityLaw;
 use crate::rough::local::Local;
 
@@ -117,9 +118,13 @@ pub(crate) struct State {
     pub self_h: Vec<f64>,
     /// F (NaN where a = 0).
     pub f: Vec<f64>,
-    /// Scratch: active local indices and their far-field source vectors (l, Q_l, y_l).
+    /// Scratch: active local indices.
     act: Vec<usize>,
-    y: Vec<(usize, f64, Vb)>,
+    /// Far-field sources of the pair sums: y_l = Q_l ℓ(a_l)/π and Q_l (zero where
+    /// a_l = 0), and the workspace of the interaction grid.
+    pub src: Vec<Vb>,
+    pub sc: Vec<f64>,
+    pub work: Option<GridWork>,
 }
 
 /// Resizes `v` to `n` copies of `x` without reallocating when it is large enough.
@@ -147,7 +152,7 @@ impl Energy<'_> {
 
     /// Evaluates the state at contact radii `a` (local indices, m) into `st`.
     pub fn eval(&self, a: &[f64], st: &mut State) {
-        let (law, geo, deltas) = (self.law, self.geo, self.deltas);
+        let (law, geo) = (self.law, self.geo);
         let n = geo.n();
         let pi = std::f64::consts::PI;
         st.a.clear();
@@ -166,34 +171,28 @@ impl Energy<'_> {
         refill(&mut st.d_other, n, 0.0);
         refill(&mut st.u_other, n, [0.0; NB]);
         if let Some(far) = self.far() {
+            refill(&mut st.src, n, [0.0; NB]);
+            refill(&mut st.sc, n, 0.0);
             for &l in &st.act {
                 st.basis[l] = far.basis(a[l]);
+                let q = st.loc[l].q;
+                st.src[l] = st.basis[l].0.map(|x| x * q / pi);
+                st.sc[l] = q;
             }
-            st.y.clear();
-            for &l in &st.act {
-                let mut v = st.basis[l].0;
-                v.iter_mut().for_each(|x| *x *= st.loc[l].q / pi);
-                st.y.push((l, st.loc[l].q, v));
-            }
-            for (k, &dk) in deltas.iter().enumerate() {
-                if dk <= 0.0 {
-                    continue;
-                }
-                let row = &geo.nf[k * n..(k + 1) * n];
-                let mut d = 0.0;
-                let mut u = [0.0; NB];
-                for (l, ql, yl) in &st.y {
-                    if *l == k {
-                        continue;
-                    }
-                    let nkl = &row[*l];
-                    for i in 0..NB {
-                        d += nkl[i] * yl[i];
-                        u[i] += ql * nkl[i];
-                    }
-                }
-                st.d_other[k] = d;
-                st.u_other[k] = u;
+            // an interaction grid that cannot run (a planning bug) poisons F: the Newton
+            // search then fails on the non-finite residual
+            if geo
+                .interact(
+                    &st.src,
+                    &st.sc,
+                    self.deltas,
+                    &mut st.d_other,
+                    &mut st.u_other,
+                    &mut st.work,
+                )
+                .is_err()
+            {
+                st.d_other.iter_mut().for_each(|d| *d = f64::NAN);
             }
         }
         refill(&mut st.near_vals, geo.near.len(), [0.0; 4]);
@@ -254,8 +253,7 @@ impl Energy<'_> {
         let mut d = st.d_other[p] + near.0;
         let mut e = near.2 + lp.q * near.1;
         if self.far().is_some() {
-            let n = self.geo.n();
-            let nkk = &self.geo.nf[p * n + p];
+            let nkk = &self.geo.self_far;
             let mut u = st.u_other[p];
             for i in 0..NB {
                 u[i] += lp.q * nkk[i];
@@ -364,7 +362,7 @@ impl Energy<'_> {
 
     /// ∂F_p/∂a_p: the local and far parts by central differences with the near sums
     /// frozen, plus their a_p-derivative Σ_self ∂G_p/∂a_p + (∂E_p^near/∂a_p)/Q′_p.
-    fn diagonal(&self, st: &State, p: usize) -> f64 {
+    pub(crate) fn diagonal(&self, st: &State, p: usize) -> f64 {
         let law = self.law;
         let h = self.h_jac * st.a[p];
         let near = (st.self_g[p], st.self_h[p], st.e_cross[p]);

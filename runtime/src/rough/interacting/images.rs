@@ -5,9 +5,10 @@
 //! repeated on the (2m+1)² block of cells around the sample, its own images included;
 //! [`Images::Isolated`] uses plain distances.
 
-use super::far_field::{FarModel, NB, Vb};
-use crate::resources::{ResourceError, bytes_for, check_memory};
-use crate::rough::Images;
+use super::far_field::{FarModel, NB, Vb, dot};
+use super::near::{FastError, FastSums, GridWork};
+use crate::resources::{bytes_for, check_memory};
+use crate::rough::{FarFieldError, Images, RoughError};
 use crate::summits::Summit;
 
 /// The interaction geometry of a set of candidate asperities under one image
@@ -32,6 +33,20 @@ pub(crate) struct Prepared {
     pub a_valid: f64,
     /// Number of image pairs in the far-field model.
     pub far_pairs: usize,
+    /// N_kk: the far self images of one asperity (the same for every asperity).
+    pub self_far: Vb,
+    /// The grid far field and near corrections (None: the dense sums `nf`).
+    pub fast: Option<FastSums>,
+}
+
+/// How the far-field pair sums are held: chosen by [`Prepared::new`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Sums {
+    /// N_kl of every pair (O(N²) memory; the dense Jacobian).
+    Dense,
+    /// The grid far field and sparse near corrections (O(N); Krylov Newton steps),
+    /// falling back to dense when no grid meets the tolerance.
+    Grid,
 }
 
 /// Memory of one asperity pair: its far-field coefficients N_kl (NB × 8 bytes) and its
@@ -55,14 +70,16 @@ pub(crate) fn reach(images: Images, extent: (f64, f64)) -> f64 {
 impl Prepared {
     /// The geometry of the candidates `cand` (summit indices) of `summits` on a sample of
     /// sides `extent` (m) under `images`, with the far-field model `far` (None: every
-    /// image pair exact).
+    /// image pair exact), its pair sums held as `sums` asks (tolerance `tol`).
     pub fn new(
         summits: &[Summit],
         extent: (f64, f64),
         images: Images,
         cand: Vec<usize>,
         far: Option<FarModel>,
-    ) -> Result<Prepared, ResourceError> {
+        sums: Sums,
+        tol: f64,
+    ) -> Result<Prepared, RoughError> {
         let (lx, ly) = extent;
         let m = cells(images);
         let (r_c, r_top) = far
@@ -70,6 +87,31 @@ impl Prepared {
             .map_or((f64::INFINITY, 0.0), |f| (f.r_c, f.r_hi));
         let is_far = |r: f64| r >= r_c && r <= r_top;
         let n = cand.len();
+        let (self_far, near_self) = self_images(extent, m, far.as_ref());
+        if let (Sums::Grid, Some(f)) = (sums, far.as_ref()) {
+            match FastSums::build(summits, &cand, extent, m, f, tol) {
+                Ok(Some((fast, near))) => {
+                    let far_pairs = fast.modelled_pairs + n * near_self_far(m, near_self.len());
+                    let near_of = near_of(n, &near);
+                    return Ok(Prepared {
+                        radius: cand.iter().map(|&k| summits[k].radius).collect(),
+                        cand,
+                        a_valid: f.a_max,
+                        far,
+                        nf: Vec::new(),
+                        near,
+                        near_of,
+                        near_self,
+                        far_pairs,
+                        self_far,
+                        fast: Some(fast),
+                    });
+                }
+                Ok(None) => {}
+                Err(FastError::Memory(e)) => return Err(e.into()),
+                Err(FastError::Fft(e)) => return Err(FarFieldError::Grid(e.to_string()).into()),
+            }
+        }
         check_memory(
             format!(
                 "I model: pair coefficients of {n} loaded asperities ({} bytes per pair, dense Jacobian included)",
@@ -78,26 +120,13 @@ impl Prepared {
             bytes_for((n as u64).saturating_mul(n as u64), PAIR_BYTES),
         )?;
         let mut nf = Vec::new();
-        let mut self_far = [0.0; NB];
-        let mut near_self = Vec::new();
         let mut far_pairs = 0;
-        for sx in -m..=m {
-            for sy in -m..=m {
-                if (sx, sy) != (0, 0) {
-                    let r = (sx as f64 * lx).hypot(sy as f64 * ly);
-                    match &far {
-                        Some(f) if is_far(r) => f.accumulate(r, &mut self_far),
-                        _ => near_self.push(r),
-                    }
-                }
-            }
-        }
         if far.is_some() {
             nf = vec![[0.0; NB]; n * n];
             for p in 0..n {
                 nf[p * n + p] = self_far;
             }
-            far_pairs += n * ((2 * m + 1) * (2 * m + 1) - 1) as usize - n * near_self.len();
+            far_pairs += n * near_self_far(m, near_self.len());
         }
         let mut near = Vec::new();
         for p in 0..n {
@@ -125,11 +154,7 @@ impl Prepared {
                 }
             }
         }
-        let mut near_of = vec![Vec::new(); n];
-        for (i, &(p, q, _)) in near.iter().enumerate() {
-            near_of[p].push(i);
-            near_of[q].push(i);
-        }
+        let near_of = near_of(n, &near);
         let a_valid = far.as_ref().map_or(f64::INFINITY, |f| f.a_max);
         Ok(Prepared {
             radius: cand.iter().map(|&k| summits[k].radius).collect(),
@@ -141,11 +166,92 @@ impl Prepared {
             near_self,
             a_valid,
             far_pairs,
+            self_far,
+            fast: None,
         })
+    }
+
+    /// The far pair sums at every candidate k: `out_d[k] = Σ_{l≠k} N_kl·src[l]` and
+    /// `out_u[k] = Σ_{l≠k} N_kl sc[l]` (the self images excluded: they go through
+    /// `self_far`), by the grid or the dense N_kl. `src[l]` must be zero where
+    /// `sc[l]` is. The dense sums skip (zero) the rows with `deltas[k]` ≤ 0 (not
+    /// loaded). Only with a far model.
+    pub fn interact(
+        &self,
+        src: &[Vb],
+        sc: &[f64],
+        deltas: &[f64],
+        out_d: &mut [f64],
+        out_u: &mut [Vb],
+        work: &mut Option<GridWork>,
+    ) -> Result<(), RoughError> {
+        if let Some(fast) = &self.fast {
+            let w = work.get_or_insert_with(|| fast.work());
+            return fast
+                .apply(src, sc, out_d, out_u, w)
+                .map_err(|e| FarFieldError::Grid(e.to_string()).into());
+        }
+        let n = self.n();
+        for k in 0..n {
+            let row = &self.nf[k * n..(k + 1) * n];
+            let mut d = 0.0;
+            let mut u = [0.0; NB];
+            if deltas[k] <= 0.0 {
+                out_d[k] = d;
+                out_u[k] = u;
+                continue;
+            }
+            for (l, nkl) in row.iter().enumerate() {
+                if l == k || sc[l] == 0.0 {
+                    continue;
+                }
+                d += dot(nkl, &src[l]);
+                for i in 0..NB {
+                    u[i] += sc[l] * nkl[i];
+                }
+            }
+            out_d[k] = d;
+            out_u[k] = u;
+        }
+        Ok(())
     }
 
     /// Number of candidates.
     pub fn n(&self) -> usize {
         self.cand.len()
     }
+}
+
+/// Far self images per asperity: (2m+1)² − 1 minus the exact ones.
+fn near_self_far(m: i64, exact: usize) -> usize {
+    ((2 * m + 1) * (2 * m + 1) - 1) as usize - exact
+}
+
+/// The self images of one asperity: N_kk (the far-model sum of those at r ≥ r_c) and
+/// the distances (m) of the others, summed exactly.
+fn self_images(extent: (f64, f64), m: i64, far: Option<&FarModel>) -> (Vb, Vec<f64>) {
+    let mut self_far = [0.0; NB];
+    let mut near_self = Vec::new();
+    for sx in -m..=m {
+        for sy in -m..=m {
+            if (sx, sy) != (0, 0) {
+                let r = (sx as f64 * extent.0).hypot(sy as f64 * extent.1);
+                match far {
+                    Some(f) if r >= f.r_c && r <= f.r_hi => f.accumulate(r, &mut self_far),
+                    _ => near_self.push(r),
+                }
+            }
+        }
+    }
+    (self_far, near_self)
+}
+
+/// The near entries of each local index.
+fn near_of(n: usize, near: &[(usize, usize, f64)]) -> Vec<Vec<usize>> {
+    let mut out = vec![Vec::new(); n];
+    for (i, &(p, q, _)) in near.iter().enumerate() {
+        out[p].push(i);
+        out[q].push(i);
+    }
+    out
 }

@@ -69,15 +69,25 @@
 
 pub(crate) mod energy;
 pub mod far_field;
+#[cfg(feature = "spectral")]
+pub(crate) mod far_grid;
 pub(crate) mod images;
+pub(crate) mod krylov;
+#[cfg(feature = "spectral")]
+pub(crate) mod near;
+#[cfg(not(feature = "spectral"))]
+#[path = "near_stub.rs"]
+pub(crate) mod near;
 pub(crate) mod newton;
 pub(crate) mod path;
+#[cfg(all(test, feature = "spectral"))]
+mod scale_tests;
 
 use std::time::Instant;
 
 use energy::{Energy, State};
 use far_field::FarModel;
-use images::Prepared;
+use images::{Prepared, Sums};
 use newton::{Newton, Search};
 
 use super::{
@@ -117,7 +127,15 @@ impl<'r, 'a> Problem<'r, 'a> {
         let mut p = Problem {
             rc,
             images,
-            geo: Prepared::new(&rc.summits, rc.extent, images, Vec::new(), None)?,
+            geo: Prepared::new(
+                &rc.summits,
+                rc.extent,
+                images,
+                Vec::new(),
+                None,
+                Sums::Dense,
+                0.0,
+            )?,
             builds: 0,
         };
         p.prepare(cand, rc.params.far_field_bound_factor * amax, false)?;
@@ -129,19 +147,21 @@ impl<'r, 'a> Problem<'r, 'a> {
     fn prepare(&mut self, cand: Vec<usize>, bound: f64, exact: bool) -> Result<(), RoughError> {
         let rc = self.rc;
         let tol = rc.params.far_field_tolerance;
+        let sums = if cand.len() > rc.params.dense_pair_limit {
+            Sums::Grid
+        } else {
+            Sums::Dense
+        };
+        // the grid's stencils reach a few cells beyond the sample's diagonal
+        let reach =
+            images::reach(self.images, rc.extent) * if sums == Sums::Grid { 1.25 } else { 1.0 };
         let far = if exact || tol.is_nan() || tol <= 0.0 || bound.is_nan() || bound <= 0.0 {
             None
         } else {
             self.builds += 1;
-            FarModel::build(
-                rc.law,
-                bound,
-                images::reach(self.images, rc.extent),
-                tol,
-                rc.params.g_difference_step,
-            )
+            FarModel::build(rc.law, bound, reach, tol, rc.params.g_difference_step)
         };
-        self.geo = Prepared::new(&rc.summits, rc.extent, self.images, cand, far)?;
+        self.geo = Prepared::new(&rc.summits, rc.extent, self.images, cand, far, sums, tol)?;
         Ok(())
     }
 
@@ -203,12 +223,19 @@ impl<'r, 'a> Problem<'r, 'a> {
     /// The far-field model in use, for the diagnostics.
     fn far_info(&self) -> Option<FarFieldInfo> {
         let g = &self.geo;
+        let (grid_cells, near_radius, grid_error) =
+            g.fast.as_ref().map_or(((0, 0), 0.0, 0.0), |f| {
+                let (gx, gy, _) = f.grid.period();
+                ((gx as usize, gy as usize), f.grid.r_near, f.grid.worst)
+            });
         g.far.as_ref().map(|f| FarFieldInfo {
             bound: f.a_max,
             cutoff: f.r_c,
-            measured_error: f.worst,
+            measured_error: f.worst + grid_error,
             exact_pairs: g.near.len() + g.n() * g.near_self.len(),
             modelled_pairs: g.far_pairs,
+            grid_cells,
+            near_radius,
         })
     }
 

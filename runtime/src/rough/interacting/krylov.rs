@@ -1,0 +1,199 @@
+//! The linear systems of the I model's Newton steps (J s = −F) and stiffness
+//! (J da/dδ = 2·1) on the active set. With dense pair sums the Jacobian is formed and
+//! factored (LU); with the grid sums it is never formed: preconditioned conjugate
+//! gradients on the symmetric form
+//!
+//! ```text
+//! H = D J,  D = diag(Q'_k),  H_kl = Q'_k J_kl = N_kl·(Q'_k z_l + Q'_l z_k) (k ≠ l)
+//! ```
+//!
+//! (H is the Hessian of U_E/c in a, interacting module docs, positive definite at a
+//! minimum), with Jacobian–vector products from the same fast sums as F:
+//!
+//! ```text
+//! (J v)_k = Σ_{l≠k} N_kl·(z_l v_l) + z_k·Σ_{l≠k} N_kl Q'_l v_l / Q'_k
+//!           + near exact terms + J_kk v_k,   z_l = (Q'_l ℓ(a_l) + Q_l ℓ'(a_l))/π,
+//! ```
+//!
+//! and the Jacobi preconditioner diag(H). Negative curvature (pᵀHp ≤ 0) ends the
+//! iteration with the iterate so far (the Newton line search then checks descent and
+//! falls back to its scaled steepest descent).
+
+use super::energy::{Energy, State};
+use super::far_field::{NB, Vb, dot};
+use super::newton::lu_solve;
+
+/// The solve of J x = b on the active set `act` at the state `st`: dense LU with the
+/// dense sums, conjugate gradients to the relative residual `rtol` (max-norm, F units)
+/// with the grid sums. None when singular or not finite.
+pub(crate) fn solve(
+    en: &Energy,
+    st: &mut State,
+    act: &[usize],
+    b: &[f64],
+    rtol: f64,
+) -> Option<Vec<f64>> {
+    if en.geo.fast.is_none() {
+        let mut jm = en.jacobian(st, act);
+        let mut rhs = b.to_vec();
+        return lu_solve(&mut jm, &mut rhs, act.len());
+    }
+    let mut op = Operator::new(en, st, act);
+    cg(&mut op, b, rtol, (4 * act.len()).clamp(50, 2000))
+}
+
+/// J v on the active set with the fast sums (module docs).
+struct Operator<'s, 'e, 'p> {
+    en: &'e Energy<'p>,
+    st: &'s mut State,
+    act: &'s [usize],
+    /// J_kk and Q'_k on the active set.
+    diag: Vec<f64>,
+    dq: Vec<f64>,
+    /// z_l per local index (zero off the active set).
+    z: Vec<Vb>,
+    /// Position of a local index in `act` (usize::MAX when inactive).
+    pos: Vec<usize>,
+    src: Vec<Vb>,
+    sc: Vec<f64>,
+    od: Vec<f64>,
+    ou: Vec<Vb>,
+}
+
+impl<'s, 'e, 'p> Operator<'s, 'e, 'p> {
+    fn new(en: &'e Energy<'p>, st: &'s mut State, act: &'s [usize]) -> Self {
+        let n = en.geo.n();
+        let pi = std::f64::consts::PI;
+        let mut z = vec![[0.0; NB]; n];
+        let mut pos = vec![usize::MAX; n];
+        for (ii, &l) in act.iter().enumerate() {
+            pos[l] = ii;
+            let (lq, (b, db)) = (&st.loc[l], &st.basis[l]);
+            for i in 0..NB {
+                z[l][i] = (lq.dq * b[i] + lq.q * db[i]) / pi;
+            }
+        }
+        let diag = act.iter().map(|&p| en.diagonal(st, p)).collect();
+        let dq = act.iter().map(|&p| st.loc[p].dq).collect();
+        Operator {
+            en,
+            st,
+            act,
+            diag,
+            dq,
+            z,
+            pos,
+            src: vec![[0.0; NB]; n],
+            sc: vec![0.0; n],
+            od: vec![0.0; n],
+            ou: vec![[0.0; NB]; n],
+        }
+    }
+
+    /// out = J v (v and out on the active set); false when the sums fail.
+    fn apply(&mut self, v: &[f64], out: &mut [f64]) -> bool {
+        let geo = self.en.geo;
+        for (ii, &l) in self.act.iter().enumerate() {
+            self.src[l] = self.z[l].map(|x| x * v[ii]);
+            self.sc[l] = self.dq[ii] * v[ii];
+        }
+        if geo
+            .interact(
+                &self.src,
+                &self.sc,
+                self.en.deltas,
+                &mut self.od,
+                &mut self.ou,
+                &mut self.st.work,
+            )
+            .is_err()
+        {
+            return false;
+        }
+        for (ii, &k) in self.act.iter().enumerate() {
+            out[ii] =
+                self.od[k] + dot(&self.z[k], &self.ou[k]) / self.dq[ii] + self.diag[ii] * v[ii];
+        }
+        for (e, &(p, q, _)) in geo.near.iter().enumerate() {
+            let (ip, iq) = (self.pos[p], self.pos[q]);
+            if ip == usize::MAX || iq == usize::MAX {
+                continue;
+            }
+            let [_, hp, _, hq] = self.st.near_vals[e];
+            let (dp, dq) = (self.dq[ip], self.dq[iq]);
+            out[iq] += (hp + dp * hq / dq) * v[ip];
+            out[ip] += (hq + dq * hp / dp) * v[iq];
+        }
+        true
+    }
+}
+
+/// Preconditioned conjugate gradients on H = D J for J x = b (module docs): stops when
+/// max_k |(b − J x)_k| ≤ rtol·max_k |b_k|, on negative curvature, or after `max_it`
+/// iterations (the iterate so far). None when not finite or no progress at all.
+fn cg(op: &mut Operator, b: &[f64], rtol: f64, max_it: usize) -> Option<Vec<f64>> {
+    let m = b.len();
+    let dq = op.dq.clone();
+    let prec: Vec<f64> = op
+        .diag
+        .iter()
+        .zip(&dq)
+        .map(|(d, q)| {
+            let h = (d * q).abs();
+            if h > 0.0 && h.is_finite() {
+                1.0 / h
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    let bmax = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut x = vec![0.0; m];
+    if bmax == 0.0 {
+        return Some(x);
+    }
+    // residual of H x = D b
+    let mut r: Vec<f64> = b.iter().zip(&dq).map(|(v, q)| v * q).collect();
+    let mut z: Vec<f64> = r.iter().zip(&prec).map(|(v, p)| v * p).collect();
+    let mut p = z.clone();
+    let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+    let mut hp = vec![0.0; m];
+    for it in 0..max_it {
+        if !op.apply(&p, &mut hp) {
+            return None;
+        }
+        hp.iter_mut().zip(&dq).for_each(|(v, q)| *v *= q);
+        let php: f64 = p.iter().zip(&hp).map(|(a, b)| a * b).sum();
+        if !php.is_finite() {
+            return None;
+        }
+        if php <= 0.0 {
+            return if it == 0 { None } else { Some(x) };
+        }
+        let alpha = rz / php;
+        for i in 0..m {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * hp[i];
+        }
+        let rmax = r
+            .iter()
+            .zip(&dq)
+            .fold(0.0f64, |a, (v, q)| a.max((v / q).abs()));
+        if !rmax.is_finite() {
+            return None;
+        }
+        if rmax <= rtol * bmax {
+            break;
+        }
+        for i in 0..m {
+            z[i] = r[i] * prec[i];
+        }
+        let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        let beta = rz_new / rz;
+        rz = rz_new;
+        for i in 0..m {
+            p[i] = z[i] + beta * p[i];
+        }
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}

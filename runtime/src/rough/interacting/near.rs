@@ -1,0 +1,309 @@
+//! Interaction sums at scale (interacting module docs, "Far field at scale"): the grid
+//! far field ([`FarGrid`]) plus a sparse list of near corrections found with a uniform
+//! cell list (periodic-aware: every image of the (2m+1)² block is searched). Memory is
+//! O(N) at a fixed density: the grid, one stencil and self term per asperity, and the
+//! pairs closer than r_near.
+//!
+//! For a pair image at distance r the sums hold, with G(r) the grid's value of the pair:
+//! r ≥ r_near: G(r) (grid); r_c ≤ r < r_near: c(r) (the far model, exact Chebyshev
+//! coefficients) − G(r) + G(r); r < r_c: law.g summed exactly (the exact near list,
+//! as on the dense path) − G(r) + G(r). Each asperity's own stencil term (every image)
+//! is removed from the grid sum: its self images go through the self part as before.
+
+use super::far_field::{FarModel, NB, Vb, dot};
+pub(crate) use super::far_grid::GridWork;
+use super::far_grid::{FarGrid, Stencil};
+use crate::fft::FftError;
+use crate::resources::{ResourceError, bytes_for, check_memory};
+use crate::summits::Summit;
+
+/// Peak memory of one near correction (image pair closer than r_near), bytes: stored
+/// in both directions (column index and NB coefficients each) plus its entry in the
+/// list it is assembled from.
+pub(crate) const ENTRY_BYTES: u64 = 2 * (4 + 8 * NB as u64) + 8 + 8 * NB as u64;
+/// Memory per loaded asperity of the fast sums and of a Newton step on them (stencil,
+/// self term, the energy state's vectors, the Krylov vectors), bytes.
+pub(crate) const POINT_BYTES: u64 = 1024;
+
+/// Errors of building the fast sums.
+#[derive(Debug, thiserror::Error)]
+pub(crate) enum FastError {
+    #[error(transparent)]
+    Memory(#[from] ResourceError),
+    #[error(transparent)]
+    Fft(#[from] FftError),
+}
+
+/// The grid far field and the near corrections of a set of candidates.
+pub(crate) struct FastSums {
+    pub grid: FarGrid,
+    stencils: Vec<Stencil>,
+    /// CSR rows of the corrections: row k holds (l, coefficients) for l ≠ k.
+    start: Vec<usize>,
+    col: Vec<u32>,
+    coef: Vec<Vb>,
+    /// The grid's self term of each asperity (removed from the grid sum).
+    gself: Vec<Vb>,
+    /// Image pairs carried by the grid or by the far model.
+    pub modelled_pairs: usize,
+}
+
+/// What the builder returns besides the sums: the exact near list (p < q, r < r_c).
+pub(crate) type Exact = Vec<(usize, usize, f64)>;
+
+/// Cell size of the grid: the minimiser of an estimate of the per-evaluation cost
+/// (flops), near corrections (≈ 30 per directed entry, N ρ π r_near² entries with
+/// r_near ≈ r_c + 12H, the measured reach of the grid's error) against the FFTs
+/// ((2NB + 2) padded transforms of (2L/H)² points, ≈ 1.5 log₂ flops per point).
+/// H is at most a fifteenth of what is left of `reach` (m, the grid's largest near
+/// radius) beyond r_c.
+fn cell_size(n: usize, extent: (f64, f64), r_c: f64, reach: f64) -> f64 {
+    let (lx, ly) = extent;
+    let rho = n as f64 / (lx * ly);
+    let top = (lx.max(ly) / 16.0).min((reach - r_c) / 15.0);
+    let mut best = (f64::INFINITY, top);
+    let mut h = top;
+    while h > lx.max(ly) / 2048.0 {
+        let rn = r_c + 12.0 * h;
+        let near = 30.0 * n as f64 * rho * std::f64::consts::PI * rn * rn;
+        let pts = 4.0 * (lx / h + 6.0) * (ly / h + 6.0);
+        let fft = (2 * NB + 2) as f64 * pts * pts.log2() * 1.5;
+        let cost = near + fft + 2.0 * 36.0 * NB as f64 * n as f64;
+        if cost < best.0 {
+            best = (cost, h);
+        }
+        h /= 1.1;
+    }
+    best.1
+}
+
+/// A uniform cell list of points in the sample (bucket side ≥ the search radius).
+struct Buckets {
+    side: (f64, f64),
+    count: (i64, i64),
+    start: Vec<usize>,
+    items: Vec<usize>,
+}
+
+impl Buckets {
+    fn new(pts: &[(f64, f64)], extent: (f64, f64), radius: f64) -> Buckets {
+        let bx = ((extent.0 / radius).floor() as i64).clamp(1, 4096);
+        let by = ((extent.1 / radius).floor() as i64).clamp(1, 4096);
+        let side = (extent.0 / bx as f64, extent.1 / by as f64);
+        let cell = |p: &(f64, f64)| {
+            let i = ((p.0 / side.0).floor() as i64).clamp(0, bx - 1);
+            let j = ((p.1 / side.1).floor() as i64).clamp(0, by - 1);
+            (j * bx + i) as usize
+        };
+        let mut start = vec![0usize; (bx * by) as usize + 1];
+        for p in pts {
+            start[cell(p) + 1] += 1;
+        }
+        for i in 0..(bx * by) as usize {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut items = vec![0; pts.len()];
+        for (k, p) in pts.iter().enumerate() {
+            let c = cell(p);
+            items[fill[c]] = k;
+            fill[c] += 1;
+        }
+        Buckets {
+            side,
+            count: (bx, by),
+            start,
+            items,
+        }
+    }
+
+    /// Calls `f(p)` for every point p in the buckets touching the disc (c, radius).
+    fn around(&self, c: (f64, f64), radius: f64, mut f: impl FnMut(usize)) {
+        let lo = |v: f64, s: f64| ((v - radius) / s).floor() as i64;
+        let hi = |v: f64, s: f64| ((v + radius) / s).floor() as i64;
+        let (i0, i1) = (
+            lo(c.0, self.side.0).max(0),
+            hi(c.0, self.side.0).min(self.count.0 - 1),
+        );
+        let (j0, j1) = (
+            lo(c.1, self.side.1).max(0),
+            hi(c.1, self.side.1).min(self.count.1 - 1),
+        );
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let b = (j * self.count.0 + i) as usize;
+                for &p in &self.items[self.start[b]..self.start[b + 1]] {
+                    f(p);
+                }
+            }
+        }
+    }
+}
+
+impl FastSums {
+    /// The fast sums of the candidates at `pts` (m) on a sample of sides `extent` (m)
+    /// with `m` image cells, far model `far`, tolerance `tol` (module docs); None when no
+    /// grid meets the tolerance (the caller sums densely). The exact near list is
+    /// returned alongside.
+    pub fn build(
+        summits: &[Summit],
+        cand: &[usize],
+        extent: (f64, f64),
+        m: i64,
+        far: &FarModel,
+        tol: f64,
+    ) -> Result<Option<(FastSums, Exact)>, FastError> {
+        let n = cand.len();
+        let pts: Vec<(f64, f64)> = cand.iter().map(|&k| (summits[k].x, summits[k].y)).collect();
+        let h = cell_size(n, extent, far.r_c, FarGrid::reach(extent, m));
+        let Some(grid) = FarGrid::build(far, extent, m, h, tol)? else {
+            return Ok(None);
+        };
+        let (gx, gy, _) = grid.period();
+        let (lx, ly) = extent;
+        let rn = grid.r_near;
+        let buckets = Buckets::new(&pts, extent, rn);
+        // every image pair (p < q, shift s) closer than r_near, in order of q
+        let visit = |q: usize, f: &mut dyn FnMut(usize, (i64, i64), f64)| {
+            let (xq, yq) = pts[q];
+            for sx in -m..=m {
+                for sy in -m..=m {
+                    let c = (xq + sx as f64 * lx, yq + sy as f64 * ly);
+                    if c.0 < -rn || c.0 > lx + rn || c.1 < -rn || c.1 > ly + rn {
+                        continue;
+                    }
+                    buckets.around(c, rn, |p| {
+                        if p < q {
+                            let r = (c.0 - pts[p].0).hypot(c.1 - pts[p].1);
+                            if r < rn {
+                                f(p, (sx, sy), r);
+                            }
+                        }
+                    });
+                }
+            }
+        };
+        let mut count = 0u64;
+        for q in 0..n {
+            visit(q, &mut |_, _, _| count += 1);
+        }
+        check_memory(
+            format!(
+                "I model: grid far field ({} × {} cells) and {count} near corrections of {n} loaded asperities",
+                gx, gy
+            ),
+            grid.bytes()
+                .saturating_add(bytes_for(count, ENTRY_BYTES))
+                .saturating_add(bytes_for(n as u64, POINT_BYTES)),
+        )?;
+        let stencils: Vec<Stencil> = pts.iter().map(|&(x, y)| grid.stencil(x, y)).collect();
+        let gself: Vec<Vb> = stencils.iter().map(|s| grid.self_term(s)).collect();
+        let mut exact = Vec::new();
+        let mut pairs: Vec<(u32, u32, Vb)> = Vec::with_capacity(count as usize);
+        for q in 0..n {
+            visit(q, &mut |p, (sx, sy), r| {
+                // the pair seen from target p, source q shifted by s
+                let g = grid.pair(&stencils[p], &stencils[q], (sx * gx, sy * gy));
+                let mut c = [0.0; NB];
+                if r >= far.r_c {
+                    far.accumulate(r, &mut c);
+                } else {
+                    exact.push((p, q, r));
+                }
+                for j in 0..NB {
+                    c[j] -= g[j];
+                }
+                pairs.push((p as u32, q as u32, c));
+            });
+        }
+        pairs.sort_unstable_by_key(|&(p, q, _)| (p, q));
+        pairs.dedup_by(|b, a| {
+            if (a.0, a.1) == (b.0, b.1) {
+                for j in 0..NB {
+                    a.2[j] += b.2[j];
+                }
+                true
+            } else {
+                false
+            }
+        });
+        exact.sort_unstable_by_key(|a| (a.0, a.1));
+        let mut start = vec![0usize; n + 1];
+        for &(p, q, _) in &pairs {
+            start[p as usize + 1] += 1;
+            start[q as usize + 1] += 1;
+        }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut col = vec![0u32; start[n]];
+        let mut coef = vec![[0.0; NB]; start[n]];
+        for &(p, q, c) in &pairs {
+            for (a, b) in [(p, q), (q, p)] {
+                let e = &mut fill[a as usize];
+                col[*e] = b;
+                coef[*e] = c;
+                *e += 1;
+            }
+        }
+        let blocks = ((2 * m + 1) * (2 * m + 1)) as usize;
+        let modelled_pairs = (n * n.saturating_sub(1) / 2) * blocks - exact.len();
+        Ok(Some((
+            FastSums {
+                grid,
+                stencils,
+                start,
+                col,
+                coef,
+                gself,
+                modelled_pairs,
+            },
+            exact,
+        )))
+    }
+
+    /// A workspace for [`apply`](Self::apply).
+    pub fn work(&self) -> GridWork {
+        self.grid.work()
+    }
+
+    /// out_d[k] = Σ_{l≠k} N_kl·src[l] and out_u[k] = Σ_{l≠k} N_kl sc[l] over every
+    /// image pair not in the exact near list (N_kl: the far-field Chebyshev sums of the
+    /// pair, interacting module docs), for every k. Sources with sc[l] = 0 must have
+    /// src[l] = 0.
+    pub fn apply(
+        &self,
+        src: &[Vb],
+        sc: &[f64],
+        out_d: &mut [f64],
+        out_u: &mut [Vb],
+        w: &mut GridWork,
+    ) -> Result<(), FftError> {
+        out_d.iter_mut().for_each(|v| *v = 0.0);
+        out_u.iter_mut().for_each(|v| *v = [0.0; NB]);
+        self.grid.apply(&self.stencils, src, sc, out_d, out_u, w)?;
+        // by source: the rows are symmetric, so row l lists every target of l
+        for l in 0..self.stencils.len() {
+            let s = sc[l];
+            if s == 0.0 {
+                continue;
+            }
+            let (y, gs) = (&src[l], &self.gself[l]);
+            out_d[l] -= dot(gs, y);
+            for j in 0..NB {
+                out_u[l][j] -= s * gs[j];
+            }
+            for e in self.start[l]..self.start[l + 1] {
+                let k = self.col[e] as usize;
+                let c = &self.coef[e];
+                out_d[k] += dot(c, y);
+                let u = &mut out_u[k];
+                for j in 0..NB {
+                    u[j] += s * c[j];
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,76 @@
+//! The grid far field and Krylov Newton steps (issue 20) against exact pair sums.
+
+use crate::law::{AsperityLaw, Homogeneous};
+use crate::rough::tests::{paper_law, path};
+use crate::rough::{Images, Model, Params, RoughContact, Step};
+use crate::surface::{GenerateParams, Surface};
+
+fn surface(grid: usize, k_max: f64) -> Surface {
+    Surface::generate(&GenerateParams::paper(grid, k_max)).expect("surface")
+}
+
+fn curve(law: &dyn AsperityLaw, s: &Surface, images: Images, prm: Params) -> Vec<Step> {
+    let rc = RoughContact::from_surface(law, s).unwrap().with_params(prm);
+    let d = path(&rc);
+    rc.curve(Model::Interacting(images), &d).unwrap()
+}
+
+/// Accelerated sums (FFT grid far field, sparse near corrections, conjugate-gradient
+/// Newton steps; forced with `dense_pair_limit = 0`) against exact pair-by-pair sums
+/// (far-field tolerance 0, dense LU) along a 20-step path, isolated and 5×5 periodic,
+/// homogeneous and on the layered table with E2/E1 = 0.2 and 5: load and area within
+/// 1e-6, stiffness within 1e-5 relative, every step on the grid path.
+#[test]
+#[ignore = "slow tier: CI runs `cargo test --workspace -- --ignored slow_`"]
+fn slow_grid_sums_match_exact_sums() {
+    let s = surface(256, 48.0);
+    let hom = Homogeneous { e_star: 4.092e9 };
+    let soft = paper_law(0.2);
+    let stiff = paper_law(5.0);
+    let laws: [(&str, &dyn AsperityLaw); 3] =
+        [("hom", &hom), ("E2/E1=0.2", &soft), ("E2/E1=5", &stiff)];
+    let fast = Params {
+        dense_pair_limit: 0,
+        ..Params::default()
+    };
+    let exact = Params {
+        far_field_tolerance: 0.0,
+        ..Params::default()
+    };
+    for (name, law) in laws {
+        for images in [Images::Isolated, Images::Periodic(2)] {
+            let a = curve(law, &s, images, fast.clone());
+            let b = curve(law, &s, images, exact.clone());
+            let mut worst = [0.0f64; 3];
+            for (x, y) in a.iter().zip(&b) {
+                let info = x.diagnostics.far_field.expect("far field in use");
+                assert!(
+                    info.grid_cells.0 >= 16 && info.near_radius > 0.0,
+                    "{name} {images:?}: {info:?}"
+                );
+                assert!(y.diagnostics.far_field.is_none());
+                if y.load > 0.0 {
+                    worst[0] = worst[0].max((x.load / y.load - 1.0).abs());
+                    worst[1] = worst[1].max((x.area_fraction / y.area_fraction - 1.0).abs());
+                    worst[2] = worst[2].max((x.stiffness / y.stiffness - 1.0).abs());
+                }
+            }
+            let last = a.last().unwrap();
+            eprintln!(
+                "{name} {images:?}: {} contacts, grid {:?}, errors load {:.1e} area {:.1e} stiffness {:.1e}",
+                last.contacts,
+                last.diagnostics
+                    .far_field
+                    .map(|f| (f.grid_cells, f.near_radius, f.cutoff)),
+                worst[0],
+                worst[1],
+                worst[2]
+            );
+            assert!(last.contacts > 30, "{name}: {}", last.contacts);
+            assert!(
+                worst[0] <= 1e-6 && worst[1] <= 1e-6 && worst[2] <= 1e-5,
+                "{name} {images:?}: {worst:?}"
+            );
+        }
+    }
+}
