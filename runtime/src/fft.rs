@@ -690,4 +690,56 @@ mod tests {
             }
         }
     }
+
+    #[test]
+    fn fused_convolution_equals_plain_with_row_sums() {
+        // Periodic and zero-padded plans, one and several lanes' worth of rows.
+        for (grid, data) in [
+            ((6, 10), (6, 10)),
+            ((10, 14), (5, 7)),
+            ((130, 128), (130, 128)),
+        ] {
+            let plan = RealFft2::padded(grid, data).unwrap();
+            let (ny, nx) = data;
+            let z = field(ny, nx);
+            let kernel: Vec<f64> = (0..plan.spectrum_len())
+                .map(|i| 1.0 / (1.0 + i as f64))
+                .collect();
+            let mut w = plan.work();
+            let mut plain = vec![0.0; ny * nx];
+            plan.convolve(&z, &mut plain, &kernel, 0.5, &mut w).unwrap();
+            // fill doubles the data in place and feeds it; drain writes the result.
+            let mut d = z.clone();
+            let mut out = vec![0.0; ny * nx];
+            let rows = RowPasses {
+                data: &mut d,
+                out: &mut out,
+                kernel: &kernel,
+                dc: 0.5,
+            };
+            let (a, b) = plan
+                .convolve_with(
+                    rows,
+                    &mut w,
+                    |_, row, input| {
+                        row.iter_mut().for_each(|v| *v *= 2.0);
+                        input.copy_from_slice(row);
+                        row.iter().sum::<f64>()
+                    },
+                    |i, row, result, o| {
+                        o.copy_from_slice(result);
+                        [1.0, i as f64, row.iter().sum::<f64>()]
+                    },
+                )
+                .unwrap();
+            let total: f64 = z.iter().sum();
+            assert!((a - 2.0 * total).abs() < 1e-9 * total.abs().max(1.0));
+            assert_eq!(b[0], ny as f64);
+            assert_eq!(b[1], (ny * (ny - 1) / 2) as f64);
+            assert!((b[2] - 2.0 * total).abs() < 1e-9 * total.abs().max(1.0));
+            for (x, y) in out.iter().zip(&plain) {
+                assert!((x - 2.0 * y).abs() < 1e-12 * (1.0 + y.abs()));
+            }
+        }
+    }
 }
