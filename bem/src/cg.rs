@@ -1,6 +1,7 @@
 //! Polonsky–Keer constrained conjugate gradient (Wear 231, 1999; the form of Rey,
 //! Anciaux & Molinari, Comput. Mech. 2017 for displacement control), with one
-//! convolution per iteration.
+//! convolution per iteration and the vector operations fused into as few passes over
+//! the grid as the algorithm's global reductions allow.
 //!
 //! The unknown is the pressure p ≥ 0 (Pa); the gap g = u − z + c with u = K p (m) and c
 //! the flat's offset, known under displacement control, the Lagrange multiplier of the
@@ -12,11 +13,21 @@
 //!   τ = Σ g t / Σ r̃ t        (r̃ = r − mean_contact r under pressure control)
 //!   p ← max(p − τ t, 0);  p ← −τ g where p = 0 and g < 0 (re-entry)
 //!   u ← u − τ r  (+ K Δ if the projection or the re-entry changed p by Δ ≠ −τ t)
+//!   p, u ← f p, f u,  f = p̄ / mean p               (pressure control)
 //! ```
 //!
 //! so the gap is updated from the product that the step needs anyway; a second product
 //! is spent only on iterations where the contact set changes, and u is recomputed from p
 //! every [`REFRESH`] iterations and before the solution is accepted (no drift).
+//!
+//! # Passes over the grid per iteration
+//! 1. direction t, fused into the forward row FFTs (`RealFft2::convolve_with`);
+//! 2. r = K t: the column FFTs with the kernel multiply;
+//! 3. Σ r t, Σ t, Σ r on the contact set, fused into the inverse row FFTs as r is written;
+//! 4. the update of p and u (the pending factor f of the previous step applied here,
+//!    never in a pass of its own), with the sums that give the next f and c, and, under
+//!    displacement control, the next error terms;
+//! 5. under pressure control only: the error terms and Σg² once f and c are known.
 //!
 //! Stopping criterion on the physical error (σ_z the RMS height):
 //!
@@ -25,18 +36,18 @@
 //! ```
 //!
 //! (complementarity on the contact set, interpenetration outside it), evaluated on the
-//! exact u = K p.
+//! exact u = K p before a solution is accepted.
 
 use rayon::prelude::*;
-use strata_runtime::fft::Fft2Work;
+use strata_runtime::fft::{Fft2Work, Merge};
 
 use crate::BemError;
 use crate::operator::Operator;
 
 /// Incremental gap updates between two exact products u = K p.
 pub(crate) const REFRESH: usize = 64;
-/// Points per parallel chunk of the vector operations.
-const CHUNK: usize = 1 << 14;
+/// Points per parallel chunk of the vector passes.
+const CHUNK: usize = 1 << 15;
 
 /// What the constrained CG holds fixed.
 #[derive(Clone, Copy, Debug)]
@@ -45,6 +56,23 @@ pub(crate) enum Control {
     Offset { c: f64, uniform: bool },
     /// Mean pressure p̄ (Pa); the offset is the Lagrange multiplier.
     Pressure(f64),
+}
+
+impl Control {
+    fn uniform(self) -> bool {
+        match self {
+            Control::Offset { uniform, .. } => uniform,
+            Control::Pressure(_) => false,
+        }
+    }
+
+    /// The known offset (displacement control).
+    fn known_offset(self) -> Option<f64> {
+        match self {
+            Control::Offset { c, .. } => Some(c),
+            Control::Pressure(_) => None,
+        }
+    }
 }
 
 /// Result of one constrained solve.
@@ -67,90 +95,102 @@ pub(crate) struct Problem<'a> {
     pub max_iterations: usize,
 }
 
-/// Buffers of the iteration (allocated once per solve, none per iteration).
-struct State {
-    u: Vec<f64>,
-    t: Vec<f64>,
-    r: Vec<f64>,
-    corr: Vec<f64>,
-    work: Fft2Work,
+/// Error terms of a state: Σ p|g|, Σ p and Σ g² on the contact set (p > 0), the largest
+/// interpenetration max(−g) outside it.
+#[derive(Default, Clone, Copy, Debug)]
+struct Stats {
+    pg: f64,
+    psum: f64,
+    gg: f64,
+    pen: f64,
 }
 
-/// Sums over the contact set (p > 0) of h = u − z: (Σh, count).
-fn contact_mean(p: &[f64], u: &[f64], z: &[f64]) -> (f64, f64) {
-    p.par_chunks(CHUNK)
-        .zip(u.par_chunks(CHUNK))
-        .zip(z.par_chunks(CHUNK))
-        .map(|((p, u), z)| {
-            let (mut s, mut m) = (0.0, 0.0);
-            for i in 0..p.len() {
-                if p[i] > 0.0 {
-                    s += u[i] - z[i];
-                    m += 1.0;
-                }
-            }
-            (s, m)
-        })
-        .reduce(|| (0.0, 0.0), |a, b| (a.0 + b.0, a.1 + b.1))
+impl Stats {
+    #[inline(always)]
+    fn add(&mut self, p: f64, g: f64) {
+        if p > 0.0 {
+            self.pg += p * g.abs();
+            self.psum += p;
+            self.gg += g * g;
+        } else {
+            self.pen = self.pen.max(-g);
+        }
+    }
+
+    /// ε (see the module docs); the pressure scale cancels in Σ p|g| / Σ p.
+    fn error(&self, z_rms: f64) -> f64 {
+        let comp = if self.psum > 0.0 {
+            self.pg / self.psum
+        } else {
+            0.0
+        };
+        comp.max(self.pen) / z_rms
+    }
 }
 
-/// The offset c of the current state.
-fn offset(control: Control, p: &[f64], u: &[f64], z: &[f64]) -> f64 {
-    match control {
-        Control::Offset { c, .. } => c,
-        Control::Pressure(_) => {
-            let (s, m) = contact_mean(p, u, z);
-            if m > 0.0 { -s / m } else { 0.0 }
+impl Merge for Stats {
+    fn merge(self, o: Self) -> Self {
+        Stats {
+            pg: self.pg + o.pg,
+            psum: self.psum + o.psum,
+            gg: self.gg + o.gg,
+            pen: self.pen.max(o.pen),
         }
     }
 }
 
-/// Error terms and Σg² on the contact set for g = u − z + c:
-/// [Σ p|g|, Σ p, max_{p=0}(−g), Σ_{p>0} g²].
-fn error_terms(p: &[f64], u: &[f64], z: &[f64], c: f64) -> [f64; 4] {
-    p.par_chunks(CHUNK)
-        .zip(u.par_chunks(CHUNK))
-        .zip(z.par_chunks(CHUNK))
-        .map(|((p, u), z)| {
-            let mut a = [0.0f64; 4];
-            for i in 0..p.len() {
-                let g = u[i] - z[i] + c;
-                if p[i] > 0.0 {
-                    a[0] += p[i] * g.abs();
-                    a[1] += p[i];
-                    a[3] += g * g;
-                } else {
-                    a[2] = a[2].max(-g);
-                }
-            }
-            a
-        })
-        .reduce(
-            || [0.0; 4],
-            |a, b| [a[0] + b[0], a[1] + b[1], a[2].max(b[2]), a[3] + b[3]],
-        )
+/// Sums of a pass that changes u (update, correction, exact product): the contact-set
+/// sums Σ u and Σ z (for the offset c = −mean(u − z) of pressure control), the count,
+/// Σ p, whether p changed off the step direction or re-entered, and the next error
+/// terms when the offset is known.
+#[derive(Default, Clone, Copy, Debug)]
+struct Sums {
+    su: f64,
+    sz: f64,
+    m: f64,
+    psum: f64,
+    changed: bool,
+    overlap: bool,
+    stats: Stats,
 }
 
-/// ε from the error terms.
-fn error_of(e: &[f64; 4], z_rms: f64) -> f64 {
-    let comp = if e[1] > 0.0 { e[0] / e[1] } else { 0.0 };
-    comp.max(e[2]) / z_rms
+impl Merge for Sums {
+    fn merge(self, o: Self) -> Self {
+        Sums {
+            su: self.su + o.su,
+            sz: self.sz + o.sz,
+            m: self.m + o.m,
+            psum: self.psum + o.psum,
+            changed: self.changed || o.changed,
+            overlap: self.overlap || o.overlap,
+            stats: self.stats.merge(o.stats),
+        }
+    }
+}
+
+/// Buffers and scalars of the iteration (allocated once per solve, none per iteration).
+/// The stored p and u are f times smaller than the true ones (the pending rescale of
+/// pressure control, applied in the next pass that reads them).
+struct State<'a> {
+    pb: &'a Problem<'a>,
+    control: Control,
+    u: Vec<f64>,
+    t: Vec<f64>,
+    r: Vec<f64>,
+    /// Δp off the step direction (zero except between an update and its correction).
+    corr: Vec<f64>,
+    work: Fft2Work,
+    /// Pending scale of p and u.
+    f: f64,
+    /// Offset c of the current state.
+    c: f64,
+    stats: Stats,
 }
 
 /// Solves; on return `p` holds the pressure.
 pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgOutcome, BemError> {
     let n = pb.z.len();
     let z = pb.z;
-    let uniform = match control {
-        Control::Offset { uniform, .. } => uniform,
-        Control::Pressure(_) => false,
-    };
-    let gap_of = |u: &[f64], c: f64| -> Vec<f64> {
-        u.par_iter()
-            .zip(z.par_iter())
-            .map(|(u, z)| u - z + c)
-            .collect()
-    };
     // Initial guess.
     match control {
         Control::Offset { c, .. } => {
@@ -170,70 +210,77 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
                 }
             }
         }
-        Control::Pressure(pbar) => scale_to_mean(p, None, pbar),
+        Control::Pressure(pbar) => {
+            let mean = p.iter().sum::<f64>() / n as f64;
+            if mean > 0.0 {
+                let f = pbar / mean;
+                p.iter_mut().for_each(|v| *v *= f);
+            } else {
+                p.fill(pbar);
+            }
+        }
     }
     let mut s = State {
+        pb,
+        control,
         u: vec![0.0; n],
         t: vec![0.0; n],
         r: vec![0.0; n],
         corr: vec![0.0; n],
         work: pb.op.work(),
+        f: 1.0,
+        c: control.known_offset().unwrap_or(0.0),
+        stats: Stats::default(),
     };
-    pb.op.apply(p, &mut s.u, uniform, &mut s.work)?;
+    s.exact(p)?;
     let mut exact = true;
     let mut since_exact = 0usize;
     let mut g_old = 1.0;
     let mut conjugate = false;
     let mut error = f64::INFINITY;
     for it in 0..=pb.max_iterations {
-        let mut c = offset(control, p, &s.u, z);
-        let mut e = error_terms(p, &s.u, z, c);
-        error = error_of(&e, pb.z_rms);
+        error = s.stats.error(pb.z_rms);
         if !exact && (error <= pb.tolerance || it == pb.max_iterations || since_exact >= REFRESH) {
             // Accept only on the exact gap; refresh it now and then against drift.
-            pb.op.apply(p, &mut s.u, uniform, &mut s.work)?;
+            s.exact(p)?;
             since_exact = 0;
-            c = offset(control, p, &s.u, z);
-            e = error_terms(p, &s.u, z, c);
-            error = error_of(&e, pb.z_rms);
+            error = s.stats.error(pb.z_rms);
         }
         if !error.is_finite() {
             return Err(BemError::NonFinite(it));
         }
         if error <= pb.tolerance {
+            let c = s.c;
+            let gap = s.u.par_iter().zip(z.par_iter()).map(|(u, z)| u - z + c);
             return Ok(CgOutcome {
                 iterations: it,
                 error,
                 offset: c,
-                gap: gap_of(&s.u, c),
+                gap: gap.collect(),
             });
         }
         if it == pb.max_iterations {
             break;
         }
-        if e[1] == 0.0 {
+        if s.stats.psum == 0.0 {
             // The step emptied the contact set (displacement control only): restart
             // from the local estimate on the interpenetrating points.
+            s.materialise(p);
+            let c = s.c;
             for i in 0..n {
                 p[i] = pb.stiffness * (-(s.u[i] - z[i] + c)).max(0.0);
             }
-            pb.op.apply(p, &mut s.u, uniform, &mut s.work)?;
+            s.exact(p)?;
             exact = true;
             since_exact = 0;
             conjugate = false;
             continue;
         }
-        step(
-            pb,
-            control,
-            p,
-            &mut s,
-            c,
-            &e,
-            &mut g_old,
-            &mut conjugate,
-            uniform,
-        )?;
+        let gg = s.stats.gg;
+        let beta = if conjugate { gg / g_old } else { 0.0 };
+        g_old = gg;
+        let overlap = s.step(p, beta)?;
+        conjugate = !overlap;
         exact = false;
         since_exact += 1;
     }
@@ -244,129 +291,255 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
     })
 }
 
-/// Scales p to the mean `pbar` (uniform p̄ if p ≡ 0), and u with it (u = K p is linear).
-fn scale_to_mean(p: &mut [f64], u: Option<&mut [f64]>, pbar: f64) {
-    let mean = p.par_iter().sum::<f64>() / p.len() as f64;
-    if mean > 0.0 {
-        let f = pbar / mean;
-        p.par_iter_mut().for_each(|v| *v *= f);
-        if let Some(u) = u {
-            u.par_iter_mut().for_each(|v| *v *= f);
+impl State<'_> {
+    /// Applies the pending scale to p and u.
+    fn materialise(&mut self, p: &mut [f64]) {
+        if self.f != 1.0 {
+            let f = self.f;
+            p.par_chunks_mut(CHUNK)
+                .for_each(|c| c.iter_mut().for_each(|v| *v *= f));
+            self.u
+                .par_chunks_mut(CHUNK)
+                .for_each(|c| c.iter_mut().for_each(|v| *v *= f));
+            self.f = 1.0;
         }
-    } else {
-        p.fill(pbar);
-        // u is recomputed by the caller in this (initial) case.
     }
-}
 
-/// One conjugate-gradient step from the state with offset `c` and error terms `e`.
-#[allow(clippy::too_many_arguments)]
-fn step(
-    pb: &Problem,
-    control: Control,
-    p: &mut [f64],
-    s: &mut State,
-    c: f64,
-    e: &[f64; 4],
-    g_old: &mut f64,
-    conjugate: &mut bool,
-    uniform: bool,
-) -> Result<(), BemError> {
-    let z = pb.z;
-    let gg = e[3];
-    let beta = if *conjugate { gg / *g_old } else { 0.0 };
-    *g_old = gg;
-    // Direction t on the contact set, and Σ g t.
-    let gt: f64 =
-        s.t.par_chunks_mut(CHUNK)
-            .zip(p.par_chunks(CHUNK))
-            .zip(s.u.par_chunks(CHUNK))
-            .zip(z.par_chunks(CHUNK))
-            .map(|(((t, p), u), z)| {
+    /// u = K p exactly (the pending scale applied to p on the way), then the offset and
+    /// the error terms.
+    fn exact(&mut self, p: &mut [f64]) -> Result<(), BemError> {
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let f = self.f;
+        let known = self.control.known_offset();
+        let ((), sums) = self.pb.op.apply_with(
+            p,
+            &mut self.u,
+            self.control.uniform(),
+            &mut self.work,
+            |_, row, input| {
+                if f != 1.0 {
+                    row.iter_mut().for_each(|v| *v *= f);
+                }
+                input.copy_from_slice(row);
+            },
+            |i, prow, urow, out| {
+                out.copy_from_slice(urow);
+                let zrow = &z[i * nx..(i + 1) * nx];
+                let mut acc = Sums::default();
+                for k in 0..prow.len() {
+                    if prow[k] > 0.0 {
+                        acc.su += urow[k];
+                        acc.sz += zrow[k];
+                        acc.m += 1.0;
+                    }
+                    if let Some(c) = known {
+                        acc.stats.add(prow[k], urow[k] - zrow[k] + c);
+                    }
+                }
+                acc
+            },
+        )?;
+        self.f = 1.0;
+        self.settle(p, sums);
+        Ok(())
+    }
+
+    /// After a pass that changed u: the offset, the pending scale and the error terms.
+    fn settle(&mut self, p: &[f64], sums: Sums) {
+        match self.control {
+            Control::Offset { .. } => self.stats = sums.stats,
+            Control::Pressure(_) => {
+                // f is already in p and u for an exact state; a step leaves it pending.
+                self.c = if sums.m > 0.0 {
+                    -(self.f * sums.su - sums.sz) / sums.m
+                } else {
+                    0.0
+                };
+                self.stats = stats_pass(p, &self.u, self.pb.z, self.f, self.c);
+            }
+        }
+    }
+
+    /// One conjugate-gradient step with conjugation coefficient `beta`; returns whether
+    /// points re-entered the contact set (the conjugation restarts).
+    fn step(&mut self, p: &mut [f64], beta: f64) -> Result<bool, BemError> {
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let (f, c) = (self.f, self.c);
+        let uniform = self.control.uniform();
+        let u = &self.u;
+        let pr: &[f64] = p;
+        // Direction t (fused into the forward row FFTs) and r = K t, with the sums of τ
+        // as r is written.
+        let (gt, d) = self.pb.op.apply_with(
+            &mut self.t,
+            &mut self.r,
+            uniform,
+            &mut self.work,
+            |i, trow, input| {
+                let row = i * nx..(i + 1) * nx;
+                let (prow, urow, zrow) = (&pr[row.clone()], &u[row.clone()], &z[row]);
                 let mut acc = 0.0;
-                for i in 0..t.len() {
-                    t[i] = if p[i] > 0.0 {
-                        let g = u[i] - z[i] + c;
-                        let v = g + beta * t[i];
+                for k in 0..nx {
+                    trow[k] = if prow[k] > 0.0 {
+                        let g = f * urow[k] - zrow[k] + c;
+                        let v = g + beta * trow[k];
                         acc += g * v;
                         v
                     } else {
                         0.0
                     };
                 }
+                input.copy_from_slice(trow);
+                acc
+            },
+            |i, trow, rrow, out| {
+                out.copy_from_slice(rrow);
+                let prow = &pr[i * nx..(i + 1) * nx];
+                let mut a = [0.0f64; 4];
+                for k in 0..nx {
+                    if prow[k] > 0.0 {
+                        a[0] += rrow[k] * trow[k];
+                        a[1] += trow[k];
+                        a[2] += rrow[k];
+                        a[3] += 1.0;
+                    }
+                }
+                a
+            },
+        )?;
+        let den = match self.control {
+            Control::Pressure(_) if d[3] > 0.0 => d[0] - d[2] / d[3] * d[1],
+            _ => d[0],
+        };
+        let tau = if den > 0.0 { gt / den } else { 0.0 };
+        let mut sums = self.update(p, tau);
+        self.f = 1.0;
+        if sums.changed {
+            // The contact set changed: add K Δ (the second product of this iteration).
+            sums = self.correct(p, sums)?;
+        }
+        let overlap = sums.overlap;
+        if let Control::Pressure(pbar) = self.control {
+            if sums.psum > 0.0 {
+                self.f = pbar * p.len() as f64 / sums.psum;
+            } else {
+                // Every point left the contact: restart from the uniform pressure.
+                p.fill(pbar);
+                self.exact(p)?;
+                return Ok(true);
+            }
+        }
+        self.settle(p, sums);
+        Ok(overlap)
+    }
+
+    /// p ← max(f p − τ t, 0) with re-entry, u ← f u − τ r; the changes off −τ t go to
+    /// `corr`.
+    fn update(&mut self, p: &mut [f64], tau: f64) -> Sums {
+        let z = self.pb.z;
+        let (f, c) = (self.f, self.c);
+        let known = self.control.known_offset();
+        p.par_chunks_mut(CHUNK)
+            .zip(self.u.par_chunks_mut(CHUNK))
+            .zip(self.corr.par_chunks_mut(CHUNK))
+            .zip(self.t.par_chunks(CHUNK))
+            .zip(self.r.par_chunks(CHUNK))
+            .zip(z.par_chunks(CHUNK))
+            .map(|(((((p, u), corr), t), r), z)| {
+                let mut acc = Sums::default();
+                for i in 0..p.len() {
+                    let pi = f * p[i];
+                    let ui = f * u[i];
+                    let mut k = 0.0;
+                    let v = if pi > 0.0 {
+                        let v = pi - tau * t[i];
+                        if v < 0.0 {
+                            k = -v;
+                            0.0
+                        } else {
+                            v
+                        }
+                    } else {
+                        let g = ui - z[i] + c;
+                        if g < 0.0 {
+                            k = -tau * g;
+                            acc.overlap = true;
+                            k
+                        } else {
+                            0.0
+                        }
+                    };
+                    p[i] = v;
+                    let un = ui - tau * r[i];
+                    u[i] = un;
+                    if k != 0.0 {
+                        acc.changed = true;
+                        corr[i] = k;
+                    }
+                    if v > 0.0 {
+                        acc.su += un;
+                        acc.sz += z[i];
+                        acc.m += 1.0;
+                        acc.psum += v;
+                    }
+                    if let Some(c) = known {
+                        acc.stats.add(v, un - z[i] + c);
+                    }
+                }
                 acc
             })
-            .sum();
-    pb.op.apply(&s.t, &mut s.r, uniform, &mut s.work)?;
-    // [Σ r t, Σ t, Σ r, count] on the contact set.
-    let d = p
-        .par_chunks(CHUNK)
-        .zip(s.r.par_chunks(CHUNK))
-        .zip(s.t.par_chunks(CHUNK))
-        .map(|((p, r), t)| {
-            let mut a = [0.0f64; 4];
-            for i in 0..p.len() {
-                if p[i] > 0.0 {
-                    a[0] += r[i] * t[i];
-                    a[1] += t[i];
-                    a[2] += r[i];
-                    a[3] += 1.0;
+            .reduce(Sums::default, Sums::merge)
+    }
+
+    /// u += K corr (corr zeroed on the way); the contact-set sums follow.
+    fn correct(&mut self, p: &[f64], before: Sums) -> Result<Sums, BemError> {
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let known = self.control.known_offset();
+        let ((), add) = self.pb.op.apply_with(
+            &mut self.corr,
+            &mut self.u,
+            self.control.uniform(),
+            &mut self.work,
+            |_, row, input| {
+                input.copy_from_slice(row);
+                row.fill(0.0);
+            },
+            |i, _, du, urow| {
+                let row = i * nx..(i + 1) * nx;
+                let (prow, zrow) = (&p[row.clone()], &z[row]);
+                let mut acc = Sums::default();
+                for k in 0..nx {
+                    urow[k] += du[k];
+                    if prow[k] > 0.0 {
+                        acc.su += du[k];
+                    }
+                    if let Some(c) = known {
+                        acc.stats.add(prow[k], urow[k] - zrow[k] + c);
+                    }
                 }
+                acc
+            },
+        )?;
+        Ok(Sums {
+            su: before.su + add.su,
+            stats: add.stats,
+            ..before
+        })
+    }
+}
+
+/// Error terms of the state (f p, f u) with offset c (pressure control: f and c are
+/// known only after the update pass).
+fn stats_pass(p: &[f64], u: &[f64], z: &[f64], f: f64, c: f64) -> Stats {
+    p.par_chunks(CHUNK)
+        .zip(u.par_chunks(CHUNK))
+        .zip(z.par_chunks(CHUNK))
+        .map(|((p, u), z)| {
+            let mut a = Stats::default();
+            for i in 0..p.len() {
+                a.add(f * p[i], f * u[i] - z[i] + c);
             }
             a
         })
-        .reduce(
-            || [0.0; 4],
-            |a, b| [a[0] + b[0], a[1] + b[1], a[2] + b[2], a[3] + b[3]],
-        );
-    let den = match control {
-        Control::Pressure(_) if d[3] > 0.0 => d[0] - d[2] / d[3] * d[1],
-        _ => d[0],
-    };
-    let tau = if den > 0.0 { gt / den } else { 0.0 };
-    // Step, projection and re-entry; u follows by −τ r, corrections collected.
-    let flags = p
-        .par_chunks_mut(CHUNK)
-        .zip(s.u.par_chunks_mut(CHUNK))
-        .zip(s.corr.par_chunks_mut(CHUNK))
-        .zip(s.t.par_chunks(CHUNK))
-        .zip(s.r.par_chunks(CHUNK))
-        .zip(z.par_chunks(CHUNK))
-        .map(|(((((p, u), corr), t), r), z)| {
-            let (mut changed, mut overlap) = (false, false);
-            for i in 0..p.len() {
-                let g = u[i] - z[i] + c;
-                let mut k = 0.0;
-                if p[i] > 0.0 {
-                    let v = p[i] - tau * t[i];
-                    if v < 0.0 {
-                        k = -v;
-                        p[i] = 0.0;
-                    } else {
-                        p[i] = v;
-                    }
-                } else if g < 0.0 {
-                    k = -tau * g;
-                    p[i] = k;
-                    overlap = true;
-                }
-                changed |= k != 0.0;
-                corr[i] = k;
-                u[i] -= tau * r[i];
-            }
-            (changed, overlap)
-        })
-        .reduce(|| (false, false), |a, b| (a.0 || b.0, a.1 || b.1));
-    if flags.0 {
-        // The contact set changed: add K Δ (the second product of this iteration).
-        pb.op.apply(&s.corr, &mut s.r, uniform, &mut s.work)?;
-        s.u.par_iter_mut()
-            .zip(s.r.par_iter())
-            .for_each(|(u, r)| *u += r);
-    }
-    *conjugate = !flags.1;
-    if let Control::Pressure(pbar) = control {
-        scale_to_mean(p, Some(&mut s.u), pbar);
-    }
-    Ok(())
+        .reduce(Stats::default, Stats::merge)
 }

@@ -90,6 +90,7 @@ mod error;
 pub mod influence;
 mod maps;
 mod operator;
+mod reference;
 mod solver;
 #[cfg(test)]
 mod tests;

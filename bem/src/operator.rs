@@ -9,7 +9,7 @@
 //!   real-space influence coefficients G of a uniformly loaded pixel ([`crate::influence`]),
 //!   by circulant embedding on the zero-padded 2ny × 2nx grid.
 
-use strata_runtime::fft::{Fft2Work, RealFft2};
+use strata_runtime::fft::{Fft2Work, Merge, RealFft2, RowPasses};
 
 use crate::BemError;
 
@@ -108,13 +108,44 @@ impl Operator {
         uniform: bool,
         work: &mut Fft2Work,
     ) -> Result<(), BemError> {
-        let dc = if self.periodic && !uniform {
+        self.plan
+            .convolve(input, out, &self.kernel, self.dc(uniform), work)?;
+        Ok(())
+    }
+
+    /// Columns nx of the field.
+    pub(crate) fn nx(&self) -> usize {
+        self.plan.data().1
+    }
+
+    /// `out ← drain(K · fill(data))` row by row ([`RealFft2::convolve_with`]): the
+    /// per-row work of the solver fused into the FFT's row passes.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn apply_with<A: Merge, B: Merge>(
+        &self,
+        data: &mut [f64],
+        out: &mut [f64],
+        uniform: bool,
+        work: &mut Fft2Work,
+        fill: impl Fn(usize, &mut [f64], &mut [f64]) -> A + Sync,
+        drain: impl Fn(usize, &[f64], &[f64], &mut [f64]) -> B + Sync,
+    ) -> Result<(A, B), BemError> {
+        let rows = RowPasses {
+            data,
+            out,
+            kernel: &self.kernel,
+            dc: self.dc(uniform),
+        };
+        Ok(self.plan.convolve_with(rows, work, fill, drain)?)
+    }
+
+    /// The (0, 0) kernel entry: 0 for a periodic operator without the uniform mode.
+    fn dc(&self, uniform: bool) -> f64 {
+        if self.periodic && !uniform {
             0.0
         } else {
             self.kernel[0]
-        };
-        self.plan.convolve(input, out, &self.kernel, dc, work)?;
-        Ok(())
+        }
     }
 
     /// Bytes the operator and one work set take for an ny × nx field (estimate for the

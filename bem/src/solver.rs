@@ -462,6 +462,18 @@ impl BemSolver {
         Ok(s)
     }
 
+    /// Solves one load on the unaccelerated reference path (module `reference`): Polonsky
+    /// & Keer's iteration as published, two convolutions per iteration (the gap recomputed
+    /// from the pressure every time), a cold start on the full grid, the same error ε and
+    /// tolerance. Much slower than [`solve`](Self::solve); it exists to check the fast
+    /// path (warm starts, coarse-to-fine start, incremental gap, fused passes) against.
+    pub fn solve_reference(&self, load: BemLoad) -> Result<BemSolution, BemError> {
+        let control = self.control(load)?;
+        let mut p = vec![0.0; self.ny * self.nx];
+        let out = crate::reference::solve(&self.problem(), control, &mut p)?;
+        Ok(self.summarise(load, control, p, out))
+    }
+
     fn problem(&self) -> Problem<'_> {
         Problem {
             op: &self.op,

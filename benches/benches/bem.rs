@@ -6,8 +6,10 @@
 //!   the floor of an iteration) and the time per constrained-CG iteration of a solve
 //!   (paper-like surface, L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm, seed 20240611,
 //!   generated at n; two-layer stack E2/E1 = 1 on a rigid base; approach 5 µm, tolerance
-//!   1e-10, warm-started from the solution at 4.75 µm as along a load curve), measured
-//!   side by side, and their ratio. Both use all cores (rayon).
+//!   1e-10, warm-started from the solution at 4.75 µm as along a load curve), timed
+//!   alternately in one run (best of the repetitions of each, with the load average),
+//!   and their ratio; then the wall time of the 20-step 512² E2/E1 = 5 curve (best of 3).
+//!   All on all cores (rayon).
 //! * `bem_fft_pair/n`, `bem_iteration/n`: the same two quantities under criterion.
 //! * `bem_512`: one load step at n = 512 on the shared paper-like surface
 //!   (`tests/reference/surface_km10.npy`) from a cold start: half-space at mean gap
@@ -56,37 +58,106 @@ fn median(reps: usize, mut f: impl FnMut()) -> f64 {
     t[reps / 2]
 }
 
-/// Seconds of one FFT pair with the kernel multiply on an n×n grid.
-fn pair_time(n: usize, reps: usize) -> f64 {
-    let plan = RealFft2::new(n, n).expect("plan");
-    let mut w = plan.work();
-    let input: Vec<f64> = (0..n * n).map(|i| (i as f64 * 0.37).sin()).collect();
-    let kernel: Vec<f64> = (0..plan.spectrum_len())
-        .map(|i| 1.0 / (1.0 + i as f64))
-        .collect();
-    let mut out = vec![0.0; n * n];
-    median(reps, || {
-        plan.convolve(&input, &mut out, &kernel, 0.0, &mut w)
-            .expect("convolve");
-        black_box(&out);
-    })
+/// One timing of `f` (s).
+fn once(f: impl FnOnce()) -> f64 {
+    let t0 = Instant::now();
+    f();
+    t0.elapsed().as_secs_f64()
 }
 
-/// (seconds per iteration, iterations) of a warm-started solve on an n×n grid.
-fn iteration_time(n: usize, reps: usize) -> (f64, usize) {
-    let z = paper_surface(n);
-    let stack = Stack::paper_two_layer(1.0).expect("stack");
-    let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
-    let prev = solver.solve(BemLoad::Approach(4.75e-6)).expect("solve");
-    let init: Vec<f64> = prev.pressure.iter().copied().collect();
-    let mut iters = 0;
-    let t = median(reps, || {
-        let s = solver
-            .solve_from(BemLoad::Approach(5e-6), Some(&init))
+/// An FFT pair with the kernel multiply on an n×n grid, ready to time.
+struct Pair {
+    plan: RealFft2,
+    work: strata_runtime::fft::Fft2Work,
+    input: Vec<f64>,
+    kernel: Vec<f64>,
+    out: Vec<f64>,
+}
+
+impl Pair {
+    fn new(n: usize) -> Self {
+        let plan = RealFft2::new(n, n).expect("plan");
+        let work = plan.work();
+        let input: Vec<f64> = (0..n * n).map(|i| (i as f64 * 0.37).sin()).collect();
+        let kernel: Vec<f64> = (0..plan.spectrum_len())
+            .map(|i| 1.0 / (1.0 + i as f64))
+            .collect();
+        Pair {
+            plan,
+            work,
+            input,
+            kernel,
+            out: vec![0.0; n * n],
+        }
+    }
+
+    fn run(&mut self) {
+        self.plan
+            .convolve(
+                &self.input,
+                &mut self.out,
+                &self.kernel,
+                0.0,
+                &mut self.work,
+            )
+            .expect("convolve");
+        black_box(&self.out);
+    }
+}
+
+/// The floor table's solve at n: a warm-started load step (the approach 5 µm from the
+/// solution at 4.75 µm), ready to time.
+struct Step {
+    solver: BemSolver,
+    init: Vec<f64>,
+}
+
+impl Step {
+    fn new(n: usize) -> Self {
+        let z = paper_surface(n);
+        let stack = Stack::paper_two_layer(1.0).expect("stack");
+        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
+        let prev = solver.solve(BemLoad::Approach(4.75e-6)).expect("solve");
+        let init = prev.pressure.iter().copied().collect();
+        Step { solver, init }
+    }
+
+    /// Iterations of one solve.
+    fn run(&self) -> usize {
+        let s = self
+            .solver
+            .solve_from(BemLoad::Approach(5e-6), Some(&self.init))
             .expect("solve");
-        iters = s.iterations;
-    });
-    (t / iters.max(1) as f64, iters)
+        black_box(&s);
+        s.iterations
+    }
+}
+
+/// CPU time of this process so far (ns): the sum over its threads of the scheduler's
+/// run time (/proc/self/task/*/schedstat), which a loaded machine does not inflate
+/// the way it inflates wall time; 0 where unavailable.
+fn cpu_ns() -> u64 {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return 0;
+    };
+    tasks
+        .filter_map(|t| t.ok())
+        .filter_map(|t| std::fs::read_to_string(t.path().join("schedstat")).ok())
+        .filter_map(|s| s.split_whitespace().next()?.parse::<u64>().ok())
+        .sum()
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
+        .unwrap_or_else(|_| "?".into())
+}
+
+/// The 20-step 512² load curve on the paper's E2/E1 = 5 stack (approaches 1.3…9.8 µm).
+fn curve_loads() -> Vec<BemLoad> {
+    (0..20)
+        .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
+        .collect()
 }
 
 fn floor_table(_c: &mut Criterion) {
@@ -94,24 +165,74 @@ fn floor_table(_c: &mut Criterion) {
         return;
     }
     println!(
-        "\nbem_floor: time per CG iteration vs one realfft 2-D pair (same run, {} threads)",
+        "\nbem_floor: time per CG iteration vs one realfft 2-D pair (same run, {} threads; \
+         pair and solve timed alternately, best of the repetitions of each, so that the \
+         load of a shared machine hits both alike)",
         rayon::current_num_threads()
     );
-    println!("| n | FFT pair (ms) | CG iteration (ms) | iteration / pair | iterations |");
-    println!("|---|---|---|---|---|");
-    for n in [256usize, 512, 1024, 2048] {
-        let reps = if n >= 2048 { 5 } else { 21 };
-        let pair = pair_time(n, reps);
-        let (it, iters) = iteration_time(n, if n >= 2048 { 3 } else { 5 });
-        let pair2 = pair_time(n, reps);
-        let pair = pair.min(pair2);
+    println!(
+        "| n | FFT pair (ms) | CG iteration (ms) | iteration / pair | pair CPU (ms) | iteration CPU (ms) | CPU ratio | iterations | load average |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    // STRATA_FLOOR_GRIDS (e.g. "512,2048") limits the grids; "0" skips the table.
+    let grids: Vec<usize> = std::env::var("STRATA_FLOOR_GRIDS")
+        .ok()
+        .map(|v| v.split(',').filter_map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|| vec![256, 512, 1024, 2048]);
+    for n in grids.into_iter().filter(|&n| n > 0) {
+        let mut pair = Pair::new(n);
+        let step = Step::new(n);
+        let (rounds, pairs) = if n >= 2048 { (4, 3) } else { (8, 9) };
+        let (mut best_pair, mut best_iter, mut iters) = (f64::INFINITY, f64::INFINITY, 0);
+        let (mut cpu_pair, mut cpu_iter, mut n_pair, mut n_iter) = (0u64, 0u64, 0usize, 0usize);
+        for _ in 0..rounds {
+            let c0 = cpu_ns();
+            for _ in 0..pairs {
+                best_pair = best_pair.min(once(|| pair.run()));
+            }
+            let c1 = cpu_ns();
+            let t = once(|| iters = step.run());
+            let c2 = cpu_ns();
+            cpu_pair += c1 - c0;
+            cpu_iter += c2 - c1;
+            n_pair += pairs;
+            n_iter += iters.max(1);
+            best_iter = best_iter.min(t / iters.max(1) as f64);
+        }
+        let (cp, ci) = (
+            cpu_pair as f64 / n_pair as f64 * 1e-6,
+            cpu_iter as f64 / n_iter as f64 * 1e-6,
+        );
         println!(
-            "| {n} | {:.3} | {:.3} | {:.2} | {iters} |",
-            pair * 1e3,
-            it * 1e3,
-            it / pair
+            "| {n} | {:.3} | {:.3} | {:.2} | {cp:.3} | {ci:.3} | {:.2} | {iters} | {} |",
+            best_pair * 1e3,
+            best_iter * 1e3,
+            best_iter / best_pair,
+            ci / cp,
+            load_average()
         );
     }
+    let z = paper_surface(512);
+    let stack = Stack::paper_two_layer(5.0).expect("stack");
+    let loads = curve_loads();
+    let mut best = f64::INFINITY;
+    let mut iters = 0;
+    let c0 = cpu_ns();
+    for _ in 0..3 {
+        let t = once(|| {
+            let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
+            let out = solver.solve_curve(&loads).expect("curve");
+            iters = out.iter().map(|s| s.iterations).sum();
+        });
+        best = best.min(t);
+    }
+    let cpu = (cpu_ns() - c0) as f64 * 1e-9 / 3.0;
+    println!(
+        "bem_curve: 20-step 512² curve, E2/E1 = 5, approaches 1.3…9.8 µm, tolerance 1e-10: \
+         {best:.3} s wall (best of 3, solver set-up included), {cpu:.3} s CPU (mean, all \
+         threads), {iters} iterations, load average {}",
+        load_average()
+    );
 }
 
 /// Whether the command line's filter (if any) selects `name`.
@@ -209,9 +330,7 @@ fn steps(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(10));
     let z = paper_surface(512);
     let stack = Stack::paper_two_layer(5.0).expect("stack");
-    let loads: Vec<BemLoad> = (0..20)
-        .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
-        .collect();
+    let loads = curve_loads();
     g.bench_function("E2E1_5_20_steps", |b| {
         b.iter(|| {
             let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");

@@ -29,6 +29,8 @@ use rustfft::{Fft, FftPlanner};
 const PARALLEL_MIN_POINTS: usize = 128 * 128;
 /// Columns transposed per block (cache lines of the row spectra).
 const BLOCK: usize = 16;
+/// Rows gathered per block from the transposed spectrum (cache lines of its kx lines).
+const ROW_BLOCK: usize = 8;
 
 /// A plan for 2-D real FFTs on an `NY × NX` grid with the data in the top-left
 /// `ny × nx` block (see the module docs).
@@ -67,6 +69,8 @@ pub struct Fft2Work {
 struct Lane {
     real: Vec<f64>,
     scratch: Vec<Complex<f64>>,
+    /// [`ROW_BLOCK`] row spectra gathered from the transposed spectrum.
+    block: Vec<Complex<f64>>,
 }
 
 /// Errors of the plan: only wrong sizes (a bug of the caller), reported, never a panic.
@@ -87,6 +91,51 @@ pub enum FftError {
         got: usize,
         expected: usize,
     },
+}
+
+/// A lane's rows of the data and output arrays, and its scratch.
+type RowSpan<'a> = ((&'a [f64], &'a mut [f64]), &'a mut Lane);
+
+/// Per-row accumulators of [`RealFft2::convolve_with`], combined over rows.
+pub trait Merge: Default + Send {
+    /// The combination of two partial results (e.g. sums and maxima).
+    fn merge(self, other: Self) -> Self;
+}
+
+impl Merge for () {
+    fn merge(self, _: Self) -> Self {}
+}
+
+impl Merge for f64 {
+    fn merge(self, other: Self) -> Self {
+        self + other
+    }
+}
+
+impl<const N: usize> Merge for [f64; N]
+where
+    [f64; N]: Default,
+{
+    fn merge(mut self, other: Self) -> Self {
+        for (a, b) in self.iter_mut().zip(other) {
+            *a += b;
+        }
+        self
+    }
+}
+
+/// The arrays of one [`RealFft2::convolve_with`]: `data` and `out` (ny·nx, row-major,
+/// handed row by row to the fill and drain hooks), the kernel in the half-spectrum
+/// layout (normalisation included) and its (0, 0) entry `dc`.
+pub struct RowPasses<'a> {
+    /// Row source of the fill hook (ny·nx), which may rewrite it.
+    pub data: &'a mut [f64],
+    /// Row destination of the drain hook (ny·nx).
+    pub out: &'a mut [f64],
+    /// Kernel, `kernel[kx · NY + ky]`.
+    pub kernel: &'a [f64],
+    /// Value used in place of the (0, 0) kernel entry.
+    pub dc: f64,
 }
 
 impl RealFft2 {
@@ -158,6 +207,7 @@ impl RealFft2 {
                 .map(|_| Lane {
                     real: vec![0.0; self.grid.1],
                     scratch: vec![Complex::default(); s],
+                    block: vec![Complex::default(); ROW_BLOCK * self.half],
                 })
                 .collect(),
         }
@@ -215,23 +265,192 @@ impl RealFft2 {
         self.check("output", out.len(), n)?;
         self.check("kernel", kernel.len(), self.spectrum_len())?;
         self.rows_forward(input, work);
-        self.transpose_in(work);
-        let gy = self.grid.0;
-        self.columns(&mut work.spec, &mut work.lanes, |line, kx, lane| {
-            self.col_fwd.process_with_scratch(line, &mut lane.scratch);
-            let z0 = line[0];
-            let k = &kernel[kx * gy..(kx + 1) * gy];
-            for (c, &kv) in line.iter_mut().zip(k) {
-                *c *= kv;
-            }
-            if kx == 0 {
-                line[0] = z0 * dc;
-            }
-            self.col_inv.process_with_scratch(line, &mut lane.scratch);
+        self.columns_from_rows(kernel, dc, work);
+        self.rows_inverse_from_spec(input, out, work, &|_, _, result, o: &mut [f64]| {
+            o.copy_from_slice(result)
         });
-        self.transpose_out(work);
-        self.rows_inverse(out, work);
         Ok(())
+    }
+
+    /// [`convolve`](Self::convolve) with per-row work fused into the two row passes,
+    /// while each row is in cache: `fill(i, data_row, input_row)` produces row `i` of
+    /// the transform's input (`input_row`, nx values; it may also rewrite `data_row`,
+    /// row `i` of `data`), and `drain(i, data_row, result_row, out_row)` consumes row `i`
+    /// of the result `F⁻¹[K · F[input]]`, writing row `i` of `out` as it likes. Each
+    /// returns a per-row accumulator, combined over the rows with [`Merge`]. Rows run
+    /// on the plan's lanes in parallel.
+    pub fn convolve_with<A, B>(
+        &self,
+        rows: RowPasses<'_>,
+        work: &mut Fft2Work,
+        fill: impl Fn(usize, &mut [f64], &mut [f64]) -> A + Sync,
+        drain: impl Fn(usize, &[f64], &[f64], &mut [f64]) -> B + Sync,
+    ) -> Result<(A, B), FftError>
+    where
+        A: Merge,
+        B: Merge,
+    {
+        let n = self.data.0 * self.data.1;
+        let RowPasses {
+            data,
+            out,
+            kernel,
+            dc,
+        } = rows;
+        self.check("data", data.len(), n)?;
+        self.check("output", out.len(), n)?;
+        self.check("kernel", kernel.len(), self.spectrum_len())?;
+        let a = self.rows_forward_with(data, work, &fill);
+        self.columns_from_rows(kernel, dc, work);
+        let b = self.rows_inverse_from_spec(data, out, work, &drain);
+        Ok((a, b))
+    }
+
+    /// The column stage of a convolution: each lane gathers its kx lines from the row
+    /// spectra (the transpose, BLOCK lines at a time, zero below the data rows), and
+    /// transforms, multiplies by the kernel and transforms back each line while it is
+    /// in cache.
+    fn columns_from_rows(&self, kernel: &[f64], dc: f64, work: &mut Fft2Work) {
+        let (gy, ny, h) = (self.grid.0, self.data.0, self.half);
+        let rows = &work.rows;
+        let chunk = h.div_ceil(work.lanes.len());
+        let run = |(c, (spec, lane)): (usize, (&mut [Complex<f64>], &mut Lane))| {
+            let k0 = c * chunk;
+            let kn = spec.len() / gy;
+            for b in (0..kn).step_by(BLOCK) {
+                let be = (b + BLOCK).min(kn);
+                for i in 0..ny {
+                    let src = &rows[i * h + k0 + b..i * h + k0 + be];
+                    for (k, &v) in src.iter().enumerate() {
+                        spec[(b + k) * gy + i] = v;
+                    }
+                }
+                for k in b..be {
+                    let line = &mut spec[k * gy..(k + 1) * gy];
+                    line[ny..].fill(Complex::default());
+                    self.col_fwd.process_with_scratch(line, &mut lane.scratch);
+                    let z0 = line[0];
+                    let kx = k0 + k;
+                    for (v, &kv) in line.iter_mut().zip(&kernel[kx * gy..(kx + 1) * gy]) {
+                        *v *= kv;
+                    }
+                    if kx == 0 {
+                        line[0] = z0 * dc;
+                    }
+                    self.col_inv.process_with_scratch(line, &mut lane.scratch);
+                }
+            }
+        };
+        if work.lanes.len() > 1 {
+            work.spec
+                .par_chunks_mut(chunk * gy)
+                .zip(work.lanes.par_iter_mut())
+                .enumerate()
+                .for_each(run);
+        } else {
+            run((0, (&mut work.spec, &mut work.lanes[0])));
+        }
+    }
+
+    /// Forward row transforms, each row produced by `fill`.
+    fn rows_forward_with<A: Merge>(
+        &self,
+        data: &mut [f64],
+        work: &mut Fft2Work,
+        fill: &(impl Fn(usize, &mut [f64], &mut [f64]) -> A + Sync),
+    ) -> A {
+        let (ny, nx) = self.data;
+        let gx = self.grid.1;
+        let h = self.half;
+        let chunk = ny.div_ceil(work.lanes.len());
+        let r2c = &self.r2c;
+        let run = |((rows, src), lane): ((&mut [Complex<f64>], &mut [f64]), &mut Lane),
+                   first: usize| {
+            let mut acc = A::default();
+            for (r, (out, d)) in rows.chunks_mut(h).zip(src.chunks_mut(nx)).enumerate() {
+                acc = acc.merge(fill(first + r, d, &mut lane.real[..nx]));
+                lane.real[nx..gx].fill(0.0);
+                // Lengths are fixed by the plan: the only error is a wrong length.
+                let _ = r2c.process_with_scratch(&mut lane.real, out, &mut lane.scratch);
+            }
+            acc
+        };
+        if work.lanes.len() > 1 {
+            work.rows
+                .par_chunks_mut(chunk * h)
+                .zip(data.par_chunks_mut(chunk * nx))
+                .zip(work.lanes.par_iter_mut())
+                .enumerate()
+                .map(|(c, pair)| run(pair, c * chunk))
+                .reduce(A::default, A::merge)
+        } else {
+            run(((&mut work.rows, data), &mut work.lanes[0]), 0)
+        }
+    }
+
+    /// The inverse row stage of a convolution: each lane gathers its rows from the
+    /// transposed spectrum (ROW_BLOCK rows at a time), transforms them back and hands
+    /// each result row to `drain`.
+    fn rows_inverse_from_spec<B: Merge>(
+        &self,
+        data: &[f64],
+        out: &mut [f64],
+        work: &mut Fft2Work,
+        drain: &(impl Fn(usize, &[f64], &[f64], &mut [f64]) -> B + Sync),
+    ) -> B {
+        let (ny, nx) = self.data;
+        let (gy, h) = (self.grid.0, self.half);
+        let chunk = ny.div_ceil(work.lanes.len());
+        let c2r = &self.c2r;
+        let even = self.grid.1.is_multiple_of(2);
+        let spec = &work.spec;
+        let run = |(c, ((src, dst), lane)): (usize, RowSpan<'_>)| {
+            let i0 = c * chunk;
+            let rn = dst.len() / nx;
+            let Lane {
+                real,
+                scratch,
+                block,
+            } = lane;
+            let mut acc = B::default();
+            for b in (0..rn).step_by(ROW_BLOCK) {
+                let be = (b + ROW_BLOCK).min(rn);
+                for k in 0..h {
+                    let col = &spec[k * gy + i0 + b..k * gy + i0 + be];
+                    for (r, &v) in col.iter().enumerate() {
+                        block[r * h + k] = v;
+                    }
+                }
+                for r in b..be {
+                    let row = &mut block[(r - b) * h..(r - b + 1) * h];
+                    // A real field's row spectrum has real DC and Nyquist terms; round-off
+                    // left there is dropped (realfft would report it).
+                    row[0].im = 0.0;
+                    if even {
+                        row[h - 1].im = 0.0;
+                    }
+                    let _ = c2r.process_with_scratch(row, real, scratch);
+                    let span = r * nx..(r + 1) * nx;
+                    acc = acc.merge(drain(
+                        i0 + r,
+                        &src[span.clone()],
+                        &real[..nx],
+                        &mut dst[span],
+                    ));
+                }
+            }
+            acc
+        };
+        if work.lanes.len() > 1 {
+            data.par_chunks(chunk * nx)
+                .zip(out.par_chunks_mut(chunk * nx))
+                .zip(work.lanes.par_iter_mut())
+                .enumerate()
+                .map(run)
+                .reduce(B::default, B::merge)
+        } else {
+            run((0, ((data, out), &mut work.lanes[0])))
+        }
     }
 
     /// Row transforms of the data block into `work.rows`.
@@ -468,6 +687,58 @@ mod tests {
                     }
                 }
                 assert!((out[i * nx + j] - acc).abs() < 1e-11, "({i},{j})");
+            }
+        }
+    }
+
+    #[test]
+    fn fused_convolution_equals_plain_with_row_sums() {
+        // Periodic and zero-padded plans, one and several lanes' worth of rows.
+        for (grid, data) in [
+            ((6, 10), (6, 10)),
+            ((10, 14), (5, 7)),
+            ((130, 128), (130, 128)),
+        ] {
+            let plan = RealFft2::padded(grid, data).unwrap();
+            let (ny, nx) = data;
+            let z = field(ny, nx);
+            let kernel: Vec<f64> = (0..plan.spectrum_len())
+                .map(|i| 1.0 / (1.0 + i as f64))
+                .collect();
+            let mut w = plan.work();
+            let mut plain = vec![0.0; ny * nx];
+            plan.convolve(&z, &mut plain, &kernel, 0.5, &mut w).unwrap();
+            // fill doubles the data in place and feeds it; drain writes the result.
+            let mut d = z.clone();
+            let mut out = vec![0.0; ny * nx];
+            let rows = RowPasses {
+                data: &mut d,
+                out: &mut out,
+                kernel: &kernel,
+                dc: 0.5,
+            };
+            let (a, b) = plan
+                .convolve_with(
+                    rows,
+                    &mut w,
+                    |_, row, input| {
+                        row.iter_mut().for_each(|v| *v *= 2.0);
+                        input.copy_from_slice(row);
+                        row.iter().sum::<f64>()
+                    },
+                    |i, row, result, o| {
+                        o.copy_from_slice(result);
+                        [1.0, i as f64, row.iter().sum::<f64>()]
+                    },
+                )
+                .unwrap();
+            let total: f64 = z.iter().sum();
+            assert!((a - 2.0 * total).abs() < 1e-9 * total.abs().max(1.0));
+            assert_eq!(b[0], ny as f64);
+            assert_eq!(b[1], (ny * (ny - 1) / 2) as f64);
+            assert!((b[2] - 2.0 * total).abs() < 1e-9 * total.abs().max(1.0));
+            for (x, y) in out.iter().zip(&plain) {
+                assert!((x - 2.0 * y).abs() < 1e-12 * (1.0 + y.abs()));
             }
         }
     }

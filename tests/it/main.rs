@@ -7,6 +7,7 @@ mod tools;
 mod asperity;
 mod asperity_vs_bem;
 mod bem_free;
+mod bem_paths;
 mod bem_reference;
 mod calculix;
 mod compare;

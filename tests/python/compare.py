@@ -195,7 +195,8 @@ def run_speed(directory, out):
             p = np.asarray(model.traction).mean() / ESTAR
             gap = np.asarray(model["gap"]).reshape(z.shape)
             area = np.count_nonzero(gap == 0.0) / gap.size
-            rows.append((n, control, value, min(times), p, area))
+            # Plain floats: numpy 2 writes np.float64(...) as its repr.
+            rows.append((n, control, float(value), min(times), float(p), float(area)))
             print(f"tamaas n={n} {control} {value:e}: {min(times):.3f} s, p/E* {p:.8e}, A/A0 {area:.5e}", flush=True)
     with open(out, "w") as f:
         f.write("# Tamaas 2.9 PolonskyKeerRey, one load step from a cold start (best of 3 at n=512, 1 run at 2048), tolerance 1e-8\n")
