@@ -292,7 +292,7 @@ fn check_npy_size(path: &Path) -> Result<(), String> {
     }
 }
 
-#[cfg(feature = "x3p")]
+/// What a reader returns: heights, shape (n0, n1), pixel sizes, log and warnings.
 type Raw = (Vec<f64>, usize, usize, Spacing, Vec<String>, Vec<String>);
 
 #[cfg(feature = "x3p")]
@@ -325,10 +325,7 @@ fn read_x3p_raw(path: &Path, opts: &ReadOptions) -> Result<Raw, SurfaceError> {
 }
 
 #[cfg(not(feature = "x3p"))]
-fn read_x3p_raw(
-    path: &Path,
-    _: &ReadOptions,
-) -> Result<(Vec<f64>, usize, usize, Spacing, Vec<String>, Vec<String>), SurfaceError> {
+fn read_x3p_raw(path: &Path, _: &ReadOptions) -> Result<Raw, SurfaceError> {
     Err(SurfaceError::Unsupported(format!(
         "{}: .x3p files need the runtime feature `x3p`",
         path.display()
