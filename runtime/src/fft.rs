@@ -176,6 +176,13 @@ impl RealFft2 {
         })
     }
 
+    /// The same plan on one thread: for callers that run several transforms in
+    /// parallel themselves (one [`Fft2Work`] each).
+    pub fn single_lane(mut self) -> Self {
+        self.lanes = 1;
+        self
+    }
+
     /// The grid (NY, NX).
     pub fn grid(&self) -> (usize, usize) {
         self.grid

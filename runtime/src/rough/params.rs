@@ -9,8 +9,10 @@ pub struct Params {
     /// Far-field model of the interaction sums: largest error of every modelled G and
     /// ∂G/∂a relative to the point-force displacement (4/3)χa³/(πRr) and its
     /// a-derivative (interacting module docs). 0 sums every image pair exactly.
-    /// Default 1e-5 (the surrogate tables' g is itself smooth in a only to ~1e-6 of that
-    /// scale and accurate to ~6e-5).
+    /// Default 3e-5: half the accuracy of the surrogate tables' g itself (~6e-5 of that
+    /// scale, their `interp_error.g`), whose C¹ interpolant is smooth in a only to ~1e-5
+    /// (on the shipped table a 12-node interpolant in a meets 5e-6 only beyond
+    /// r ≈ 5A, 1.5e-5 at every r ≥ 1.1A).
     pub far_field_tolerance: f64,
     /// Bound A of the far-field model as a multiple of the largest N-model (or warm
     /// start) contact radius of the solve (interactions shrink contacts). Default 1.2.
@@ -30,6 +32,11 @@ pub struct Params {
     /// Newton target: |F_k| ≤ this × δ_max on the active set ends a Newton round.
     /// Default 1e-11.
     pub newton_tolerance: f64,
+    /// Newton target of the grid path (Newton steps by conjugate gradients, above
+    /// [`Params::dense_pair_limit`]), where the last Newton step of a round costs tens of
+    /// evaluations of the interaction sums: |F_k| ≤ this × δ_max. Default 1e-9 (ten
+    /// times below the KKT acceptance; the stiffness solve is unchanged).
+    pub iterative_newton_tolerance: f64,
     /// Round-off floor: when |F| ≤ this × δ_max and no step decreases the merit, the
     /// Newton round stops instead of crawling (differenced derivatives limit F). Default
     /// 1e-9.
@@ -82,12 +89,13 @@ pub struct Params {
 impl Default for Params {
     fn default() -> Self {
         Params {
-            far_field_tolerance: 1e-5,
+            far_field_tolerance: 3e-5,
             far_field_bound_factor: 1.2,
             dense_pair_limit: 1500,
             far_field_rebuilds: 3,
             kkt_tolerance: 1e-8,
             newton_tolerance: 1e-11,
+            iterative_newton_tolerance: 1e-9,
             round_off_floor: 1e-9,
             max_activation_rounds: 100,
             max_newton_steps: 100,

@@ -106,6 +106,8 @@ pub(crate) struct State {
     pub d_other: Vec<f64>,
     /// Σ_{l≠k} Q_l N_kl (far model).
     pub u_other: Vec<Vb>,
+    /// Per near entry the [`g_derivs`] of p and q (None when both are out of contact).
+    pub pair_derivs: Vec<Option<([f64; 4], [f64; 4])>>,
     /// Per near entry (G_p, ∂G_p/∂a_p, G_q, ∂G_q/∂a_q) at its distance.
     pub near_vals: Vec<[f64; 4]>,
     /// Σ_near Q_q ∂²G_k/∂a_k² + Q_k Σ_self ∂²G_k/∂a_k² as [c₀, c_χ] (see
@@ -198,12 +200,36 @@ impl Energy<'_> {
         refill(&mut st.near_vals, geo.near.len(), [0.0; 4]);
         refill(&mut st.near_d2, n, [0.0; 2]);
         refill(&mut st.e_cross, n, 0.0);
-        for (e, &(p, q, r)) in geo.near.iter().enumerate() {
+        let h_g = self.h_g;
+        let loc = &st.loc;
+        let pair = |&(p, q, r): &(usize, usize, f64)| {
             if a[p] <= 0.0 && a[q] <= 0.0 {
-                continue;
+                return None;
             }
-            let dp = g_derivs(law, &st.loc[p], a[p], geo.radius[p], r, self.h_g);
-            let dq = g_derivs(law, &st.loc[q], a[q], geo.radius[q], r, self.h_g);
+            Some((
+                g_derivs(law, &loc[p], a[p], geo.radius[p], r, h_g),
+                g_derivs(law, &loc[q], a[q], geo.radius[q], r, h_g),
+            ))
+        };
+        // the exact pairs' g lookups dominate large evaluations: in parallel there
+        #[cfg(feature = "spectral")]
+        {
+            use rayon::prelude::*;
+            geo.near
+                .par_iter()
+                .with_min_len(512)
+                .map(pair)
+                .collect_into_vec(&mut st.pair_derivs);
+        }
+        #[cfg(not(feature = "spectral"))]
+        {
+            st.pair_derivs.clear();
+            st.pair_derivs.extend(geo.near.iter().map(pair));
+        }
+        for (e, &(p, q, _)) in geo.near.iter().enumerate() {
+            let Some((dp, dq)) = st.pair_derivs[e] else {
+                continue;
+            };
             st.near_vals[e] = [dp[0], dp[1], dq[0], dq[1]];
             st.d_other[q] += dp[0];
             st.d_other[p] += dq[0];

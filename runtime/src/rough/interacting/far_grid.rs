@@ -14,6 +14,7 @@
 
 use super::far_field::{FarModel, NB, Vb, dot};
 use crate::fft::{Complex, FftError, RealFft2};
+use rayon::prelude::*;
 
 /// Lagrange points per direction of the spreading stencil.
 pub(crate) const P: usize = 6;
@@ -128,11 +129,11 @@ pub(crate) struct FarGrid {
     pub worst: f64,
 }
 
-/// Workspace of one grid evaluation.
+/// Workspace of one grid evaluation: one field and one transform buffer per kept
+/// Chebyshev term and one for the scalar sources (the terms run in parallel).
 pub(crate) struct GridWork {
-    fft: crate::fft::Fft2Work,
-    field: Vec<f64>,
-    /// One field per kept Chebyshev term.
+    ffts: Vec<crate::fft::Fft2Work>,
+    /// Fields of the terms j < M, then the scalar field (row-major data blocks).
     fields: Vec<f64>,
     acc: Vec<Complex<f64>>,
     spec_q: Vec<Complex<f64>>,
@@ -174,7 +175,7 @@ impl FarGrid {
         let nd = ((gx + HW) as usize, (gy + HW) as usize);
         let ny = smooth_size(2 * nd.1 - 1);
         let nx = smooth_size(2 * nd.0 - 1);
-        let plan = RealFft2::padded((ny, nx), (nd.1, nd.0))?;
+        let plan = RealFft2::padded((ny, nx), (nd.1, nd.0))?.single_lane();
         let full = RealFft2::new(ny, nx)?;
         let mut work = full.work();
         let kernel = |dx: i64, dy: i64, images: bool| -> Vb {
@@ -232,7 +233,7 @@ impl FarGrid {
             plan,
             spectra,
             terms,
-            r_near: far.r_c + 9.0 * hmax,
+            r_near: far.r_c + 4.0 * hmax,
             win: 0,
             single: Vec::new(),
             summed,
@@ -384,7 +385,7 @@ impl FarGrid {
         let spec = self.plan.spectrum_len() as u64;
         (self.spectra.len() as u64) * spec * 8
             + ((self.single.len() + self.summed.len()) as u64) * (NB as u64) * 8
-            + spec * 16 * 3
+            + spec * 16 * (self.terms as u64 + 3)
             + ((self.terms + 1) * self.nd.0 * self.nd.1) as u64 * 8
     }
 
@@ -392,9 +393,8 @@ impl FarGrid {
     pub fn work(&self) -> GridWork {
         let s = self.plan.spectrum_len();
         GridWork {
-            fft: self.plan.work(),
-            field: vec![0.0; self.nd.0 * self.nd.1],
-            fields: vec![0.0; self.terms * self.nd.0 * self.nd.1],
+            ffts: (0..=self.terms).map(|_| self.plan.work()).collect(),
+            fields: vec![0.0; (self.terms + 1) * self.nd.0 * self.nd.1],
             acc: vec![Complex::default(); s],
             spec_q: vec![Complex::default(); s],
         }
@@ -403,7 +403,8 @@ impl FarGrid {
     /// Adds the grid's sums to the outputs: `out_d[k] += Σ_l Σ_j K_j(k, l) src[l][j]`
     /// and `out_u[k][j] += Σ_l K_j(k, l) sc[l]` over every source l (k itself and all
     /// images included: the caller removes the self term and corrects near pairs), for
-    /// the points with stencils `st`.
+    /// the points with stencils `st`. The M + 1 fields are spread, transformed and
+    /// gathered in parallel (rayon), one transform per field and direction.
     pub fn apply(
         &self,
         st: &[Stencil],
@@ -416,63 +417,75 @@ impl FarGrid {
         let (ndx, npts, terms) = (self.nd.0, self.nd.0 * self.nd.1, self.terms);
         let weights = |s: &Stencil| -> [[f64; P]; P] { s.wy.map(|wy| s.wx.map(|wx| wx * wy)) };
         let base = |s: &Stencil, b: usize| (s.node.1 as usize + b) * ndx + s.node.0 as usize;
-        // D: spread every kept term of the sources at once, Σ_j K_j * src_j, one inverse
-        w.fields.clear();
-        w.fields.resize(terms * npts, 0.0);
-        w.field.iter_mut().for_each(|v| *v = 0.0);
-        for (l, s) in st.iter().enumerate() {
-            if sc[l] == 0.0 {
-                continue;
-            }
-            let ww = weights(s);
-            for (b, row) in ww.iter().enumerate() {
-                let r0 = base(s, b);
-                for (j, &y) in src[l][..terms].iter().enumerate() {
-                    let f = &mut w.fields[j * npts + r0..j * npts + r0 + P];
-                    for (v, c) in f.iter_mut().zip(row) {
-                        *v += y * c;
+        // spread field j < M (the sources' term j) or M (the scalar sources), and
+        // transform it
+        w.fields
+            .par_chunks_mut(npts)
+            .zip(w.ffts.par_iter_mut())
+            .enumerate()
+            .try_for_each(|(j, (field, fft))| {
+                field.iter_mut().for_each(|v| *v = 0.0);
+                for (l, s) in st.iter().enumerate() {
+                    if sc[l] == 0.0 {
+                        continue;
+                    }
+                    let y = if j < terms { src[l][j] } else { sc[l] };
+                    for (b, row) in weights(s).iter().enumerate() {
+                        let r0 = base(s, b);
+                        for (v, c) in field[r0..r0 + P].iter_mut().zip(row) {
+                            *v += y * c;
+                        }
                     }
                 }
-                for (v, c) in w.field[r0..r0 + P].iter_mut().zip(row) {
-                    *v += sc[l] * c;
+                self.plan.forward(field, fft)
+            })?;
+        // D: Σ_j K_j · src_j in the spectrum; U: the scalar spectrum kept for every K_j
+        {
+            let specs: Vec<&[Complex<f64>]> = w.ffts.iter().map(|f| &f.spec[..]).collect();
+            let kernels = &self.spectra;
+            w.acc.par_chunks_mut(4096).enumerate().for_each(|(c, out)| {
+                let o = c * 4096;
+                for (i, acc) in out.iter_mut().enumerate() {
+                    let mut v = Complex::default();
+                    for j in 0..terms {
+                        v += specs[j][o + i] * kernels[j][o + i];
+                    }
+                    *acc = v;
                 }
-            }
+            });
+            w.spec_q.copy_from_slice(specs[terms]);
         }
-        w.acc.iter_mut().for_each(|c| *c = Complex::default());
-        for j in 0..terms {
-            self.plan
-                .forward(&w.fields[j * npts..(j + 1) * npts], &mut w.fft)?;
-            for ((acc, s), k) in w.acc.iter_mut().zip(&w.fft.spec).zip(&self.spectra[j]) {
-                *acc += s * k;
-            }
-        }
-        // U: K_j * sc for every j (sc spread above into `field`)
-        self.plan.forward(&w.field, &mut w.fft)?;
-        w.spec_q.copy_from_slice(&w.fft.spec);
-        w.fft.spec.copy_from_slice(&w.acc);
-        self.plan.inverse(&mut w.field, &mut w.fft)?;
-        for (j, k) in self.spectra.iter().enumerate() {
-            for ((o, s), kv) in w.fft.spec.iter_mut().zip(&w.spec_q).zip(k) {
-                *o = s * kv;
-            }
-            self.plan
-                .inverse(&mut w.fields[j * npts..(j + 1) * npts], &mut w.fft)?;
-        }
-        for (k, s) in st.iter().enumerate() {
-            let ww = weights(s);
-            let (mut d, mut u) = (0.0, [0.0; NB]);
-            for (b, row) in ww.iter().enumerate() {
-                let r0 = base(s, b);
-                d += dot6(row, &w.field[r0..r0 + P]);
-                for (j, uj) in u[..terms].iter_mut().enumerate() {
-                    *uj += dot6(row, &w.fields[j * npts + r0..j * npts + r0 + P]);
+        let (acc, spec_q) = (&w.acc, &w.spec_q);
+        w.fields
+            .par_chunks_mut(npts)
+            .zip(w.ffts.par_iter_mut())
+            .enumerate()
+            .try_for_each(|(j, (field, fft))| {
+                if j < terms {
+                    for ((o, s), kv) in fft.spec.iter_mut().zip(spec_q).zip(&self.spectra[j]) {
+                        *o = s * kv;
+                    }
+                } else {
+                    fft.spec.copy_from_slice(acc);
                 }
-            }
-            out_d[k] += d;
-            for (o, v) in out_u[k].iter_mut().zip(&u) {
-                *o += v;
-            }
-        }
+                self.plan.inverse(field, fft)
+            })?;
+        let fields = &w.fields;
+        out_d
+            .par_iter_mut()
+            .zip(out_u.par_iter_mut())
+            .zip(st.par_iter())
+            .for_each(|((od, ou), s)| {
+                let ww = weights(s);
+                for (b, row) in ww.iter().enumerate() {
+                    let r0 = base(s, b);
+                    let at = |j: usize| &fields[j * npts + r0..j * npts + r0 + P];
+                    *od += dot6(row, at(terms));
+                    for (j, uj) in ou[..terms].iter_mut().enumerate() {
+                        *uj += dot6(row, at(j));
+                    }
+                }
+            });
         Ok(())
     }
 }

@@ -11,16 +11,16 @@
 //! is removed from the grid sum: its self images go through the self part as before.
 
 use super::far_field::{FarModel, NB, Vb, dot};
-pub(crate) use super::far_grid::GridWork;
 use super::far_grid::{FarGrid, Stencil};
 use crate::fft::FftError;
 use crate::resources::{ResourceError, bytes_for, check_memory};
 use crate::summits::Summit;
+use rayon::prelude::*;
 
 /// Peak memory of one near correction (image pair closer than r_near), bytes: stored
-/// in both directions (column index and NB coefficients each) plus its entry in the
-/// list it is assembled from.
-pub(crate) const ENTRY_BYTES: u64 = 2 * (4 + 8 * NB as u64) + 8 + 8 * NB as u64;
+/// once (two indices and at most NB single-precision coefficients) plus its entry in
+/// the list it is assembled from.
+pub(crate) const ENTRY_BYTES: u64 = 8 + 4 * NB as u64 + 8 + 8 * NB as u64;
 /// Memory per loaded asperity of the fast sums and of a Newton step on them (stencil,
 /// self term, the energy state's vectors, the Krylov vectors), bytes.
 pub(crate) const POINT_BYTES: u64 = 1024;
@@ -38,14 +38,22 @@ pub(crate) enum FastError {
 pub(crate) struct FastSums {
     pub grid: FarGrid,
     stencils: Vec<Stencil>,
-    /// CSR rows of the corrections: row k holds (l, coefficients) for l ≠ k.
-    start: Vec<usize>,
-    col: Vec<u32>,
-    coef: Vec<Vb>,
+    /// The corrections, one entry per pair p < q (images of a pair merged): the two
+    /// indices and the M coefficients the grid keeps (`coef[e·M..(e+1)·M]`, single
+    /// precision: rounding 6e-8 relative per pair, far below the far-field tolerance).
+    pair: Vec<(u32, u32)>,
+    coef: Vec<f32>,
     /// The grid's self term of each asperity (removed from the grid sum).
     gself: Vec<Vb>,
     /// Image pairs carried by the grid or by the far model.
     pub modelled_pairs: usize,
+}
+
+/// Workspace of one evaluation of the fast sums: the grid's, and per thread the
+/// partial sums of the near corrections.
+pub(crate) struct GridWork {
+    grid: super::far_grid::GridWork,
+    parts: Vec<(Vec<f64>, Vec<Vb>)>,
 }
 
 /// What the builder returns besides the sums: the exact near list (p < q, r < r_c).
@@ -53,7 +61,7 @@ pub(crate) type Exact = Vec<(usize, usize, f64)>;
 
 /// Cell size of the grid: the minimiser of an estimate of the per-evaluation cost
 /// (flops), near corrections (≈ 30 per directed entry, N ρ π r_near² entries with
-/// r_near ≈ r_c + 12H, the measured reach of the grid's error) against the FFTs
+/// r_near ≈ r_c + 12H, above the measured reach of the grid's error, 8–9H) against the FFTs
 /// ((2NB + 2) padded transforms of (2L/H)² points, ≈ 1.5 log₂ flops per point).
 /// H is at most a fifteenth of what is left of `reach` (m, the grid's largest near
 /// radius) beyond r_c.
@@ -228,33 +236,20 @@ impl FastSums {
             }
         });
         exact.sort_unstable_by_key(|a| (a.0, a.1));
-        let mut start = vec![0usize; n + 1];
-        for &(p, q, _) in &pairs {
-            start[p as usize + 1] += 1;
-            start[q as usize + 1] += 1;
+        let mt = grid.terms;
+        let mut coef = Vec::with_capacity(pairs.len() * mt);
+        for (_, _, c) in &pairs {
+            coef.extend(c[..mt].iter().map(|&v| v as f32));
         }
-        for i in 0..n {
-            start[i + 1] += start[i];
-        }
-        let mut fill = start.clone();
-        let mut col = vec![0u32; start[n]];
-        let mut coef = vec![[0.0; NB]; start[n]];
-        for &(p, q, c) in &pairs {
-            for (a, b) in [(p, q), (q, p)] {
-                let e = &mut fill[a as usize];
-                col[*e] = b;
-                coef[*e] = c;
-                *e += 1;
-            }
-        }
+        let pair: Vec<(u32, u32)> = pairs.iter().map(|&(p, q, _)| (p, q)).collect();
+        drop(pairs);
         let blocks = ((2 * m + 1) * (2 * m + 1)) as usize;
         let modelled_pairs = (n * n.saturating_sub(1) / 2) * blocks - exact.len();
         Ok(Some((
             FastSums {
                 grid,
                 stencils,
-                start,
-                col,
+                pair,
                 coef,
                 gself,
                 modelled_pairs,
@@ -265,13 +260,20 @@ impl FastSums {
 
     /// A workspace for [`apply`](Self::apply).
     pub fn work(&self) -> GridWork {
-        self.grid.work()
+        let n = self.stencils.len();
+        GridWork {
+            grid: self.grid.work(),
+            parts: (0..rayon::current_num_threads().clamp(1, 8))
+                .map(|_| (vec![0.0; n], vec![[0.0; NB]; n]))
+                .collect(),
+        }
     }
 
     /// out_d[k] = Σ_{l≠k} N_kl·src[l] and out_u[k] = Σ_{l≠k} N_kl sc[l] over every
     /// image pair not in the exact near list (N_kl: the far-field Chebyshev sums of the
     /// pair, interacting module docs), for every k. Sources with sc[l] = 0 must have
-    /// src[l] = 0.
+    /// src[l] = 0. The pair list is split in one part per thread, each summed into its
+    /// own outputs (every pair read once, for both of its directions).
     pub fn apply(
         &self,
         src: &[Vb],
@@ -282,28 +284,56 @@ impl FastSums {
     ) -> Result<(), FftError> {
         out_d.iter_mut().for_each(|v| *v = 0.0);
         out_u.iter_mut().for_each(|v| *v = [0.0; NB]);
-        self.grid.apply(&self.stencils, src, sc, out_d, out_u, w)?;
-        // by source: the rows are symmetric, so row l lists every target of l
-        for l in 0..self.stencils.len() {
-            let s = sc[l];
-            if s == 0.0 {
-                continue;
-            }
-            let (y, gs) = (&src[l], &self.gself[l]);
-            out_d[l] -= dot(gs, y);
-            for j in 0..NB {
-                out_u[l][j] -= s * gs[j];
-            }
-            for e in self.start[l]..self.start[l + 1] {
-                let k = self.col[e] as usize;
-                let c = &self.coef[e];
-                out_d[k] += dot(c, y);
-                let u = &mut out_u[k];
-                for j in 0..NB {
-                    u[j] += s * c[j];
+        self.grid
+            .apply(&self.stencils, src, sc, out_d, out_u, &mut w.grid)?;
+        let mt = self.grid.terms;
+        let chunk = self.pair.len().div_ceil(w.parts.len()).max(1);
+        w.parts
+            .par_iter_mut()
+            .zip(self.pair.par_chunks(chunk))
+            .zip(self.coef.par_chunks(chunk * mt))
+            .for_each(|(((pd, pu), pairs), coef)| {
+                pd.iter_mut().for_each(|v| *v = 0.0);
+                pu.iter_mut().for_each(|v| *v = [0.0; NB]);
+                for (&(p, q), c) in pairs.iter().zip(coef.chunks_exact(mt)) {
+                    let (p, q) = (p as usize, q as usize);
+                    let (sp, sq) = (sc[p], sc[q]);
+                    if sp == 0.0 && sq == 0.0 {
+                        continue;
+                    }
+                    let (yp, yq) = (&src[p], &src[q]);
+                    let (mut dp, mut dq) = (0.0, 0.0);
+                    for j in 0..mt {
+                        let cj = f64::from(c[j]);
+                        dq += cj * yp[j];
+                        dp += cj * yq[j];
+                        pu[q][j] += sp * cj;
+                        pu[p][j] += sq * cj;
+                    }
+                    pd[p] += dp;
+                    pd[q] += dq;
                 }
-            }
-        }
+            });
+        let parts = &w.parts;
+        out_d
+            .par_iter_mut()
+            .zip(out_u.par_iter_mut())
+            .enumerate()
+            .for_each(|(k, (od, ou))| {
+                if sc[k] != 0.0 {
+                    let gs = &self.gself[k];
+                    *od -= dot(gs, &src[k]);
+                    for j in 0..NB {
+                        ou[j] -= sc[k] * gs[j];
+                    }
+                }
+                for (pd, pu) in parts {
+                    *od += pd[k];
+                    for j in 0..mt {
+                        ou[j] += pu[k][j];
+                    }
+                }
+            });
         Ok(())
     }
 }
