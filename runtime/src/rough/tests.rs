@@ -493,13 +493,20 @@ fn km40_paths_converge_and_match_exact() {
                         .with_far_field_tolerance(0.0)
                         .curve(Model::Interacting(images), &deltas)
                         .unwrap();
+                    let mut worst = [0.0f64; 3];
                     for (x, y) in c.iter().zip(&ex) {
                         if y.load > 0.0 {
-                            assert!((x.load / y.load - 1.0).abs() <= 1e-6);
-                            assert!((x.area_fraction / y.area_fraction - 1.0).abs() <= 1e-6);
-                            assert!((x.stiffness / y.stiffness - 1.0).abs() <= 1e-5);
+                            worst[0] = worst[0].max((x.load / y.load - 1.0).abs());
+                            worst[1] =
+                                worst[1].max((x.area_fraction / y.area_fraction - 1.0).abs());
+                            worst[2] = worst[2].max((x.stiffness / y.stiffness - 1.0).abs());
                         }
                     }
+                    eprintln!(
+                        "E2/E1 = {ratio} k_M = {km} {images:?}: far field vs exact sums: load {:.1e}, area {:.1e}, stiffness {:.1e}",
+                        worst[0], worst[1], worst[2]
+                    );
+                    assert!(worst[0] <= 1e-6 && worst[1] <= 1e-6 && worst[2] <= 1e-5);
                 }
             }
         }
