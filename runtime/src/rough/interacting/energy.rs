@@ -191,6 +191,7 @@ impl Energy<'_> {
                     &mut st.d_other,
                     &mut st.u_other,
                     &mut st.work,
+                    false,
                 )
                 .is_err()
             {

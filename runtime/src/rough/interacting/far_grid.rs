@@ -405,6 +405,8 @@ impl FarGrid {
     /// images included: the caller removes the self term and corrects near pairs), for
     /// the points with stencils `st`. The M + 1 fields are spread, transformed and
     /// gathered in parallel (rayon), one transform per field and direction.
+    /// `sources_only`: gather only at the sources (sc ≠ 0).
+    #[allow(clippy::too_many_arguments)]
     pub fn apply(
         &self,
         st: &[Stencil],
@@ -413,6 +415,7 @@ impl FarGrid {
         out_d: &mut [f64],
         out_u: &mut [Vb],
         w: &mut GridWork,
+        sources_only: bool,
     ) -> Result<(), FftError> {
         let (ndx, npts, terms) = (self.nd.0, self.nd.0 * self.nd.1, self.terms);
         let weights = |s: &Stencil| -> [[f64; P]; P] { s.wy.map(|wy| s.wx.map(|wx| wx * wy)) };
@@ -475,7 +478,11 @@ impl FarGrid {
             .par_iter_mut()
             .zip(out_u.par_iter_mut())
             .zip(st.par_iter())
-            .for_each(|((od, ou), s)| {
+            .zip(sc.par_iter())
+            .for_each(|(((od, ou), s), &q)| {
+                if sources_only && q == 0.0 {
+                    return;
+                }
                 let ww = weights(s);
                 for (b, row) in ww.iter().enumerate() {
                     let r0 = base(s, b);

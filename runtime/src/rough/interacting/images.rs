@@ -175,7 +175,9 @@ impl Prepared {
     /// `out_u[k] = Σ_{l≠k} N_kl sc[l]` (the self images excluded: they go through
     /// `self_far`), by the grid or the dense N_kl. `src[l]` must be zero where
     /// `sc[l]` is. The dense sums skip (zero) the rows with `deltas[k]` ≤ 0 (not
-    /// loaded). Only with a far model.
+    /// loaded). Only with a far model. `sources_only`: the grid sums may leave the
+    /// outputs of non-sources (sc = 0) at zero (Jacobian–vector products).
+    #[allow(clippy::too_many_arguments)]
     pub fn interact(
         &self,
         src: &[Vb],
@@ -184,11 +186,12 @@ impl Prepared {
         out_d: &mut [f64],
         out_u: &mut [Vb],
         work: &mut Option<GridWork>,
+        sources_only: bool,
     ) -> Result<(), RoughError> {
         if let Some(fast) = &self.fast {
             let w = work.get_or_insert_with(|| fast.work());
             return fast
-                .apply(src, sc, out_d, out_u, w)
+                .apply(src, sc, out_d, out_u, w, sources_only)
                 .map_err(|e| FarFieldError::Grid(e.to_string()).into());
         }
         let n = self.n();

@@ -15,9 +15,16 @@
 //!           + near exact terms + J_kk v_k,   z_l = (Q'_l ℓ(a_l) + Q_l ℓ'(a_l))/π,
 //! ```
 //!
-//! and the Jacobi preconditioner diag(H). Negative curvature (pᵀHp ≤ 0) ends the
-//! iteration with the iterate so far (the Newton line search then checks descent and
-//! falls back to its scaled steepest descent).
+//! and a symmetric Gauss–Seidel (SSOR, ω = 1) preconditioner M = (D + L) D⁻¹ (D + Lᵀ)
+//! built from the near field of H: its diagonal D and its entries between asperities
+//! closer than r_near (exact near pairs from the energy state; the others from the far
+//! model's leading three Chebyshev coefficients of the pair, [`FastSums::near_pairs`]).
+//! M is symmetric positive definite whenever D > 0, whatever the coupling, and carries
+//! the strong short-range couplings the Jacobi preconditioner diag(H) misses.
+//! Negative curvature (pᵀHp ≤ 0) ends the iteration with the iterate so far (the Newton
+//! line search then checks descent and falls back to its scaled steepest descent).
+//!
+//! [`FastSums::near_pairs`]: super::near::FastSums::near_pairs
 
 use super::energy::{Energy, State};
 use super::far_field::{NB, Vb, dot};
@@ -39,7 +46,14 @@ pub(crate) fn solve(
         return lu_solve(&mut jm, &mut rhs, act.len());
     }
     let mut op = Operator::new(en, st, act);
-    cg(&mut op, b, rtol, (4 * act.len()).clamp(50, 2000))
+    let max_it = (4 * act.len()).clamp(50, 2000);
+    // where H is indefinite (contacts just activated, overlapping) the SSOR direction
+    // can meet negative curvature at once: then Jacobi, as the line search expects
+    let pre = Ssor::new(&op, true);
+    cg(&mut op, &pre, b, rtol, max_it).or_else(|| {
+        let jacobi = Ssor::new(&op, false);
+        cg(&mut op, &jacobi, b, rtol, max_it)
+    })
 }
 
 /// J v on the active set with the fast sums (module docs).
@@ -105,6 +119,7 @@ impl<'s, 'e, 'p> Operator<'s, 'e, 'p> {
                 &mut self.od,
                 &mut self.ou,
                 &mut self.st.work,
+                true,
             )
             .is_err()
         {
@@ -128,25 +143,109 @@ impl<'s, 'e, 'p> Operator<'s, 'e, 'p> {
     }
 }
 
+/// The SSOR preconditioner of H on the active set (module docs): the diagonal and the
+/// strictly lower near-field entries in rows (CSR, columns ascending).
+struct Ssor {
+    d: Vec<f64>,
+    start: Vec<usize>,
+    col: Vec<u32>,
+    val: Vec<f64>,
+}
+
+impl Ssor {
+    /// The preconditioner at the operator's state; `coupled` false: Jacobi (D only).
+    fn new(op: &Operator, coupled: bool) -> Ssor {
+        let m = op.act.len();
+        let d: Vec<f64> = op
+            .diag
+            .iter()
+            .zip(&op.dq)
+            .map(|(j, q)| {
+                let h = (j * q).abs();
+                if h > 0.0 && h.is_finite() { h } else { 1.0 }
+            })
+            .collect();
+        let geo = op.en.geo;
+        let mut start = vec![0usize; m + 1];
+        let (mut col, mut val) = (Vec::new(), Vec::new());
+        let Some(fast) = geo.fast.as_ref().filter(|_| coupled) else {
+            return Ssor { d, start, col, val };
+        };
+        let (pairs, lead) = fast.near_pairs();
+        // merge-join of the near pairs with the exact near list (one entry per image),
+        // both sorted by (q, p): rows of ascending q, columns of ascending p
+        let near = &geo.near;
+        let key = |e: usize| (near[e].1, near[e].0);
+        let mut e = 0;
+        let mut row = 0;
+        for (&(p, q), c) in pairs.iter().zip(lead) {
+            let (p, q) = (p as usize, q as usize);
+            let (ip, iq) = (op.pos[p], op.pos[q]);
+            let active = ip != usize::MAX && iq != usize::MAX;
+            let mut h = 0.0;
+            while e < near.len() && key(e) < (q, p) {
+                e += 1;
+            }
+            while e < near.len() && key(e) == (q, p) {
+                if active {
+                    let [_, hp, _, hq] = op.st.near_vals[e];
+                    h += op.dq[iq] * hp + op.dq[ip] * hq;
+                }
+                e += 1;
+            }
+            if !active {
+                continue;
+            }
+            for (j, &cj) in c.iter().enumerate() {
+                h += f64::from(cj) * (op.dq[ip] * op.z[q][j] + op.dq[iq] * op.z[p][j]);
+            }
+            if h == 0.0 || !h.is_finite() {
+                continue;
+            }
+            while row < iq {
+                row += 1;
+                start[row] = col.len();
+            }
+            col.push(ip as u32);
+            val.push(h);
+        }
+        while row < m {
+            row += 1;
+            start[row] = col.len();
+        }
+        Ssor { d, start, col, val }
+    }
+
+    /// out = M⁻¹ r: (D + L) y = r forwards by rows, then (D + Lᵀ) x = D y backwards
+    /// (Lᵀ applied by the columns of L).
+    fn apply(&self, r: &[f64], out: &mut [f64]) {
+        let m = self.d.len();
+        for i in 0..m {
+            let mut s = r[i];
+            for e in self.start[i]..self.start[i + 1] {
+                s -= self.val[e] * out[self.col[e] as usize];
+            }
+            out[i] = s / self.d[i];
+        }
+        for (o, d) in out.iter_mut().zip(&self.d) {
+            *o *= d;
+        }
+        for i in (0..m).rev() {
+            let xi = out[i] / self.d[i];
+            out[i] = xi;
+            for e in self.start[i]..self.start[i + 1] {
+                out[self.col[e] as usize] -= self.val[e] * xi;
+            }
+        }
+    }
+}
+
 /// Preconditioned conjugate gradients on H = D J for J x = b (module docs): stops when
 /// max_k |(b − J x)_k| ≤ rtol·max_k |b_k|, on negative curvature, or after `max_it`
 /// iterations (the iterate so far). None when not finite or no progress at all.
-fn cg(op: &mut Operator, b: &[f64], rtol: f64, max_it: usize) -> Option<Vec<f64>> {
+fn cg(op: &mut Operator, pre: &Ssor, b: &[f64], rtol: f64, max_it: usize) -> Option<Vec<f64>> {
     let m = b.len();
     let dq = op.dq.clone();
-    let prec: Vec<f64> = op
-        .diag
-        .iter()
-        .zip(&dq)
-        .map(|(d, q)| {
-            let h = (d * q).abs();
-            if h > 0.0 && h.is_finite() {
-                1.0 / h
-            } else {
-                1.0
-            }
-        })
-        .collect();
     let bmax = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
     let mut x = vec![0.0; m];
     if bmax == 0.0 {
@@ -154,7 +253,8 @@ fn cg(op: &mut Operator, b: &[f64], rtol: f64, max_it: usize) -> Option<Vec<f64>
     }
     // residual of H x = D b
     let mut r: Vec<f64> = b.iter().zip(&dq).map(|(v, q)| v * q).collect();
-    let mut z: Vec<f64> = r.iter().zip(&prec).map(|(v, p)| v * p).collect();
+    let mut z = vec![0.0; m];
+    pre.apply(&r, &mut z);
     let mut p = z.clone();
     let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
     let mut hp = vec![0.0; m];
@@ -185,9 +285,7 @@ fn cg(op: &mut Operator, b: &[f64], rtol: f64, max_it: usize) -> Option<Vec<f64>
         if rmax <= rtol * bmax {
             break;
         }
-        for i in 0..m {
-            z[i] = r[i] * prec[i];
-        }
+        pre.apply(&r, &mut z);
         let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
         let beta = rz_new / rz;
         rz = rz_new;

@@ -17,10 +17,17 @@ use crate::resources::{ResourceError, bytes_for, check_memory};
 use crate::summits::Summit;
 use rayon::prelude::*;
 
-/// Peak memory of one near correction (image pair closer than r_near), bytes: stored
-/// once (two indices and at most NB single-precision coefficients) plus its entry in
-/// the list it is assembled from.
-pub(crate) const ENTRY_BYTES: u64 = 8 + 4 * NB as u64 + 8 + 8 * NB as u64;
+/// Memory of one near correction (image pair closer than r_near), bytes: stored once
+/// (two indices, at most NB single-precision coefficients and the [`LEAD`] of the
+/// preconditioner) and a margin for the exact list; the pairs of [`BUILD_BLOCK`]
+/// sources in assembly come on top ([`FastSums::build`]).
+pub(crate) const ENTRY_BYTES: u64 = 8 + 4 * (NB + LEAD) as u64 + 16;
+
+/// Leading Chebyshev coefficients of a near pair kept for the preconditioner.
+pub(crate) const LEAD: usize = 3;
+
+/// Sources whose near pairs are assembled at once (in parallel) when the sums are built.
+const BUILD_BLOCK: usize = 2048;
 /// Memory per loaded asperity of the fast sums and of a Newton step on them (stencil,
 /// self term, the energy state's vectors, the Krylov vectors), bytes.
 pub(crate) const POINT_BYTES: u64 = 1024;
@@ -38,11 +45,14 @@ pub(crate) enum FastError {
 pub(crate) struct FastSums {
     pub grid: FarGrid,
     stencils: Vec<Stencil>,
-    /// The corrections, one entry per pair p < q (images of a pair merged): the two
-    /// indices and the M coefficients the grid keeps (`coef[e·M..(e+1)·M]`, single
+    /// The corrections, one entry per pair p < q (images of a pair merged, sorted by
+    /// (q, p)): the two indices and the M coefficients the grid keeps (`coef[e·M..(e+1)·M]`, single
     /// precision: rounding 6e-8 relative per pair, far below the far-field tolerance).
     pair: Vec<(u32, u32)>,
     coef: Vec<f32>,
+    /// Per pair the far model's first [`LEAD`] coefficients summed over its images at
+    /// r ≥ r_c (the pair's far-field N_kl to ~1e-3, for the preconditioner).
+    lead: Vec<[f32; LEAD]>,
     /// The grid's self term of each asperity (removed from the grid sum).
     gself: Vec<Vb>,
     /// Image pairs carried by the grid or by the far model.
@@ -56,7 +66,8 @@ pub(crate) struct GridWork {
     parts: Vec<(Vec<f64>, Vec<Vb>)>,
 }
 
-/// What the builder returns besides the sums: the exact near list (p < q, r < r_c).
+/// What the builder returns besides the sums: the exact near list (p < q, r < r_c,
+/// one entry per image, sorted by (q, p)).
 pub(crate) type Exact = Vec<(usize, usize, f64)>;
 
 /// Cell size of the grid: the minimiser of an estimate of the per-evaluation cost
@@ -202,47 +213,75 @@ impl FastSums {
             ),
             grid.bytes()
                 .saturating_add(bytes_for(count, ENTRY_BYTES))
+                .saturating_add(bytes_for(
+                    // the rows of one block of sources in assembly (images separate)
+                    (count / n.max(1) as u64 + 1) * BUILD_BLOCK as u64 * 2,
+                    (4 + 8 * (NB + LEAD)) as u64,
+                ))
                 .saturating_add(bytes_for(n as u64, POINT_BYTES)),
         )?;
         let stencils: Vec<Stencil> = pts.iter().map(|&(x, y)| grid.stencil(x, y)).collect();
         let gself: Vec<Vb> = stencils.iter().map(|s| grid.self_term(s)).collect();
-        let mut exact = Vec::new();
-        let mut pairs: Vec<(u32, u32, Vb)> = Vec::with_capacity(count as usize);
-        for q in 0..n {
-            visit(q, &mut |p, (sx, sy), r| {
-                // the pair seen from target p, source q shifted by s
-                let g = grid.pair(&stencils[p], &stencils[q], (sx * gx, sy * gy));
-                let mut c = [0.0; NB];
-                if r >= far.r_c {
-                    far.accumulate(r, &mut c);
-                } else {
-                    exact.push((p, q, r));
-                }
-                for j in 0..NB {
-                    c[j] -= g[j];
-                }
-                pairs.push((p as u32, q as u32, c));
-            });
-        }
-        pairs.sort_unstable_by_key(|&(p, q, _)| (p, q));
-        pairs.dedup_by(|b, a| {
-            if (a.0, a.1) == (b.0, b.1) {
-                for j in 0..NB {
-                    a.2[j] += b.2[j];
-                }
-                true
-            } else {
-                false
-            }
-        });
-        exact.sort_unstable_by_key(|a| (a.0, a.1));
+        // every pair p < q closer than r_near, by source q (in parallel, a block of
+        // sources at a time): the correction c − G and the far model's leading
+        // coefficients (images at r ≥ r_c) summed over its images, and the images closer
+        // than r_c (the exact list). Pairs and exact entries come out sorted by (q, p).
         let mt = grid.terms;
-        let mut coef = Vec::with_capacity(pairs.len() * mt);
-        for (_, _, c) in &pairs {
-            coef.extend(c[..mt].iter().map(|&v| v as f32));
+        let mut pair: Vec<(u32, u32)> = Vec::with_capacity(count as usize);
+        let mut coef: Vec<f32> = Vec::with_capacity(count as usize * mt);
+        let mut lead: Vec<[f32; LEAD]> = Vec::with_capacity(count as usize);
+        let mut exact = Vec::new();
+        type Row = (Vec<(u32, Vb, [f64; LEAD])>, Vec<(usize, f64)>);
+        for q0 in (0..n).step_by(BUILD_BLOCK) {
+            let rows: Vec<Row> = (q0..(q0 + BUILD_BLOCK).min(n))
+                .into_par_iter()
+                .map(|q| {
+                    let mut row: Vec<(u32, Vb, [f64; LEAD])> = Vec::new();
+                    let mut ex = Vec::new();
+                    visit(q, &mut |p, (sx, sy), r| {
+                        // the pair seen from target p, source q shifted by s
+                        let g = grid.pair(&stencils[p], &stencils[q], (sx * gx, sy * gy));
+                        let mut c = [0.0; NB];
+                        let mut l = [0.0; LEAD];
+                        if r >= far.r_c {
+                            far.accumulate(r, &mut c);
+                            l.copy_from_slice(&c[..LEAD]);
+                        } else {
+                            ex.push((p, r));
+                        }
+                        for j in 0..NB {
+                            c[j] -= g[j];
+                        }
+                        row.push((p as u32, c, l));
+                    });
+                    row.sort_unstable_by_key(|e| e.0);
+                    row.dedup_by(|b, a| {
+                        if a.0 == b.0 {
+                            for j in 0..NB {
+                                a.1[j] += b.1[j];
+                            }
+                            for j in 0..LEAD {
+                                a.2[j] += b.2[j];
+                            }
+                            true
+                        } else {
+                            false
+                        }
+                    });
+                    ex.sort_unstable_by_key(|a| a.0);
+                    (row, ex)
+                })
+                .collect();
+            for (i, (row, ex)) in rows.into_iter().enumerate() {
+                let q = q0 + i;
+                for (p, c, l) in row {
+                    pair.push((p, q as u32));
+                    coef.extend(c[..mt].iter().map(|&v| v as f32));
+                    lead.push(l.map(|v| v as f32));
+                }
+                exact.extend(ex.into_iter().map(|(p, r)| (p, q, r)));
+            }
         }
-        let pair: Vec<(u32, u32)> = pairs.iter().map(|&(p, q, _)| (p, q)).collect();
-        drop(pairs);
         let blocks = ((2 * m + 1) * (2 * m + 1)) as usize;
         let modelled_pairs = (n * n.saturating_sub(1) / 2) * blocks - exact.len();
         Ok(Some((
@@ -251,11 +290,19 @@ impl FastSums {
                 stencils,
                 pair,
                 coef,
+                lead,
                 gself,
                 modelled_pairs,
             },
             exact,
         )))
+    }
+
+    /// The near pairs (p, q), p < q (local indices, sorted by (q, p)), and per pair the far
+    /// model's leading coefficients over its images at r ≥ r_c (1/m; zero for a pair
+    /// whose images are all closer than r_c: those are in the exact near list).
+    pub fn near_pairs(&self) -> (&[(u32, u32)], &[[f32; LEAD]]) {
+        (&self.pair, &self.lead)
     }
 
     /// A workspace for [`apply`](Self::apply).
@@ -273,7 +320,9 @@ impl FastSums {
     /// image pair not in the exact near list (N_kl: the far-field Chebyshev sums of the
     /// pair, interacting module docs), for every k. Sources with sc[l] = 0 must have
     /// src[l] = 0. The pair list is split in one part per thread, each summed into its
-    /// own outputs (every pair read once, for both of its directions).
+    /// own outputs (every pair read once, for both of its directions). `sources_only`:
+    /// only the outputs of the sources (sc[k] ≠ 0) are wanted (a Jacobian–vector
+    /// product on the active set); the others are left at zero.
     pub fn apply(
         &self,
         src: &[Vb],
@@ -281,11 +330,19 @@ impl FastSums {
         out_d: &mut [f64],
         out_u: &mut [Vb],
         w: &mut GridWork,
+        sources_only: bool,
     ) -> Result<(), FftError> {
         out_d.iter_mut().for_each(|v| *v = 0.0);
         out_u.iter_mut().for_each(|v| *v = [0.0; NB]);
-        self.grid
-            .apply(&self.stencils, src, sc, out_d, out_u, &mut w.grid)?;
+        self.grid.apply(
+            &self.stencils,
+            src,
+            sc,
+            out_d,
+            out_u,
+            &mut w.grid,
+            sources_only,
+        )?;
         let mt = self.grid.terms;
         let chunk = self.pair.len().div_ceil(w.parts.len()).max(1);
         w.parts
@@ -295,23 +352,10 @@ impl FastSums {
             .for_each(|(((pd, pu), pairs), coef)| {
                 pd.iter_mut().for_each(|v| *v = 0.0);
                 pu.iter_mut().for_each(|v| *v = [0.0; NB]);
-                for (&(p, q), c) in pairs.iter().zip(coef.chunks_exact(mt)) {
-                    let (p, q) = (p as usize, q as usize);
-                    let (sp, sq) = (sc[p], sc[q]);
-                    if sp == 0.0 && sq == 0.0 {
-                        continue;
-                    }
-                    let (yp, yq) = (&src[p], &src[q]);
-                    let (mut dp, mut dq) = (0.0, 0.0);
-                    for j in 0..mt {
-                        let cj = f64::from(c[j]);
-                        dq += cj * yp[j];
-                        dp += cj * yq[j];
-                        pu[q][j] += sp * cj;
-                        pu[p][j] += sq * cj;
-                    }
-                    pd[p] += dp;
-                    pd[q] += dq;
+                if mt == NB {
+                    pair_sums::<NB>(pairs, coef, src, sc, pd, pu, sources_only);
+                } else {
+                    pair_sums_dyn(mt, pairs, coef, src, sc, pd, pu, sources_only);
                 }
             });
         let parts = &w.parts;
@@ -320,6 +364,9 @@ impl FastSums {
             .zip(out_u.par_iter_mut())
             .enumerate()
             .for_each(|(k, (od, ou))| {
+                if sources_only && sc[k] == 0.0 {
+                    return;
+                }
                 if sc[k] != 0.0 {
                     let gs = &self.gself[k];
                     *od -= dot(gs, &src[k]);
@@ -335,5 +382,77 @@ impl FastSums {
                 }
             });
         Ok(())
+    }
+}
+
+/// The near corrections of one part of the pair list for both directions of every pair
+/// (M coefficients per pair): pd[k] += Σ c·src[l], pu[k] += sc[l] c. With
+/// `sources_only` the outputs of asperities that are not sources are skipped.
+#[inline(never)]
+fn pair_sums<const M: usize>(
+    pairs: &[(u32, u32)],
+    coef: &[f32],
+    src: &[Vb],
+    sc: &[f64],
+    pd: &mut [f64],
+    pu: &mut [Vb],
+    sources_only: bool,
+) {
+    for (&(p, q), c) in pairs.iter().zip(coef.chunks_exact(M)) {
+        let (p, q) = (p as usize, q as usize);
+        let (sp, sq) = (sc[p], sc[q]);
+        if sp == 0.0 && sq == 0.0 {
+            continue;
+        }
+        let c: [f64; M] = std::array::from_fn(|j| f64::from(c[j]));
+        let (yp, yq) = (&src[p], &src[q]);
+        if sq != 0.0 && (sp != 0.0 || !sources_only) {
+            // target p, source q
+            let mut d = 0.0;
+            for j in 0..M {
+                d += c[j] * yq[j];
+                pu[p][j] += sq * c[j];
+            }
+            pd[p] += d;
+        }
+        if sp != 0.0 && (sq != 0.0 || !sources_only) {
+            // target q, source p
+            let mut d = 0.0;
+            for j in 0..M {
+                d += c[j] * yp[j];
+                pu[q][j] += sp * c[j];
+            }
+            pd[q] += d;
+        }
+    }
+}
+
+/// [`pair_sums`] for any number of coefficients per pair.
+#[allow(clippy::too_many_arguments)]
+fn pair_sums_dyn(
+    mt: usize,
+    pairs: &[(u32, u32)],
+    coef: &[f32],
+    src: &[Vb],
+    sc: &[f64],
+    pd: &mut [f64],
+    pu: &mut [Vb],
+    sources_only: bool,
+) {
+    for (&(p, q), c) in pairs.iter().zip(coef.chunks_exact(mt)) {
+        let (p, q) = (p as usize, q as usize);
+        let (sp, sq) = (sc[p], sc[q]);
+        for (t, s, y, st) in [(p, sq, &src[q], sp), (q, sp, &src[p], sq)] {
+            if s == 0.0 || (sources_only && st == 0.0) {
+                continue;
+            }
+            let mut d = 0.0;
+            for j in 0..mt {
+                let cj = f64::from(c[j]);
+                d += cj * y[j];
+                pu[t][j] += s * cj;
+            }
+            pd[t] += d;
+        }
     }
 }

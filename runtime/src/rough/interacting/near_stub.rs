@@ -5,6 +5,9 @@ use super::far_field::{FarModel, Vb};
 use crate::resources::ResourceError;
 use crate::summits::Summit;
 
+/// Leading coefficients per near pair (as with `spectral`).
+pub(crate) const LEAD: usize = 3;
+
 /// Never built without `spectral`.
 pub(crate) struct FastSums {
     pub grid: Grid,
@@ -62,7 +65,12 @@ impl FastSums {
         _: &mut [f64],
         _: &mut [Vb],
         w: &mut GridWork,
+        _: bool,
     ) -> Result<(), String> {
         match w.never {}
+    }
+
+    pub fn near_pairs(&self) -> (&[(u32, u32)], &[[f32; LEAD]]) {
+        match self.grid.never {}
     }
 }

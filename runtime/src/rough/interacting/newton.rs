@@ -300,7 +300,7 @@ impl Newton<'_, '_> {
 
 /// Residual max|F|/δ_max below which a Newton round checks the inactive asperities and
 /// ends early to activate the violated ones (the KKT point is the same).
-const EARLY_ACTIVATION: f64 = 1e-4;
+const EARLY_ACTIVATION: f64 = 1e-3;
 
 /// Relative residual of the iterative stiffness solve (the stiffness is then exact to
 /// far below the 1e-5 the accelerated-sums test asks).

@@ -5,9 +5,14 @@
 use super::Problem;
 use crate::rough::{Images, Model, PressureError, RoughContact, RoughError, Step};
 
-/// The I-model load path of `rc` through the approaches `deltas` (m): the geometry is
-/// prepared once, for the largest approach, and each step starts from the previous radii
-/// with a² extrapolated linearly in δ (a² + 2a (da/dδ) Δδ, kept inside (0, A]).
+/// The I-model load path of `rc` through the approaches `deltas` (m). The geometry is
+/// prepared for a stretch of the path at a time: at a step beyond the prepared approach,
+/// for the farthest remaining approach whose loaded summits are at most [`PATH_GROWTH`]
+/// times those of this step (or the dense limit): a curve from first contact to 10⁴ or
+/// 10⁵ contacts thus runs its early steps on small problems (dense sums, or a coarse grid)
+/// instead of the grid of its last step, for a handful of preparations. Each step starts
+/// from the previous radii with a² extrapolated linearly in δ (a² + 2a (da/dδ) Δδ, kept
+/// inside (0, A]).
 pub(crate) fn curve(
     rc: &RoughContact<'_>,
     images: Images,
@@ -16,20 +21,27 @@ pub(crate) fn curve(
     let mut out: Vec<Step> = Vec::with_capacity(deltas.len());
     let mut warm: Vec<f64> = Vec::new();
     let mut last: Option<(f64, Vec<f64>)> = None; // (δ, da/dδ) of the previous step
-    let mut problem: Option<Problem> = None;
-    for &d in deltas {
+    let mut problem: Option<(f64, Problem)> = None; // (prepared approach, problem)
+    let loaded = |d: f64| {
+        (0..rc.summits.len())
+            .filter(|&k| rc.interference(k, d) > 0.0)
+            .count()
+    };
+    for (i, &d) in deltas.iter().enumerate() {
         rc.check_delta(d)?;
-        let pb = match &mut problem {
-            Some(p) => p,
-            None => {
-                let dmax = deltas
-                    .iter()
-                    .copied()
-                    .filter(|x| x.is_finite())
-                    .fold(d, f64::max);
-                problem.insert(Problem::new(rc, images, dmax, &[])?)
+        if problem.as_ref().is_none_or(|(dp, _)| d > *dp) {
+            let limit = (PATH_GROWTH * loaded(d)).max(2 * rc.params.dense_pair_limit);
+            let mut dp = d;
+            for &x in &deltas[i..] {
+                if x.is_finite() && x > dp && loaded(x) <= limit {
+                    dp = x;
+                }
             }
-        };
+            problem = Some((dp, Problem::new(rc, images, dp, &warm)?));
+        }
+        let (_, pb) = problem
+            .as_mut()
+            .ok_or(RoughError::NonFinite("I-model path (no prepared problem)"))?;
         if let Some((d0, rate)) = &last {
             let a_valid = pb.geo.a_valid;
             for (w, r) in warm.iter_mut().zip(rate) {
@@ -52,6 +64,10 @@ pub(crate) fn curve(
     }
     Ok(out)
 }
+
+/// Growth of the loaded summits over which one prepared I-model problem serves a load
+/// path ([`curve`]).
+const PATH_GROWTH: usize = 3;
 
 /// Factor by which a pressure search prepares its I-model problem beyond the approach
 /// it solves (the candidates and far-field bound then serve the next iterates too).
