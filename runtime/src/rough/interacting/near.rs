@@ -84,7 +84,7 @@ fn cell_size(n: usize, extent: (f64, f64), r_c: f64, reach: f64) -> f64 {
     let mut h = top;
     while h > lx.max(ly) / 2048.0 {
         let rn = r_c + 12.0 * h;
-        let near = 30.0 * n as f64 * rho * std::f64::consts::PI * rn * rn;
+        let near = NEAR_COST * n as f64 * rho * std::f64::consts::PI * rn * rn;
         let pts = 4.0 * (lx / h + 6.0) * (ly / h + 6.0);
         let fft = (2 * NB + 2) as f64 * pts * pts.log2() * 1.5;
         let cost = near + fft + 2.0 * 36.0 * NB as f64 * n as f64;
@@ -456,3 +456,6 @@ fn pair_sums_dyn(
         }
     }
 }
+
+/// Cost of one directed near entry in flop-equivalents for [`cell_size`].
+const NEAR_COST: f64 = 30.0;

@@ -302,9 +302,12 @@ impl Newton<'_, '_> {
 /// ends early to activate the violated ones (the KKT point is the same).
 const EARLY_ACTIVATION: f64 = 1e-3;
 
-/// Relative residual of the iterative stiffness solve (the stiffness is then exact to
-/// far below the 1e-5 the accelerated-sums test asks).
-const RATES_TOLERANCE: f64 = 1e-5;
+/// Relative residual of the iterative stiffness solve. The stiffness Σ Q'_k da_k/dδ is
+/// the CG energy functional bᵀx of H x = b, whose error is the squared energy norm of the
+/// iterate's error: ~(κ·1e-4)² relative (measured against 1e-11 on 121 661 summits:
+/// ≤ 1.9e-9, far below the 1e-5 the accelerated-sums test asks); da/dδ itself only seeds
+/// the next step's start.
+const RATES_TOLERANCE: f64 = 1e-4;
 
 /// Dense LU solve with partial pivoting (row-major m×m); None when singular.
 pub(crate) fn lu_solve(a: &mut [f64], b: &mut [f64], m: usize) -> Option<Vec<f64>> {

@@ -67,7 +67,7 @@ pub(crate) fn curve(
 
 /// Growth of the loaded summits over which one prepared I-model problem serves a load
 /// path ([`curve`]).
-const PATH_GROWTH: usize = 3;
+const PATH_GROWTH: usize = 2;
 
 /// Factor by which a pressure search prepares its I-model problem beyond the approach
 /// it solves (the candidates and far-field bound then serve the next iterates too).
