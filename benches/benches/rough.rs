@@ -28,7 +28,7 @@
 //!   D_f = 2.4, k_m = 2) of about 1e3, 4e3 and 1e4 summits, cold as above: above
 //!   `Params::dense_pair_limit` loaded asperities the far field runs on the FFT grid
 //!   with sparse near corrections and conjugate-gradient Newton steps. The 1e5-summit
-//!   point (grid 2048, k_M = 840) runs only with `STRATA_BENCH_LARGE=1` (minutes per
+//!   point (grid 2048, k_M = 840) runs only with `STRATA_BENCH_LARGE=1` (about a minute per
 //!   sample). Peak memory and the fitted exponents: `strata study` ("I model at scale").
 //!
 //! Run: `cargo bench -p strata-benches --bench rough` (`-- stall`, `-- control`,
