@@ -9,12 +9,23 @@
 //! is built and kept below half the far-field tolerance.
 //!
 //! Cost per evaluation: (2M + 2) FFTs of the padded grid, M ≤ NB the Chebyshev terms
-//! kept on the grid (those whose magnitude beyond r_c can matter at the tolerance);
-//! memory O(grid + N).
+//! kept on the grid: those whose magnitude beyond about r_c + 7H (where the grid's own
+//! pairs begin) can matter at the tolerance; the near corrections keep every term that
+//! can matter beyond r_c. Memory O(grid + N).
 
 use super::far_field::{FarModel, NB, Vb, dot};
 use crate::fft::{Complex, FftError, RealFft2};
 use rayon::prelude::*;
+
+/// Distance beyond r_c (cells) from which the grid's truncation to fewer Chebyshev
+/// terms than the near corrections is judged: about where the grid's interpolation
+/// error lets its own pairs begin (r_near ≈ r_c + 7…9H, measured).
+const GRID_REACH: f64 = 7.0;
+
+/// Largest truncation error of the grid's Chebyshev terms beyond r_c + GRID_REACH·H, as
+/// a fraction of the far-field tolerance (the grid's measured error, truncation
+/// included, stays below half the tolerance).
+const GRID_TRUNCATION: f64 = 0.3;
 
 /// Lagrange points per direction of the spreading stencil.
 pub(crate) const P: usize = 6;
@@ -118,6 +129,8 @@ pub(crate) struct FarGrid {
     spectra: Vec<Vec<f64>>,
     /// Chebyshev terms on the grid.
     pub terms: usize,
+    /// Chebyshev terms of the near corrections (≥ `terms`).
+    pub near_terms: usize,
     /// Pairs closer than this (m) are corrected exactly.
     pub r_near: f64,
     /// Single-image kernel at lags |dx|, |dy| ≤ win (cells), row-major (2win+1)².
@@ -156,22 +169,34 @@ impl FarGrid {
         let hh = (lx / gx as f64, ly / gy as f64);
         let hmax = hh.0.max(hh.1);
         let checks = Checks::new(far);
-        // terms: the fewest leading Chebyshev terms whose tail stays below tol/20 at every
-        // sampled distance beyond r_c
+        // near terms: the fewest leading Chebyshev terms whose tail stays below tol/20 at
+        // every sampled distance beyond r_c (the near corrections carry them); grid terms:
+        // the same beyond r_c + GRID_REACH·H, where the grid's own pairs begin (its
+        // interpolation error keeps r_near beyond that), at most the near terms. The
+        // measured error below includes the truncation.
+        let r_grid = far.r_c + GRID_REACH * hmax;
         let mut tails = [0.0f64; NB + 1];
+        let mut tails_grid = [0.0f64; NB + 1];
         let mut r = far.r_c;
         while r <= far.r_hi {
             let mut acc = [0.0; NB];
             far.accumulate(r, &mut acc);
             let v = acc.map(|c| 0.75 * r * c);
-            for (m, t) in tails.iter_mut().enumerate() {
+            for m in 0..=NB {
                 let mut dv = v;
                 dv[..m.min(NB)].iter_mut().for_each(|x| *x = 0.0);
-                *t = t.max(checks.error(&dv));
+                let e = checks.error(&dv);
+                tails[m] = tails[m].max(e);
+                if r >= r_grid {
+                    tails_grid[m] = tails_grid[m].max(e);
+                }
             }
             r *= 1.05;
         }
-        let terms = (1..=NB).find(|&m| tails[m] <= 0.05 * tol).unwrap_or(NB);
+        let near_terms = (1..=NB).find(|&m| tails[m] <= 0.05 * tol).unwrap_or(NB);
+        let terms = (1..=near_terms)
+            .find(|&m| tails_grid[m] <= GRID_TRUNCATION * tol)
+            .unwrap_or(near_terms);
         let nd = ((gx + HW) as usize, (gy + HW) as usize);
         let ny = smooth_size(2 * nd.1 - 1);
         let nx = smooth_size(2 * nd.0 - 1);
@@ -233,6 +258,7 @@ impl FarGrid {
             plan,
             spectra,
             terms,
+            near_terms,
             r_near: far.r_c + 4.0 * hmax,
             win: 0,
             single: Vec::new(),

@@ -226,7 +226,7 @@ impl FastSums {
         // sources at a time): the correction c − G and the far model's leading
         // coefficients (images at r ≥ r_c) summed over its images, and the images closer
         // than r_c (the exact list). Pairs and exact entries come out sorted by (q, p).
-        let mt = grid.terms;
+        let mt = grid.near_terms;
         let mut pair: Vec<(u32, u32)> = Vec::with_capacity(count as usize);
         let mut coef: Vec<f32> = Vec::with_capacity(count as usize * mt);
         let mut lead: Vec<[f32; LEAD]> = Vec::with_capacity(count as usize);
@@ -343,7 +343,7 @@ impl FastSums {
             &mut w.grid,
             sources_only,
         )?;
-        let mt = self.grid.terms;
+        let mt = self.grid.near_terms;
         let chunk = self.pair.len().div_ceil(w.parts.len()).max(1);
         w.parts
             .par_iter_mut()
@@ -376,7 +376,7 @@ impl FastSums {
                 }
                 for (pd, pu) in parts {
                     *od += pd[k];
-                    for j in 0..mt {
+                    for j in 0..self.grid.near_terms {
                         ou[j] += pu[k][j];
                     }
                 }
