@@ -352,11 +352,16 @@ impl FastSums {
             .for_each(|(((pd, pu), pairs), coef)| {
                 pd.iter_mut().for_each(|v| *v = 0.0);
                 pu.iter_mut().for_each(|v| *v = [0.0; NB]);
-                if mt == NB {
-                    pair_sums::<NB>(pairs, coef, src, sc, pd, pu, sources_only);
-                } else {
-                    pair_sums_dyn(mt, pairs, coef, src, sc, pd, pu, sources_only);
+                macro_rules! sums {
+                    ($($m:literal)*) => {
+                        match mt {
+                            $($m => pair_sums::<$m>(pairs, coef, src, sc, pd, pu, sources_only),)*
+                            _ => {}
+                        }
+                    };
                 }
+                // a kernel per count of coefficients (mt ∈ 1..=NB, NB = 12)
+                sums!(1 2 3 4 5 6 7 8 9 10 11 12);
             });
         let parts = &w.parts;
         out_d
@@ -405,57 +410,22 @@ fn pair_sums<const M: usize>(
             continue;
         }
         let c: [f64; M] = std::array::from_fn(|j| f64::from(c[j]));
-        let (yp, yq) = (&src[p], &src[q]);
-        if sq != 0.0 && (sp != 0.0 || !sources_only) {
-            // target p, source q
-            let mut d = 0.0;
-            for j in 0..M {
-                d += c[j] * yq[j];
-                pu[p][j] += sq * c[j];
-            }
-            pd[p] += d;
-        }
-        if sp != 0.0 && (sq != 0.0 || !sources_only) {
-            // target q, source p
-            let mut d = 0.0;
-            for j in 0..M {
-                d += c[j] * yp[j];
-                pu[q][j] += sp * c[j];
-            }
-            pd[q] += d;
-        }
-    }
-}
-
-/// [`pair_sums`] for any number of coefficients per pair.
-#[allow(clippy::too_many_arguments)]
-fn pair_sums_dyn(
-    mt: usize,
-    pairs: &[(u32, u32)],
-    coef: &[f32],
-    src: &[Vb],
-    sc: &[f64],
-    pd: &mut [f64],
-    pu: &mut [Vb],
-    sources_only: bool,
-) {
-    for (&(p, q), c) in pairs.iter().zip(coef.chunks_exact(mt)) {
-        let (p, q) = (p as usize, q as usize);
-        let (sp, sq) = (sc[p], sc[q]);
-        for (t, s, y, st) in [(p, sq, &src[q], sp), (q, sp, &src[p], sq)] {
-            if s == 0.0 || (sources_only && st == 0.0) {
+        // target p from source q, then target q from source p
+        for (t, s, y, own) in [(p, sq, &src[q], sp), (q, sp, &src[p], sq)] {
+            if s == 0.0 || (sources_only && own == 0.0) {
                 continue;
             }
             let mut d = 0.0;
-            for j in 0..mt {
-                let cj = f64::from(c[j]);
-                d += cj * y[j];
-                pu[t][j] += s * cj;
+            for j in 0..M {
+                d += c[j] * y[j];
+                pu[t][j] += s * c[j];
             }
             pd[t] += d;
         }
     }
 }
+
+const _: () = assert!(NB == 12, "pair_sums dispatch covers 1..=12 coefficients");
 
 /// Cost of one directed near entry in flop-equivalents for [`cell_size`].
 const NEAR_COST: f64 = 30.0;
