@@ -53,7 +53,9 @@ t_pip=$(date +%s)
 echo "python: venv ready in $((t_pip - t_start)) s ($("$VENV/bin/python" --version))"
 
 # 1. strata writes the surface; 2. the Python solvers load it; 3. Rust compares.
-cargo test --test it -- --ignored --exact bem_reference::write_cross_check_surface --nocapture
+# `--workspace`: the features of `cargo test --workspace`, so its build is reused (a
+# package-only build unifies features differently and recompiles the workspace crates).
+cargo test --workspace --test it -- --ignored --exact bem_reference::write_cross_check_surface --nocapture
 t_surf=$(date +%s)
 # Single-threaded on both sides: a fair per-core comparison on shared CI machines.
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
@@ -61,7 +63,7 @@ export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
 "$VENV/bin/python" tests/python/compare.py cm "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/cm.csv"
 "$VENV/bin/python" tests/python/compare.py free "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/free.csv"
 t_py=$(date +%s)
-cargo test --test it -- --ignored bem_reference::python_ --nocapture
+cargo test --workspace --test it -- --ignored bem_reference::python_ --nocapture
 t_end=$(date +%s)
 echo "python cross-checks passed: venv $((t_pip - t_start)) s, surface (cargo) $((t_surf - t_pip)) s, Python solvers $((t_py - t_surf)) s, strata comparison $((t_end - t_py)) s, total $((t_end - t_start)) s"
 
