@@ -78,6 +78,8 @@ impl Control {
 /// Result of one constrained solve.
 pub(crate) struct CgOutcome {
     pub iterations: usize,
+    /// Applications of the operator K (convolutions) the solve spent.
+    pub products: usize,
     pub error: f64,
     /// The offset c (m): g = K p − z + c.
     pub offset: f64,
@@ -168,6 +170,59 @@ impl Merge for Sums {
     }
 }
 
+/// Sums over the contact set of a direction t and its product r = K t: Σ g t, Σ r t,
+/// Σ t, Σ r, the count, and the smallest step that takes a point to p ≤ 0
+/// (min f p / t over t > 0; +∞ if none).
+#[derive(Clone, Copy, Debug)]
+struct StepSums {
+    gt: f64,
+    rt: f64,
+    t: f64,
+    r: f64,
+    m: f64,
+    leave: f64,
+}
+
+impl Default for StepSums {
+    fn default() -> Self {
+        StepSums {
+            gt: 0.0,
+            rt: 0.0,
+            t: 0.0,
+            r: 0.0,
+            m: 0.0,
+            leave: f64::INFINITY,
+        }
+    }
+}
+
+impl StepSums {
+    /// A contact point with (true) pressure `p`, direction `t` and product `r`.
+    #[inline(always)]
+    fn add(&mut self, p: f64, t: f64, r: f64) {
+        self.rt += r * t;
+        self.t += t;
+        self.r += r;
+        self.m += 1.0;
+        if t > 0.0 {
+            self.leave = self.leave.min(p / t);
+        }
+    }
+}
+
+impl Merge for StepSums {
+    fn merge(self, o: Self) -> Self {
+        StepSums {
+            gt: self.gt + o.gt,
+            rt: self.rt + o.rt,
+            t: self.t + o.t,
+            r: self.r + o.r,
+            m: self.m + o.m,
+            leave: self.leave.min(o.leave),
+        }
+    }
+}
+
 /// Buffers and scalars of the iteration (allocated once per solve, none per iteration).
 /// The stored p and u are f times smaller than the true ones (the pending rescale of
 /// pressure control, applied in the next pass that reads them).
@@ -179,12 +234,39 @@ struct State<'a> {
     r: Vec<f64>,
     /// Δp off the step direction (zero except between an update and its correction).
     corr: Vec<f64>,
+    /// The gap on the contact set (0 elsewhere), the input of a fused iteration's product.
+    g: Vec<f64>,
     work: Fft2Work,
     /// Pending scale of p and u.
     f: f64,
     /// Offset c of the current state.
     c: f64,
     stats: Stats,
+    /// Σ z and the number of points over the contact set of the current state.
+    sz: f64,
+    m: f64,
+    /// Operator applications so far.
+    products: usize,
+}
+
+/// A step computed but not yet applied: p ← f p − τ t, u ← f u − τ r.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    tau: f64,
+    /// Σ t and Σ r over the contact set.
+    st: f64,
+    sr: f64,
+    /// The smallest step that takes a contact point to p ≤ 0: min f p / t over t > 0.
+    leave: f64,
+}
+
+/// What a fused iteration did.
+enum Fused {
+    /// The update was clean and the next step is computed: it and Σg² of the new state.
+    Stepped(Pending, f64),
+    /// The update is applied but the iteration stopped before its product: the contact
+    /// set changed (`changed` in the sums), the state converged, or a refresh is due.
+    Stopped(Sums),
 }
 
 /// Solves; on return `p` holds the pressure.
@@ -199,6 +281,7 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
                 p.fill(0.0);
                 return Ok(CgOutcome {
                     iterations: 0,
+                    products: 0,
                     error: 0.0,
                     offset: c,
                     gap: z.iter().map(|zi| c - zi).collect(),
@@ -227,20 +310,25 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
         t: vec![0.0; n],
         r: vec![0.0; n],
         corr: vec![0.0; n],
+        g: vec![0.0; n],
         work: pb.op.work(),
         f: 1.0,
         c: control.known_offset().unwrap_or(0.0),
         stats: Stats::default(),
+        sz: 0.0,
+        m: 0.0,
+        products: 0,
     };
     s.exact(p)?;
     let mut exact = true;
     let mut since_exact = 0usize;
     let mut g_old = 1.0;
     let mut conjugate = false;
-    let mut error = f64::INFINITY;
-    for it in 0..=pb.max_iterations {
+    let mut error;
+    let mut it = 0;
+    loop {
         error = s.stats.error(pb.z_rms);
-        if !exact && (error <= pb.tolerance || it == pb.max_iterations || since_exact >= REFRESH) {
+        if !exact && (error <= pb.tolerance || it >= pb.max_iterations || since_exact >= REFRESH) {
             // Accept only on the exact gap; refresh it now and then against drift.
             s.exact(p)?;
             since_exact = 0;
@@ -254,14 +342,16 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
             let gap = s.u.par_iter().zip(z.par_iter()).map(|(u, z)| u - z + c);
             return Ok(CgOutcome {
                 iterations: it,
+                products: s.products,
                 error,
                 offset: c,
                 gap: gap.collect(),
             });
         }
-        if it == pb.max_iterations {
+        if it >= pb.max_iterations {
             break;
         }
+        it += 1;
         if s.stats.psum == 0.0 {
             // The step emptied the contact set (displacement control only): restart
             // from the local estimate on the interpenetrating points.
@@ -279,10 +369,31 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
         let gg = s.stats.gg;
         let beta = if conjugate { gg / g_old } else { 0.0 };
         g_old = gg;
-        let overlap = s.step(p, beta)?;
-        conjugate = !overlap;
+        let mut step = s.direction(p, beta)?;
         exact = false;
         since_exact += 1;
+        // Apply the step. While it leaves the contact set as it is (no point reaches
+        // p ≤ 0, none re-enters), the update is fused into the next iteration's product.
+        loop {
+            let clean = s.stats.pen == 0.0 && step.tau < step.leave;
+            let sums = if clean {
+                let go = it < pb.max_iterations && since_exact < REFRESH;
+                match s.fused(p, step, g_old, go)? {
+                    Fused::Stepped(next, gg) => {
+                        step = next;
+                        g_old = gg;
+                        it += 1;
+                        since_exact += 1;
+                        continue;
+                    }
+                    Fused::Stopped(sums) => sums,
+                }
+            } else {
+                s.update(p, step.tau)
+            };
+            conjugate = !s.finish(p, sums)?;
+            break;
+        }
     }
     Err(BemError::NotConverged {
         iterations: pb.max_iterations,
@@ -311,6 +422,7 @@ impl State<'_> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let f = self.f;
         let known = self.control.known_offset();
+        self.products += 1;
         let ((), sums) = self.pb.op.apply_with(
             p,
             &mut self.u,
@@ -346,6 +458,8 @@ impl State<'_> {
 
     /// After a pass that changed u: the offset, the pending scale and the error terms.
     fn settle(&mut self, p: &[f64], sums: Sums) {
+        self.sz = sums.sz;
+        self.m = sums.m;
         match self.control {
             Control::Offset { .. } => self.stats = sums.stats,
             Control::Pressure(_) => {
@@ -360,14 +474,14 @@ impl State<'_> {
         }
     }
 
-    /// One conjugate-gradient step with conjugation coefficient `beta`; returns whether
-    /// points re-entered the contact set (the conjugation restarts).
-    fn step(&mut self, p: &mut [f64], beta: f64) -> Result<bool, BemError> {
+    /// The direction t = g + β t (on the contact set) and r = K t, one product, and the
+    /// step τ = Σ g t / Σ r̃ t along it (r̃ = r − mean_contact r under pressure control).
+    fn direction(&mut self, p: &[f64], beta: f64) -> Result<Pending, BemError> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let (f, c) = (self.f, self.c);
         let uniform = self.control.uniform();
         let u = &self.u;
-        let pr: &[f64] = p;
+        self.products += 1;
         // Direction t (fused into the forward row FFTs) and r = K t, with the sums of τ
         // as r is written.
         let (gt, d) = self.pb.op.apply_with(
@@ -377,7 +491,7 @@ impl State<'_> {
             &mut self.work,
             |i, trow, input| {
                 let row = i * nx..(i + 1) * nx;
-                let (prow, urow, zrow) = (&pr[row.clone()], &u[row.clone()], &z[row]);
+                let (prow, urow, zrow) = (&p[row.clone()], &u[row.clone()], &z[row]);
                 let mut acc = 0.0;
                 for k in 0..nx {
                     trow[k] = if prow[k] > 0.0 {
@@ -394,25 +508,168 @@ impl State<'_> {
             },
             |i, trow, rrow, out| {
                 out.copy_from_slice(rrow);
-                let prow = &pr[i * nx..(i + 1) * nx];
-                let mut a = [0.0f64; 4];
+                let prow = &p[i * nx..(i + 1) * nx];
+                let mut d = StepSums::default();
                 for k in 0..nx {
                     if prow[k] > 0.0 {
-                        a[0] += rrow[k] * trow[k];
-                        a[1] += trow[k];
-                        a[2] += rrow[k];
-                        a[3] += 1.0;
+                        d.add(f * prow[k], trow[k], rrow[k]);
                     }
                 }
-                a
+                d
             },
         )?;
+        Ok(self.pending(StepSums { gt, ..d }))
+    }
+
+    /// The step from the sums of a direction's product.
+    fn pending(&self, d: StepSums) -> Pending {
         let den = match self.control {
-            Control::Pressure(_) if d[3] > 0.0 => d[0] - d[2] / d[3] * d[1],
-            _ => d[0],
+            Control::Pressure(_) if d.m > 0.0 => d.rt - d.r / d.m * d.t,
+            _ => d.rt,
         };
-        let tau = if den > 0.0 { gt / den } else { 0.0 };
-        let mut sums = self.update(p, tau);
+        Pending {
+            tau: if den > 0.0 { d.gt / den } else { 0.0 },
+            st: d.t,
+            sr: d.r,
+            leave: d.leave,
+        }
+    }
+
+    /// A fused iteration: the pending step applied row by row as the rows of the next
+    /// product are formed. Assuming the contact set stays as it is, the new state's
+    /// scale f′ and offset c′ are known before the pass (pressure control:
+    /// Σ p′ = p̄N − τ Σt, Σ u′ = Σz − c m − τ Σr over the unchanged set), so the pass
+    /// also forms the new gap g′ on the contact set, its error terms and Σ g′². If the
+    /// set did change, or the state converged, or `go` is false, the product stops
+    /// there ([`Fused::Stopped`], the caller corrects u). Otherwise the product is
+    /// q = K g′ and, the set unchanged, the new direction and its product follow without
+    /// another convolution: t′ = g′ + β t, r′ = K t′ = q + β r, β = Σ g′² / `g_old`.
+    fn fused(
+        &mut self,
+        p: &mut [f64],
+        step: Pending,
+        g_old: f64,
+        go: bool,
+    ) -> Result<Fused, BemError> {
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let (f, c) = (self.f, self.c);
+        let Pending { tau, st, sr, .. } = step;
+        // The new scale and offset, the contact set unchanged.
+        let (f2, c2) = match self.control {
+            Control::Offset { c, .. } => (1.0, c),
+            Control::Pressure(pbar) => {
+                let total = pbar * p.len() as f64;
+                let psum = total - tau * st;
+                let f2 = if psum > 0.0 { total / psum } else { 1.0 };
+                let su = self.sz - c * self.m - tau * sr;
+                let c2 = if self.m > 0.0 {
+                    -(f2 * su - self.sz) / self.m
+                } else {
+                    0.0
+                };
+                (f2, c2)
+            }
+        };
+        let (tol, z_rms) = (self.pb.tolerance, self.pb.z_rms);
+        // Continue to the product with β = Σg′²/g_old unless the set changed or the new
+        // state is converged (or `go` is false).
+        let gate =
+            |a: &Sums| (go && !a.changed && a.stats.error(z_rms) > tol).then(|| a.stats.gg / g_old);
+        let (sums, drained) = self.pb.op.apply_fields(
+            [
+                &mut *p,
+                &mut self.u,
+                &mut self.g,
+                &mut self.t,
+                &mut self.r,
+                &mut self.corr,
+            ],
+            self.control.uniform(),
+            &mut self.work,
+            |i, [p, u, g, t, r, corr], input| {
+                let zrow = &z[i * nx..(i + 1) * nx];
+                let mut acc = Sums::default();
+                for k in 0..nx {
+                    let (pi, ui) = (f * p[k], f * u[k]);
+                    let v = if pi > 0.0 {
+                        let v = pi - tau * t[k];
+                        if v <= 0.0 {
+                            acc.changed = true;
+                            if v < 0.0 {
+                                corr[k] = -v;
+                            }
+                            0.0
+                        } else {
+                            v
+                        }
+                    } else {
+                        let g = ui - zrow[k] + c;
+                        if g < 0.0 {
+                            acc.changed = true;
+                            acc.overlap = true;
+                            corr[k] = -tau * g;
+                            -tau * g
+                        } else {
+                            0.0
+                        }
+                    };
+                    p[k] = v;
+                    let un = ui - tau * r[k];
+                    u[k] = un;
+                    let gap = f2 * un - zrow[k] + c2;
+                    let gi = if v > 0.0 {
+                        acc.su += un;
+                        acc.sz += zrow[k];
+                        acc.m += 1.0;
+                        acc.psum += v;
+                        gap
+                    } else {
+                        0.0
+                    };
+                    g[k] = gi;
+                    input[k] = gi;
+                    acc.stats.add(f2 * v, gap);
+                }
+                acc
+            },
+            gate,
+            |&beta, _, [p, _, g, t, r, _], q| {
+                // The set is unchanged: t′ = g′ + β t, r′ = K g′ + β r.
+                let mut d = StepSums::default();
+                for k in 0..nx {
+                    let rn = q[k] + beta * r[k];
+                    r[k] = rn;
+                    if p[k] > 0.0 {
+                        let tn = g[k] + beta * t[k];
+                        t[k] = tn;
+                        d.add(f2 * p[k], tn, rn);
+                        d.gt += g[k] * tn;
+                    }
+                }
+                d
+            },
+        )?;
+        if drained.is_some() {
+            self.products += 1;
+        }
+        if drained.is_some() || !sums.changed {
+            // The state is the new one: its scale, offset and error terms are known.
+            self.f = f2;
+            self.c = c2;
+            self.stats = sums.stats;
+            self.sz = sums.sz;
+            self.m = sums.m;
+        }
+        Ok(match drained {
+            Some(d) => Fused::Stepped(self.pending(d), sums.stats.gg),
+            None => Fused::Stopped(sums),
+        })
+    }
+
+    /// After an update that was not fused (or stopped): u corrected by K Δ if the contact
+    /// set changed, the pending scale (pressure control), the offset and error terms.
+    /// Returns whether points re-entered the contact set (the conjugation restarts).
+    fn finish(&mut self, p: &mut [f64], mut sums: Sums) -> Result<bool, BemError> {
         self.f = 1.0;
         if sums.changed {
             // The contact set changed: add K Δ (the second product of this iteration).
@@ -495,6 +752,7 @@ impl State<'_> {
     fn correct(&mut self, p: &[f64], before: Sums) -> Result<Sums, BemError> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let known = self.control.known_offset();
+        self.products += 1;
         let ((), add) = self.pb.op.apply_with(
             &mut self.corr,
             &mut self.u,

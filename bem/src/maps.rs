@@ -39,6 +39,10 @@ pub struct BemSolution {
     pub mean_deflection: f64,
     /// Conjugate-gradient iterations used.
     pub iterations: usize,
+    /// Applications of the influence operator (one FFT convolution each) the solve
+    /// spent: one per iteration, one more on each iteration whose contact set changed,
+    /// and the exact gap refreshes (see the `cg` module).
+    pub products: usize,
     /// Final error ε (see the crate docs).
     pub error: f64,
     /// Pressure map p (Pa), ny×nx, same orientation as the heights.

@@ -9,7 +9,7 @@
 //!   real-space influence coefficients G of a uniformly loaded pixel ([`crate::influence`]),
 //!   by circulant embedding on the zero-padded 2ny × 2nx grid.
 
-use strata_runtime::fft::{Fft2Work, Merge, RealFft2, RowPasses};
+use strata_runtime::fft::{Fft2Work, Fields, Merge, RealFft2, RowPasses};
 
 use crate::BemError;
 
@@ -137,6 +137,26 @@ impl Operator {
             dc: self.dc(uniform),
         };
         Ok(self.plan.convolve_with(rows, work, fill, drain)?)
+    }
+
+    /// `K · fill(fields)` with the per-row work of both passes fused, and a gate between
+    /// them that may stop the product after the fill ([`RealFft2::convolve_fields`]).
+    #[allow(clippy::type_complexity)]
+    pub(crate) fn apply_fields<const K: usize, A: Merge, B: Merge, G: Sync>(
+        &self,
+        fields: [&mut [f64]; K],
+        uniform: bool,
+        work: &mut Fft2Work,
+        fill: impl Fn(usize, [&mut [f64]; K], &mut [f64]) -> A + Sync,
+        gate: impl FnOnce(&A) -> Option<G>,
+        drain: impl Fn(&G, usize, [&mut [f64]; K], &[f64]) -> B + Sync,
+    ) -> Result<(A, Option<B>), BemError> {
+        let f = Fields {
+            fields,
+            kernel: &self.kernel,
+            dc: self.dc(uniform),
+        };
+        Ok(self.plan.convolve_fields(f, work, fill, gate, drain)?)
     }
 
     /// The (0, 0) kernel entry: 0 for a periodic operator without the uniform mode.

@@ -68,6 +68,8 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
         if error <= pb.tolerance {
             return Ok(CgOutcome {
                 iterations: it,
+                // Two products per iteration and the final gap's.
+                products: 2 * it + 1,
                 error,
                 offset: c,
                 gap: g,

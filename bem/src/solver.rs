@@ -667,6 +667,7 @@ impl BemSolver {
             total_load: mean_pressure * self.area(),
             mean_deflection,
             iterations: out.iterations,
+            products: out.products,
             error: out.error,
             pressure: Array2::from_shape_vec((ny, nx), p).unwrap_or_default(),
             gap: Array2::from_shape_vec((ny, nx), out.gap).unwrap_or_default(),

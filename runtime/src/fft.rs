@@ -93,8 +93,31 @@ pub enum FftError {
     },
 }
 
-/// A lane's rows of the data and output arrays, and its scratch.
-type RowSpan<'a> = ((&'a [f64], &'a mut [f64]), &'a mut Lane);
+/// Splits each of K row-major arrays (ny·nx) into the row chunks of `lanes` lanes
+/// (`rows` rows each, the last one shorter or empty).
+fn lane_chunks<const K: usize>(
+    fields: [&mut [f64]; K],
+    rows: usize,
+    nx: usize,
+    lanes: usize,
+) -> Vec<[&mut [f64]; K]> {
+    let mut iters = fields.map(|f| f.chunks_mut((rows * nx).max(1)));
+    (0..lanes)
+        .map(|_| std::array::from_fn(|j| iters[j].next().unwrap_or(&mut [])))
+        .collect()
+}
+
+/// A lane's row spectra, its chunks of the K fields, and its scratch.
+type LaneRows<'a, const K: usize> = ((&'a mut [Complex<f64>], [&'a mut [f64]; K]), &'a mut Lane);
+
+/// Row `r` (nx values) of each of a lane's K chunks.
+fn row_of<'b, const K: usize>(
+    chunks: &'b mut [&mut [f64]; K],
+    r: usize,
+    nx: usize,
+) -> [&'b mut [f64]; K] {
+    chunks.each_mut().map(|c| &mut c[r * nx..(r + 1) * nx])
+}
 
 /// Per-row accumulators of [`RealFft2::convolve_with`], combined over rows.
 pub trait Merge: Default + Send {
@@ -132,6 +155,18 @@ pub struct RowPasses<'a> {
     pub data: &'a mut [f64],
     /// Row destination of the drain hook (ny·nx).
     pub out: &'a mut [f64],
+    /// Kernel, `kernel[kx · NY + ky]`.
+    pub kernel: &'a [f64],
+    /// Value used in place of the (0, 0) kernel entry.
+    pub dc: f64,
+}
+
+/// The arrays of one [`RealFft2::convolve_fields`]: K row-major ny·nx fields handed row
+/// by row, all mutable, to both hooks; the kernel in the half-spectrum layout
+/// (normalisation included) and its (0, 0) entry `dc`.
+pub struct Fields<'a, const K: usize> {
+    /// The fields (each ny·nx).
+    pub fields: [&'a mut [f64]; K],
     /// Kernel, `kernel[kx · NY + ky]`.
     pub kernel: &'a [f64],
     /// Value used in place of the (0, 0) kernel entry.
@@ -273,7 +308,7 @@ impl RealFft2 {
         self.check("kernel", kernel.len(), self.spectrum_len())?;
         self.rows_forward(input, work);
         self.columns_from_rows(kernel, dc, work);
-        self.rows_inverse_from_spec(input, out, work, &|_, _, result, o: &mut [f64]| {
+        self.rows_inverse_fields([out], work, &|_, [o]: [&mut [f64]; 1], result: &[f64]| {
             o.copy_from_slice(result)
         });
         Ok(())
@@ -297,20 +332,64 @@ impl RealFft2 {
         A: Merge,
         B: Merge,
     {
-        let n = self.data.0 * self.data.1;
         let RowPasses {
             data,
             out,
             kernel,
             dc,
         } = rows;
-        self.check("data", data.len(), n)?;
-        self.check("output", out.len(), n)?;
+        let (a, b) = self.convolve_fields(
+            Fields {
+                fields: [data, out],
+                kernel,
+                dc,
+            },
+            work,
+            |i, [d, _]: [&mut [f64]; 2], input: &mut [f64]| fill(i, d, input),
+            |_| Some(()),
+            |_, i, [d, o]: [&mut [f64]; 2], result: &[f64]| drain(i, d, result, o),
+        )?;
+        Ok((a, b.unwrap_or_default()))
+    }
+
+    /// The general fused convolution: K fields (each ny·nx) handed row by row to both
+    /// hooks, mutable. `fill(i, rows, input_row)` produces row `i` of the transform's
+    /// input (nx values) and may rewrite the fields' rows; then `gate` sees the combined
+    /// fill accumulator and either stops the convolution there (`None`: the rest is not
+    /// computed) or hands a value `g` to the drain: `drain(&g, i, rows, result_row)`
+    /// consumes row `i` of `F⁻¹[K · F[input]]`. Rows run on the plan's lanes in parallel; each row index is
+    /// handed to each hook exactly once.
+    pub fn convolve_fields<const K: usize, A, B, G>(
+        &self,
+        fields: Fields<'_, K>,
+        work: &mut Fft2Work,
+        fill: impl Fn(usize, [&mut [f64]; K], &mut [f64]) -> A + Sync,
+        gate: impl FnOnce(&A) -> Option<G>,
+        drain: impl Fn(&G, usize, [&mut [f64]; K], &[f64]) -> B + Sync,
+    ) -> Result<(A, Option<B>), FftError>
+    where
+        A: Merge,
+        B: Merge,
+        G: Sync,
+    {
+        let n = self.data.0 * self.data.1;
+        let Fields {
+            mut fields,
+            kernel,
+            dc,
+        } = fields;
+        for f in fields.iter() {
+            self.check("field", f.len(), n)?;
+        }
         self.check("kernel", kernel.len(), self.spectrum_len())?;
-        let a = self.rows_forward_with(data, work, &fill);
+        let a = self.rows_forward_fields(fields.each_mut().map(|f| &mut **f), work, &fill);
+        let Some(g) = gate(&a) else {
+            return Ok((a, None));
+        };
         self.columns_from_rows(kernel, dc, work);
-        let b = self.rows_inverse_from_spec(data, out, work, &drain);
-        Ok((a, b))
+        let b =
+            self.rows_inverse_fields(fields, work, &|i, rows, result| drain(&g, i, rows, result));
+        Ok((a, Some(b)))
     }
 
     /// The column stage of a convolution: each lane gathers its kx lines from the row
@@ -359,61 +438,71 @@ impl RealFft2 {
         }
     }
 
-    /// Forward row transforms, each row produced by `fill`.
-    fn rows_forward_with<A: Merge>(
+    /// Forward row transforms, each row produced by `fill` from the fields' rows.
+    fn rows_forward_fields<const K: usize, A: Merge>(
         &self,
-        data: &mut [f64],
+        fields: [&mut [f64]; K],
         work: &mut Fft2Work,
-        fill: &(impl Fn(usize, &mut [f64], &mut [f64]) -> A + Sync),
+        fill: &(impl Fn(usize, [&mut [f64]; K], &mut [f64]) -> A + Sync),
     ) -> A {
         let (ny, nx) = self.data;
         let gx = self.grid.1;
         let h = self.half;
-        let chunk = ny.div_ceil(work.lanes.len());
+        let lanes = work.lanes.len();
+        let chunk = ny.div_ceil(lanes);
         let r2c = &self.r2c;
-        let run = |((rows, src), lane): ((&mut [Complex<f64>], &mut [f64]), &mut Lane),
-                   first: usize| {
+        let parts = lane_chunks(fields, chunk, nx, lanes);
+        let run = |((rows, mut part), lane): LaneRows<'_, K>, first: usize| {
             let mut acc = A::default();
-            for (r, (out, d)) in rows.chunks_mut(h).zip(src.chunks_mut(nx)).enumerate() {
-                acc = acc.merge(fill(first + r, d, &mut lane.real[..nx]));
+            for (r, out) in rows.chunks_mut(h).enumerate() {
+                acc = acc.merge(fill(
+                    first + r,
+                    row_of(&mut part, r, nx),
+                    &mut lane.real[..nx],
+                ));
                 lane.real[nx..gx].fill(0.0);
                 // Lengths are fixed by the plan: the only error is a wrong length.
                 let _ = r2c.process_with_scratch(&mut lane.real, out, &mut lane.scratch);
             }
             acc
         };
-        if work.lanes.len() > 1 {
+        if lanes > 1 {
             work.rows
                 .par_chunks_mut(chunk * h)
-                .zip(data.par_chunks_mut(chunk * nx))
+                .zip(parts.into_par_iter())
                 .zip(work.lanes.par_iter_mut())
                 .enumerate()
                 .map(|(c, pair)| run(pair, c * chunk))
                 .reduce(A::default, A::merge)
         } else {
-            run(((&mut work.rows, data), &mut work.lanes[0]), 0)
+            let (rows, lane) = (&mut work.rows, &mut work.lanes[0]);
+            parts
+                .into_iter()
+                .map(|part| run(((&mut *rows, part), &mut *lane), 0))
+                .fold(A::default(), A::merge)
         }
     }
 
     /// The inverse row stage of a convolution: each lane gathers its rows from the
     /// transposed spectrum (ROW_BLOCK rows at a time), transforms them back and hands
-    /// each result row to `drain`.
-    fn rows_inverse_from_spec<B: Merge>(
+    /// each result row, with the fields' rows, to `drain`.
+    fn rows_inverse_fields<const K: usize, B: Merge>(
         &self,
-        data: &[f64],
-        out: &mut [f64],
+        fields: [&mut [f64]; K],
         work: &mut Fft2Work,
-        drain: &(impl Fn(usize, &[f64], &[f64], &mut [f64]) -> B + Sync),
+        drain: &(impl Fn(usize, [&mut [f64]; K], &[f64]) -> B + Sync),
     ) -> B {
         let (ny, nx) = self.data;
         let (gy, h) = (self.grid.0, self.half);
-        let chunk = ny.div_ceil(work.lanes.len());
+        let lanes = work.lanes.len();
+        let chunk = ny.div_ceil(lanes);
         let c2r = &self.c2r;
         let even = self.grid.1.is_multiple_of(2);
         let spec = &work.spec;
-        let run = |(c, ((src, dst), lane)): (usize, RowSpan<'_>)| {
+        let parts = lane_chunks(fields, chunk, nx, lanes);
+        let run = |(c, (mut part, lane)): (usize, ([&mut [f64]; K], &mut Lane))| {
             let i0 = c * chunk;
-            let rn = dst.len() / nx;
+            let rn = ny.saturating_sub(i0).min(chunk);
             let Lane {
                 real,
                 scratch,
@@ -437,26 +526,24 @@ impl RealFft2 {
                         row[h - 1].im = 0.0;
                     }
                     let _ = c2r.process_with_scratch(row, real, scratch);
-                    let span = r * nx..(r + 1) * nx;
-                    acc = acc.merge(drain(
-                        i0 + r,
-                        &src[span.clone()],
-                        &real[..nx],
-                        &mut dst[span],
-                    ));
+                    acc = acc.merge(drain(i0 + r, row_of(&mut part, r, nx), &real[..nx]));
                 }
             }
             acc
         };
-        if work.lanes.len() > 1 {
-            data.par_chunks(chunk * nx)
-                .zip(out.par_chunks_mut(chunk * nx))
+        if lanes > 1 {
+            parts
+                .into_par_iter()
                 .zip(work.lanes.par_iter_mut())
                 .enumerate()
                 .map(run)
                 .reduce(B::default, B::merge)
         } else {
-            run((0, ((data, out), &mut work.lanes[0])))
+            let lane = &mut work.lanes[0];
+            parts
+                .into_iter()
+                .map(|part| run((0, (part, &mut *lane))))
+                .fold(B::default(), B::merge)
         }
     }
 
@@ -746,6 +833,64 @@ mod tests {
             assert!((b[2] - 2.0 * total).abs() < 1e-9 * total.abs().max(1.0));
             for (x, y) in out.iter().zip(&plain) {
                 assert!((x - 2.0 * y).abs() < 1e-12 * (1.0 + y.abs()));
+            }
+        }
+    }
+
+    #[test]
+    fn gated_fields_convolution_stops_or_hands_its_value_to_the_drain() {
+        let (ny, nx) = (130, 128);
+        let plan = RealFft2::new(ny, nx).unwrap();
+        let z = field(ny, nx);
+        let kernel: Vec<f64> = (0..plan.spectrum_len())
+            .map(|i| 1.0 / (1.0 + i as f64))
+            .collect();
+        let mut w = plan.work();
+        let mut plain = vec![0.0; ny * nx];
+        plan.convolve(&z, &mut plain, &kernel, 0.0, &mut w).unwrap();
+        for go in [false, true] {
+            // Three fields: the source (scaled by 3 in place), an output, a row counter.
+            let (mut a, mut b, mut c) = (z.clone(), vec![0.0; ny * nx], vec![0.0; ny * nx]);
+            let fields = Fields {
+                fields: [&mut a, &mut b, &mut c],
+                kernel: &kernel,
+                dc: 0.0,
+            };
+            let (sum, drained) = plan
+                .convolve_fields(
+                    fields,
+                    &mut w,
+                    |_, [a, _, c], input| {
+                        a.iter_mut().for_each(|v| *v *= 3.0);
+                        input.copy_from_slice(a);
+                        c.fill(1.0);
+                        a.iter().sum::<f64>()
+                    },
+                    |s: &f64| go.then_some(*s),
+                    |&s, i, [_, b, c], result| {
+                        b.copy_from_slice(result);
+                        c.iter_mut().for_each(|v| *v += 1.0);
+                        [s, i as f64]
+                    },
+                )
+                .unwrap();
+            let total: f64 = z.iter().sum();
+            assert!((sum - 3.0 * total).abs() < 1e-9 * total.abs().max(1.0));
+            assert!(a.iter().zip(&z).all(|(x, y)| *x == 3.0 * y));
+            match drained {
+                None => {
+                    assert!(!go);
+                    assert!(b.iter().all(|&v| v == 0.0) && c.iter().all(|&v| v == 1.0));
+                }
+                Some(d) => {
+                    assert!(go);
+                    assert!((d[0] - ny as f64 * sum).abs() < 1e-9 * (ny as f64 * sum).abs());
+                    assert_eq!(d[1], (ny * (ny - 1) / 2) as f64);
+                    assert!(c.iter().all(|&v| v == 2.0));
+                    for (x, y) in b.iter().zip(&plain) {
+                        assert!((x - 3.0 * y).abs() < 1e-10 * (1.0 + y.abs()), "{x} {y}");
+                    }
+                }
             }
         }
     }

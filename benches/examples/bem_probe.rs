@@ -1,0 +1,92 @@
+//! Per-step diagnostics of the 20-step 512² BEM load curve (the `bem_floor` bench's
+//! curve: paper-like surface, E2/E1 = 5, approaches 1.3…9.8 µm): iterations, operator
+//! products and wall time of each step.
+//!
+//! Run: `cargo run --release -p strata-benches --example bem_probe [-- N TOL]`;
+//! `-- pressure N` instead times the Tamaas comparison's cold steps (half-space
+//! E = 4 GPa, ν = 0.15, tolerance 1e-8, the same generated surface): mean pressure
+//! 0.005 E* and mean gap 0.5 (z_M − z̄).
+use std::time::Instant;
+use strata_bem::{Array2, BemLoad, BemOptions, BemSolver};
+use strata_runtime::Stack;
+use strata_runtime::surface::{GenerateParams, Surface};
+
+fn surface(n: usize) -> Array2<f64> {
+    let s = Surface::generate(&GenerateParams {
+        size: 1e-3,
+        grid: n,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed: 20240611,
+    })
+    .expect("surface");
+    Array2::from_shape_vec((n, n), s.heights().to_vec()).expect("heights")
+}
+
+fn cold_steps(n: usize) {
+    let z = surface(n);
+    let half = Stack::half_space(4e9, 0.15).expect("stack");
+    let es = half.top_plane_strain_modulus();
+    let opts = BemOptions {
+        tolerance: 1e-8,
+        ..Default::default()
+    };
+    let solver = BemSolver::new(&z, 1e-3, &half, opts).expect("solver");
+    for load in [
+        BemLoad::MeanPressure(0.005 * es),
+        BemLoad::MeanGap(0.5 * solver.max_separation()),
+    ] {
+        let t = Instant::now();
+        let s = solver.solve(load).expect("solve");
+        println!(
+            "{load:?}: {:.3} s, {} iterations, {} products, p/E* {:.8e}, A/A0 {:.5e}",
+            t.elapsed().as_secs_f64(),
+            s.iterations,
+            s.products,
+            s.pressure_ratio,
+            s.area_fraction
+        );
+    }
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.first().map(String::as_str) == Some("pressure") {
+        let n = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(512);
+        return cold_steps(n);
+    }
+    let n: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(512);
+    let tol: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1e-10);
+    let z = surface(n);
+    let stack = Stack::paper_two_layer(5.0).expect("stack");
+    let t0 = Instant::now();
+    let opts = BemOptions {
+        tolerance: tol,
+        ..Default::default()
+    };
+    let solver = BemSolver::new(&z, 1e-3, &stack, opts).expect("solver");
+    println!("set-up {:.3} s", t0.elapsed().as_secs_f64());
+    let loads: Vec<BemLoad> = (0..20)
+        .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
+        .collect();
+    let t1 = Instant::now();
+    let out = solver.solve_curve(&loads).expect("curve");
+    let total = t1.elapsed().as_secs_f64();
+    let (mut it, mut pr) = (0, 0);
+    for (k, s) in out.iter().enumerate() {
+        println!(
+            "step {k:2}: p/E* {:.6e} A/A0 {:.5} iterations {:4} products {:4} error {:.2e}",
+            s.pressure_ratio, s.area_fraction, s.iterations, s.products, s.error
+        );
+        it += s.iterations;
+        pr += s.products;
+    }
+    println!(
+        "curve {total:.3} s ({:.3} s with set-up), {it} iterations, {pr} products ({:.2} per iteration), {:.3} ms per product",
+        t0.elapsed().as_secs_f64(),
+        pr as f64 / it as f64,
+        total / pr as f64 * 1e3
+    );
+}
