@@ -59,7 +59,7 @@ pub(crate) enum Control {
 }
 
 impl Control {
-    fn uniform(self) -> bool {
+    pub(crate) fn uniform(self) -> bool {
         match self {
             Control::Offset { uniform, .. } => uniform,
             Control::Pressure(_) => false,
@@ -89,6 +89,8 @@ pub(crate) struct CgOutcome {
 /// The problem data of one solve.
 pub(crate) struct Problem<'a> {
     pub op: &'a Operator,
+    /// The preconditioner M⁻¹ ≈ K⁻¹ (module [`crate::pcg`]); `None`: plain iteration.
+    pub precond: Option<&'a Operator>,
     pub z: &'a [f64],
     pub z_rms: f64,
     /// Stiffness (Pa/m) for initial guesses.
@@ -100,11 +102,11 @@ pub(crate) struct Problem<'a> {
 /// Error terms of a state: Σ p|g|, Σ p and Σ g² on the contact set (p > 0), the largest
 /// interpenetration max(−g) outside it.
 #[derive(Default, Clone, Copy, Debug)]
-struct Stats {
+pub(crate) struct Stats {
     pg: f64,
-    psum: f64,
-    gg: f64,
-    pen: f64,
+    pub(crate) psum: f64,
+    pub(crate) gg: f64,
+    pub(crate) pen: f64,
 }
 
 impl Stats {
@@ -120,7 +122,7 @@ impl Stats {
     }
 
     /// ε (see the module docs); the pressure scale cancels in Σ p|g| / Σ p.
-    fn error(&self, z_rms: f64) -> f64 {
+    pub(crate) fn error(&self, z_rms: f64) -> f64 {
         let comp = if self.psum > 0.0 {
             self.pg / self.psum
         } else {
@@ -146,14 +148,14 @@ impl Merge for Stats {
 /// Σ p, whether p changed off the step direction or re-entered, and the next error
 /// terms when the offset is known.
 #[derive(Default, Clone, Copy, Debug)]
-struct Sums {
-    su: f64,
-    sz: f64,
-    m: f64,
-    psum: f64,
-    changed: bool,
-    overlap: bool,
-    stats: Stats,
+pub(crate) struct Sums {
+    pub(crate) su: f64,
+    pub(crate) sz: f64,
+    pub(crate) m: f64,
+    pub(crate) psum: f64,
+    pub(crate) changed: bool,
+    pub(crate) overlap: bool,
+    pub(crate) stats: Stats,
 }
 
 impl Merge for Sums {
@@ -174,8 +176,8 @@ impl Merge for Sums {
 /// Σ t, Σ r, the count, and the smallest step that takes a point to p ≤ 0
 /// (min f p / t over t > 0; +∞ if none).
 #[derive(Clone, Copy, Debug)]
-struct StepSums {
-    gt: f64,
+pub(crate) struct StepSums {
+    pub(crate) gt: f64,
     rt: f64,
     t: f64,
     r: f64,
@@ -199,7 +201,7 @@ impl Default for StepSums {
 impl StepSums {
     /// A contact point with (true) pressure `p`, direction `t` and product `r`.
     #[inline(always)]
-    fn add(&mut self, p: f64, t: f64, r: f64) {
+    pub(crate) fn add(&mut self, p: f64, t: f64, r: f64) {
         self.rt += r * t;
         self.t += t;
         self.r += r;
@@ -226,38 +228,123 @@ impl Merge for StepSums {
 /// Buffers and scalars of the iteration (allocated once per solve, none per iteration).
 /// The stored p and u are f times smaller than the true ones (the pending rescale of
 /// pressure control, applied in the next pass that reads them).
-struct State<'a> {
-    pb: &'a Problem<'a>,
-    control: Control,
-    u: Vec<f64>,
-    t: Vec<f64>,
-    r: Vec<f64>,
+pub(crate) struct State<'a> {
+    pub(crate) pb: &'a Problem<'a>,
+    pub(crate) control: Control,
+    pub(crate) u: Vec<f64>,
+    pub(crate) t: Vec<f64>,
+    pub(crate) r: Vec<f64>,
     /// Δp off the step direction (zero except between an update and its correction).
-    corr: Vec<f64>,
+    pub(crate) corr: Vec<f64>,
     /// The gap on the contact set (0 elsewhere), the input of a fused iteration's product.
-    g: Vec<f64>,
-    work: Fft2Work,
+    pub(crate) g: Vec<f64>,
+    /// The preconditioned gap (preconditioned iteration only; empty otherwise).
+    pub(crate) y: Vec<f64>,
+    pub(crate) work: Fft2Work,
     /// Pending scale of p and u.
-    f: f64,
+    pub(crate) f: f64,
     /// Offset c of the current state.
-    c: f64,
-    stats: Stats,
+    pub(crate) c: f64,
+    pub(crate) stats: Stats,
     /// Σ z and the number of points over the contact set of the current state.
-    sz: f64,
-    m: f64,
+    pub(crate) sz: f64,
+    pub(crate) m: f64,
     /// Operator applications so far.
-    products: usize,
+    pub(crate) products: usize,
 }
 
 /// A step computed but not yet applied: p ← f p − τ t, u ← f u − τ r.
 #[derive(Clone, Copy, Debug)]
-struct Pending {
-    tau: f64,
+pub(crate) struct Pending {
+    pub(crate) tau: f64,
     /// Σ t and Σ r over the contact set.
     st: f64,
     sr: f64,
     /// The smallest step that takes a contact point to p ≤ 0: min f p / t over t > 0.
-    leave: f64,
+    pub(crate) leave: f64,
+}
+
+/// The fill of a fused iteration (see [`State::fused`]): the pending step applied to
+/// a row, the new gap on the contact set written to `g` and to the transform's input.
+pub(crate) struct UpdateFill<'a> {
+    z: &'a [f64],
+    nx: usize,
+    /// The state's scale and offset, the step.
+    f: f64,
+    c: f64,
+    tau: f64,
+    /// The new state's scale and offset, the contact set unchanged.
+    pub(crate) f2: f64,
+    pub(crate) c2: f64,
+}
+
+impl UpdateFill<'_> {
+    /// Row `i`: `rows` = [p, u, g, t, r, corr].
+    #[inline(always)]
+    pub(crate) fn row(&self, i: usize, rows: [&mut [f64]; 6], input: &mut [f64]) -> Sums {
+        let [p, u, g, t, r, corr] = rows;
+        let (f, c, tau, f2, c2, nx) = (self.f, self.c, self.tau, self.f2, self.c2, self.nx);
+        let zrow = &self.z[i * nx..(i + 1) * nx];
+        let mut acc = Sums::default();
+        for k in 0..nx {
+            let (pi, ui) = (f * p[k], f * u[k]);
+            let v = if pi > 0.0 {
+                let v = pi - tau * t[k];
+                if v <= 0.0 {
+                    acc.changed = true;
+                    if v < 0.0 {
+                        corr[k] = -v;
+                    }
+                    0.0
+                } else {
+                    v
+                }
+            } else {
+                let g = ui - zrow[k] + c;
+                if g < 0.0 {
+                    acc.changed = true;
+                    acc.overlap = true;
+                    corr[k] = -tau * g;
+                    -tau * g
+                } else {
+                    0.0
+                }
+            };
+            p[k] = v;
+            let un = ui - tau * r[k];
+            u[k] = un;
+            let gap = f2 * un - zrow[k] + c2;
+            let gi = if v > 0.0 {
+                acc.su += un;
+                acc.sz += zrow[k];
+                acc.m += 1.0;
+                acc.psum += v;
+                gap
+            } else {
+                0.0
+            };
+            g[k] = gi;
+            input[k] = gi;
+            acc.stats.add(f2 * v, gap);
+        }
+        acc
+    }
+}
+
+/// How a solve begins: already done (the flat does not touch), or a state to iterate.
+pub(crate) enum Start<'a> {
+    Done(CgOutcome),
+    Run(Box<State<'a>>),
+}
+
+/// What the head of an iteration decided.
+pub(crate) enum Checkpoint {
+    /// Accepted (on the exact gap).
+    Done(CgOutcome),
+    /// The iteration cap is reached with this error.
+    Capped(f64),
+    /// Go on.
+    Go,
 }
 
 /// What a fused iteration did.
@@ -269,98 +356,29 @@ enum Fused {
     Stopped(Sums),
 }
 
-/// Solves; on return `p` holds the pressure.
+/// Solves; on return `p` holds the pressure. With a preconditioner in the problem the
+/// preconditioned iteration runs ([`crate::pcg`]), the plain one otherwise.
 pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgOutcome, BemError> {
-    let n = pb.z.len();
-    let z = pb.z;
-    // Initial guess.
-    match control {
-        Control::Offset { c, .. } => {
-            if z.iter().all(|&zi| zi <= c) {
-                // No overlap: the flat does not touch.
-                p.fill(0.0);
-                return Ok(CgOutcome {
-                    iterations: 0,
-                    products: 0,
-                    error: 0.0,
-                    offset: c,
-                    gap: z.iter().map(|zi| c - zi).collect(),
-                });
-            }
-            if p.iter().all(|&v| v == 0.0) {
-                for i in 0..n {
-                    p[i] = pb.stiffness * (z[i] - c).max(0.0);
-                }
-            }
-        }
-        Control::Pressure(pbar) => {
-            let mean = p.iter().sum::<f64>() / n as f64;
-            if mean > 0.0 {
-                let f = pbar / mean;
-                p.iter_mut().for_each(|v| *v *= f);
-            } else {
-                p.fill(pbar);
-            }
-        }
+    if let Some(minv) = pb.precond {
+        return crate::pcg::solve(pb, minv, control, p);
     }
-    let mut s = State {
-        pb,
-        control,
-        u: vec![0.0; n],
-        t: vec![0.0; n],
-        r: vec![0.0; n],
-        corr: vec![0.0; n],
-        g: vec![0.0; n],
-        work: pb.op.work(),
-        f: 1.0,
-        c: control.known_offset().unwrap_or(0.0),
-        stats: Stats::default(),
-        sz: 0.0,
-        m: 0.0,
-        products: 0,
+    let mut s = match State::start(pb, control, p)? {
+        Start::Done(out) => return Ok(out),
+        Start::Run(s) => s,
     };
-    s.exact(p)?;
     let mut exact = true;
     let mut since_exact = 0usize;
     let mut g_old = 1.0;
     let mut conjugate = false;
-    let mut error;
     let mut it = 0;
     loop {
-        error = s.stats.error(pb.z_rms);
-        if !exact && (error <= pb.tolerance || it >= pb.max_iterations || since_exact >= REFRESH) {
-            // Accept only on the exact gap; refresh it now and then against drift.
-            s.exact(p)?;
-            since_exact = 0;
-            error = s.stats.error(pb.z_rms);
-        }
-        if !error.is_finite() {
-            return Err(BemError::NonFinite(it));
-        }
-        if error <= pb.tolerance {
-            let c = s.c;
-            let gap = s.u.par_iter().zip(z.par_iter()).map(|(u, z)| u - z + c);
-            return Ok(CgOutcome {
-                iterations: it,
-                products: s.products,
-                error,
-                offset: c,
-                gap: gap.collect(),
-            });
-        }
-        if it >= pb.max_iterations {
-            break;
+        match s.checkpoint(p, it, &mut exact, &mut since_exact)? {
+            Checkpoint::Done(out) => return Ok(out),
+            Checkpoint::Capped(error) => return Err(s.not_converged(error)),
+            Checkpoint::Go => {}
         }
         it += 1;
-        if s.stats.psum == 0.0 {
-            // The step emptied the contact set (displacement control only): restart
-            // from the local estimate on the interpenetrating points.
-            s.materialise(p);
-            let c = s.c;
-            for i in 0..n {
-                p[i] = pb.stiffness * (-(s.u[i] - z[i] + c)).max(0.0);
-            }
-            s.exact(p)?;
+        if s.restart_if_empty(p)? {
             exact = true;
             since_exact = 0;
             conjugate = false;
@@ -395,16 +413,144 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
             break;
         }
     }
-    Err(BemError::NotConverged {
-        iterations: pb.max_iterations,
-        error,
-        tolerance: pb.tolerance,
-    })
 }
 
-impl State<'_> {
+impl<'a> State<'a> {
+    /// The initial guess (kept if given: a warm start), the buffers, and the exact gap
+    /// of the guess.
+    pub(crate) fn start(
+        pb: &'a Problem<'a>,
+        control: Control,
+        p: &mut [f64],
+    ) -> Result<Start<'a>, BemError> {
+        let n = pb.z.len();
+        let z = pb.z;
+        // Initial guess.
+        match control {
+            Control::Offset { c, .. } => {
+                if z.iter().all(|&zi| zi <= c) {
+                    // No overlap: the flat does not touch.
+                    p.fill(0.0);
+                    return Ok(Start::Done(CgOutcome {
+                        iterations: 0,
+                        products: 0,
+                        error: 0.0,
+                        offset: c,
+                        gap: z.iter().map(|zi| c - zi).collect(),
+                    }));
+                }
+                if p.iter().all(|&v| v == 0.0) {
+                    for i in 0..n {
+                        p[i] = pb.stiffness * (z[i] - c).max(0.0);
+                    }
+                }
+            }
+            Control::Pressure(pbar) => {
+                let mean = p.iter().sum::<f64>() / n as f64;
+                if mean > 0.0 {
+                    let f = pbar / mean;
+                    p.iter_mut().for_each(|v| *v *= f);
+                } else {
+                    p.fill(pbar);
+                }
+            }
+        }
+        let mut s = Box::new(State {
+            pb,
+            control,
+            u: vec![0.0; n],
+            t: vec![0.0; n],
+            r: vec![0.0; n],
+            corr: vec![0.0; n],
+            g: vec![0.0; n],
+            y: if pb.precond.is_some() {
+                vec![0.0; n]
+            } else {
+                Vec::new()
+            },
+            work: pb.op.work(),
+            f: 1.0,
+            c: control.known_offset().unwrap_or(0.0),
+            stats: Stats::default(),
+            sz: 0.0,
+            m: 0.0,
+            products: 0,
+        });
+        s.exact(p)?;
+        Ok(Start::Run(s))
+    }
+
+    /// The head of an iteration: the error of the state; before accepting it, or when a
+    /// refresh is due or the cap reached, u = K p is recomputed exactly.
+    pub(crate) fn checkpoint(
+        &mut self,
+        p: &mut [f64],
+        it: usize,
+        exact: &mut bool,
+        since_exact: &mut usize,
+    ) -> Result<Checkpoint, BemError> {
+        let pb = self.pb;
+        let mut error = self.stats.error(pb.z_rms);
+        if !*exact && (error <= pb.tolerance || it >= pb.max_iterations || *since_exact >= REFRESH)
+        {
+            // Accept only on the exact gap; refresh it now and then against drift.
+            self.exact(p)?;
+            *since_exact = 0;
+            error = self.stats.error(pb.z_rms);
+        }
+        if !error.is_finite() {
+            return Err(BemError::NonFinite(it));
+        }
+        if error <= pb.tolerance {
+            let c = self.c;
+            let gap = self
+                .u
+                .par_iter()
+                .zip(pb.z.par_iter())
+                .map(|(u, z)| u - z + c);
+            return Ok(Checkpoint::Done(CgOutcome {
+                iterations: it,
+                products: self.products,
+                error,
+                offset: c,
+                gap: gap.collect(),
+            }));
+        }
+        Ok(if it >= pb.max_iterations {
+            Checkpoint::Capped(error)
+        } else {
+            Checkpoint::Go
+        })
+    }
+
+    /// The error of a solve that reached its iteration cap.
+    pub(crate) fn not_converged(&self, error: f64) -> BemError {
+        BemError::NotConverged {
+            iterations: self.pb.max_iterations,
+            error,
+            tolerance: self.pb.tolerance,
+        }
+    }
+
+    /// If the last step emptied the contact set (displacement control only): restart
+    /// from the local estimate on the interpenetrating points; returns whether it did.
+    pub(crate) fn restart_if_empty(&mut self, p: &mut [f64]) -> Result<bool, BemError> {
+        if self.stats.psum != 0.0 {
+            return Ok(false);
+        }
+        self.materialise(p);
+        let (c, z, k) = (self.c, self.pb.z, self.pb.stiffness);
+        for i in 0..p.len() {
+            p[i] = k * (-(self.u[i] - z[i] + c)).max(0.0);
+        }
+        self.exact(p)?;
+        Ok(true)
+    }
+}
+
+impl<'a> State<'a> {
     /// Applies the pending scale to p and u.
-    fn materialise(&mut self, p: &mut [f64]) {
+    pub(crate) fn materialise(&mut self, p: &mut [f64]) {
         if self.f != 1.0 {
             let f = self.f;
             p.par_chunks_mut(CHUNK)
@@ -418,7 +564,7 @@ impl State<'_> {
 
     /// u = K p exactly (the pending scale applied to p on the way), then the offset and
     /// the error terms.
-    fn exact(&mut self, p: &mut [f64]) -> Result<(), BemError> {
+    pub(crate) fn exact(&mut self, p: &mut [f64]) -> Result<(), BemError> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let f = self.f;
         let known = self.control.known_offset();
@@ -457,7 +603,7 @@ impl State<'_> {
     }
 
     /// After a pass that changed u: the offset, the pending scale and the error terms.
-    fn settle(&mut self, p: &[f64], sums: Sums) {
+    pub(crate) fn settle(&mut self, p: &[f64], sums: Sums) {
         self.sz = sums.sz;
         self.m = sums.m;
         match self.control {
@@ -522,7 +668,7 @@ impl State<'_> {
     }
 
     /// The step from the sums of a direction's product.
-    fn pending(&self, d: StepSums) -> Pending {
+    pub(crate) fn pending(&self, d: StepSums) -> Pending {
         let den = match self.control {
             Control::Pressure(_) if d.m > 0.0 => d.rt - d.r / d.m * d.t,
             _ => d.rt,
@@ -551,25 +697,9 @@ impl State<'_> {
         g_old: f64,
         go: bool,
     ) -> Result<Fused, BemError> {
-        let (z, nx) = (self.pb.z, self.pb.op.nx());
-        let (f, c) = (self.f, self.c);
-        let Pending { tau, st, sr, .. } = step;
-        // The new scale and offset, the contact set unchanged.
-        let (f2, c2) = match self.control {
-            Control::Offset { c, .. } => (1.0, c),
-            Control::Pressure(pbar) => {
-                let total = pbar * p.len() as f64;
-                let psum = total - tau * st;
-                let f2 = if psum > 0.0 { total / psum } else { 1.0 };
-                let su = self.sz - c * self.m - tau * sr;
-                let c2 = if self.m > 0.0 {
-                    -(f2 * su - self.sz) / self.m
-                } else {
-                    0.0
-                };
-                (f2, c2)
-            }
-        };
+        let nx = self.pb.op.nx();
+        let fill = self.update_fill(step, p.len());
+        let f2 = fill.f2;
         let (tol, z_rms) = (self.pb.tolerance, self.pb.z_rms);
         // Continue to the product with β = Σg′²/g_old unless the set changed or the new
         // state is converged (or `go` is false).
@@ -586,52 +716,7 @@ impl State<'_> {
             ],
             self.control.uniform(),
             &mut self.work,
-            |i, [p, u, g, t, r, corr], input| {
-                let zrow = &z[i * nx..(i + 1) * nx];
-                let mut acc = Sums::default();
-                for k in 0..nx {
-                    let (pi, ui) = (f * p[k], f * u[k]);
-                    let v = if pi > 0.0 {
-                        let v = pi - tau * t[k];
-                        if v <= 0.0 {
-                            acc.changed = true;
-                            if v < 0.0 {
-                                corr[k] = -v;
-                            }
-                            0.0
-                        } else {
-                            v
-                        }
-                    } else {
-                        let g = ui - zrow[k] + c;
-                        if g < 0.0 {
-                            acc.changed = true;
-                            acc.overlap = true;
-                            corr[k] = -tau * g;
-                            -tau * g
-                        } else {
-                            0.0
-                        }
-                    };
-                    p[k] = v;
-                    let un = ui - tau * r[k];
-                    u[k] = un;
-                    let gap = f2 * un - zrow[k] + c2;
-                    let gi = if v > 0.0 {
-                        acc.su += un;
-                        acc.sz += zrow[k];
-                        acc.m += 1.0;
-                        acc.psum += v;
-                        gap
-                    } else {
-                        0.0
-                    };
-                    g[k] = gi;
-                    input[k] = gi;
-                    acc.stats.add(f2 * v, gap);
-                }
-                acc
-            },
+            |i, rows, input| fill.row(i, rows, input),
             gate,
             |&beta, _, [p, _, g, t, r, _], q| {
                 // The set is unchanged: t′ = g′ + β t, r′ = K g′ + β r.
@@ -655,7 +740,7 @@ impl State<'_> {
         if drained.is_some() || !sums.changed {
             // The state is the new one: its scale, offset and error terms are known.
             self.f = f2;
-            self.c = c2;
+            self.c = fill.c2;
             self.stats = sums.stats;
             self.sz = sums.sz;
             self.m = sums.m;
@@ -666,10 +751,42 @@ impl State<'_> {
         })
     }
 
+    /// The fill of a fused iteration applying `step` (n points): the new state's scale
+    /// f′ and offset c′ predicted for an unchanged contact set (pressure control:
+    /// Σ p′ = p̄N − τ Σt, Σ u′ = Σz − c m − τ Σr over the set).
+    pub(crate) fn update_fill(&self, step: Pending, n: usize) -> UpdateFill<'a> {
+        let (f, c) = (self.f, self.c);
+        let Pending { tau, st, sr, .. } = step;
+        let (f2, c2) = match self.control {
+            Control::Offset { c, .. } => (1.0, c),
+            Control::Pressure(pbar) => {
+                let total = pbar * n as f64;
+                let psum = total - tau * st;
+                let f2 = if psum > 0.0 { total / psum } else { 1.0 };
+                let su = self.sz - c * self.m - tau * sr;
+                let c2 = if self.m > 0.0 {
+                    -(f2 * su - self.sz) / self.m
+                } else {
+                    0.0
+                };
+                (f2, c2)
+            }
+        };
+        UpdateFill {
+            z: self.pb.z,
+            nx: self.pb.op.nx(),
+            f,
+            c,
+            tau,
+            f2,
+            c2,
+        }
+    }
+
     /// After an update that was not fused (or stopped): u corrected by K Δ if the contact
     /// set changed, the pending scale (pressure control), the offset and error terms.
     /// Returns whether points re-entered the contact set (the conjugation restarts).
-    fn finish(&mut self, p: &mut [f64], mut sums: Sums) -> Result<bool, BemError> {
+    pub(crate) fn finish(&mut self, p: &mut [f64], mut sums: Sums) -> Result<bool, BemError> {
         self.f = 1.0;
         if sums.changed {
             // The contact set changed: add K Δ (the second product of this iteration).
@@ -692,7 +809,7 @@ impl State<'_> {
 
     /// p ← max(f p − τ t, 0) with re-entry, u ← f u − τ r; the changes off −τ t go to
     /// `corr`.
-    fn update(&mut self, p: &mut [f64], tau: f64) -> Sums {
+    pub(crate) fn update(&mut self, p: &mut [f64], tau: f64) -> Sums {
         let z = self.pb.z;
         let (f, c) = (self.f, self.c);
         let known = self.control.known_offset();
@@ -749,7 +866,7 @@ impl State<'_> {
     }
 
     /// u += K corr (corr zeroed on the way); the contact-set sums follow.
-    fn correct(&mut self, p: &[f64], before: Sums) -> Result<Sums, BemError> {
+    pub(crate) fn correct(&mut self, p: &[f64], before: Sums) -> Result<Sums, BemError> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let known = self.control.known_offset();
         self.products += 1;

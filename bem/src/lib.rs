@@ -90,6 +90,7 @@ mod error;
 pub mod influence;
 mod maps;
 mod operator;
+mod pcg;
 mod reference;
 mod solver;
 #[cfg(test)]
@@ -108,6 +109,11 @@ pub struct BemOptions {
     pub tolerance: f64,
     /// Iteration cap per load; exceeding it is an error ([`BemError::NotConverged`]).
     pub max_iterations: usize,
+    /// Precondition the iteration with the inverse influence operator (module `pcg`:
+    /// ~4–30× fewer iterations at two convolutions each); `false` runs the plain
+    /// Polonsky–Keer iteration (one convolution per iteration while the contact set
+    /// stays put). Both stop on the same error ε.
+    pub preconditioner: bool,
 }
 
 impl Default for BemOptions {
@@ -115,6 +121,7 @@ impl Default for BemOptions {
         BemOptions {
             tolerance: 1e-10,
             max_iterations: 20_000,
+            preconditioner: true,
         }
     }
 }

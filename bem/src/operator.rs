@@ -95,6 +95,31 @@ impl Operator {
         })
     }
 
+    /// The inverse operator, the Fourier multiplier 1/K̂ on the same grid (the
+    /// preconditioner of [`crate::pcg`]); the uniform mode dropped where K̂(0) = 0.
+    /// `None` if K̂ is not positive elsewhere (a zero-padded kernel may not be), when
+    /// the inverse is no preconditioner.
+    pub(crate) fn inverse(&self) -> Option<Operator> {
+        let (gy, gx) = self.plan.grid();
+        let norm = 1.0 / (gy * gx) as f64;
+        if self.kernel[1..]
+            .iter()
+            .any(|&k| !(k > 0.0 && k.is_finite()))
+        {
+            return None;
+        }
+        let kernel = self
+            .kernel
+            .iter()
+            .map(|&k| if k > 0.0 { norm * norm / k } else { 0.0 })
+            .collect();
+        Some(Operator {
+            plan: RealFft2::padded((gy, gx), self.plan.data()).ok()?,
+            kernel,
+            periodic: self.periodic,
+        })
+    }
+
     pub(crate) fn work(&self) -> Fft2Work {
         self.plan.work()
     }

@@ -73,6 +73,9 @@ pub struct BemSolver {
     /// C₀ (m/Pa) of a periodic cell on a rigid base.
     c0: Option<f64>,
     op: Operator,
+    /// The preconditioner M⁻¹ = K̂⁻¹ (`BemOptions::preconditioner`; `None` where the
+    /// operator's spectrum is not positive).
+    precond: Option<Operator>,
     options: BemOptions,
     /// How to build the operator of the half grid (coarse-to-fine start).
     source: KernelSource,
@@ -349,10 +352,16 @@ impl BemSolver {
         options: BemOptions,
         source: KernelSource,
     ) -> Self {
+        let precond = if options.preconditioner {
+            op.inverse()
+        } else {
+            None
+        };
         BemSolver {
             ny,
             nx,
             geometry,
+            precond,
             z: h.z,
             z_max: h.max,
             z_mean: h.mean,
@@ -364,6 +373,12 @@ impl BemSolver {
             source,
             coarse: OnceLock::new(),
         }
+    }
+
+    /// Whether the iteration is preconditioned (`BemOptions::preconditioner` and an
+    /// operator whose spectrum is positive, see the `pcg` module).
+    pub fn preconditioned(&self) -> bool {
+        self.precond.is_some()
     }
 
     /// Grid size n (rows; = columns on a square grid).
@@ -477,6 +492,7 @@ impl BemSolver {
     fn problem(&self) -> Problem<'_> {
         Problem {
             op: &self.op,
+            precond: self.precond.as_ref(),
             z: &self.z,
             z_rms: self.z_rms,
             stiffness: self.local_stiffness(),

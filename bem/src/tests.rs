@@ -331,6 +331,7 @@ fn bad_inputs_are_errors() {
         BemOptions {
             tolerance: 1e-14,
             max_iterations: 1,
+            ..Default::default()
         },
     )
     .unwrap();

@@ -1,5 +1,6 @@
-//! The fast BEM path (warm starts along the curve, coarse-to-fine start, incremental gap,
-//! vector work fused into the FFT row passes, deferred rescale) against the reference
+//! The fast BEM paths (warm starts along the curve, coarse-to-fine start, incremental gap,
+//! vector work fused into the FFT row passes, deferred rescale; preconditioned by the
+//! inverse influence operator, and plain) against the reference
 //! path (`BemSolver::solve_reference`: Polonsky & Keer as published, two convolutions
 //! per iteration, cold start on the full grid), on 20-step load curves of the paper's
 //! layered stack (E₂/E₁ = 5, periodic, rigid base) and of a half-space under
@@ -43,30 +44,53 @@ fn compare(fast: &BemSolution, reference: &BemSolution) -> (f64, usize) {
     (diff / peak, flips)
 }
 
-fn check_curve(solver: &BemSolver, loads: &[BemLoad], what: &str) {
+/// Both fast paths (preconditioned: `solver`; plain: `plain`) against the reference at
+/// every load; the preconditioned path must need at most `ratio` of the plain path's
+/// iterations. Returns the iteration totals (preconditioned, plain, reference).
+fn check_curve(solver: &BemSolver, plain: &BemSolver, loads: &[BemLoad], what: &str, ratio: f64) {
+    assert!(solver.preconditioned() && !plain.preconditioned());
     let fast = solver.solve_curve(loads).unwrap();
-    let (mut worst, mut fast_iters, mut ref_iters) = (0.0f64, 0, 0);
-    for (f, load) in fast.iter().zip(loads) {
+    let slow = plain.solve_curve(loads).unwrap();
+    let (mut worst, mut iters) = (0.0f64, [0usize; 3]);
+    for ((f, s), load) in fast.iter().zip(&slow).zip(loads) {
         let r = solver.solve_reference(*load).unwrap();
-        let (diff, flips) = compare(f, &r);
-        assert!(
-            diff <= 1e-8,
-            "{what} {load:?}: pressure differs by {diff:e} of the peak"
-        );
-        assert_eq!(flips, 0, "{what} {load:?}: contact sets differ");
-        let dp = (f.mean_pressure / r.mean_pressure - 1.0).abs();
-        assert!(dp <= 1e-8, "{what} {load:?}: mean pressure {dp:e}");
-        worst = worst.max(diff);
-        fast_iters += f.iterations;
-        ref_iters += r.iterations;
+        for (x, name) in [(f, "preconditioned"), (s, "plain")] {
+            let (diff, flips) = compare(x, &r);
+            assert!(
+                diff <= 1e-8,
+                "{what} {load:?} {name}: pressure differs by {diff:e} of the peak"
+            );
+            assert_eq!(flips, 0, "{what} {load:?} {name}: contact sets differ");
+            let dp = (x.mean_pressure / r.mean_pressure - 1.0).abs();
+            assert!(dp <= 1e-8, "{what} {load:?} {name}: mean pressure {dp:e}");
+            worst = worst.max(diff);
+        }
+        iters[0] += f.iterations;
+        iters[1] += s.iterations;
+        iters[2] += r.iterations;
     }
     // The curve must span partial contact (not a trivially empty or full one).
     let last = fast.last().unwrap();
     assert!(fast[0].area_fraction > 0.0 && last.area_fraction < 0.5);
     eprintln!(
-        "{what}: worst |Δp|/p_max {worst:.2e}, A/A0 {:.4}…{:.4}, iterations fast {fast_iters} / reference {ref_iters}",
-        fast[0].area_fraction, last.area_fraction
+        "{what}: worst |Δp|/p_max {worst:.2e}, A/A0 {:.4}…{:.4}, iterations preconditioned {} / plain {} / reference {}",
+        fast[0].area_fraction, last.area_fraction, iters[0], iters[1], iters[2]
     );
+    assert!(
+        iters[0] as f64 <= ratio * iters[1] as f64,
+        "{what}: preconditioned {} iterations, plain {}",
+        iters[0],
+        iters[1]
+    );
+}
+
+/// The same solver without the preconditioner.
+fn plain(z: &Array2<f64>, stack: &Stack, opts: BemOptions) -> BemSolver {
+    let opts = BemOptions {
+        preconditioner: false,
+        ..opts
+    };
+    BemSolver::new(z, 1e-3, stack, opts).unwrap()
 }
 
 #[test]
@@ -78,7 +102,8 @@ fn fast_path_matches_reference_on_layered_curve() {
     let loads: Vec<BemLoad> = (0..20)
         .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
         .collect();
-    check_curve(&solver, &loads, "E2/E1 = 5, approach");
+    let plain = plain(&z, &stack, BemOptions::default());
+    check_curve(&solver, &plain, &loads, "E2/E1 = 5, approach", 0.5);
 }
 
 #[test]
@@ -97,5 +122,36 @@ fn fast_path_matches_reference_under_pressure_control() {
     let loads: Vec<BemLoad> = (1..=20)
         .map(|i| BemLoad::MeanPressure(es * 5e-4 * i as f64))
         .collect();
-    check_curve(&solver, &loads, "half-space, mean pressure");
+    let plain = plain(&z, &half, opts);
+    check_curve(&solver, &plain, &loads, "half-space, mean pressure", 0.5);
+}
+
+#[test]
+fn fast_paths_match_reference_on_a_free_sample() {
+    // A non-periodic 96×128 sample (zero-padded operator) of the paper-like surface
+    // on the E2/E1 = 0.2 stack, under approach control.
+    let z = surface(128);
+    let z = z.slice(ndarray::s![..96, ..]).to_owned();
+    let geo = strata_bem::Geometry {
+        lx: 1e-3,
+        ly: 0.75e-3,
+        periodic: false,
+    };
+    let stack = Stack::paper_two_layer(0.2).unwrap();
+    let solver = BemSolver::with_geometry(&z, geo, &stack, BemOptions::default()).unwrap();
+    let opts = BemOptions {
+        preconditioner: false,
+        ..BemOptions::default()
+    };
+    let plain = BemSolver::with_geometry(&z, geo, &stack, opts).unwrap();
+    let loads: Vec<BemLoad> = (1..=6)
+        .map(|i| BemLoad::Approach(1.5e-6 * i as f64))
+        .collect();
+    check_curve(
+        &solver,
+        &plain,
+        &loads,
+        "free sample, E2/E1 = 0.2, approach",
+        0.6,
+    );
 }

@@ -204,7 +204,7 @@ proptest! {
         iters in prop_oneof![4 => Just(2000usize), 1 => 0usize..5],
         loads in proptest::collection::vec(bem_load(), 1..4),
     ) {
-        let opts = BemOptions { tolerance: tol, max_iterations: iters };
+        let opts = BemOptions { tolerance: tol, max_iterations: iters, ..Default::default() };
         let solver = match BemSolver::new(&h, size, &st, opts) {
             Ok(s) => s,
             Err(e) => { one_line(&e); return Ok(()); }

@@ -1,0 +1,278 @@
+//! The preconditioned constrained conjugate gradient: Polonsky & Keer's iteration
+//! ([`crate::cg`]) with the FFT-based preconditioner of Vollebregt (J. Comput. Phys. 257,
+//! 2014): the residual is the gap g on the contact set C, preconditioned by the inverse
+//! of the influence operator on the whole cell, restricted to C again,
+//!
+//! ```text
+//!   y = P_C M⁻¹ P_C g,   M⁻¹ = F⁻¹ diag(1/K̂(k)) F    (periodic: 2|k|E*/(2S(|k|)) …)
+//!   y ← y − mean_C y                                   (pressure control)
+//!   t ← y + β t on C,  β = Σ_C g y / (Σ_C g y)_old    (0 after re-entry)
+//!   r = K t;  τ = Σ_C g t / Σ_C r̃ t                   (as the plain iteration)
+//! ```
+//!
+//! The operator K ~ 1/|k| has its small eigenvalues at short wavelengths, where the
+//! plain iteration converges slowly (condition ~ n); M⁻¹ ~ |k| flattens the spectrum on
+//! the contact set, and the iteration count becomes nearly independent of the grid
+//! (512²: 76 → 17 per load step along a curve, 2048² under mean-pressure control:
+//! 808 → 26). Each iteration costs two convolutions, M⁻¹ and K: the update of p and u
+//! is fused into the preconditioner's product while the contact set stays put (as in the
+//! plain iteration), and a third product corrects u when it changes. The stopping
+//! criterion, the exact refreshes and the acceptance on u = K p are those of `cg`.
+
+use strata_runtime::fft::Merge;
+
+use crate::BemError;
+use crate::cg::{Checkpoint, Control, Pending, Problem, REFRESH, Start, State, StepSums, Sums};
+use crate::operator::Operator;
+
+/// The preconditioned gap of a state: δ = Σ_C g y and the mean ȳ removed from y
+/// (pressure control; 0 otherwise).
+#[derive(Clone, Copy, Debug)]
+struct Precond {
+    delta: f64,
+    ybar: f64,
+}
+
+/// Sums of a preconditioner product over C: Σ g y, Σ y, Σ g, the count.
+#[derive(Default, Clone, Copy, Debug)]
+struct PcSums {
+    gy: f64,
+    y: f64,
+    g: f64,
+    m: f64,
+}
+
+impl Merge for PcSums {
+    fn merge(self, o: Self) -> Self {
+        PcSums {
+            gy: self.gy + o.gy,
+            y: self.y + o.y,
+            g: self.g + o.g,
+            m: self.m + o.m,
+        }
+    }
+}
+
+impl PcSums {
+    /// y = q on the contact set (p > 0), 0 elsewhere, with the sums.
+    #[inline(always)]
+    fn drain(p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) -> Self {
+        let mut a = PcSums::default();
+        for k in 0..q.len() {
+            if p[k] > 0.0 {
+                y[k] = q[k];
+                a.gy += g[k] * q[k];
+                a.y += q[k];
+                a.g += g[k];
+                a.m += 1.0;
+            } else {
+                y[k] = 0.0;
+            }
+        }
+        a
+    }
+
+    fn precond(self, control: Control) -> Precond {
+        let ybar = match control {
+            Control::Pressure(_) if self.m > 0.0 => self.y / self.m,
+            _ => 0.0,
+        };
+        Precond {
+            delta: self.gy - ybar * self.g,
+            ybar,
+        }
+    }
+}
+
+/// What a fused iteration did.
+enum Fused {
+    /// The update was clean; the new state's preconditioned gap.
+    Stepped(Precond),
+    /// The update is applied but the preconditioner's product was not computed: the
+    /// contact set changed, the state converged, or a refresh is due.
+    Stopped(Sums),
+}
+
+/// Solves with the preconditioner `minv`; on return `p` holds the pressure.
+pub(crate) fn solve(
+    pb: &Problem,
+    minv: &Operator,
+    control: Control,
+    p: &mut [f64],
+) -> Result<crate::cg::CgOutcome, BemError> {
+    let mut s = match State::start(pb, control, p)? {
+        Start::Done(out) => return Ok(out),
+        Start::Run(s) => s,
+    };
+    let mut exact = true;
+    let mut since_exact = 0usize;
+    let mut d_old = 1.0;
+    let mut conjugate = false;
+    let mut it = 0;
+    loop {
+        match s.checkpoint(p, it, &mut exact, &mut since_exact)? {
+            Checkpoint::Done(out) => return Ok(out),
+            Checkpoint::Capped(error) => return Err(s.not_converged(error)),
+            Checkpoint::Go => {}
+        }
+        it += 1;
+        if s.restart_if_empty(p)? {
+            exact = true;
+            since_exact = 0;
+            conjugate = false;
+            continue;
+        }
+        let mut pre = s.precondition(p, minv)?;
+        loop {
+            let beta = if conjugate && d_old > 0.0 {
+                pre.delta / d_old
+            } else {
+                0.0
+            };
+            d_old = pre.delta;
+            let step = s.direction_pc(p, beta, pre.ybar)?;
+            exact = false;
+            since_exact += 1;
+            // Apply the step: fused into the next preconditioner product while the
+            // contact set stays put.
+            let sums = if s.stats.pen == 0.0 && step.tau < step.leave {
+                let go = it < pb.max_iterations && since_exact < REFRESH;
+                match s.fused_pc(p, step, minv, go)? {
+                    Fused::Stepped(next) => {
+                        pre = next;
+                        it += 1;
+                        conjugate = true;
+                        continue;
+                    }
+                    Fused::Stopped(sums) => sums,
+                }
+            } else {
+                s.update(p, step.tau)
+            };
+            conjugate = !s.finish(p, sums)?;
+            break;
+        }
+    }
+}
+
+impl State<'_> {
+    /// y = P_C M⁻¹ P_C g of the current state (one product): g on C written to `g`,
+    /// y to `y`.
+    fn precondition(&mut self, p: &[f64], minv: &Operator) -> Result<Precond, BemError> {
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let (f, c) = (self.f, self.c);
+        let u = &self.u;
+        self.products += 1;
+        let ((), sums) = minv.apply_fields(
+            [&mut self.g, &mut self.y],
+            self.control.uniform(),
+            &mut self.work,
+            |i, [g, _], input| {
+                let row = i * nx..(i + 1) * nx;
+                let (prow, urow, zrow) = (&p[row.clone()], &u[row.clone()], &z[row]);
+                for k in 0..nx {
+                    let v = if prow[k] > 0.0 {
+                        f * urow[k] - zrow[k] + c
+                    } else {
+                        0.0
+                    };
+                    g[k] = v;
+                    input[k] = v;
+                }
+            },
+            |_| Some(()),
+            |_, i, [g, y], q| PcSums::drain(&p[i * nx..(i + 1) * nx], g, y, q),
+        )?;
+        Ok(sums.unwrap_or_default().precond(self.control))
+    }
+
+    /// The direction t = (y − ȳ) + β t on C and r = K t (one product), the step τ.
+    fn direction_pc(&mut self, p: &[f64], beta: f64, ybar: f64) -> Result<Pending, BemError> {
+        let nx = self.pb.op.nx();
+        let f = self.f;
+        self.products += 1;
+        let (gt, d) = self.pb.op.apply_fields(
+            [&mut self.t, &mut self.r, &mut self.y, &mut self.g],
+            self.control.uniform(),
+            &mut self.work,
+            |i, [t, _, y, g], input| {
+                let prow = &p[i * nx..(i + 1) * nx];
+                let mut gt = 0.0;
+                for k in 0..nx {
+                    let v = if prow[k] > 0.0 {
+                        let v = y[k] - ybar + beta * t[k];
+                        gt += g[k] * v;
+                        v
+                    } else {
+                        0.0
+                    };
+                    t[k] = v;
+                    input[k] = v;
+                }
+                gt
+            },
+            |_| Some(()),
+            |_, i, [t, r, _, _], q| {
+                r.copy_from_slice(q);
+                let prow = &p[i * nx..(i + 1) * nx];
+                let mut d = StepSums::default();
+                for k in 0..nx {
+                    if prow[k] > 0.0 {
+                        d.add(f * prow[k], t[k], q[k]);
+                    }
+                }
+                d
+            },
+        )?;
+        let mut d = d.unwrap_or_default();
+        d.gt = gt;
+        Ok(self.pending(d))
+    }
+
+    /// A fused iteration: the pending step applied row by row as the rows of the next
+    /// preconditioner product are formed (the new gap g′ on the unchanged contact set,
+    /// see [`State::update_fill`]); the product stops after the fill if the set changed,
+    /// the new state converged, or `go` is false.
+    fn fused_pc(
+        &mut self,
+        p: &mut [f64],
+        step: Pending,
+        minv: &Operator,
+        go: bool,
+    ) -> Result<Fused, BemError> {
+        let fill = self.update_fill(step, p.len());
+        let (tol, z_rms) = (self.pb.tolerance, self.pb.z_rms);
+        let gate = |a: &Sums| (go && !a.changed && a.stats.error(z_rms) > tol).then_some(());
+        let (sums, drained) = minv.apply_fields(
+            [
+                &mut *p,
+                &mut self.u,
+                &mut self.g,
+                &mut self.t,
+                &mut self.r,
+                &mut self.corr,
+                &mut self.y,
+            ],
+            self.control.uniform(),
+            &mut self.work,
+            |i, [p, u, g, t, r, corr, _], input| fill.row(i, [p, u, g, t, r, corr], input),
+            gate,
+            |_, _, [p, _, g, _, _, _, y], q| PcSums::drain(p, g, y, q),
+        )?;
+        if drained.is_some() {
+            self.products += 1;
+        }
+        if drained.is_some() || !sums.changed {
+            // The state is the new one: its scale, offset and error terms are known.
+            self.f = fill.f2;
+            self.c = fill.c2;
+            self.stats = sums.stats;
+            self.sz = sums.sz;
+            self.m = sums.m;
+        }
+        Ok(match drained {
+            Some(d) => Fused::Stepped(d.precond(self.control)),
+            None => Fused::Stopped(sums),
+        })
+    }
+}
