@@ -1,7 +1,10 @@
 //! Polonsky–Keer constrained conjugate gradient (Wear 231, 1999; the form of Rey,
 //! Anciaux & Molinari, Comput. Mech. 2017 for displacement control), with one
 //! convolution per iteration and the vector operations fused into as few passes over
-//! the grid as the algorithm's global reductions allow.
+//! the grid as the algorithm's global reductions allow. This is the plain iteration
+//! (`BemOptions::preconditioner = false`) and the common machinery (start, exact
+//! refreshes, acceptance, the update and its correction) of the preconditioned one
+//! ([`crate::pcg`], the default).
 //!
 //! The unknown is the pressure p ≥ 0 (Pa); the gap g = u − z + c with u = K p (m) and c
 //! the flat's offset, known under displacement control, the Lagrange multiplier of the
@@ -20,7 +23,11 @@
 //! is spent only on iterations where the contact set changes, and u is recomputed from p
 //! every [`REFRESH`] iterations and before the solution is accepted (no drift).
 //!
-//! # Passes over the grid per iteration
+//! While the contact set stays put the update of p and u rides in the next iteration's
+//! product (`State::fused`): the new gap g′ is formed as p and u are updated row by row,
+//! the product is q = K g′, and t′ = g′ + β t, r′ = q + β r follow without another pass.
+//!
+//! # Passes over the grid per iteration (when the set changed)
 //! 1. direction t, fused into the forward row FFTs (`RealFft2::convolve_with`);
 //! 2. r = K t: the column FFTs with the kernel multiply;
 //! 3. Σ r t, Σ t, Σ r on the contact set, fused into the inverse row FFTs as r is written;

@@ -58,9 +58,13 @@
 //! the rigid-base convention above: its `gap` column is g_n, not the mean gap.
 //!
 //! # Method
-//! Polonsky & Keer's constrained conjugate gradient (module `cg`) with one convolution per
-//! iteration (real-to-complex FFTs, kernel applied in place, [`strata_runtime::fft`]),
-//! the vector operations fused and run on all cores; warm starts along a load path
+//! Polonsky & Keer's constrained conjugate gradient (module `cg`), preconditioned by
+//! default with the inverse influence operator on the whole cell (Vollebregt, J. Comput.
+//! Phys. 257, 2014; module `pcg`: y = P_C M⁻¹ P_C g, M⁻¹ = 1/K̂ in Fourier space), which
+//! makes the iteration count nearly independent of the grid (17–26 per cold load step
+//! from 512² to 2048², against 181–808 plain); convolutions by real-to-complex FFTs with
+//! the kernel applied in place ([`strata_runtime::fft`]), the vector operations fused
+//! into the FFT's row passes and run on all cores; warm starts along a load path
 //! ([`BemSolver::solve_curve`]: the field extrapolated from the last two steps) and a
 //! coarse-to-fine start on large grids. The error
 //!

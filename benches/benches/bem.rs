@@ -3,12 +3,14 @@
 //!
 //! * `bem_floor` (printed table, one run): per grid n = 256, 512, 1024, 2048 the time of
 //!   one real-to-complex 2-D FFT pair with the kernel multiply (`RealFft2::convolve`,
-//!   the floor of an iteration) and the time per constrained-CG iteration of a solve
-//!   (paper-like surface, L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm, seed 20240611,
-//!   generated at n; two-layer stack E2/E1 = 1 on a rigid base; approach 5 µm, tolerance
-//!   1e-10, warm-started from the solution at 4.75 µm as along a load curve), timed
-//!   alternately in one run (best of the repetitions of each, with the load average),
-//!   and their ratio; then the wall time of the 20-step 512² E2/E1 = 5 curve (best of 3).
+//!   the floor of an iteration) and the time per constrained-CG iteration of a solve,
+//!   plain (Polonsky–Keer) and preconditioned (the default; two convolutions per
+//!   iteration), with the convolutions each spent per iteration (paper-like surface,
+//!   L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm, seed 20240611, generated at n; two-layer
+//!   stack E2/E1 = 1 on a rigid base; approach 5 µm, tolerance 1e-10, warm-started from
+//!   the solution at 4.75 µm as along a load curve), timed alternately in one run (best
+//!   of the repetitions of each, with the load average), and the ratios; then the wall
+//!   time of the 20-step 512² E2/E1 = 5 curve (best of 3), preconditioned and plain.
 //!   All on all cores (rayon).
 //! * `bem_fft_pair/n`, `bem_iteration/n`: the same two quantities under criterion.
 //! * `bem_512`: one load step at n = 512 on the shared paper-like surface
@@ -113,23 +115,27 @@ struct Step {
 }
 
 impl Step {
-    fn new(n: usize) -> Self {
+    fn new(n: usize, preconditioner: bool) -> Self {
         let z = paper_surface(n);
         let stack = Stack::paper_two_layer(1.0).expect("stack");
-        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
+        let opts = BemOptions {
+            preconditioner,
+            ..Default::default()
+        };
+        let solver = BemSolver::new(&z, 1e-3, &stack, opts).expect("solver");
         let prev = solver.solve(BemLoad::Approach(4.75e-6)).expect("solve");
         let init = prev.pressure.iter().copied().collect();
         Step { solver, init }
     }
 
-    /// Iterations of one solve.
-    fn run(&self) -> usize {
+    /// Iterations and convolutions of one solve.
+    fn run(&self) -> (usize, usize) {
         let s = self
             .solver
             .solve_from(BemLoad::Approach(5e-6), Some(&self.init))
             .expect("solve");
         black_box(&s);
-        s.iterations
+        (s.iterations.max(1), s.products)
     }
 }
 
@@ -171,9 +177,9 @@ fn floor_table(_c: &mut Criterion) {
         rayon::current_num_threads()
     );
     println!(
-        "| n | FFT pair (ms) | CG iteration (ms) | iteration / pair | pair CPU (ms) | iteration CPU (ms) | CPU ratio | iterations | load average |"
+        "| n | FFT pair (ms) | iteration (ms): plain / preconditioned | iteration / pair: plain / preconditioned | convolutions per iteration: plain / preconditioned | iterations: plain / preconditioned | CPU ratio: plain / preconditioned | load average |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|");
     // STRATA_FLOOR_GRIDS (e.g. "512,2048") limits the grids; "0" skips the table.
     let grids: Vec<usize> = std::env::var("STRATA_FLOOR_GRIDS")
         .ok()
@@ -181,58 +187,81 @@ fn floor_table(_c: &mut Criterion) {
         .unwrap_or_else(|| vec![256, 512, 1024, 2048]);
     for n in grids.into_iter().filter(|&n| n > 0) {
         let mut pair = Pair::new(n);
-        let step = Step::new(n);
+        let steps = [Step::new(n, false), Step::new(n, true)];
         let (rounds, pairs) = if n >= 2048 { (4, 3) } else { (8, 9) };
-        let (mut best_pair, mut best_iter, mut iters) = (f64::INFINITY, f64::INFINITY, 0);
-        let (mut cpu_pair, mut cpu_iter, mut n_pair, mut n_iter) = (0u64, 0u64, 0usize, 0usize);
+        let mut best_pair = f64::INFINITY;
+        let (mut cpu_pair, mut n_pair) = (0u64, 0usize);
+        // Per solver: best time per iteration, CPU ns, iterations timed, last counts.
+        let mut best = [f64::INFINITY; 2];
+        let mut cpu = [0u64; 2];
+        let mut timed = [0usize; 2];
+        let mut counts = [(0usize, 0usize); 2];
         for _ in 0..rounds {
             let c0 = cpu_ns();
             for _ in 0..pairs {
                 best_pair = best_pair.min(once(|| pair.run()));
             }
-            let c1 = cpu_ns();
-            let t = once(|| iters = step.run());
-            let c2 = cpu_ns();
-            cpu_pair += c1 - c0;
-            cpu_iter += c2 - c1;
+            cpu_pair += cpu_ns() - c0;
             n_pair += pairs;
-            n_iter += iters.max(1);
-            best_iter = best_iter.min(t / iters.max(1) as f64);
+            for (k, step) in steps.iter().enumerate() {
+                let c1 = cpu_ns();
+                let t = once(|| counts[k] = step.run());
+                cpu[k] += cpu_ns() - c1;
+                timed[k] += counts[k].0;
+                best[k] = best[k].min(t / counts[k].0 as f64);
+            }
         }
-        let (cp, ci) = (
-            cpu_pair as f64 / n_pair as f64 * 1e-6,
-            cpu_iter as f64 / n_iter as f64 * 1e-6,
-        );
+        let cp = cpu_pair as f64 / n_pair as f64;
+        let ci = |k: usize| cpu[k] as f64 / timed[k] as f64;
+        let per = |k: usize| counts[k].1 as f64 / counts[k].0 as f64;
         println!(
-            "| {n} | {:.3} | {:.3} | {:.2} | {cp:.3} | {ci:.3} | {:.2} | {iters} | {} |",
+            "| {n} | {:.3} | {:.3} / {:.3} | {:.2} / {:.2} | {:.2} / {:.2} | {} / {} | {:.2} / {:.2} | {} |",
             best_pair * 1e3,
-            best_iter * 1e3,
-            best_iter / best_pair,
-            ci / cp,
+            best[0] * 1e3,
+            best[1] * 1e3,
+            best[0] / best_pair,
+            best[1] / best_pair,
+            per(0),
+            per(1),
+            counts[0].0,
+            counts[1].0,
+            ci(0) / cp,
+            ci(1) / cp,
             load_average()
         );
     }
     let z = paper_surface(512);
     let stack = Stack::paper_two_layer(5.0).expect("stack");
     let loads = curve_loads();
-    let mut best = f64::INFINITY;
-    let mut iters = 0;
-    let c0 = cpu_ns();
-    for _ in 0..3 {
-        let t = once(|| {
-            let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).expect("solver");
-            let out = solver.solve_curve(&loads).expect("curve");
-            iters = out.iter().map(|s| s.iterations).sum();
-        });
-        best = best.min(t);
+    for preconditioner in [true, false] {
+        let opts = BemOptions {
+            preconditioner,
+            ..Default::default()
+        };
+        let mut best = f64::INFINITY;
+        let mut iters = 0;
+        let c0 = cpu_ns();
+        for _ in 0..3 {
+            let t = once(|| {
+                let solver = BemSolver::new(&z, 1e-3, &stack, opts).expect("solver");
+                let out = solver.solve_curve(&loads).expect("curve");
+                iters = out.iter().map(|s| s.iterations).sum();
+            });
+            best = best.min(t);
+        }
+        let cpu = (cpu_ns() - c0) as f64 * 1e-9 / 3.0;
+        println!(
+            "bem_curve ({}): 20-step 512² curve, E2/E1 = 5, approaches 1.3…9.8 µm, tolerance \
+             1e-10: {best:.3} s wall (best of 3, solver set-up included), {cpu:.3} s CPU (mean, \
+             all threads), {iters} iterations, load average {}",
+            if preconditioner {
+                "preconditioned"
+            } else {
+                "plain"
+            },
+            load_average()
+        );
     }
-    let cpu = (cpu_ns() - c0) as f64 * 1e-9 / 3.0;
-    println!(
-        "bem_curve: 20-step 512² curve, E2/E1 = 5, approaches 1.3…9.8 µm, tolerance 1e-10: \
-         {best:.3} s wall (best of 3, solver set-up included), {cpu:.3} s CPU (mean, all \
-         threads), {iters} iterations, load average {}",
-        load_average()
-    );
 }
 
 /// Whether the command line's filter (if any) selects `name`.
