@@ -345,11 +345,11 @@ pub(crate) enum Start<'a> {
 }
 
 /// What the head of an iteration decided.
-pub(crate) enum Checkpoint {
+pub(crate) enum Head {
     /// Accepted (on the exact gap).
     Done(CgOutcome),
-    /// The iteration cap is reached with this error.
-    Capped(f64),
+    /// The contact set was empty: restarted from the local estimate (conjugation off).
+    Restarted,
     /// Go on.
     Go,
 }
@@ -379,17 +379,13 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
     let mut conjugate = false;
     let mut it = 0;
     loop {
-        match s.checkpoint(p, it, &mut exact, &mut since_exact)? {
-            Checkpoint::Done(out) => return Ok(out),
-            Checkpoint::Capped(error) => return Err(s.not_converged(error)),
-            Checkpoint::Go => {}
-        }
-        it += 1;
-        if s.restart_if_empty(p)? {
-            exact = true;
-            since_exact = 0;
-            conjugate = false;
-            continue;
+        match s.head(p, &mut it, &mut exact, &mut since_exact)? {
+            Head::Done(out) => return Ok(out),
+            Head::Restarted => {
+                conjugate = false;
+                continue;
+            }
+            Head::Go => {}
         }
         let gg = s.stats.gg;
         let beta = if conjugate { gg / g_old } else { 0.0 };
@@ -488,17 +484,20 @@ impl<'a> State<'a> {
     }
 
     /// The head of an iteration: the error of the state; before accepting it, or when a
-    /// refresh is due or the cap reached, u = K p is recomputed exactly.
-    pub(crate) fn checkpoint(
+    /// refresh is due or the cap reached, u = K p is recomputed exactly; past the cap, the
+    /// error [`BemError::NotConverged`]. Then the iteration count `it` goes up, and an
+    /// empty contact set is restarted ([`Self::restart_if_empty`]).
+    pub(crate) fn head(
         &mut self,
         p: &mut [f64],
-        it: usize,
+        it: &mut usize,
         exact: &mut bool,
         since_exact: &mut usize,
-    ) -> Result<Checkpoint, BemError> {
+    ) -> Result<Head, BemError> {
         let pb = self.pb;
+        let it0 = *it;
         let mut error = self.stats.error(pb.z_rms);
-        if !*exact && (error <= pb.tolerance || it >= pb.max_iterations || *since_exact >= REFRESH)
+        if !*exact && (error <= pb.tolerance || it0 >= pb.max_iterations || *since_exact >= REFRESH)
         {
             // Accept only on the exact gap; refresh it now and then against drift.
             self.exact(p)?;
@@ -506,42 +505,38 @@ impl<'a> State<'a> {
             error = self.stats.error(pb.z_rms);
         }
         if !error.is_finite() {
-            return Err(BemError::NonFinite(it));
+            return Err(BemError::NonFinite(it0));
         }
         if error <= pb.tolerance {
             let c = self.c;
-            let gap = self
-                .u
-                .par_iter()
-                .zip(pb.z.par_iter())
-                .map(|(u, z)| u - z + c);
-            return Ok(Checkpoint::Done(CgOutcome {
-                iterations: it,
+            let gap = self.u.par_iter().zip(pb.z.par_iter());
+            return Ok(Head::Done(CgOutcome {
+                iterations: it0,
                 products: self.products,
                 error,
                 offset: c,
-                gap: gap.collect(),
+                gap: gap.map(|(u, z)| u - z + c).collect(),
             }));
         }
-        Ok(if it >= pb.max_iterations {
-            Checkpoint::Capped(error)
-        } else {
-            Checkpoint::Go
-        })
-    }
-
-    /// The error of a solve that reached its iteration cap.
-    pub(crate) fn not_converged(&self, error: f64) -> BemError {
-        BemError::NotConverged {
-            iterations: self.pb.max_iterations,
-            error,
-            tolerance: self.pb.tolerance,
+        if it0 >= pb.max_iterations {
+            return Err(BemError::NotConverged {
+                iterations: pb.max_iterations,
+                error,
+                tolerance: pb.tolerance,
+            });
         }
+        *it += 1;
+        if self.restart_if_empty(p)? {
+            *exact = true;
+            *since_exact = 0;
+            return Ok(Head::Restarted);
+        }
+        Ok(Head::Go)
     }
 
     /// If the last step emptied the contact set (displacement control only): restart
     /// from the local estimate on the interpenetrating points; returns whether it did.
-    pub(crate) fn restart_if_empty(&mut self, p: &mut [f64]) -> Result<bool, BemError> {
+    fn restart_if_empty(&mut self, p: &mut [f64]) -> Result<bool, BemError> {
         if self.stats.psum != 0.0 {
             return Ok(false);
         }

@@ -22,7 +22,7 @@
 use strata_runtime::fft::Merge;
 
 use crate::BemError;
-use crate::cg::{Checkpoint, Control, Pending, Problem, REFRESH, Start, State, StepSums, Sums};
+use crate::cg::{Control, Head, Pending, Problem, REFRESH, Start, State, StepSums, Sums};
 use crate::operator::Operator;
 
 /// The preconditioned gap of a state: δ = Σ_C g y and the mean ȳ removed from y
@@ -110,17 +110,13 @@ pub(crate) fn solve(
     let mut conjugate = false;
     let mut it = 0;
     loop {
-        match s.checkpoint(p, it, &mut exact, &mut since_exact)? {
-            Checkpoint::Done(out) => return Ok(out),
-            Checkpoint::Capped(error) => return Err(s.not_converged(error)),
-            Checkpoint::Go => {}
-        }
-        it += 1;
-        if s.restart_if_empty(p)? {
-            exact = true;
-            since_exact = 0;
-            conjugate = false;
-            continue;
+        match s.head(p, &mut it, &mut exact, &mut since_exact)? {
+            Head::Done(out) => return Ok(out),
+            Head::Restarted => {
+                conjugate = false;
+                continue;
+            }
+            Head::Go => {}
         }
         let mut pre = s.precondition(p, minv)?;
         loop {

@@ -29,23 +29,10 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy};
+use strata_benches::{curve_approaches, paper_surface};
 use strata_runtime::Stack;
 use strata_runtime::fft::RealFft2;
-use strata_runtime::surface::{GenerateParams, Surface};
-
-fn paper_surface(n: usize) -> Array2<f64> {
-    let s = Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface");
-    Array2::from_shape_vec((n, n), s.heights().to_vec()).expect("heights")
-}
+use strata_runtime::surface::Surface;
 
 /// Median of `reps` timings of `f` (s).
 fn median(reps: usize, mut f: impl FnMut()) -> f64 {
@@ -161,8 +148,9 @@ fn load_average() -> String {
 
 /// The 20-step 512² load curve on the paper's E2/E1 = 5 stack (approaches 1.3…9.8 µm).
 fn curve_loads() -> Vec<BemLoad> {
-    (0..20)
-        .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
+    curve_approaches()
+        .into_iter()
+        .map(BemLoad::Approach)
         .collect()
 }
 

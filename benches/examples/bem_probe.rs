@@ -7,26 +7,12 @@
 //! E = 4 GPa, ν = 0.15, tolerance 1e-8, the same generated surface): mean pressure
 //! 0.005 E* and mean gap 0.5 (z_M − z̄).
 use std::time::Instant;
-use strata_bem::{Array2, BemLoad, BemOptions, BemSolver};
+use strata_bem::{BemLoad, BemOptions, BemSolver};
+use strata_benches::{curve_approaches, paper_surface};
 use strata_runtime::Stack;
-use strata_runtime::surface::{GenerateParams, Surface};
-
-fn surface(n: usize) -> Array2<f64> {
-    let s = Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .expect("surface");
-    Array2::from_shape_vec((n, n), s.heights().to_vec()).expect("heights")
-}
 
 fn cold_steps(n: usize) {
-    let z = surface(n);
+    let z = paper_surface(n);
     let half = Stack::half_space(4e9, 0.15).expect("stack");
     let es = half.top_plane_strain_modulus();
     let opts = BemOptions {
@@ -59,7 +45,7 @@ fn main() {
     }
     let n: usize = args.first().and_then(|a| a.parse().ok()).unwrap_or(512);
     let tol: f64 = args.get(1).and_then(|a| a.parse().ok()).unwrap_or(1e-10);
-    let z = surface(n);
+    let z = paper_surface(n);
     let stack = Stack::paper_two_layer(5.0).expect("stack");
     let t0 = Instant::now();
     let opts = BemOptions {
@@ -68,8 +54,9 @@ fn main() {
     };
     let solver = BemSolver::new(&z, 1e-3, &stack, opts).expect("solver");
     println!("set-up {:.3} s", t0.elapsed().as_secs_f64());
-    let loads: Vec<BemLoad> = (0..20)
-        .map(|i| BemLoad::Approach(1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0))
+    let loads: Vec<BemLoad> = curve_approaches()
+        .into_iter()
+        .map(BemLoad::Approach)
         .collect();
     let t1 = Instant::now();
     let out = solver.solve_curve(&loads).expect("curve");

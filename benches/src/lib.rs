@@ -1,1 +1,27 @@
 //! Criterion benchmarks of strata; see `benches/` and the README ("Benchmarks").
+
+use strata_bem::Array2;
+use strata_runtime::surface::{GenerateParams, Surface};
+
+/// The BEM benches' paper-like surface at n² (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm,
+/// seed 20240611), heights in m.
+pub fn paper_surface(n: usize) -> Array2<f64> {
+    let s = Surface::generate(&GenerateParams {
+        size: 1e-3,
+        grid: n,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed: 20240611,
+    })
+    .expect("surface");
+    Array2::from_shape_vec((n, n), s.heights().to_vec()).expect("heights")
+}
+
+/// The 20 approaches (m) of the BEM benches' 512² load curve: 1.3…9.8 µm.
+pub fn curve_approaches() -> Vec<f64> {
+    (0..20)
+        .map(|i| 1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0)
+        .collect()
+}
