@@ -2,7 +2,7 @@
 //! curve: paper-like surface, E2/E1 = 5, approaches 1.3…9.8 µm): iterations, operator
 //! products and wall time of each step.
 //!
-//! Run: `cargo run --release -p strata-benches --example bem_probe [-- N TOL]`;
+//! Run: `cargo run --release -p strata-benches --features probes --example bem_probe [-- N TOL]`;
 //! `-- pressure N` instead times the Tamaas comparison's cold steps (half-space
 //! E = 4 GPa, ν = 0.15, tolerance 1e-8, the same generated surface): mean pressure
 //! 0.005 E* and mean gap 0.5 (z_M − z̄).

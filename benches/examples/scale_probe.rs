@@ -3,7 +3,7 @@
 //! the far field in use (cut-off r_c, near radius, grid cells, measured error).
 //!
 //! ```text
-//! cargo run --release -p strata-benches --example scale_probe -- [grid] [k_M] [steps] [far-field tolerance]
+//! cargo run --release -p strata-benches --features probes --example scale_probe -- [grid] [k_M] [steps] [far-field tolerance]
 //! ```
 //!
 //! Defaults: grid 1024, k_M = 200 (≈ 1e4 summits, L = 1 mm, D_f = 2.4, the paper's
