@@ -40,8 +40,9 @@ pub struct BemSolution {
     /// Conjugate-gradient iterations used.
     pub iterations: usize,
     /// Applications of the influence operator (one FFT convolution each) the solve
-    /// spent: one per iteration, one more on each iteration whose contact set changed,
-    /// and the exact gap refreshes (see the `cg` module).
+    /// spent: one per iteration (two preconditioned), one more on each iteration whose
+    /// contact set changed at more than a few points (fewer are corrected in real
+    /// space), and the exact gap refreshes (see the `cg` module).
     pub products: usize,
     /// Final error ε (see the crate docs).
     pub error: f64,

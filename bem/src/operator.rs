@@ -21,6 +21,10 @@ pub(crate) struct Operator {
     kernel: Vec<f64>,
     /// Periodic: the (0, 0) entry can be switched off (zero-mean convention).
     periodic: bool,
+    /// The real-space response to a unit point load at the origin, `points[dy·nx + dx]`
+    /// for 0 ≤ dy < ny, 0 ≤ dx < nx (periodic: without the uniform mode, offsets taken
+    /// modulo the cell; free: G, even in both offsets). Used by [`Self::add_points`].
+    points: Vec<f64>,
 }
 
 impl Operator {
@@ -46,11 +50,19 @@ impl Operator {
                 };
             }
         }
-        Ok(Operator {
+        let mut op = Operator {
             plan,
             kernel,
             periodic: true,
-        })
+            points: Vec::new(),
+        };
+        // The response to a unit load at the origin (zero-mean convention).
+        let mut unit = vec![0.0; ny * nx];
+        unit[0] = 1.0;
+        let mut points = vec![0.0; ny * nx];
+        op.apply(&unit, &mut points, false, &mut op.work())?;
+        op.points = points;
+        Ok(op)
     }
 
     /// Free-boundary operator from real-space influence coefficients `g[dy * nx + dx]`
@@ -92,6 +104,7 @@ impl Operator {
             plan: RealFft2::padded((gy, gx), (ny, nx))?,
             kernel,
             periodic: false,
+            points: g.to_vec(),
         })
     }
 
@@ -117,6 +130,8 @@ impl Operator {
             plan: RealFft2::padded((gy, gx), self.plan.data()).ok()?,
             kernel,
             periodic: self.periodic,
+            // The preconditioner is applied by FFT only.
+            points: Vec::new(),
         })
     }
 
@@ -184,6 +199,58 @@ impl Operator {
         Ok(self.plan.convolve_fields(f, work, fill, gate, drain)?)
     }
 
+    /// Row `i` of the response to point loads, added to `out` (nx values):
+    ///
+    /// ```text
+    ///   out[x] += Σ_s c_s k(i − i_s, x − x_s)      (points = [(index i_s·nx + x_s, c_s)])
+    /// ```
+    ///
+    /// with k the real-space kernel of [`Self::apply`] (periodic: offsets modulo the cell,
+    /// plus the uniform mode if `uniform`; free: the linear convolution's G(|Δi|, |Δx|)).
+    /// For a few points this costs far less than a product: one pass per point.
+    pub(crate) fn add_points(
+        &self,
+        points: &[(u32, f64)],
+        uniform: bool,
+        i: usize,
+        out: &mut [f64],
+    ) {
+        let (ny, nx) = self.plan.data();
+        let shift = if self.periodic && uniform {
+            self.kernel[0]
+        } else {
+            0.0
+        };
+        for &(at, c) in points {
+            let (si, sx) = (at as usize / nx, at as usize % nx);
+            let dy = if self.periodic {
+                (i + ny - si) % ny
+            } else {
+                i.abs_diff(si)
+            };
+            let krow = &self.points[dy * nx..(dy + 1) * nx];
+            if self.periodic {
+                // x ≥ sx: offset x − sx; x < sx: offset x − sx + nx.
+                let (lo, hi) = out.split_at_mut(sx);
+                for (o, &k) in hi.iter_mut().zip(&krow[..nx - sx]) {
+                    *o += c * (k + shift);
+                }
+                for (o, &k) in lo.iter_mut().zip(&krow[nx - sx..]) {
+                    *o += c * (k + shift);
+                }
+            } else {
+                // x ≥ sx: offset x − sx; x < sx: offset sx − x (G is even).
+                let (lo, hi) = out.split_at_mut(sx);
+                for (o, &k) in hi.iter_mut().zip(&krow[..nx - sx]) {
+                    *o += c * k;
+                }
+                for (o, &k) in lo.iter_mut().zip(krow[1..=sx].iter().rev()) {
+                    *o += c * k;
+                }
+            }
+        }
+    }
+
     /// The (0, 0) kernel entry: 0 for a periodic operator without the uniform mode.
     fn dc(&self, uniform: bool) -> f64 {
         if self.periodic && !uniform {
@@ -204,6 +271,7 @@ impl Operator {
         } else {
             8 * (gy * gx) as u64 + 16 * half
         };
-        8 * half + 16 * half + 16 * (ny as u64 * (gx / 2 + 1) as u64) + setup
+        // kernel + spectra + the point-load response (ny·nx).
+        8 * half + 16 * half + 16 * (ny as u64 * (gx / 2 + 1) as u64) + 8 * (ny * nx) as u64 + setup
     }
 }

@@ -238,7 +238,7 @@ impl State<'_> {
     ) -> Result<Fused, BemError> {
         let fill = self.update_fill(step, p.len());
         let (tol, z_rms) = (self.pb.tolerance, self.pb.z_rms);
-        let gate = |a: &Sums| (go && !a.changed && a.stats.error(z_rms) > tol).then_some(());
+        let gate = |a: &Sums| (go && !a.changed.any() && a.stats.error(z_rms) > tol).then_some(());
         let (sums, drained) = minv.apply_fields(
             [
                 &mut *p,
@@ -258,7 +258,7 @@ impl State<'_> {
         if drained.is_some() {
             self.products += 1;
         }
-        if drained.is_some() || !sums.changed {
+        if drained.is_some() || !sums.changed.any() {
             // The state is the new one: its scale, offset and error terms are known.
             self.f = fill.f2;
             self.c = fill.c2;

@@ -11,6 +11,10 @@
 //!   the solution at 4.75 µm as along a load curve), timed alternately in one run (best
 //!   of the repetitions of each, with the load average), and the ratios; then the wall
 //!   time of the 20-step 512² E2/E1 = 5 curve (best of 3), preconditioned and plain.
+//!   The table also times a state pass (read and write p, u, t, r, read z: the memory
+//!   traffic any Polonsky–Keer iteration has besides its convolution) and gives
+//!   (pair + state pass) / pair, the floor of an iteration where the fields outgrow
+//!   the cache.
 //!   All on all cores (rayon).
 //! * `bem_fft_pair/n`, `bem_iteration/n`: the same two quantities under criterion.
 //! * `bem_512`: one load step at n = 512 on the shared paper-like surface
@@ -94,6 +98,57 @@ impl Pair {
     }
 }
 
+/// The state pass: one parallel pass that reads and writes four n×n f64 fields and
+/// reads a fifth — p, u, t, r and z, the least any Polonsky–Keer iteration moves
+/// through memory besides its convolution (each of the four is updated once per
+/// iteration, z is read to form the gap). Its time added to the pair's is the floor of
+/// an iteration at grids whose fields do not fit in cache.
+struct StatePass {
+    p: Vec<f64>,
+    u: Vec<f64>,
+    t: Vec<f64>,
+    r: Vec<f64>,
+    z: Vec<f64>,
+}
+
+impl StatePass {
+    fn new(n: usize) -> Self {
+        let f = |s: f64| {
+            (0..n * n)
+                .map(|i| (i as f64 * s).sin())
+                .collect::<Vec<f64>>()
+        };
+        StatePass {
+            p: f(0.1),
+            u: f(0.2),
+            t: f(0.3),
+            r: f(0.4),
+            z: f(0.5),
+        }
+    }
+
+    fn run(&mut self) {
+        use rayon::prelude::*;
+        const CHUNK: usize = 1 << 15;
+        let (a, b) = (1e-3, 0.5);
+        self.p
+            .par_chunks_mut(CHUNK)
+            .zip(self.u.par_chunks_mut(CHUNK))
+            .zip(self.t.par_chunks_mut(CHUNK))
+            .zip(self.r.par_chunks_mut(CHUNK))
+            .zip(self.z.par_chunks(CHUNK))
+            .for_each(|((((p, u), t), r), z)| {
+                for k in 0..p.len() {
+                    p[k] = (p[k] - a * t[k]).max(0.0);
+                    u[k] -= a * r[k];
+                    t[k] = u[k] - z[k] + b * t[k];
+                    r[k] *= b;
+                }
+            });
+        black_box(&self.p);
+    }
+}
+
 /// The floor table's solve at n: a warm-started load step (the approach 5 µm from the
 /// solution at 4.75 µm), ready to time.
 struct Step {
@@ -165,9 +220,9 @@ fn floor_table(_c: &mut Criterion) {
         rayon::current_num_threads()
     );
     println!(
-        "| n | FFT pair (ms) | iteration (ms): plain / preconditioned | iteration / pair: plain / preconditioned | convolutions per iteration: plain / preconditioned | iterations: plain / preconditioned | CPU ratio: plain / preconditioned | load average |"
+        "| n | FFT pair (ms) | state pass (ms) | (pair + state pass) / pair | iteration (ms): plain / preconditioned | iteration / pair: plain / preconditioned | convolutions per iteration: plain / preconditioned | iterations: plain / preconditioned | CPU ratio: plain / preconditioned | load average |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
     // STRATA_FLOOR_GRIDS (e.g. "512,2048") limits the grids; "0" skips the table.
     let grids: Vec<usize> = std::env::var("STRATA_FLOOR_GRIDS")
         .ok()
@@ -175,9 +230,11 @@ fn floor_table(_c: &mut Criterion) {
         .unwrap_or_else(|| vec![256, 512, 1024, 2048]);
     for n in grids.into_iter().filter(|&n| n > 0) {
         let mut pair = Pair::new(n);
+        let mut state = StatePass::new(n);
         let steps = [Step::new(n, false), Step::new(n, true)];
         let (rounds, pairs) = if n >= 2048 { (4, 3) } else { (8, 9) };
         let mut best_pair = f64::INFINITY;
+        let mut best_state = f64::INFINITY;
         let (mut cpu_pair, mut n_pair) = (0u64, 0usize);
         // Per solver: best time per iteration, CPU ns, iterations timed, last counts.
         let mut best = [f64::INFINITY; 2];
@@ -191,6 +248,9 @@ fn floor_table(_c: &mut Criterion) {
             }
             cpu_pair += cpu_ns() - c0;
             n_pair += pairs;
+            for _ in 0..pairs {
+                best_state = best_state.min(once(|| state.run()));
+            }
             for (k, step) in steps.iter().enumerate() {
                 let c1 = cpu_ns();
                 let t = once(|| counts[k] = step.run());
@@ -203,8 +263,10 @@ fn floor_table(_c: &mut Criterion) {
         let ci = |k: usize| cpu[k] as f64 / timed[k] as f64;
         let per = |k: usize| counts[k].1 as f64 / counts[k].0 as f64;
         println!(
-            "| {n} | {:.3} | {:.3} / {:.3} | {:.2} / {:.2} | {:.2} / {:.2} | {} / {} | {:.2} / {:.2} | {} |",
+            "| {n} | {:.3} | {:.3} | {:.2} | {:.3} / {:.3} | {:.2} / {:.2} | {:.2} / {:.2} | {} / {} | {:.2} / {:.2} | {} |",
             best_pair * 1e3,
+            best_state * 1e3,
+            (best_pair + best_state) / best_pair,
             best[0] * 1e3,
             best[1] * 1e3,
             best[0] / best_pair,

@@ -5,7 +5,8 @@
 //! Run: `cargo run --release -p strata-benches --features probes --example bem_probe [-- N TOL]`;
 //! `-- pressure N` instead times the Tamaas comparison's cold steps (half-space
 //! E = 4 GPa, ν = 0.15, tolerance 1e-8, the same generated surface): mean pressure
-//! 0.005 E* and mean gap 0.5 (z_M − z̄).
+//! 0.005 E* and mean gap 0.5 (z_M − z̄). `STRATA_PLAIN=1` runs the curve with the plain
+//! iteration.
 use std::time::Instant;
 use strata_bem::{BemLoad, BemOptions, BemSolver};
 use strata_benches::{curve_approaches, paper_surface};
@@ -50,6 +51,8 @@ fn main() {
     let t0 = Instant::now();
     let opts = BemOptions {
         tolerance: tol,
+        // STRATA_PLAIN=1: the plain iteration (no preconditioner).
+        preconditioner: std::env::var_os("STRATA_PLAIN").is_none(),
         ..Default::default()
     };
     let solver = BemSolver::new(&z, 1e-3, &stack, opts).expect("solver");
