@@ -112,7 +112,7 @@ pub(crate) struct Problem<'a> {
 /// interpenetration max(−g) outside it.
 #[derive(Default, Clone, Copy, Debug)]
 pub(crate) struct Stats {
-    pg: f64,
+    pub(crate) pg: f64,
     pub(crate) psum: f64,
     pub(crate) gg: f64,
     pub(crate) pen: f64,
@@ -237,11 +237,11 @@ impl Merge for Sums {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct StepSums {
     pub(crate) gt: f64,
-    rt: f64,
-    t: f64,
-    r: f64,
-    m: f64,
-    leave: f64,
+    pub(crate) rt: f64,
+    pub(crate) t: f64,
+    pub(crate) r: f64,
+    pub(crate) m: f64,
+    pub(crate) leave: f64,
 }
 
 impl Default for StepSums {
@@ -337,15 +337,34 @@ pub(crate) struct UpdateFill<'a> {
     pub(crate) c2: f64,
 }
 
-impl UpdateFill<'_> {
-    /// Row `i`: `rows` = [p, u, g, t, r, corr].
-    #[inline(always)]
+impl<'a> UpdateFill<'a> {
+    /// Row `i`: `rows` = [p, u, g, t, r, corr]; vectorised where the CPU allows
+    /// ([`crate::simd`]).
     pub(crate) fn row(&self, i: usize, rows: [&mut [f64]; 6], input: &mut [f64]) -> Sums {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked at run time).
+            return unsafe { crate::simd::update_fill_row(self, i, rows, input) };
+        }
+        let mut acc = Sums::default();
+        self.points(i, 0..self.nx, rows, input, &mut acc);
+        acc
+    }
+
+    /// Points `ks` of row `i` (the scalar rule), added to `acc`.
+    #[inline(always)]
+    pub(crate) fn points(
+        &self,
+        i: usize,
+        ks: std::ops::Range<usize>,
+        rows: [&mut [f64]; 6],
+        input: &mut [f64],
+        acc: &mut Sums,
+    ) {
         let [p, u, g, t, r, corr] = rows;
         let (f, c, tau, f2, c2, nx) = (self.f, self.c, self.tau, self.f2, self.c2, self.nx);
         let zrow = &self.z[i * nx..(i + 1) * nx];
-        let mut acc = Sums::default();
-        for k in 0..nx {
+        for k in ks {
             let (pi, ui) = (f * p[k], f * u[k]);
             let v = if pi > 0.0 {
                 let v = pi - tau * t[k];
@@ -386,7 +405,29 @@ impl UpdateFill<'_> {
             input[k] = gi;
             acc.stats.add(f2 * v, gap);
         }
-        acc
+    }
+
+    /// A fill from its parts (tests of the vector form against the scalar rule).
+    #[cfg(test)]
+    pub(crate) fn from_parts(z: &'a [f64], nx: usize, [f, c, tau, f2, c2]: [f64; 5]) -> Self {
+        UpdateFill {
+            z,
+            nx,
+            f,
+            c,
+            tau,
+            f2,
+            c2,
+        }
+    }
+
+    /// The step and scales: (f, c, τ, f′, c′), and the row length and heights.
+    pub(crate) fn consts(&self) -> ([f64; 5], usize, &[f64]) {
+        (
+            [self.f, self.c, self.tau, self.f2, self.c2],
+            self.nx,
+            self.z,
+        )
     }
 }
 
@@ -775,6 +816,11 @@ impl<'a> State<'a> {
             gate,
             |&beta, _, [p, _, g, t, r, _], q| {
                 // The set is unchanged: t′ = g′ + β t, r′ = K g′ + β r.
+                #[cfg(target_arch = "x86_64")]
+                if std::arch::is_x86_feature_detected!("avx2") {
+                    // SAFETY: the CPU has AVX2; the rows hold nx = q.len() values.
+                    return unsafe { crate::simd::next_direction(beta, f2, [p, g], [t, r], q) };
+                }
                 let mut d = StepSums::default();
                 for k in 0..nx {
                     let rn = q[k] + beta * r[k];

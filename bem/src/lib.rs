@@ -96,6 +96,8 @@ mod maps;
 mod operator;
 mod pcg;
 mod reference;
+#[cfg(target_arch = "x86_64")]
+mod simd;
 mod solver;
 #[cfg(test)]
 mod tests;

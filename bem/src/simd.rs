@@ -1,0 +1,315 @@
+//! AVX2 forms of the two row loops every clean iteration runs ([`crate::cg`]'s fused
+//! update and next direction), 4 points per instruction, with the sums in vector
+//! accumulators (no serial dependency through one scalar sum or `max`). The crate's
+//! baseline is SSE2 and the scalar loops, branchy, are not vectorised by the compiler:
+//! these run where `is_x86_feature_detected!("avx2")` says so. A block of 4 points in
+//! which the contact set changes is handed to the scalar rule, so the vector path only
+//! ever sees the common case. Sums are formed in a different order than the scalar
+//! loops (last bits only).
+
+use core::arch::x86_64::*;
+
+use crate::cg::{StepSums, Sums, UpdateFill};
+
+/// Σ of the 4 lanes.
+#[inline(always)]
+unsafe fn hsum(v: __m256d) -> f64 {
+    let a: [f64; 4] = unsafe { std::mem::transmute(v) };
+    (a[0] + a[1]) + (a[2] + a[3])
+}
+
+/// The 4 lanes.
+#[inline(always)]
+unsafe fn lanes(v: __m256d) -> [f64; 4] {
+    unsafe { std::mem::transmute(v) }
+}
+
+/// [`UpdateFill::row`] on AVX2: the pending step applied to row `i` of p and u, the new
+/// gap on the contact set written to g and to the transform's input, and the sums.
+///
+/// # Safety
+/// The CPU must support AVX2; the rows must hold the row length nx of the fill.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn update_fill_row(
+    fill: &UpdateFill,
+    i: usize,
+    rows: [&mut [f64]; 6],
+    input: &mut [f64],
+) -> Sums {
+    let ([f, c, tau, f2, c2], nx, z) = fill.consts();
+    let [p, u, g, t, r, corr] = rows;
+    let z = &z[i * nx..(i + 1) * nx];
+    let (p, u, g, t, r, input) = (
+        &mut p[..nx],
+        &mut u[..nx],
+        &mut g[..nx],
+        &mut t[..nx],
+        &mut r[..nx],
+        &mut input[..nx],
+    );
+    let mut acc = Sums::default();
+    let (vf, vc, vtau) = (_mm256_set1_pd(f), _mm256_set1_pd(c), _mm256_set1_pd(tau));
+    let (vf2, vc2) = (_mm256_set1_pd(f2), _mm256_set1_pd(c2));
+    let zero = _mm256_setzero_pd();
+    let one = _mm256_set1_pd(1.0);
+    let sign = _mm256_set1_pd(-0.0);
+    let (mut su, mut sz, mut m, mut ps) = (zero, zero, zero, zero);
+    let (mut pg, mut sp, mut gg, mut pen, mut bad) = (zero, zero, zero, zero, zero);
+    let whole = nx - nx % 4;
+    let mut k = 0;
+    while k < whole {
+        // SAFETY: k + 4 ≤ nx and every row holds nx values.
+        let (pp, uu, tt, rr, zz) = unsafe {
+            (
+                _mm256_loadu_pd(p.as_ptr().add(k)),
+                _mm256_loadu_pd(u.as_ptr().add(k)),
+                _mm256_loadu_pd(t.as_ptr().add(k)),
+                _mm256_loadu_pd(r.as_ptr().add(k)),
+                _mm256_loadu_pd(z.as_ptr().add(k)),
+            )
+        };
+        let pi = _mm256_mul_pd(vf, pp);
+        let ui = _mm256_mul_pd(vf, uu);
+        let contact = _mm256_cmp_pd::<_CMP_GT_OQ>(pi, zero);
+        let along = _mm256_sub_pd(pi, _mm256_mul_pd(vtau, tt));
+        let gap_old = _mm256_add_pd(_mm256_sub_pd(ui, zz), vc);
+        let leave = _mm256_and_pd(contact, _mm256_cmp_pd::<_CMP_LE_OQ>(along, zero));
+        let enter = _mm256_andnot_pd(contact, _mm256_cmp_pd::<_CMP_LT_OQ>(gap_old, zero));
+        if _mm256_movemask_pd(_mm256_or_pd(leave, enter)) != 0 {
+            // The set changes here: the scalar rule (projection, re-entry, Δ listed).
+            let rows = [&mut *p, &mut *u, &mut *g, &mut *t, &mut *r, &mut *corr];
+            fill.points(i, k..k + 4, rows, input, &mut acc);
+            k += 4;
+            continue;
+        }
+        // The set stays: p′ = f p − τ t on it (> 0), 0 off it.
+        let v = _mm256_and_pd(contact, along);
+        let un = _mm256_sub_pd(ui, _mm256_mul_pd(vtau, rr));
+        let gap = _mm256_add_pd(_mm256_sub_pd(_mm256_mul_pd(vf2, un), zz), vc2);
+        let gi = _mm256_and_pd(contact, gap);
+        // SAFETY: as the loads.
+        unsafe {
+            _mm256_storeu_pd(p.as_mut_ptr().add(k), v);
+            _mm256_storeu_pd(u.as_mut_ptr().add(k), un);
+            _mm256_storeu_pd(g.as_mut_ptr().add(k), gi);
+            _mm256_storeu_pd(input.as_mut_ptr().add(k), gi);
+        }
+        su = _mm256_add_pd(su, _mm256_and_pd(contact, un));
+        sz = _mm256_add_pd(sz, _mm256_and_pd(contact, zz));
+        m = _mm256_add_pd(m, _mm256_and_pd(contact, one));
+        ps = _mm256_add_pd(ps, v);
+        // Error terms (Stats::add with the pressure f′ p′).
+        let pv = _mm256_mul_pd(vf2, v);
+        pg = _mm256_add_pd(pg, _mm256_mul_pd(pv, _mm256_andnot_pd(sign, gap)));
+        sp = _mm256_add_pd(sp, pv);
+        gg = _mm256_add_pd(gg, _mm256_and_pd(contact, _mm256_mul_pd(gap, gap)));
+        let below = _mm256_andnot_pd(contact, _mm256_sub_pd(zero, gap));
+        pen = _mm256_max_pd(pen, below);
+        bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_UNORD_Q>(gap, gap));
+        k += 4;
+    }
+    if whole < nx {
+        let rows = [&mut *p, &mut *u, &mut *g, &mut *t, &mut *r, &mut *corr];
+        fill.points(i, whole..nx, rows, input, &mut acc);
+    }
+    // SAFETY: AVX2 (this function's feature).
+    unsafe {
+        acc.su += hsum(su);
+        acc.sz += hsum(sz);
+        acc.m += hsum(m);
+        acc.psum += hsum(ps);
+        acc.stats.pg += hsum(pg);
+        acc.stats.psum += hsum(sp);
+        acc.stats.gg += hsum(gg);
+        acc.stats.pen = lanes(pen).iter().fold(acc.stats.pen, |a, &b| a.max(b));
+    }
+    if _mm256_movemask_pd(bad) != 0 {
+        // A gap that is not finite: the error becomes NaN (the solve stops).
+        acc.stats.pen = f64::NAN;
+    }
+    acc
+}
+
+/// The next direction of a fused iteration on AVX2 (the contact set unchanged):
+/// r′ = q + β r everywhere; on the set (p > 0) t′ = g + β t; the sums of the step along
+/// t′ with the pressure f′ p ([`StepSums`], Σ g t′ included).
+///
+/// # Safety
+/// The CPU must support AVX2; p, g, t, r hold at least q.len() values.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn next_direction(
+    beta: f64,
+    f2: f64,
+    [p, g]: [&[f64]; 2],
+    [t, r]: [&mut [f64]; 2],
+    q: &[f64],
+) -> StepSums {
+    let nx = q.len();
+    let (p, g, t, r) = (&p[..nx], &g[..nx], &mut t[..nx], &mut r[..nx]);
+    let vb = _mm256_set1_pd(beta);
+    let vf2 = _mm256_set1_pd(f2);
+    let zero = _mm256_setzero_pd();
+    let one = _mm256_set1_pd(1.0);
+    let inf = _mm256_set1_pd(f64::INFINITY);
+    let (mut gt, mut rt, mut ts, mut rs, mut m) = (zero, zero, zero, zero, zero);
+    let mut leave = inf;
+    let whole = nx - nx % 4;
+    let mut k = 0;
+    while k < whole {
+        // SAFETY: k + 4 ≤ nx and every slice holds nx values.
+        let (pp, gv, tt, rr, qq) = unsafe {
+            (
+                _mm256_loadu_pd(p.as_ptr().add(k)),
+                _mm256_loadu_pd(g.as_ptr().add(k)),
+                _mm256_loadu_pd(t.as_ptr().add(k)),
+                _mm256_loadu_pd(r.as_ptr().add(k)),
+                _mm256_loadu_pd(q.as_ptr().add(k)),
+            )
+        };
+        let rn = _mm256_add_pd(qq, _mm256_mul_pd(vb, rr));
+        let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
+        let tn = _mm256_blendv_pd(tt, _mm256_add_pd(gv, _mm256_mul_pd(vb, tt)), inside);
+        // SAFETY: as the loads.
+        unsafe {
+            _mm256_storeu_pd(r.as_mut_ptr().add(k), rn);
+            _mm256_storeu_pd(t.as_mut_ptr().add(k), tn);
+        }
+        rt = _mm256_add_pd(rt, _mm256_and_pd(inside, _mm256_mul_pd(rn, tn)));
+        ts = _mm256_add_pd(ts, _mm256_and_pd(inside, tn));
+        rs = _mm256_add_pd(rs, _mm256_and_pd(inside, rn));
+        m = _mm256_add_pd(m, _mm256_and_pd(inside, one));
+        gt = _mm256_add_pd(gt, _mm256_and_pd(inside, _mm256_mul_pd(gv, tn)));
+        let ahead = _mm256_and_pd(inside, _mm256_cmp_pd::<_CMP_GT_OQ>(tn, zero));
+        let q = _mm256_div_pd(_mm256_mul_pd(vf2, pp), tn);
+        leave = _mm256_min_pd(leave, _mm256_blendv_pd(inf, q, ahead));
+        k += 4;
+    }
+    let mut d = StepSums::default();
+    for k in whole..nx {
+        let rn = q[k] + beta * r[k];
+        r[k] = rn;
+        if p[k] > 0.0 {
+            let tn = g[k] + beta * t[k];
+            t[k] = tn;
+            d.add(f2 * p[k], tn, rn);
+            d.gt += g[k] * tn;
+        }
+    }
+    // SAFETY: AVX2 (this function's feature).
+    unsafe {
+        d.gt += hsum(gt);
+        d.rt += hsum(rt);
+        d.t += hsum(ts);
+        d.r += hsum(rs);
+        d.m += hsum(m);
+        d.leave = lanes(leave).iter().fold(d.leave, |a, &b| a.min(b));
+    }
+    d
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A row of 4k + 3 points mixing the cases: contact points that stay, contact points
+    /// projected to p = 0 (one exactly), points off the set that stay off and points that
+    /// re-enter, so that blocks take both the vector path and the scalar hand-over.
+    fn row(nx: usize) -> [Vec<f64>; 6] {
+        let w = |s: f64| (0..nx).map(move |k| (k as f64 * s).sin());
+        let mut p: Vec<f64> = w(0.7)
+            .enumerate()
+            .map(|(k, v)| if k % 3 == 0 { 0.0 } else { 1.0 + v })
+            .collect();
+        let mut t: Vec<f64> = w(1.3).map(|v| 0.2 * v).collect();
+        for k in [16, 17, 19] {
+            p[k] = 1.0;
+        }
+        t[5] = 2.0; // leaves the set past p = 0
+        t[10] = 1.0 + (10.0f64 * 0.7).sin(); // reaches p = 0 exactly (τ = 1)
+        let mut u: Vec<f64> = w(0.3).map(|v| 0.5 + v).collect();
+        let mut r: Vec<f64> = w(2.1).collect();
+        // Block 16..20 stays on the vector path, with a point off the set that does not
+        // re-enter (old gap > 0) but whose new gap is negative: the interpenetration term.
+        u[18] = 1.0;
+        r[18] = 30.0;
+        [p, u, vec![0.0; nx], t, r, vec![0.0; nx]]
+    }
+
+    #[test]
+    fn vector_fill_and_direction_equal_the_scalar_rule() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("no AVX2 on this CPU: the scalar rule runs and is tested elsewhere");
+            return;
+        }
+        let nx = 4 * 9 + 3;
+        let z: Vec<f64> = (0..nx).map(|k| 0.9 * (k as f64 * 0.45).cos()).collect();
+        let fill = UpdateFill::from_parts(&z, nx, [1.0, 0.1, 1.0, 1.25, -0.05]);
+        let (mut a, mut b) = (row(nx), row(nx));
+        let (mut ia, mut ib) = (vec![0.0; nx], vec![0.0; nx]);
+        let sa = {
+            let [p, u, g, t, r, c] = &mut a;
+            // SAFETY: AVX2 checked above; rows of nx values.
+            unsafe { update_fill_row(&fill, 0, [p, u, g, t, r, c], &mut ia) }
+        };
+        let mut sb = Sums::default();
+        {
+            let [p, u, g, t, r, c] = &mut b;
+            fill.points(0, 0..nx, [p, u, g, t, r, c], &mut ib, &mut sb);
+        }
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-13 * (1.0 + x.abs().max(y.abs()));
+        for (f, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                x.iter().zip(y).all(|(x, y)| x == y),
+                "field {f}: {x:?} vs {y:?}"
+            );
+        }
+        assert_eq!(ia, ib);
+        assert!(
+            sb.changed.any() && sb.overlap,
+            "the row must change the set"
+        );
+        assert_eq!(sa.changed.points(), sb.changed.points());
+        assert_eq!(sa.overlap, sb.overlap);
+        for (x, y) in [
+            (sa.su, sb.su),
+            (sa.sz, sb.sz),
+            (sa.m, sb.m),
+            (sa.psum, sb.psum),
+            (sa.stats.pg, sb.stats.pg),
+            (sa.stats.psum, sb.stats.psum),
+            (sa.stats.gg, sb.stats.gg),
+            (sa.stats.pen, sb.stats.pen),
+        ] {
+            assert!(close(x, y), "{x} vs {y}");
+        }
+
+        // The next direction: vector against the scalar loop on the filled row.
+        let [p, _, g, t, r, _] = &a;
+        let q: Vec<f64> = (0..nx).map(|k| (k as f64 * 0.9).cos()).collect();
+        let (mut t1, mut r1, mut t2, mut r2) = (t.clone(), r.clone(), t.clone(), r.clone());
+        let (beta, f2) = (0.4, 1.25);
+        // SAFETY: AVX2 checked above.
+        let d1 = unsafe { next_direction(beta, f2, [p, g], [&mut t1, &mut r1], &q) };
+        let mut d2 = StepSums::default();
+        for k in 0..nx {
+            r2[k] = q[k] + beta * r2[k];
+            if p[k] > 0.0 {
+                t2[k] = g[k] + beta * t2[k];
+                d2.add(f2 * p[k], t2[k], r2[k]);
+                d2.gt += g[k] * t2[k];
+            }
+        }
+        assert_eq!(t1, t2);
+        assert_eq!(r1, r2);
+        for (x, y) in [
+            (d1.gt, d2.gt),
+            (d1.rt, d2.rt),
+            (d1.t, d2.t),
+            (d1.r, d2.r),
+            (d1.m, d2.m),
+            (d1.leave, d2.leave),
+        ] {
+            assert!(close(x, y), "{x} vs {y}");
+        }
+    }
+}
