@@ -101,6 +101,7 @@ mod simd;
 mod solver;
 #[cfg(test)]
 mod tests;
+mod update;
 
 pub use error::BemError;
 pub use maps::{BemSolution, count_patches, read_heights_npy, resample_rect, resample_spectral};

@@ -16,7 +16,8 @@
 //! (512²: 76 → 17 per load step along a curve, 2048² under mean-pressure control:
 //! 808 → 26). Each iteration costs two convolutions, M⁻¹ and K: the update of p and u
 //! is fused into the preconditioner's product while the contact set stays put (as in the
-//! plain iteration), and a third product corrects u when it changes. The stopping
+//! plain iteration), and a third product corrects u when it changes at more than a few
+//! points (fewer: summed in real space, [`crate::update::POINT_SUMS`]). The stopping
 //! criterion, the exact refreshes and the acceptance on u = K p are those of `cg`.
 
 use strata_runtime::fft::Merge;
