@@ -169,6 +169,101 @@ impl<'a> UpdateFill<'a> {
     }
 }
 
+/// The step of an update pass ([`State::update`]): the pending scale f, the offset c,
+/// the step τ, and the offset if it is known (displacement control: the error terms
+/// follow).
+#[derive(Clone, Copy)]
+pub(crate) struct UpdateStep {
+    pub(crate) f: f64,
+    pub(crate) c: f64,
+    pub(crate) tau: f64,
+    pub(crate) known: Option<f64>,
+}
+
+/// One chunk of an update pass: p, u and `corr` updated, t, r and z read.
+pub(crate) struct UpdateChunk<'s> {
+    pub(crate) p: &'s mut [f64],
+    pub(crate) u: &'s mut [f64],
+    pub(crate) corr: &'s mut [f64],
+    pub(crate) t: &'s [f64],
+    pub(crate) r: &'s [f64],
+    pub(crate) z: &'s [f64],
+}
+
+impl UpdateStep {
+    /// The chunk starting at point `first`; vectorised where the CPU allows
+    /// ([`crate::simd`]).
+    pub(crate) fn chunk(&self, first: usize, mut ch: UpdateChunk) -> Sums {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 (checked at run time).
+            return unsafe { crate::simd::update_chunk(self, first, ch) };
+        }
+        let mut acc = Sums::default();
+        self.points(first, 0..ch.p.len(), &mut ch, &mut acc);
+        acc
+    }
+
+    /// Points `ks` of the chunk (the scalar rule), added to `acc`.
+    #[inline(always)]
+    pub(crate) fn points(
+        &self,
+        first: usize,
+        ks: std::ops::Range<usize>,
+        ch: &mut UpdateChunk,
+        acc: &mut Sums,
+    ) {
+        let UpdateStep { f, c, tau, known } = *self;
+        let UpdateChunk {
+            p,
+            u,
+            corr,
+            t,
+            r,
+            z,
+        } = ch;
+        for i in ks {
+            let pi = f * p[i];
+            let ui = f * u[i];
+            let mut k = 0.0;
+            let v = if pi > 0.0 {
+                let v = pi - tau * t[i];
+                if v < 0.0 {
+                    k = -v;
+                    0.0
+                } else {
+                    v
+                }
+            } else {
+                let g = ui - z[i] + c;
+                if g < 0.0 {
+                    k = -tau * g;
+                    acc.overlap = true;
+                    k
+                } else {
+                    0.0
+                }
+            };
+            p[i] = v;
+            let un = ui - tau * r[i];
+            u[i] = un;
+            if k != 0.0 {
+                acc.changed.push(first + i);
+                corr[i] = k;
+            }
+            if v > 0.0 {
+                acc.su += un;
+                acc.sz += z[i];
+                acc.m += 1.0;
+                acc.psum += v;
+            }
+            if let Some(c) = known {
+                acc.stats.add(v, un - z[i] + c);
+            }
+        }
+    }
+}
+
 impl<'a> State<'a> {
     /// The fill of a fused iteration applying `step` (n points): the new state's scale
     /// f′ and offset c′ predicted for an unchanged contact set (pressure control:
@@ -205,58 +300,31 @@ impl<'a> State<'a> {
     /// p ← max(f p − τ t, 0) with re-entry, u ← f u − τ r; the changes off −τ t go to
     /// `corr`.
     pub(crate) fn update(&mut self, p: &mut [f64], tau: f64) -> Sums {
-        let z = self.pb.z;
-        let (f, c) = (self.f, self.c);
-        let known = self.control.known_offset();
+        let step = UpdateStep {
+            f: self.f,
+            c: self.c,
+            tau,
+            known: self.control.known_offset(),
+        };
         p.par_chunks_mut(CHUNK)
             .enumerate()
             .zip(self.u.par_chunks_mut(CHUNK))
             .zip(self.corr.par_chunks_mut(CHUNK))
             .zip(self.t.par_chunks(CHUNK))
             .zip(self.r.par_chunks(CHUNK))
-            .zip(z.par_chunks(CHUNK))
+            .zip(self.pb.z.par_chunks(CHUNK))
             .map(|((((((chunk, p), u), corr), t), r), z)| {
-                let mut acc = Sums::default();
-                for i in 0..p.len() {
-                    let pi = f * p[i];
-                    let ui = f * u[i];
-                    let mut k = 0.0;
-                    let v = if pi > 0.0 {
-                        let v = pi - tau * t[i];
-                        if v < 0.0 {
-                            k = -v;
-                            0.0
-                        } else {
-                            v
-                        }
-                    } else {
-                        let g = ui - z[i] + c;
-                        if g < 0.0 {
-                            k = -tau * g;
-                            acc.overlap = true;
-                            k
-                        } else {
-                            0.0
-                        }
-                    };
-                    p[i] = v;
-                    let un = ui - tau * r[i];
-                    u[i] = un;
-                    if k != 0.0 {
-                        acc.changed.push(chunk * CHUNK + i);
-                        corr[i] = k;
-                    }
-                    if v > 0.0 {
-                        acc.su += un;
-                        acc.sz += z[i];
-                        acc.m += 1.0;
-                        acc.psum += v;
-                    }
-                    if let Some(c) = known {
-                        acc.stats.add(v, un - z[i] + c);
-                    }
-                }
-                acc
+                step.chunk(
+                    chunk * CHUNK,
+                    UpdateChunk {
+                        p,
+                        u,
+                        corr,
+                        t,
+                        r,
+                        z,
+                    },
+                )
             })
             .reduce(Sums::default, Sums::merge)
     }
