@@ -566,6 +566,7 @@ impl<'a> State<'a> {
         let (f, c) = (self.f, self.c);
         let uniform = self.control.uniform();
         let u = &self.u;
+        let wide = crate::avx2();
         self.products += 1;
         // Direction t (fused into the forward row FFTs) and r = K t, with the sums of τ
         // as r is written.
@@ -577,6 +578,13 @@ impl<'a> State<'a> {
             |i, trow, input| {
                 let row = i * nx..(i + 1) * nx;
                 let (prow, urow, zrow) = (&p[row.clone()], &u[row.clone()], &z[row]);
+                #[cfg(target_arch = "x86_64")]
+                if wide {
+                    // SAFETY: the CPU has AVX2; the rows hold nx values.
+                    return unsafe {
+                        crate::simd::direction_row([f, c, beta], prow, urow, zrow, trow, input)
+                    };
+                }
                 let mut acc = 0.0;
                 for k in 0..nx {
                     trow[k] = if prow[k] > 0.0 {
@@ -594,6 +602,11 @@ impl<'a> State<'a> {
             |i, trow, rrow, out| {
                 out.copy_from_slice(rrow);
                 let prow = &p[i * nx..(i + 1) * nx];
+                #[cfg(target_arch = "x86_64")]
+                if wide {
+                    // SAFETY: the CPU has AVX2; the rows hold nx values.
+                    return unsafe { crate::simd::step_sums(f, prow, trow, rrow) };
+                }
                 let mut d = StepSums::default();
                 for k in 0..nx {
                     if prow[k] > 0.0 {

@@ -98,6 +98,19 @@ mod pcg;
 mod reference;
 #[cfg(target_arch = "x86_64")]
 mod simd;
+
+/// Whether the vector forms of [`simd`] run on this CPU (AVX2).
+#[inline]
+fn avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
 mod solver;
 #[cfg(test)]
 mod tests;

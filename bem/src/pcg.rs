@@ -58,6 +58,12 @@ impl PcSums {
     /// y = q on the contact set (p > 0), 0 elsewhere, with the sums.
     #[inline(always)]
     fn drain(p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) -> Self {
+        #[cfg(target_arch = "x86_64")]
+        if crate::avx2() {
+            // SAFETY: the CPU has AVX2; the rows hold q.len() values.
+            let [gy, y, g, m] = unsafe { crate::simd::pc_drain(p, g, y, q) };
+            return PcSums { gy, y, g, m };
+        }
         let mut a = PcSums::default();
         for k in 0..q.len() {
             if p[k] > 0.0 {
@@ -187,6 +193,7 @@ impl State<'_> {
     fn direction_pc(&mut self, p: &[f64], beta: f64, ybar: f64) -> Result<Pending, BemError> {
         let nx = self.pb.op.nx();
         let f = self.f;
+        let wide = crate::avx2();
         self.products += 1;
         let (gt, d) = self.pb.op.apply_fields(
             [&mut self.t, &mut self.r, &mut self.y, &mut self.g],
@@ -194,6 +201,13 @@ impl State<'_> {
             &mut self.work,
             |i, [t, _, y, g], input| {
                 let prow = &p[i * nx..(i + 1) * nx];
+                #[cfg(target_arch = "x86_64")]
+                if wide {
+                    // SAFETY: the CPU has AVX2; the rows hold nx values.
+                    return unsafe {
+                        crate::simd::direction_pc_row([ybar, beta], prow, y, g, t, input)
+                    };
+                }
                 let mut gt = 0.0;
                 for k in 0..nx {
                     let v = if prow[k] > 0.0 {
@@ -212,6 +226,11 @@ impl State<'_> {
             |_, i, [t, r, _, _], q| {
                 r.copy_from_slice(q);
                 let prow = &p[i * nx..(i + 1) * nx];
+                #[cfg(target_arch = "x86_64")]
+                if wide {
+                    // SAFETY: the CPU has AVX2; the rows hold nx values.
+                    return unsafe { crate::simd::step_sums(f, prow, t, q) };
+                }
                 let mut d = StepSums::default();
                 for k in 0..nx {
                     if prow[k] > 0.0 {

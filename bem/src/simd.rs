@@ -303,6 +303,237 @@ pub(crate) unsafe fn update_chunk(step: &UpdateStep, first: usize, mut ch: Updat
     acc
 }
 
+/// The sums of a step along t with product q on the contact set (p > 0) of pressure
+/// f p ([`StepSums::add`]; Σ g t is formed by the caller), on AVX2.
+///
+/// # Safety
+/// The CPU must support AVX2; p and t hold at least q.len() values.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn step_sums(f: f64, p: &[f64], t: &[f64], q: &[f64]) -> StepSums {
+    let n = q.len();
+    let (p, t) = (&p[..n], &t[..n]);
+    let vf = _mm256_set1_pd(f);
+    let zero = _mm256_setzero_pd();
+    let one = _mm256_set1_pd(1.0);
+    let inf = _mm256_set1_pd(f64::INFINITY);
+    let (mut rt, mut ts, mut rs, mut m) = (zero, zero, zero, zero);
+    let mut leave = inf;
+    let whole = n - n % 4;
+    let mut k = 0;
+    while k < whole {
+        // SAFETY: k + 4 ≤ n and every slice holds n values.
+        let (pp, tt, qq) = unsafe {
+            (
+                _mm256_loadu_pd(p.as_ptr().add(k)),
+                _mm256_loadu_pd(t.as_ptr().add(k)),
+                _mm256_loadu_pd(q.as_ptr().add(k)),
+            )
+        };
+        let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
+        rt = _mm256_add_pd(rt, _mm256_and_pd(inside, _mm256_mul_pd(qq, tt)));
+        ts = _mm256_add_pd(ts, _mm256_and_pd(inside, tt));
+        rs = _mm256_add_pd(rs, _mm256_and_pd(inside, qq));
+        m = _mm256_add_pd(m, _mm256_and_pd(inside, one));
+        let ahead = _mm256_and_pd(inside, _mm256_cmp_pd::<_CMP_GT_OQ>(tt, zero));
+        let ratio = _mm256_div_pd(_mm256_mul_pd(vf, pp), tt);
+        leave = _mm256_min_pd(leave, _mm256_blendv_pd(inf, ratio, ahead));
+        k += 4;
+    }
+    let mut d = StepSums::default();
+    for k in whole..n {
+        if p[k] > 0.0 {
+            d.add(f * p[k], t[k], q[k]);
+        }
+    }
+    // SAFETY: AVX2 (this function's feature).
+    unsafe {
+        d.rt += hsum(rt);
+        d.t += hsum(ts);
+        d.r += hsum(rs);
+        d.m += hsum(m);
+        d.leave = lanes(leave).iter().fold(d.leave, |a, &b| a.min(b));
+    }
+    d
+}
+
+/// A conjugate direction row on AVX2: t = a + β t on the contact set (p > 0), 0 off
+/// it, with a = `a(k)` given 4 points at a time; t also written to `input`; returns
+/// Σ w t over the set with w = `w(k)`.
+///
+/// # Safety
+/// The CPU must support AVX2; the slices hold p.len() values and `a`, `w` read within
+/// them.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn conjugate_row(
+    p: &[f64],
+    t: &mut [f64],
+    input: &mut [f64],
+    beta: f64,
+    a: impl Fn(usize) -> __m256d,
+    w: impl Fn(usize) -> __m256d,
+    scalar: impl Fn(usize) -> (f64, f64),
+) -> f64 {
+    let n = p.len();
+    let (t, input) = (&mut t[..n], &mut input[..n]);
+    let vb = _mm256_set1_pd(beta);
+    let zero = _mm256_setzero_pd();
+    let mut acc = zero;
+    let whole = n - n % 4;
+    let mut k = 0;
+    while k < whole {
+        // SAFETY: k + 4 ≤ n and every slice holds n values.
+        let (pp, tt) = unsafe {
+            (
+                _mm256_loadu_pd(p.as_ptr().add(k)),
+                _mm256_loadu_pd(t.as_ptr().add(k)),
+            )
+        };
+        let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
+        let v = _mm256_and_pd(inside, _mm256_add_pd(a(k), _mm256_mul_pd(vb, tt)));
+        // SAFETY: as the loads.
+        unsafe {
+            _mm256_storeu_pd(t.as_mut_ptr().add(k), v);
+            _mm256_storeu_pd(input.as_mut_ptr().add(k), v);
+        }
+        acc = _mm256_add_pd(acc, _mm256_and_pd(inside, _mm256_mul_pd(w(k), v)));
+        k += 4;
+    }
+    let mut tail = 0.0;
+    for k in whole..n {
+        let v = if p[k] > 0.0 {
+            let (a, w) = scalar(k);
+            let v = a + beta * t[k];
+            tail += w * v;
+            v
+        } else {
+            0.0
+        };
+        t[k] = v;
+        input[k] = v;
+    }
+    // SAFETY: AVX2 (the caller's feature).
+    unsafe { hsum(acc) + tail }
+}
+
+/// The plain direction row on AVX2: t = g + β t on the contact set with the gap
+/// g = f u − z + c, written to `input` too; returns Σ g t.
+///
+/// # Safety
+/// The CPU must support AVX2; all slices hold p.len() values.
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+pub(crate) unsafe fn direction_row(
+    [f, c, beta]: [f64; 3],
+    p: &[f64],
+    u: &[f64],
+    z: &[f64],
+    t: &mut [f64],
+    input: &mut [f64],
+) -> f64 {
+    let n = p.len();
+    let (u, z) = (&u[..n], &z[..n]);
+    let (vf, vc) = (_mm256_set1_pd(f), _mm256_set1_pd(c));
+    // SAFETY: the loads below stay within u and z (k + 4 ≤ n).
+    let gap = |k: usize| unsafe {
+        _mm256_add_pd(
+            _mm256_sub_pd(
+                _mm256_mul_pd(vf, _mm256_loadu_pd(u.as_ptr().add(k))),
+                _mm256_loadu_pd(z.as_ptr().add(k)),
+            ),
+            vc,
+        )
+    };
+    let scalar = |k: usize| {
+        let g = f * u[k] - z[k] + c;
+        (g, g)
+    };
+    // SAFETY: AVX2 (this function's feature); lengths as required.
+    unsafe { conjugate_row(p, t, input, beta, gap, gap, scalar) }
+}
+
+/// The preconditioned direction row on AVX2: t = (y − ȳ) + β t on the contact set,
+/// written to `input` too; returns Σ g t.
+///
+/// # Safety
+/// The CPU must support AVX2; all slices hold p.len() values.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn direction_pc_row(
+    [ybar, beta]: [f64; 2],
+    p: &[f64],
+    y: &[f64],
+    g: &[f64],
+    t: &mut [f64],
+    input: &mut [f64],
+) -> f64 {
+    let n = p.len();
+    let (y, g) = (&y[..n], &g[..n]);
+    let vy = _mm256_set1_pd(ybar);
+    // SAFETY: the loads stay within y and g (k + 4 ≤ n).
+    let a = |k: usize| unsafe { _mm256_sub_pd(_mm256_loadu_pd(y.as_ptr().add(k)), vy) };
+    // SAFETY: as above.
+    let w = |k: usize| unsafe { _mm256_loadu_pd(g.as_ptr().add(k)) };
+    let scalar = |k: usize| (y[k] - ybar, g[k]);
+    // SAFETY: AVX2 (this function's feature); lengths as required.
+    unsafe { conjugate_row(p, t, input, beta, a, w, scalar) }
+}
+
+/// The preconditioner's drain on AVX2: y = q on the contact set (p > 0), 0 off it, with
+/// Σ g y, Σ y, Σ g and the count over the set.
+///
+/// # Safety
+/// The CPU must support AVX2; p, g, y hold at least q.len() values.
+#[target_feature(enable = "avx2")]
+pub(crate) unsafe fn pc_drain(p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) -> [f64; 4] {
+    let n = q.len();
+    let (p, g, y) = (&p[..n], &g[..n], &mut y[..n]);
+    let zero = _mm256_setzero_pd();
+    let one = _mm256_set1_pd(1.0);
+    let (mut gy, mut ys, mut gs, mut m) = (zero, zero, zero, zero);
+    let whole = n - n % 4;
+    let mut k = 0;
+    while k < whole {
+        // SAFETY: k + 4 ≤ n and every slice holds n values.
+        let (pp, gg, qq) = unsafe {
+            (
+                _mm256_loadu_pd(p.as_ptr().add(k)),
+                _mm256_loadu_pd(g.as_ptr().add(k)),
+                _mm256_loadu_pd(q.as_ptr().add(k)),
+            )
+        };
+        let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
+        let v = _mm256_and_pd(inside, qq);
+        // SAFETY: as the loads.
+        unsafe { _mm256_storeu_pd(y.as_mut_ptr().add(k), v) };
+        gy = _mm256_add_pd(gy, _mm256_and_pd(inside, _mm256_mul_pd(gg, v)));
+        ys = _mm256_add_pd(ys, v);
+        gs = _mm256_add_pd(gs, _mm256_and_pd(inside, gg));
+        m = _mm256_add_pd(m, _mm256_and_pd(inside, one));
+        k += 4;
+    }
+    let mut out = [0.0; 4];
+    for k in whole..n {
+        if p[k] > 0.0 {
+            y[k] = q[k];
+            out[0] += g[k] * q[k];
+            out[1] += q[k];
+            out[2] += g[k];
+            out[3] += 1.0;
+        } else {
+            y[k] = 0.0;
+        }
+    }
+    // SAFETY: AVX2 (this function's feature).
+    unsafe {
+        [
+            out[0] + hsum(gy),
+            out[1] + hsum(ys),
+            out[2] + hsum(gs),
+            out[3] + hsum(m),
+        ]
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -397,6 +628,79 @@ mod tests {
         }
         assert_eq!(t1, t2);
         assert_eq!(r1, r2);
+
+        // The direction rows and their sums, and the preconditioner's drain.
+        let (f, c) = (1.1, 0.05);
+        let [p, u, g, t, _, _] = &a;
+        let (mut t1, mut t2) = (t.clone(), t.clone());
+        let mut i1 = vec![0.0; nx];
+        // SAFETY: AVX2 checked above; rows of nx values.
+        let s1 = unsafe { direction_row([f, c, beta], p, u, &z, &mut t1, &mut i1) };
+        let mut s2 = 0.0;
+        for k in 0..nx {
+            t2[k] = if p[k] > 0.0 {
+                let gk = f * u[k] - z[k] + c;
+                let v = gk + beta * t2[k];
+                s2 += gk * v;
+                v
+            } else {
+                0.0
+            };
+        }
+        assert_eq!(t1, t2);
+        assert_eq!(i1, t2);
+        assert!(close(s1, s2), "{s1} vs {s2}");
+        let (mut t3, mut t4) = (t.clone(), t.clone());
+        let ybar = 0.3;
+        // SAFETY: as above.
+        let s3 = unsafe { direction_pc_row([ybar, beta], p, &q, g, &mut t3, &mut i1) };
+        let mut s4 = 0.0;
+        for k in 0..nx {
+            t4[k] = if p[k] > 0.0 {
+                let v = q[k] - ybar + beta * t4[k];
+                s4 += g[k] * v;
+                v
+            } else {
+                0.0
+            };
+        }
+        assert_eq!(t3, t4);
+        assert!(close(s3, s4), "{s3} vs {s4}");
+        // SAFETY: as above.
+        let e1 = unsafe { step_sums(f, p, &t4, &q) };
+        let mut e2 = StepSums::default();
+        for k in 0..nx {
+            if p[k] > 0.0 {
+                e2.add(f * p[k], t4[k], q[k]);
+            }
+        }
+        for (x, y) in [
+            (e1.rt, e2.rt),
+            (e1.t, e2.t),
+            (e1.r, e2.r),
+            (e1.m, e2.m),
+            (e1.leave, e2.leave),
+        ] {
+            assert!(close(x, y), "{x} vs {y}");
+        }
+        assert!(e2.leave.is_finite());
+        let (mut y1, mut y2) = (vec![9.0; nx], vec![9.0; nx]);
+        // SAFETY: as above.
+        let w1 = unsafe { pc_drain(p, g, &mut y1, &q) };
+        let mut w2 = [0.0; 4];
+        for k in 0..nx {
+            y2[k] = if p[k] > 0.0 { q[k] } else { 0.0 };
+            if p[k] > 0.0 {
+                w2[0] += g[k] * q[k];
+                w2[1] += q[k];
+                w2[2] += g[k];
+                w2[3] += 1.0;
+            }
+        }
+        assert_eq!(y1, y2);
+        for (x, y) in w1.iter().zip(&w2) {
+            assert!(close(*x, *y), "{x} vs {y}");
+        }
 
         // The update pass, with and without the error terms of a known offset.
         for known in [None, Some(0.1)] {
