@@ -674,7 +674,7 @@ impl<'a> State<'a> {
             |&beta, _, [p, _, g, t, r, _], q| {
                 // The set is unchanged: t′ = g′ + β t, r′ = K g′ + β r.
                 #[cfg(target_arch = "x86_64")]
-                if std::arch::is_x86_feature_detected!("avx2") {
+                if crate::avx2() {
                     // SAFETY: the CPU has AVX2; the rows hold nx = q.len() values.
                     return unsafe { crate::simd::next_direction(beta, f2, [p, g], [t, r], q) };
                 }

@@ -99,9 +99,18 @@ mod reference;
 #[cfg(target_arch = "x86_64")]
 mod simd;
 
+/// Tests only: run the scalar rules even where the CPU has AVX2 (the solver must give
+/// the same answers either way; other tests running meanwhile may take either path).
+#[cfg(test)]
+pub(crate) static SCALAR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 /// Whether the vector forms of [`simd`] run on this CPU (AVX2).
 #[inline]
 fn avx2() -> bool {
+    #[cfg(test)]
+    if SCALAR.load(std::sync::atomic::Ordering::Relaxed) {
+        return false;
+    }
     #[cfg(target_arch = "x86_64")]
     {
         std::arch::is_x86_feature_detected!("avx2")

@@ -80,7 +80,7 @@ impl<'a> UpdateFill<'a> {
     /// ([`crate::simd`]).
     pub(crate) fn row(&self, i: usize, rows: [&mut [f64]; 6], input: &mut [f64]) -> Sums {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::avx2() {
             // SAFETY: the CPU has AVX2 (checked at run time).
             return unsafe { crate::simd::update_fill_row(self, i, rows, input) };
         }
@@ -195,7 +195,7 @@ impl UpdateStep {
     /// ([`crate::simd`]).
     pub(crate) fn chunk(&self, first: usize, mut ch: UpdateChunk) -> Sums {
         #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if crate::avx2() {
             // SAFETY: the CPU has AVX2 (checked at run time).
             return unsafe { crate::simd::update_chunk(self, first, ch) };
         }
