@@ -25,6 +25,201 @@ unsafe fn lanes(v: __m256d) -> [f64; 4] {
     unsafe { std::mem::transmute(v) }
 }
 
+/// 4 consecutive values from point `k` of each slice.
+///
+/// # Safety
+/// The CPU must support AVX2; k + 4 ≤ the length of every slice.
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn load<const N: usize>(s: [&[f64]; N], k: usize) -> [__m256d; N] {
+    debug_assert!(s.iter().all(|v| k + 4 <= v.len()));
+    // SAFETY: k + 4 ≤ len (the caller's contract).
+    s.map(|v| unsafe { _mm256_loadu_pd(v.as_ptr().add(k)) })
+}
+
+/// 4 points of a step p ← f p − τ t, u ← f u − τ r ([`UpdateFill`], [`UpdateStep`]): the
+/// scaled displacement f u, the contact mask (f p > 0), f p − τ t, and whether the contact
+/// set changes among them: a contact point reaches p ≤ 0 (p < 0 if `strict`) or a point
+/// off the set has a negative gap f u − z + c (re-entry).
+struct Step4 {
+    ui: __m256d,
+    contact: __m256d,
+    along: __m256d,
+    changes: bool,
+}
+
+/// [`Step4`] from the scale, offset and step `[f, c, τ]` and the points' `[p, u, t, z]`.
+#[target_feature(enable = "avx2")]
+#[inline]
+fn step4([vf, vc, vtau]: [__m256d; 3], [pp, uu, tt, zz]: [__m256d; 4], strict: bool) -> Step4 {
+    let zero = _mm256_setzero_pd();
+    let pi = _mm256_mul_pd(vf, pp);
+    let ui = _mm256_mul_pd(vf, uu);
+    let contact = _mm256_cmp_pd::<_CMP_GT_OQ>(pi, zero);
+    let along = _mm256_sub_pd(pi, _mm256_mul_pd(vtau, tt));
+    let gap_old = _mm256_add_pd(_mm256_sub_pd(ui, zz), vc);
+    let below = if strict {
+        _mm256_cmp_pd::<_CMP_LT_OQ>(along, zero)
+    } else {
+        _mm256_cmp_pd::<_CMP_LE_OQ>(along, zero)
+    };
+    let leave = _mm256_and_pd(contact, below);
+    let enter = _mm256_andnot_pd(contact, _mm256_cmp_pd::<_CMP_LT_OQ>(gap_old, zero));
+    Step4 {
+        ui,
+        contact,
+        along,
+        changes: _mm256_movemask_pd(_mm256_or_pd(leave, enter)) != 0,
+    }
+}
+
+/// Lane accumulators of a pass that changes u ([`Sums`]): Σ u, Σ z, the count and Σ p
+/// over the contact set, and the error terms ([`crate::cg::Stats`]).
+struct SumsLanes {
+    su: __m256d,
+    sz: __m256d,
+    m: __m256d,
+    ps: __m256d,
+    pg: __m256d,
+    sp: __m256d,
+    gg: __m256d,
+    pen: __m256d,
+    /// Lanes where a gap was not finite.
+    bad: __m256d,
+}
+
+impl SumsLanes {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn new() -> Self {
+        let z = _mm256_setzero_pd();
+        SumsLanes {
+            su: z,
+            sz: z,
+            m: z,
+            ps: z,
+            pg: z,
+            sp: z,
+            gg: z,
+            pen: z,
+            bad: z,
+        }
+    }
+
+    /// Points of the contact set `inside` (mask) with pressure `v` (0 off it),
+    /// displacement `u` and height `z`.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn contact(&mut self, inside: __m256d, v: __m256d, u: __m256d, z: __m256d) {
+        self.su = _mm256_add_pd(self.su, _mm256_and_pd(inside, u));
+        self.sz = _mm256_add_pd(self.sz, _mm256_and_pd(inside, z));
+        self.m = _mm256_add_pd(self.m, _mm256_and_pd(inside, _mm256_set1_pd(1.0)));
+        self.ps = _mm256_add_pd(self.ps, v);
+    }
+
+    /// The error terms of pressure `pv` (0 off the set) and gap `gap`: Σ p|g|, Σ p and
+    /// Σ g² on the set, max(−g) off it (`Stats::add`).
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn error(&mut self, inside: __m256d, pv: __m256d, gap: __m256d) {
+        let zero = _mm256_setzero_pd();
+        let abs = _mm256_andnot_pd(_mm256_set1_pd(-0.0), gap);
+        self.pg = _mm256_add_pd(self.pg, _mm256_mul_pd(pv, abs));
+        self.sp = _mm256_add_pd(self.sp, pv);
+        self.gg = _mm256_add_pd(self.gg, _mm256_and_pd(inside, _mm256_mul_pd(gap, gap)));
+        let below = _mm256_andnot_pd(inside, _mm256_sub_pd(zero, gap));
+        self.pen = _mm256_max_pd(self.pen, below);
+        self.bad = _mm256_or_pd(self.bad, _mm256_cmp_pd::<_CMP_UNORD_Q>(gap, gap));
+    }
+
+    /// Adds the lanes to `acc`; `error`: whether the error terms were formed. A gap that
+    /// was not finite makes the error NaN (the solve stops).
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn finish(self, acc: &mut Sums, error: bool) {
+        // SAFETY: AVX2 (this function's feature).
+        unsafe {
+            acc.su += hsum(self.su);
+            acc.sz += hsum(self.sz);
+            acc.m += hsum(self.m);
+            acc.psum += hsum(self.ps);
+            if error {
+                acc.stats.pg += hsum(self.pg);
+                acc.stats.psum += hsum(self.sp);
+                acc.stats.gg += hsum(self.gg);
+                acc.stats.pen = lanes(self.pen).iter().fold(acc.stats.pen, |a, &b| a.max(b));
+            }
+        }
+        if _mm256_movemask_pd(self.bad) != 0 {
+            acc.stats.pen = f64::NAN;
+        }
+    }
+}
+
+/// Lane accumulators of [`StepSums`]: Σ g t, Σ r t, Σ t, Σ r, the count over the contact
+/// set, min p / t over t > 0 on it.
+struct StepLanes {
+    gt: __m256d,
+    rt: __m256d,
+    t: __m256d,
+    r: __m256d,
+    m: __m256d,
+    leave: __m256d,
+}
+
+impl StepLanes {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn new() -> Self {
+        let z = _mm256_setzero_pd();
+        StepLanes {
+            gt: z,
+            rt: z,
+            t: z,
+            r: z,
+            m: z,
+            leave: _mm256_set1_pd(f64::INFINITY),
+        }
+    }
+
+    /// Points of the contact set `inside` (mask) with pressure `p`, direction `t` and
+    /// product `r` (`StepSums::add`).
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn add(&mut self, inside: __m256d, p: __m256d, t: __m256d, r: __m256d) {
+        self.rt = _mm256_add_pd(self.rt, _mm256_and_pd(inside, _mm256_mul_pd(r, t)));
+        self.t = _mm256_add_pd(self.t, _mm256_and_pd(inside, t));
+        self.r = _mm256_add_pd(self.r, _mm256_and_pd(inside, r));
+        self.m = _mm256_add_pd(self.m, _mm256_and_pd(inside, _mm256_set1_pd(1.0)));
+        let ahead = _mm256_and_pd(inside, _mm256_cmp_pd::<_CMP_GT_OQ>(t, _mm256_setzero_pd()));
+        let ratio = _mm256_div_pd(p, t);
+        let inf = _mm256_set1_pd(f64::INFINITY);
+        self.leave = _mm256_min_pd(self.leave, _mm256_blendv_pd(inf, ratio, ahead));
+    }
+
+    /// Σ g t over the contact set.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn gt(&mut self, inside: __m256d, g: __m256d, t: __m256d) {
+        self.gt = _mm256_add_pd(self.gt, _mm256_and_pd(inside, _mm256_mul_pd(g, t)));
+    }
+
+    /// Adds the lanes to `d`.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn finish(self, d: &mut StepSums) {
+        // SAFETY: AVX2 (this function's feature).
+        unsafe {
+            d.gt += hsum(self.gt);
+            d.rt += hsum(self.rt);
+            d.t += hsum(self.t);
+            d.r += hsum(self.r);
+            d.m += hsum(self.m);
+            d.leave = lanes(self.leave).iter().fold(d.leave, |a, &b| a.min(b));
+        }
+    }
+}
+
 /// [`UpdateFill::row`] on AVX2: the pending step applied to row `i` of p and u, the new
 /// gap on the contact set written to g and to the transform's input, and the sums.
 ///
@@ -51,32 +246,19 @@ pub(crate) unsafe fn update_fill_row(
     let mut acc = Sums::default();
     let (vf, vc, vtau) = (_mm256_set1_pd(f), _mm256_set1_pd(c), _mm256_set1_pd(tau));
     let (vf2, vc2) = (_mm256_set1_pd(f2), _mm256_set1_pd(c2));
-    let zero = _mm256_setzero_pd();
-    let one = _mm256_set1_pd(1.0);
-    let sign = _mm256_set1_pd(-0.0);
-    let (mut su, mut sz, mut m, mut ps) = (zero, zero, zero, zero);
-    let (mut pg, mut sp, mut gg, mut pen, mut bad) = (zero, zero, zero, zero, zero);
+    let mut sums = SumsLanes::new();
     let whole = nx - nx % 4;
     let mut k = 0;
     while k < whole {
         // SAFETY: k + 4 ≤ nx and every row holds nx values.
-        let (pp, uu, tt, rr, zz) = unsafe {
-            (
-                _mm256_loadu_pd(p.as_ptr().add(k)),
-                _mm256_loadu_pd(u.as_ptr().add(k)),
-                _mm256_loadu_pd(t.as_ptr().add(k)),
-                _mm256_loadu_pd(r.as_ptr().add(k)),
-                _mm256_loadu_pd(z.as_ptr().add(k)),
-            )
-        };
-        let pi = _mm256_mul_pd(vf, pp);
-        let ui = _mm256_mul_pd(vf, uu);
-        let contact = _mm256_cmp_pd::<_CMP_GT_OQ>(pi, zero);
-        let along = _mm256_sub_pd(pi, _mm256_mul_pd(vtau, tt));
-        let gap_old = _mm256_add_pd(_mm256_sub_pd(ui, zz), vc);
-        let leave = _mm256_and_pd(contact, _mm256_cmp_pd::<_CMP_LE_OQ>(along, zero));
-        let enter = _mm256_andnot_pd(contact, _mm256_cmp_pd::<_CMP_LT_OQ>(gap_old, zero));
-        if _mm256_movemask_pd(_mm256_or_pd(leave, enter)) != 0 {
+        let [pp, uu, tt, rr, zz] = unsafe { load([&*p, &*u, &*t, &*r, z], k) };
+        let Step4 {
+            ui,
+            contact,
+            along,
+            changes,
+        } = step4([vf, vc, vtau], [pp, uu, tt, zz], false);
+        if changes {
             // The set changes here: the scalar rule (projection, re-entry, Δ listed).
             let rows = [&mut *p, &mut *u, &mut *g, &mut *t, &mut *r, &mut *corr];
             fill.points(i, k..k + 4, rows, input, &mut acc);
@@ -95,39 +277,16 @@ pub(crate) unsafe fn update_fill_row(
             _mm256_storeu_pd(g.as_mut_ptr().add(k), gi);
             _mm256_storeu_pd(input.as_mut_ptr().add(k), gi);
         }
-        su = _mm256_add_pd(su, _mm256_and_pd(contact, un));
-        sz = _mm256_add_pd(sz, _mm256_and_pd(contact, zz));
-        m = _mm256_add_pd(m, _mm256_and_pd(contact, one));
-        ps = _mm256_add_pd(ps, v);
+        sums.contact(contact, v, un, zz);
         // Error terms (Stats::add with the pressure f′ p′).
-        let pv = _mm256_mul_pd(vf2, v);
-        pg = _mm256_add_pd(pg, _mm256_mul_pd(pv, _mm256_andnot_pd(sign, gap)));
-        sp = _mm256_add_pd(sp, pv);
-        gg = _mm256_add_pd(gg, _mm256_and_pd(contact, _mm256_mul_pd(gap, gap)));
-        let below = _mm256_andnot_pd(contact, _mm256_sub_pd(zero, gap));
-        pen = _mm256_max_pd(pen, below);
-        bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_UNORD_Q>(gap, gap));
+        sums.error(contact, _mm256_mul_pd(vf2, v), gap);
         k += 4;
     }
     if whole < nx {
         let rows = [&mut *p, &mut *u, &mut *g, &mut *t, &mut *r, &mut *corr];
         fill.points(i, whole..nx, rows, input, &mut acc);
     }
-    // SAFETY: AVX2 (this function's feature).
-    unsafe {
-        acc.su += hsum(su);
-        acc.sz += hsum(sz);
-        acc.m += hsum(m);
-        acc.psum += hsum(ps);
-        acc.stats.pg += hsum(pg);
-        acc.stats.psum += hsum(sp);
-        acc.stats.gg += hsum(gg);
-        acc.stats.pen = lanes(pen).iter().fold(acc.stats.pen, |a, &b| a.max(b));
-    }
-    if _mm256_movemask_pd(bad) != 0 {
-        // A gap that is not finite: the error becomes NaN (the solve stops).
-        acc.stats.pen = f64::NAN;
-    }
+    sums.finish(&mut acc, true);
     acc
 }
 
@@ -150,23 +309,12 @@ pub(crate) unsafe fn next_direction(
     let vb = _mm256_set1_pd(beta);
     let vf2 = _mm256_set1_pd(f2);
     let zero = _mm256_setzero_pd();
-    let one = _mm256_set1_pd(1.0);
-    let inf = _mm256_set1_pd(f64::INFINITY);
-    let (mut gt, mut rt, mut ts, mut rs, mut m) = (zero, zero, zero, zero, zero);
-    let mut leave = inf;
+    let mut sums = StepLanes::new();
     let whole = nx - nx % 4;
     let mut k = 0;
     while k < whole {
         // SAFETY: k + 4 ≤ nx and every slice holds nx values.
-        let (pp, gv, tt, rr, qq) = unsafe {
-            (
-                _mm256_loadu_pd(p.as_ptr().add(k)),
-                _mm256_loadu_pd(g.as_ptr().add(k)),
-                _mm256_loadu_pd(t.as_ptr().add(k)),
-                _mm256_loadu_pd(r.as_ptr().add(k)),
-                _mm256_loadu_pd(q.as_ptr().add(k)),
-            )
-        };
+        let [pp, gv, tt, rr, qq] = unsafe { load([p, g, &*t, &*r, q], k) };
         let rn = _mm256_add_pd(qq, _mm256_mul_pd(vb, rr));
         let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
         let tn = _mm256_blendv_pd(tt, _mm256_add_pd(gv, _mm256_mul_pd(vb, tt)), inside);
@@ -175,14 +323,8 @@ pub(crate) unsafe fn next_direction(
             _mm256_storeu_pd(r.as_mut_ptr().add(k), rn);
             _mm256_storeu_pd(t.as_mut_ptr().add(k), tn);
         }
-        rt = _mm256_add_pd(rt, _mm256_and_pd(inside, _mm256_mul_pd(rn, tn)));
-        ts = _mm256_add_pd(ts, _mm256_and_pd(inside, tn));
-        rs = _mm256_add_pd(rs, _mm256_and_pd(inside, rn));
-        m = _mm256_add_pd(m, _mm256_and_pd(inside, one));
-        gt = _mm256_add_pd(gt, _mm256_and_pd(inside, _mm256_mul_pd(gv, tn)));
-        let ahead = _mm256_and_pd(inside, _mm256_cmp_pd::<_CMP_GT_OQ>(tn, zero));
-        let q = _mm256_div_pd(_mm256_mul_pd(vf2, pp), tn);
-        leave = _mm256_min_pd(leave, _mm256_blendv_pd(inf, q, ahead));
+        sums.add(inside, _mm256_mul_pd(vf2, pp), tn, rn);
+        sums.gt(inside, gv, tn);
         k += 4;
     }
     let mut d = StepSums::default();
@@ -196,15 +338,7 @@ pub(crate) unsafe fn next_direction(
             d.gt += g[k] * tn;
         }
     }
-    // SAFETY: AVX2 (this function's feature).
-    unsafe {
-        d.gt += hsum(gt);
-        d.rt += hsum(rt);
-        d.t += hsum(ts);
-        d.r += hsum(rs);
-        d.m += hsum(m);
-        d.leave = lanes(leave).iter().fold(d.leave, |a, &b| a.min(b));
-    }
+    sums.finish(&mut d);
     d
 }
 
@@ -226,33 +360,21 @@ pub(crate) unsafe fn update_chunk(step: &UpdateStep, first: usize, mut ch: Updat
     );
     let vk = _mm256_set1_pd(step.known.unwrap_or(0.0));
     let zero = _mm256_setzero_pd();
-    let one = _mm256_set1_pd(1.0);
-    let sign = _mm256_set1_pd(-0.0);
-    let (mut su, mut sz, mut m, mut ps) = (zero, zero, zero, zero);
-    let (mut pg, mut sp, mut gg, mut pen, mut bad) = (zero, zero, zero, zero, zero);
+    let mut sums = SumsLanes::new();
     assert!(ch.u.len() == n && ch.t.len() == n && ch.r.len() == n && ch.z.len() == n);
     let whole = n - n % 4;
     let mut k = 0;
     while k < whole {
         let UpdateChunk { p, u, t, r, z, .. } = &mut ch;
         // SAFETY: k + 4 ≤ n and every slice holds n values (asserted).
-        let (pp, uu, tt, rr, zz) = unsafe {
-            (
-                _mm256_loadu_pd(p.as_ptr().add(k)),
-                _mm256_loadu_pd(u.as_ptr().add(k)),
-                _mm256_loadu_pd(t.as_ptr().add(k)),
-                _mm256_loadu_pd(r.as_ptr().add(k)),
-                _mm256_loadu_pd(z.as_ptr().add(k)),
-            )
-        };
-        let pi = _mm256_mul_pd(vf, pp);
-        let ui = _mm256_mul_pd(vf, uu);
-        let contact = _mm256_cmp_pd::<_CMP_GT_OQ>(pi, zero);
-        let along = _mm256_sub_pd(pi, _mm256_mul_pd(vtau, tt));
-        let gap_old = _mm256_add_pd(_mm256_sub_pd(ui, zz), vc);
-        let leave = _mm256_and_pd(contact, _mm256_cmp_pd::<_CMP_LT_OQ>(along, zero));
-        let enter = _mm256_andnot_pd(contact, _mm256_cmp_pd::<_CMP_LT_OQ>(gap_old, zero));
-        if _mm256_movemask_pd(_mm256_or_pd(leave, enter)) != 0 {
+        let [pp, uu, tt, rr, zz] = unsafe { load([p, u, t, r, z], k) };
+        let Step4 {
+            ui,
+            contact,
+            along,
+            changes,
+        } = step4([vf, vc, vtau], [pp, uu, tt, zz], true);
+        if changes {
             step.points(first, k..k + 4, &mut ch, &mut acc);
             k += 4;
             continue;
@@ -266,40 +388,16 @@ pub(crate) unsafe fn update_chunk(step: &UpdateStep, first: usize, mut ch: Updat
             _mm256_storeu_pd(u.as_mut_ptr().add(k), un);
         }
         let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(v, zero);
-        su = _mm256_add_pd(su, _mm256_and_pd(inside, un));
-        sz = _mm256_add_pd(sz, _mm256_and_pd(inside, zz));
-        m = _mm256_add_pd(m, _mm256_and_pd(inside, one));
-        ps = _mm256_add_pd(ps, v);
+        sums.contact(inside, v, un, zz);
         if step.known.is_some() {
-            let gap = _mm256_add_pd(_mm256_sub_pd(un, zz), vk);
-            pg = _mm256_add_pd(pg, _mm256_mul_pd(v, _mm256_andnot_pd(sign, gap)));
-            sp = _mm256_add_pd(sp, v);
-            gg = _mm256_add_pd(gg, _mm256_and_pd(inside, _mm256_mul_pd(gap, gap)));
-            let below = _mm256_andnot_pd(inside, _mm256_sub_pd(zero, gap));
-            pen = _mm256_max_pd(pen, below);
-            bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_UNORD_Q>(gap, gap));
+            sums.error(inside, v, _mm256_add_pd(_mm256_sub_pd(un, zz), vk));
         }
         k += 4;
     }
     if whole < n {
         step.points(first, whole..n, &mut ch, &mut acc);
     }
-    // SAFETY: AVX2 (this function's feature).
-    unsafe {
-        acc.su += hsum(su);
-        acc.sz += hsum(sz);
-        acc.m += hsum(m);
-        acc.psum += hsum(ps);
-        if step.known.is_some() {
-            acc.stats.pg += hsum(pg);
-            acc.stats.psum += hsum(sp);
-            acc.stats.gg += hsum(gg);
-            acc.stats.pen = lanes(pen).iter().fold(acc.stats.pen, |a, &b| a.max(b));
-        }
-    }
-    if _mm256_movemask_pd(bad) != 0 {
-        acc.stats.pen = f64::NAN;
-    }
+    sums.finish(&mut acc, step.known.is_some());
     acc
 }
 
@@ -314,29 +412,14 @@ pub(crate) unsafe fn step_sums(f: f64, p: &[f64], t: &[f64], q: &[f64]) -> StepS
     let (p, t) = (&p[..n], &t[..n]);
     let vf = _mm256_set1_pd(f);
     let zero = _mm256_setzero_pd();
-    let one = _mm256_set1_pd(1.0);
-    let inf = _mm256_set1_pd(f64::INFINITY);
-    let (mut rt, mut ts, mut rs, mut m) = (zero, zero, zero, zero);
-    let mut leave = inf;
+    let mut sums = StepLanes::new();
     let whole = n - n % 4;
     let mut k = 0;
     while k < whole {
         // SAFETY: k + 4 ≤ n and every slice holds n values.
-        let (pp, tt, qq) = unsafe {
-            (
-                _mm256_loadu_pd(p.as_ptr().add(k)),
-                _mm256_loadu_pd(t.as_ptr().add(k)),
-                _mm256_loadu_pd(q.as_ptr().add(k)),
-            )
-        };
+        let [pp, tt, qq] = unsafe { load([p, t, q], k) };
         let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
-        rt = _mm256_add_pd(rt, _mm256_and_pd(inside, _mm256_mul_pd(qq, tt)));
-        ts = _mm256_add_pd(ts, _mm256_and_pd(inside, tt));
-        rs = _mm256_add_pd(rs, _mm256_and_pd(inside, qq));
-        m = _mm256_add_pd(m, _mm256_and_pd(inside, one));
-        let ahead = _mm256_and_pd(inside, _mm256_cmp_pd::<_CMP_GT_OQ>(tt, zero));
-        let ratio = _mm256_div_pd(_mm256_mul_pd(vf, pp), tt);
-        leave = _mm256_min_pd(leave, _mm256_blendv_pd(inf, ratio, ahead));
+        sums.add(inside, _mm256_mul_pd(vf, pp), tt, qq);
         k += 4;
     }
     let mut d = StepSums::default();
@@ -345,14 +428,7 @@ pub(crate) unsafe fn step_sums(f: f64, p: &[f64], t: &[f64], q: &[f64]) -> StepS
             d.add(f * p[k], t[k], q[k]);
         }
     }
-    // SAFETY: AVX2 (this function's feature).
-    unsafe {
-        d.rt += hsum(rt);
-        d.t += hsum(ts);
-        d.r += hsum(rs);
-        d.m += hsum(m);
-        d.leave = lanes(leave).iter().fold(d.leave, |a, &b| a.min(b));
-    }
+    sums.finish(&mut d);
     d
 }
 
@@ -383,12 +459,7 @@ unsafe fn conjugate_row(
     let mut k = 0;
     while k < whole {
         // SAFETY: k + 4 ≤ n and every slice holds n values.
-        let (pp, tt) = unsafe {
-            (
-                _mm256_loadu_pd(p.as_ptr().add(k)),
-                _mm256_loadu_pd(t.as_ptr().add(k)),
-            )
-        };
+        let [pp, tt] = unsafe { load([p, t], k) };
         let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
         let v = _mm256_and_pd(inside, _mm256_add_pd(a(k), _mm256_mul_pd(vb, tt)));
         // SAFETY: as the loads.
@@ -494,13 +565,7 @@ pub(crate) unsafe fn pc_drain(p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) ->
     let mut k = 0;
     while k < whole {
         // SAFETY: k + 4 ≤ n and every slice holds n values.
-        let (pp, gg, qq) = unsafe {
-            (
-                _mm256_loadu_pd(p.as_ptr().add(k)),
-                _mm256_loadu_pd(g.as_ptr().add(k)),
-                _mm256_loadu_pd(q.as_ptr().add(k)),
-            )
-        };
+        let [pp, gg, qq] = unsafe { load([p, g, q], k) };
         let inside = _mm256_cmp_pd::<_CMP_GT_OQ>(pp, zero);
         let v = _mm256_and_pd(inside, qq);
         // SAFETY: as the loads.

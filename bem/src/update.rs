@@ -351,18 +351,7 @@ impl<'a> State<'a> {
             },
             |i, _, du, urow| {
                 let row = i * nx..(i + 1) * nx;
-                let (prow, zrow) = (&p[row.clone()], &z[row]);
-                let mut acc = Sums::default();
-                for k in 0..nx {
-                    urow[k] += du[k];
-                    if prow[k] > 0.0 {
-                        acc.su += du[k];
-                    }
-                    if let Some(c) = known {
-                        acc.stats.add(prow[k], urow[k] - zrow[k] + c);
-                    }
-                }
-                acc
+                add_correction(du, urow, &p[row.clone()], &z[row], known)
             },
         )?;
         Ok(Sums {
@@ -415,16 +404,7 @@ impl State<'_> {
                         du.fill(0.0);
                         op.add_points(loads, uniform, i, du);
                         let row = i * nx..(i + 1) * nx;
-                        let (prow, zrow) = (&p[row.clone()], &z[row]);
-                        for k in 0..nx {
-                            urow[k] += du[k];
-                            if prow[k] > 0.0 {
-                                acc.su += du[k];
-                            }
-                            if let Some(c) = known {
-                                acc.stats.add(prow[k], urow[k] - zrow[k] + c);
-                            }
-                        }
+                        acc = acc.merge(add_correction(du, urow, &p[row.clone()], &z[row], known));
                     }
                     acc
                 },
@@ -436,4 +416,20 @@ impl State<'_> {
             ..before
         }
     }
+}
+
+/// u += Δu on a row, with Σ Δu over the contact set (p > 0) and, if the offset c is
+/// known, the error terms of the corrected gap u − z + c.
+fn add_correction(du: &[f64], u: &mut [f64], p: &[f64], z: &[f64], known: Option<f64>) -> Sums {
+    let mut acc = Sums::default();
+    for k in 0..u.len() {
+        u[k] += du[k];
+        if p[k] > 0.0 {
+            acc.su += du[k];
+        }
+        if let Some(c) = known {
+            acc.stats.add(p[k], u[k] - z[k] + c);
+        }
+    }
+    acc
 }
