@@ -583,15 +583,25 @@ fn scalar_and_vector_rules_give_the_same_solutions() {
             .sum::<f64>()
         })
     };
-    let stack = Stack::new(
-        vec![Layer {
-            thickness: 1e-4,
-            young: 4e9,
-            poisson: 0.3,
-        }],
-        Base::Rigid,
-    )
-    .unwrap();
+    let layer = |thickness: f64, young: f64, poisson: f64| Layer {
+        thickness,
+        young,
+        poisson,
+    };
+    // A moderate stack, and the hard cases: a nearly incompressible layer (ν = 0.4999) on
+    // a rigid base, a 1 µm coating 1e4× stiffer than its elastic base.
+    let stacks = [
+        Stack::new(vec![layer(1e-4, 4e9, 0.3)], Base::Rigid).unwrap(),
+        Stack::new(vec![layer(5e-5, 4e9, 0.4999)], Base::Rigid).unwrap(),
+        Stack::new(
+            vec![layer(1e-6, 4e13, 0.3)],
+            Base::Elastic {
+                young: 4e9,
+                poisson: 0.3,
+            },
+        )
+        .unwrap(),
+    ];
     let cases = [
         (
             rough(64, 64),
@@ -613,29 +623,102 @@ fn scalar_and_vector_rules_give_the_same_solutions() {
             BemLoad::Approach(1.2e-6),
         ),
     ];
-    for (heights, geo, load) in &cases {
-        for preconditioner in [true, false] {
-            let opts = BemOptions {
-                preconditioner,
-                ..Default::default()
-            };
-            let solver = BemSolver::with_geometry(heights, *geo, &stack, opts).unwrap();
-            crate::SCALAR.store(true, Ordering::Relaxed);
-            let scalar = solver.solve(*load);
-            crate::SCALAR.store(false, Ordering::Relaxed);
-            let (scalar, vector) = (scalar.unwrap(), solver.solve(*load).unwrap());
-            let peak = scalar.pressure.iter().fold(0.0f64, |a, &b| a.max(b));
-            let diff = scalar
-                .pressure
-                .iter()
-                .zip(vector.pressure.iter())
-                .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
-            assert!(
-                diff <= 1e-8 * peak,
-                "{load:?}, preconditioner {preconditioner}: {diff:e} of {peak:e}"
-            );
-            assert_eq!(scalar.contact_points, vector.contact_points);
-            assert!(scalar.area_fraction > 0.05 && scalar.area_fraction < 0.8);
+    for (k, stack) in stacks.iter().enumerate() {
+        for (heights, geo, load) in &cases {
+            for preconditioner in [true, false] {
+                let opts = BemOptions {
+                    preconditioner,
+                    ..Default::default()
+                };
+                let solver = BemSolver::with_geometry(heights, *geo, stack, opts).unwrap();
+                // The hard stacks by geometry, partial contact whatever their stiffness:
+                // the periodic cell at the mean pressure of half the largest mean gap
+                // (found by the plain iteration), the free sample at an approach of 0.8 of
+                // the largest separation.
+                let load = match (k, geo.periodic) {
+                    (0, _) => *load,
+                    (_, true) => {
+                        let plain = BemOptions {
+                            preconditioner: false,
+                            ..opts
+                        };
+                        let s = BemSolver::with_geometry(heights, *geo, stack, plain).unwrap();
+                        let g = BemLoad::MeanGap(0.5 * s.max_separation());
+                        BemLoad::MeanPressure(s.solve(g).unwrap().mean_pressure)
+                    }
+                    (_, false) => BemLoad::Approach(0.8 * solver.max_separation()),
+                };
+                crate::SCALAR.store(true, Ordering::Relaxed);
+                let scalar = solver.solve(load);
+                crate::SCALAR.store(false, Ordering::Relaxed);
+                let (scalar, vector) = (scalar.unwrap(), solver.solve(load).unwrap());
+                let peak = scalar.pressure.iter().fold(0.0f64, |a, &b| a.max(b));
+                let diff = scalar
+                    .pressure
+                    .iter()
+                    .zip(vector.pressure.iter())
+                    .fold(0.0f64, |a, (x, y)| a.max((x - y).abs()));
+                assert!(
+                    diff <= 1e-8 * peak,
+                    "stack {k}, {load:?}, preconditioner {preconditioner}: {diff:e} of {peak:e}"
+                );
+                assert_eq!(scalar.contact_points, vector.contact_points);
+                assert!(
+                    scalar.area_fraction > 0.05 && scalar.area_fraction < 0.8,
+                    "stack {k}, {load:?}: {}",
+                    scalar.area_fraction
+                );
+            }
         }
     }
+}
+
+/// Known defect (found in session 7, present since the preconditioner became the default):
+/// under mean-gap control on a 1 µm coating 1e4× stiffer than its elastic base, the
+/// preconditioned iteration spreads the contact over the whole cell and stalls there
+/// (error ~1 after any number of iterations) while the plain iteration converges. The
+/// preconditioner drops the uniform mode (K̂(0) = 0 on an elastic base), so it cannot
+/// lower the mean gap on a contact set that spans the cell; giving it a uniform mode
+/// alone made the iteration diverge (the step's product K t has none). Run with
+/// `cargo test -p strata-bem known_defect -- --ignored`.
+#[test]
+#[ignore = "known defect: preconditioned mean-gap control on a stiff coating stalls"]
+fn known_defect_preconditioned_mean_gap_on_stiff_coating() {
+    let heights = Array2::from_shape_fn((64, 64), |(i, j)| {
+        let (y, x) = (i as f64 / 64.0, j as f64 / 64.0);
+        let tau = std::f64::consts::TAU;
+        [
+            (1.0, 1.0, 0.3),
+            (2.0, 3.0, 1.1),
+            (5.0, 4.0, 2.0),
+            (7.0, 9.0, 0.7),
+        ]
+        .iter()
+        .map(|&(kx, ky, ph)| 1e-6 / (kx + ky) * (tau * (kx * x + ky * y) + ph).sin())
+        .sum::<f64>()
+    });
+    let stack = Stack::new(
+        vec![Layer {
+            thickness: 1e-6,
+            young: 4e13,
+            poisson: 0.3,
+        }],
+        Base::Elastic {
+            young: 4e9,
+            poisson: 0.3,
+        },
+    )
+    .unwrap();
+    let solve = |preconditioner| {
+        let opts = BemOptions {
+            preconditioner,
+            max_iterations: 2000,
+            ..Default::default()
+        };
+        let solver = BemSolver::new(&heights, 1e-3, &stack, opts).unwrap();
+        solver.solve(BemLoad::MeanGap(0.5 * solver.max_separation()))
+    };
+    let plain = solve(false).expect("the plain iteration converges");
+    let pc = solve(true).expect("the preconditioned iteration converges");
+    assert_eq!(pc.contact_points, plain.contact_points);
 }
