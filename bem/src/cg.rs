@@ -301,22 +301,39 @@ enum Fused {
 }
 
 /// Solves; on return `p` holds the pressure. With a preconditioner in the problem the
-/// preconditioned iteration runs ([`crate::pcg`]), the plain one otherwise.
+/// preconditioned iteration runs ([`crate::pcg`]), the plain one otherwise or once the
+/// preconditioned one stalls (see `pcg::Stall`).
 pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgOutcome, BemError> {
-    if let Some(minv) = pb.precond {
-        return crate::pcg::solve(pb, minv, control, p);
-    }
     let mut s = match State::start(pb, control, p)? {
         Start::Done(out) => return Ok(out),
         Start::Run(s) => s,
     };
+    let mut it = 0;
+    if let Some(minv) = pb.precond {
+        if let Some(out) = crate::pcg::run(&mut s, minv, p, &mut it)? {
+            return Ok(out);
+        }
+        // Stalled (offset control only, see `pcg::Stall`): again from the cold guess,
+        // in case a warm start pressed too hard; then with the plain iteration.
+        s.cold(p)?;
+        if let Some(out) = crate::pcg::run(&mut s, minv, p, &mut it)? {
+            return Ok(out);
+        }
+        s.materialise(p);
+        s.exact(p)?;
+    }
+    plain(&mut s, p, &mut it)
+}
+
+/// The plain iteration from an exact state `s`; `it` counts the iterations.
+fn plain(s: &mut State, p: &mut [f64], it: &mut usize) -> Result<CgOutcome, BemError> {
+    let pb = s.pb;
     let mut exact = true;
     let mut since_exact = 0usize;
     let mut g_old = 1.0;
     let mut conjugate = false;
-    let mut it = 0;
     loop {
-        match s.head(p, &mut it, &mut exact, &mut since_exact)? {
+        match s.head(p, it, &mut exact, &mut since_exact)? {
             Head::Done(out) => return Ok(out),
             Head::Restarted => {
                 conjugate = false;
@@ -335,12 +352,12 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
         loop {
             let clean = s.stats.pen == 0.0 && step.tau < step.leave;
             let sums = if clean {
-                let go = it < pb.max_iterations && since_exact < REFRESH;
+                let go = *it < pb.max_iterations && since_exact < REFRESH;
                 match s.fused(p, step, g_old, go)? {
                     Fused::Stepped(next, gg) => {
                         step = next;
                         g_old = gg;
-                        it += 1;
+                        *it += 1;
                         since_exact += 1;
                         continue;
                     }
@@ -472,18 +489,24 @@ impl<'a> State<'a> {
     }
 
     /// If the last step emptied the contact set (displacement control only): restart
-    /// from the local estimate on the interpenetrating points; returns whether it did.
+    /// from the initial guess k (z − c)⁺ (with p = 0 the exact u is 0, whatever the
+    /// incremental u drifted to); returns whether it did.
     fn restart_if_empty(&mut self, p: &mut [f64]) -> Result<bool, BemError> {
         if self.stats.psum != 0.0 {
             return Ok(false);
         }
-        self.materialise(p);
+        self.cold(p)?;
+        Ok(true)
+    }
+
+    /// Displacement control: back to the cold guess p = k (z − c)⁺, exact u.
+    pub(crate) fn cold(&mut self, p: &mut [f64]) -> Result<(), BemError> {
+        self.f = 1.0;
         let (c, z, k) = (self.c, self.pb.z, self.pb.stiffness);
         for i in 0..p.len() {
-            p[i] = k * (-(self.u[i] - z[i] + c)).max(0.0);
+            p[i] = k * (z[i] - c).max(0.0);
         }
-        self.exact(p)?;
-        Ok(true)
+        self.exact(p)
     }
 }
 

@@ -23,7 +23,7 @@
 use strata_runtime::fft::Merge;
 
 use crate::BemError;
-use crate::cg::{Control, Head, Pending, Problem, REFRESH, Start, State, StepSums, Sums};
+use crate::cg::{Control, Head, Pending, REFRESH, State, StepSums, Sums};
 use crate::operator::Operator;
 
 /// The preconditioned gap of a state: δ = Σ_C g y and the mean ȳ removed from y
@@ -91,6 +91,48 @@ impl PcSums {
     }
 }
 
+/// Iterations without the error halving after which the iteration counts as stalled.
+const STALL: usize = 24;
+
+/// Watches the error for a stall of the preconditioned iteration. Under offset control
+/// without the uniform mode (a periodic cell on an elastic base: approach, separation or
+/// mean-gap control) the energy is linear along a uniform change of pressure on a
+/// contact set that covers the cell, and M⁻¹ has no uniform mode: from a start that
+/// presses too hard (a warm start while unloading, a stiff coating on a soft base) the
+/// preconditioned direction cannot shed the excess load, and the iteration stalls with
+/// the contact over the whole cell and a uniform gap. The plain direction (the gap
+/// itself) has the uniform component: the solve goes on with it
+/// ([`crate::cg::solve`]). Under other controls the watch is off.
+struct Stall {
+    on: bool,
+    best: f64,
+    since: usize,
+}
+
+impl Stall {
+    fn new(control: Control) -> Self {
+        Stall {
+            on: matches!(control, Control::Offset { uniform: false, .. }),
+            best: f64::INFINITY,
+            since: 0,
+        }
+    }
+
+    /// Records the error of an iteration; true once the iteration has stalled.
+    fn watch(&mut self, error: f64) -> bool {
+        if !self.on {
+            return false;
+        }
+        if error < 0.5 * self.best {
+            self.best = error;
+            self.since = 0;
+        } else {
+            self.since += 1;
+        }
+        self.since >= STALL
+    }
+}
+
 /// What a fused iteration did.
 enum Fused {
     /// The update was clean; the new state's preconditioned gap.
@@ -100,25 +142,23 @@ enum Fused {
     Stopped(Sums),
 }
 
-/// Solves with the preconditioner `minv`; on return `p` holds the pressure.
-pub(crate) fn solve(
-    pb: &Problem,
+/// Runs the preconditioned iteration on the exact state `s` (`it` counts the
+/// iterations); `None` if it stalled (see [`Stall`]), the state then left as it is.
+pub(crate) fn run(
+    s: &mut State,
     minv: &Operator,
-    control: Control,
     p: &mut [f64],
-) -> Result<crate::cg::CgOutcome, BemError> {
-    let mut s = match State::start(pb, control, p)? {
-        Start::Done(out) => return Ok(out),
-        Start::Run(s) => s,
-    };
+    it: &mut usize,
+) -> Result<Option<crate::cg::CgOutcome>, BemError> {
+    let pb = s.pb;
+    let mut stall = Stall::new(s.control);
     let mut exact = true;
     let mut since_exact = 0usize;
     let mut d_old = 1.0;
     let mut conjugate = false;
-    let mut it = 0;
     loop {
-        match s.head(p, &mut it, &mut exact, &mut since_exact)? {
-            Head::Done(out) => return Ok(out),
+        match s.head(p, it, &mut exact, &mut since_exact)? {
+            Head::Done(out) => return Ok(Some(out)),
             Head::Restarted => {
                 conjugate = false;
                 continue;
@@ -127,6 +167,9 @@ pub(crate) fn solve(
         }
         let mut pre = s.precondition(p, minv)?;
         loop {
+            if stall.watch(s.stats.error(pb.z_rms)) {
+                return Ok(None);
+            }
             let beta = if conjugate && d_old > 0.0 {
                 pre.delta / d_old
             } else {
@@ -139,11 +182,11 @@ pub(crate) fn solve(
             // Apply the step: fused into the next preconditioner product while the
             // contact set stays put.
             let sums = if s.stats.pen == 0.0 && step.tau < step.leave {
-                let go = it < pb.max_iterations && since_exact < REFRESH;
+                let go = *it < pb.max_iterations && since_exact < REFRESH;
                 match s.fused_pc(p, step, minv, go)? {
                     Fused::Stepped(next) => {
                         pre = next;
-                        it += 1;
+                        *it += 1;
                         conjugate = true;
                         continue;
                     }

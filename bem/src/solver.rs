@@ -34,6 +34,11 @@ impl Geometry {
             periodic: true,
         }
     }
+
+    /// The wavenumber of the longest wave of the sample, k₁ = 2π/max(Lx, Ly) (rad/m).
+    pub fn fundamental(&self) -> f64 {
+        std::f64::consts::TAU / self.lx.max(self.ly)
+    }
 }
 
 /// Grids below this (on either side) are solved directly; larger ones start from the
@@ -70,6 +75,8 @@ pub struct BemSolver {
     z_mean: f64,
     z_rms: f64,
     e_star1: f64,
+    /// S(k₁) at the longest wave of the sample, k₁ = 2π/max(Lx, Ly) (initial guesses).
+    s1: f64,
     /// C₀ (m/Pa) of a periodic cell on a rigid base.
     c0: Option<f64>,
     op: Operator,
@@ -226,12 +233,13 @@ impl BemSolver {
             geometry.ly / ny as f64,
         )?;
         let op = Operator::free(ny, nx, &g)?;
+        let s1 = Compliance::new(stack).s(geometry.fundamental());
         Ok(Self::assemble(
             ny,
             nx,
             geometry,
             h,
-            e_star1,
+            (e_star1, s1),
             None,
             op,
             options,
@@ -310,12 +318,13 @@ impl BemSolver {
         }
         let s_tab = std::sync::Arc::new(s_tab);
         let op = Self::spectral_operator(ny, nx, &geometry, e_star1, c0, &s_tab, ny, nx)?;
+        let s1 = s_of_k(geometry.fundamental());
         Ok(Self::assemble(
             ny,
             nx,
             geometry,
             h,
-            e_star1,
+            (e_star1, s1),
             c0,
             op,
             options,
@@ -350,7 +359,7 @@ impl BemSolver {
         nx: usize,
         geometry: Geometry,
         h: Heights,
-        e_star1: f64,
+        (e_star1, s1): (f64, f64),
         c0: Option<f64>,
         op: Operator,
         options: BemOptions,
@@ -371,6 +380,7 @@ impl BemSolver {
             z_mean: h.mean,
             z_rms: h.rms,
             e_star1,
+            s1,
             c0,
             op,
             options,
@@ -637,7 +647,7 @@ impl BemSolver {
             mx,
             self.geometry,
             h,
-            self.e_star1,
+            (self.e_star1, self.s1),
             self.c0,
             op,
             self.options,
@@ -645,10 +655,18 @@ impl BemSolver {
         )))
     }
 
-    /// A stiffness (Pa/m) for initial guesses: that of the longest wave on a
-    /// half-space of the top material, E*₁·π/L.
+    /// A stiffness (Pa/m) for initial guesses: that of the longest wave of the sample,
+    /// E*₁k₁/(2S(k₁)) with k₁ = 2π/L (the kernel 2S(k)/(E*₁k) inverted). On a stiff
+    /// coating over a soft base S(k₁) ≫ 1: the long waves load the base, and a guess with
+    /// the top material's stiffness would press 1/S(k₁) times too hard (a start the
+    /// preconditioned iteration sheds slowly under mean-gap control, see [`crate::pcg`]).
     fn local_stiffness(&self) -> f64 {
-        self.e_star1 * std::f64::consts::PI / self.geometry.lx.max(self.geometry.ly)
+        let s1 = if self.s1.is_finite() && self.s1 > 0.0 {
+            self.s1
+        } else {
+            1.0
+        };
+        0.5 * self.e_star1 * self.geometry.fundamental() / s1
     }
 
     fn summarise(
