@@ -8,13 +8,16 @@
 #         (STRATA_REQUIRE_TOOLS=1); the examples run headless (MPLBACKEND=Agg).
 #
 # Build cost: maturin builds with the dev profile and the same CARGO_TARGET_DIR as
-# `cargo test` (MATURIN_PEP517_ARGS="--profile dev"), and python/Cargo.toml unifies the
-# features with the workspace's, so after `cargo test --workspace` every dependency is
-# reused (`cargo test` builds them with the dev profile's settings; `--profile test`
-# would not reuse them) and only the workspace libraries (opt-level 1 here, 2 in the
-# test profile), pyo3, numpy and the bindings are compiled; without --ci the README's
-# release build is used unless STRATA_PY_PROFILE is set. The numbers do not depend on
-# the profile (no fast-math in Rust).
+# `cargo test` (MATURIN_PEP517_ARGS="--profile dev"). `cargo test` builds every library
+# with the test profile, which has the dev profile's settings (Cargo.toml), and
+# python/Cargo.toml unifies the features with the workspace's (either, bitflags, and
+# syn's `fold` on the host), so after `cargo test --workspace` every library is reused
+# and only pyo3, numpy and the bindings are compiled: `pip install ./python` 10 s on a
+# target directory that has the test build and pyo3 (was 111 s cold when the workspace
+# libraries and faer were compiled again). `--profile test` would build a test harness,
+# not the extension module. Without --ci the README's release build is used unless
+# STRATA_PY_PROFILE is set. The numbers do not depend on the profile (no fast-math in
+# Rust).
 # Environment: PYTHON (default python3), CARGO_TARGET_DIR (default ./target),
 #   STRATA_BIN (the CLI the tests compare with; default $CARGO_TARGET_DIR/debug/strata,
 #   built here if missing), STRATA_PY_PROFILE (dev | release).
