@@ -41,11 +41,15 @@
 //! Stopping criterion on the physical error (σ_z the RMS height):
 //!
 //! ```text
-//!   ε = max( Σ p|g| / (σ_z Σ p),  max_{p=0} max(−g, 0) / σ_z )
+//!   ε = max( max_{p>0} |g|,  max_{p=0} max(−g, 0) ) / σ_z
 //! ```
 //!
-//! (complementarity on the contact set, interpenetration outside it), evaluated on the
-//! exact u = K p before a solution is accepted.
+//! (the gap on the contact set, interpenetration outside it), evaluated on the exact
+//! u = K p before a solution is accepted. Both are maxima over points: a gap weighted by
+//! the pressure (Σ p|g| / Σ p, the complementarity) let points of small pressure at the
+//! contact's edge stop with gaps of 1e-3 σ_z on a soft coating (1e4× softer than its
+//! base: pressures 2e-4 of the peak off; `preconditioned_unloading_curves_on_extreme_coatings`);
+//! the maximum costs ~10 % more iterations on the E2/E1 = 5 curve (348 → 387 at 512²).
 
 use rayon::prelude::*;
 use strata_runtime::fft::{Fft2Work, Merge};
@@ -110,13 +114,13 @@ pub(crate) struct Problem<'a> {
     pub max_iterations: usize,
 }
 
-/// Error terms of a state: Σ p|g|, Σ p and Σ g² on the contact set (p > 0), the largest
-/// interpenetration max(−g) outside it.
+/// Error terms of a state: Σ p, Σ g² and the largest |g| on the contact set (p > 0),
+/// the largest interpenetration max(−g) outside it.
 #[derive(Default, Clone, Copy, Debug)]
 pub(crate) struct Stats {
-    pub(crate) pg: f64,
     pub(crate) psum: f64,
     pub(crate) gg: f64,
+    pub(crate) gmax: f64,
     pub(crate) pen: f64,
 }
 
@@ -124,31 +128,26 @@ impl Stats {
     #[inline(always)]
     pub(crate) fn add(&mut self, p: f64, g: f64) {
         if p > 0.0 {
-            self.pg += p * g.abs();
             self.psum += p;
             self.gg += g * g;
+            self.gmax = self.gmax.max(g.abs());
         } else {
             self.pen = self.pen.max(-g);
         }
     }
 
-    /// ε (see the module docs); the pressure scale cancels in Σ p|g| / Σ p.
+    /// ε (see the module docs).
     pub(crate) fn error(&self, z_rms: f64) -> f64 {
-        let comp = if self.psum > 0.0 {
-            self.pg / self.psum
-        } else {
-            0.0
-        };
-        comp.max(self.pen) / z_rms
+        self.gmax.max(self.pen) / z_rms
     }
 }
 
 impl Merge for Stats {
     fn merge(self, o: Self) -> Self {
         Stats {
-            pg: self.pg + o.pg,
             psum: self.psum + o.psum,
             gg: self.gg + o.gg,
+            gmax: self.gmax.max(o.gmax),
             pen: self.pen.max(o.pen),
         }
     }

@@ -72,11 +72,11 @@
 //! coarse-to-fine start on large grids. The error
 //!
 //! ```text
-//!   ε = max( Σ p|g| / (σ_z Σ p),  max_{p=0} max(−g, 0) / σ_z )
+//!   ε = max( max_{p>0} |g|,  max_{p=0} max(−g, 0) ) / σ_z
 //! ```
 //!
-//! (complementarity, and interpenetration outside the contact; σ_z the RMS height) must
-//! fall below the tolerance. The default ε ≤ 1e-10 reproduces the shared reference BEM,
+//! (the largest gap on the contact set and the largest interpenetration outside it;
+//! σ_z the RMS height) must fall below the tolerance. The default ε ≤ 1e-10 reproduces the shared reference BEM,
 //! Tamaas and ContactMechanics to ~1e-10 in mean pressure (tests/it/bem_reference.rs).
 //!
 //! # Outputs ([`BemSolution`])

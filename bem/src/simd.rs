@@ -80,9 +80,9 @@ struct SumsLanes {
     sz: __m256d,
     m: __m256d,
     ps: __m256d,
-    pg: __m256d,
     sp: __m256d,
     gg: __m256d,
+    gmax: __m256d,
     pen: __m256d,
     /// Lanes where a gap was not finite.
     bad: __m256d,
@@ -98,9 +98,9 @@ impl SumsLanes {
             sz: z,
             m: z,
             ps: z,
-            pg: z,
             sp: z,
             gg: z,
+            gmax: z,
             pen: z,
             bad: z,
         }
@@ -117,16 +117,16 @@ impl SumsLanes {
         self.ps = _mm256_add_pd(self.ps, v);
     }
 
-    /// The error terms of pressure `pv` (0 off the set) and gap `gap`: Σ p|g|, Σ p and
-    /// Σ g² on the set, max(−g) off it (`Stats::add`).
+    /// The error terms of pressure `pv` (0 off the set) and gap `gap`: Σ p, Σ g² and
+    /// max |g| on the set, max(−g) off it (`Stats::add`).
     #[target_feature(enable = "avx2")]
     #[inline]
     fn error(&mut self, inside: __m256d, pv: __m256d, gap: __m256d) {
         let zero = _mm256_setzero_pd();
         let abs = _mm256_andnot_pd(_mm256_set1_pd(-0.0), gap);
-        self.pg = _mm256_add_pd(self.pg, _mm256_mul_pd(pv, abs));
         self.sp = _mm256_add_pd(self.sp, pv);
         self.gg = _mm256_add_pd(self.gg, _mm256_and_pd(inside, _mm256_mul_pd(gap, gap)));
+        self.gmax = _mm256_max_pd(self.gmax, _mm256_and_pd(inside, abs));
         let below = _mm256_andnot_pd(inside, _mm256_sub_pd(zero, gap));
         self.pen = _mm256_max_pd(self.pen, below);
         self.bad = _mm256_or_pd(self.bad, _mm256_cmp_pd::<_CMP_UNORD_Q>(gap, gap));
@@ -144,10 +144,12 @@ impl SumsLanes {
             acc.m += hsum(self.m);
             acc.psum += hsum(self.ps);
             if error {
-                acc.stats.pg += hsum(self.pg);
                 acc.stats.psum += hsum(self.sp);
                 acc.stats.gg += hsum(self.gg);
                 acc.stats.pen = lanes(self.pen).iter().fold(acc.stats.pen, |a, &b| a.max(b));
+                acc.stats.gmax = lanes(self.gmax)
+                    .iter()
+                    .fold(acc.stats.gmax, |a, &b| a.max(b));
             }
         }
         if _mm256_movemask_pd(self.bad) != 0 {
@@ -667,7 +669,7 @@ mod tests {
             (sa.sz, sb.sz),
             (sa.m, sb.m),
             (sa.psum, sb.psum),
-            (sa.stats.pg, sb.stats.pg),
+            (sa.stats.gmax, sb.stats.gmax),
             (sa.stats.psum, sb.stats.psum),
             (sa.stats.gg, sb.stats.gg),
             (sa.stats.pen, sb.stats.pen),
@@ -810,7 +812,7 @@ mod tests {
                 (sa.sz, sb.sz),
                 (sa.m, sb.m),
                 (sa.psum, sb.psum),
-                (sa.stats.pg, sb.stats.pg),
+                (sa.stats.gmax, sb.stats.gmax),
                 (sa.stats.psum, sb.stats.psum),
                 (sa.stats.gg, sb.stats.gg),
                 (sa.stats.pen, sb.stats.pen),
