@@ -158,12 +158,12 @@ fn fast_paths_match_reference_on_a_free_sample() {
 
 /// The bench's 20-step 512² curve (E₂/E₁ = 5, approaches 1.3…9.8 µm, ε ≤ 1e-10): the
 /// preconditioned path (the default) gives the plain Polonsky–Keer path's answers, the
-/// mean pressure of every step to 1e-8 (measured 3.5e-10) and identical contact sets, in
-/// about a quarter of the iterations (measured 348 vs 1519). Both stop within the
+/// mean pressure of every step to 1e-8 (measured 1.0e-10) and identical contact sets, in
+/// about a quarter of the iterations (measured 387 vs 1657). Both stop within the
 /// tolerance, not at the same point: each field is within 3e-8 of the peak of the field
-/// converged to ε ≤ 1e-13 (measured 2.65e-8 preconditioned, 2.0e-8 plain; at ε ≤ 1e-11
-/// the preconditioned path reaches 2.9e-9 in 380 iterations), and so are they of each
-/// other (2.6e-8).
+/// converged to ε ≤ 1e-13 (measured 2.0e-9 preconditioned, 2.6e-9 plain, since the stop
+/// on the largest gap of session 8; 2.65e-8 and 2.0e-8 with the pressure-weighted gap),
+/// and so are they of each other (2.6e-9).
 #[test]
 #[ignore = "slow tier: CI runs `cargo test --workspace -- --ignored slow_`"]
 fn slow_preconditioned_curve_512_matches_plain() {
