@@ -673,6 +673,57 @@ fn scalar_and_vector_rules_give_the_same_solutions() {
     }
 }
 
+/// A 64² periodic surface of four sine modes (k_x, k_y, phase), amplitudes 1 µm/(k_x + k_y).
+fn sines(modes: [(f64, f64, f64); 4]) -> Array2<f64> {
+    Array2::from_shape_fn((64, 64), |(i, j)| {
+        let (y, x) = (i as f64 / 64.0, j as f64 / 64.0);
+        let tau = std::f64::consts::TAU;
+        modes
+            .iter()
+            .map(|&(kx, ky, ph)| 1e-6 / (kx + ky) * (tau * (kx * x + ky * y) + ph).sin())
+            .sum::<f64>()
+    })
+}
+
+/// The plain and the preconditioned solver of a 1 µm coating of Young's modulus
+/// `coating` on an elastic base of 4 GPa (ν = 0.3 both), 1 mm cell.
+fn on_coating(heights: &Array2<f64>, coating: f64) -> (BemSolver, BemSolver) {
+    let stack = Stack::new(
+        vec![Layer {
+            thickness: 1e-6,
+            young: coating,
+            poisson: 0.3,
+        }],
+        Base::Elastic {
+            young: 4e9,
+            poisson: 0.3,
+        },
+    )
+    .unwrap();
+    let solver = |preconditioner| {
+        let opts = BemOptions {
+            preconditioner,
+            max_iterations: 4000,
+            ..Default::default()
+        };
+        BemSolver::new(heights, 1e-3, &stack, opts).unwrap()
+    };
+    (solver(false), solver(true))
+}
+
+/// `b` against the reference `a`: pressures within 1e-7 of a's peak, same contact set.
+fn assert_same_solution(a: &BemSolution, b: &BemSolution, what: &str) {
+    let peak = a.pressure.iter().fold(0.0f64, |m, &v| m.max(v));
+    let diff = a
+        .pressure
+        .iter()
+        .zip(b.pressure.iter())
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(diff <= 1e-7 * peak, "{what}: {diff:e} of {peak:e}");
+    assert_eq!(a.contact_points, b.contact_points, "{what}");
+    assert!(b.contact_points > 0, "{what}");
+}
+
 /// Offset control without the uniform mode (periodic cell, elastic base) on a 1 µm
 /// coating 1e4× stiffer than its base, 64² — the case that stalled the preconditioned
 /// iteration in session 7 (contact over the whole cell, error ~1 at any iteration count):
@@ -688,61 +739,24 @@ fn scalar_and_vector_rules_give_the_same_solutions() {
 /// peak (both stop at ε ≤ 1e-10, not at the same point; measured ≤ 2e-9).
 #[test]
 fn preconditioned_offset_control_sheds_an_excess_load() {
-    let heights = Array2::from_shape_fn((64, 64), |(i, j)| {
-        let (y, x) = (i as f64 / 64.0, j as f64 / 64.0);
-        let tau = std::f64::consts::TAU;
-        [
-            (1.0, 1.0, 0.3),
-            (2.0, 3.0, 1.1),
-            (5.0, 4.0, 2.0),
-            (7.0, 9.0, 0.7),
-        ]
-        .iter()
-        .map(|&(kx, ky, ph)| 1e-6 / (kx + ky) * (tau * (kx * x + ky * y) + ph).sin())
-        .sum::<f64>()
-    });
-    let stack = Stack::new(
-        vec![Layer {
-            thickness: 1e-6,
-            young: 4e13,
-            poisson: 0.3,
-        }],
-        Base::Elastic {
-            young: 4e9,
-            poisson: 0.3,
-        },
-    )
-    .unwrap();
-    let solver = |preconditioner| {
-        let opts = BemOptions {
-            preconditioner,
-            max_iterations: 2000,
-            ..Default::default()
-        };
-        BemSolver::new(&heights, 1e-3, &stack, opts).unwrap()
-    };
-    let (plain, pc) = (solver(false), solver(true));
+    let heights = sines([
+        (1.0, 1.0, 0.3),
+        (2.0, 3.0, 1.1),
+        (5.0, 4.0, 2.0),
+        (7.0, 9.0, 0.7),
+    ]);
+    let (plain, pc) = on_coating(&heights, 4e13);
     assert!(pc.preconditioned());
-    let close = |a: &BemSolution, b: &BemSolution, what: &str| {
-        let peak = a.pressure.iter().fold(0.0f64, |m, &v| m.max(v));
-        let diff = a
-            .pressure
-            .iter()
-            .zip(b.pressure.iter())
-            .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-        assert!(diff <= 1e-7 * peak, "{what}: {diff:e} of {peak:e}");
-        assert_eq!(a.contact_points, b.contact_points, "{what}");
-        assert!(a.area_fraction > 0.01 && a.area_fraction < 0.5, "{what}");
-    };
     for load in [
         BemLoad::MeanGap(0.5 * pc.max_separation()),
         BemLoad::Approach(0.3 * pc.max_separation()),
     ] {
         let reference = plain.solve(load).expect("the plain iteration converges");
+        assert!(reference.area_fraction > 0.01 && reference.area_fraction < 0.5);
         let cold = pc
             .solve(load)
             .expect("the preconditioned iteration converges");
-        close(&reference, &cold, &format!("{load:?}, cold"));
+        assert_same_solution(&reference, &cold, &format!("{load:?}, cold"));
         assert!(
             cold.iterations < reference.iterations,
             "{load:?}: {} preconditioned iterations against {} plain",
@@ -753,11 +767,8 @@ fn preconditioned_offset_control_sheds_an_excess_load() {
         let warm = pc
             .solve_from(load, Some(&hard))
             .expect("a start 1e4x too hard converges");
-        close(
-            &reference,
-            &warm,
-            &format!("{load:?}, from a start 1e4x too hard"),
-        );
+        let what = format!("{load:?}, from a start 1e4x too hard");
+        assert_same_solution(&reference, &warm, &what);
     }
 }
 
@@ -771,41 +782,14 @@ fn preconditioned_offset_control_sheds_an_excess_load() {
 /// gap on the contact set.
 #[test]
 fn preconditioned_unloading_curves_on_extreme_coatings() {
-    let heights = Array2::from_shape_fn((64, 64), |(i, j)| {
-        let (y, x) = (i as f64 / 64.0, j as f64 / 64.0);
-        let tau = std::f64::consts::TAU;
-        [
-            (1.0, 2.0, 0.1),
-            (3.0, 1.0, 1.3),
-            (6.0, 5.0, 2.2),
-            (9.0, 7.0, 0.4),
-        ]
-        .iter()
-        .map(|&(kx, ky, ph)| 1e-6 / (kx + ky) * (tau * (kx * x + ky * y) + ph).sin())
-        .sum::<f64>()
-    });
+    let heights = sines([
+        (1.0, 2.0, 0.1),
+        (3.0, 1.0, 1.3),
+        (6.0, 5.0, 2.2),
+        (9.0, 7.0, 0.4),
+    ]);
     for coating in [4e13, 4e5] {
-        let stack = Stack::new(
-            vec![Layer {
-                thickness: 1e-6,
-                young: coating,
-                poisson: 0.3,
-            }],
-            Base::Elastic {
-                young: 4e9,
-                poisson: 0.3,
-            },
-        )
-        .unwrap();
-        let solver = |preconditioner| {
-            let opts = BemOptions {
-                preconditioner,
-                max_iterations: 4000,
-                ..Default::default()
-            };
-            BemSolver::new(&heights, 1e-3, &stack, opts).unwrap()
-        };
-        let (plain, pc) = (solver(false), solver(true));
+        let (plain, pc) = on_coating(&heights, coating);
         let sep = pc.max_separation();
         let loads: Vec<BemLoad> = [0.1, 0.2, 0.35, 0.5, 0.7, 0.9]
             .iter()
@@ -816,21 +800,7 @@ fn preconditioned_unloading_curves_on_extreme_coatings() {
             .expect("the unloading curve converges");
         for (load, step) in loads.iter().zip(&curve) {
             let reference = plain.solve(*load).expect("the plain iteration converges");
-            let peak = reference.pressure.iter().fold(0.0f64, |m, &v| m.max(v));
-            let diff = reference
-                .pressure
-                .iter()
-                .zip(step.pressure.iter())
-                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
-            assert!(
-                diff <= 1e-7 * peak,
-                "E1 = {coating:e}, {load:?}: {diff:e} of {peak:e}"
-            );
-            assert_eq!(
-                reference.contact_points, step.contact_points,
-                "E1 = {coating:e}, {load:?}"
-            );
-            assert!(step.contact_points > 0, "E1 = {coating:e}, {load:?}");
+            assert_same_solution(&reference, step, &format!("E1 = {coating:e}, {load:?}"));
         }
     }
 }
