@@ -100,9 +100,10 @@ const STALL: usize = 24;
 /// contact set that covers the cell, and M⁻¹ has no uniform mode: from a start that
 /// presses too hard (a warm start while unloading, a stiff coating on a soft base) the
 /// preconditioned direction cannot shed the excess load, and the iteration stalls with
-/// the contact over the whole cell and a uniform gap. The plain direction (the gap
-/// itself) has the uniform component: the solve goes on with it
-/// ([`crate::cg::solve`]). Under other controls the watch is off.
+/// the contact over the whole cell and a uniform gap. The solve then starts again from
+/// the cold guess k₁-stiffness × (z − c)⁺ (a warm start may have pressed too hard), and
+/// if that stalls too, goes on with the plain direction, the gap itself, which has the
+/// uniform component ([`crate::cg::solve`]). Under other controls the watch is off.
 struct Stall {
     on: bool,
     best: f64,
