@@ -51,12 +51,7 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
         for i in 0..n {
             g[i] = u[i] - z[i] + c;
         }
-        let psum: f64 = contact.iter().map(|&i| p[i]).sum();
-        let comp = if psum > 0.0 {
-            contact.iter().map(|&i| p[i] * g[i].abs()).sum::<f64>() / psum
-        } else {
-            0.0
-        };
+        let comp = contact.iter().map(|&i| g[i].abs()).fold(0.0f64, f64::max);
         let pen = (0..n)
             .filter(|&i| p[i] <= 0.0)
             .map(|i| -g[i])
