@@ -222,6 +222,27 @@ impl StepSums {
     }
 }
 
+impl StepSums {
+    /// The sums of one row: direction `t`, product `r`, stored pressure `p` (true
+    /// pressure f p), all of one length; on AVX2 where the CPU has it.
+    #[inline(always)]
+    pub(crate) fn row(f: f64, p: &[f64], t: &[f64], r: &[f64]) -> Self {
+        assert!(p.len() == r.len() && t.len() == r.len());
+        #[cfg(target_arch = "x86_64")]
+        if crate::avx2() {
+            // SAFETY: the CPU has AVX2; p and t hold r.len() values (asserted).
+            return unsafe { crate::simd::step_sums(f, p, t, r) };
+        }
+        let mut d = StepSums::default();
+        for k in 0..p.len() {
+            if p[k] > 0.0 {
+                d.add(f * p[k], t[k], r[k]);
+            }
+        }
+        d
+    }
+}
+
 impl Merge for StepSums {
     fn merge(self, o: Self) -> Self {
         StepSums {
@@ -623,19 +644,7 @@ impl<'a> State<'a> {
             },
             |i, trow, rrow, out| {
                 out.copy_from_slice(rrow);
-                let prow = &p[i * nx..(i + 1) * nx];
-                #[cfg(target_arch = "x86_64")]
-                if wide {
-                    // SAFETY: the CPU has AVX2; the rows hold nx values.
-                    return unsafe { crate::simd::step_sums(f, prow, trow, rrow) };
-                }
-                let mut d = StepSums::default();
-                for k in 0..nx {
-                    if prow[k] > 0.0 {
-                        d.add(f * prow[k], trow[k], rrow[k]);
-                    }
-                }
-                d
+                StepSums::row(f, &p[i * nx..(i + 1) * nx], trow, rrow)
             },
         )?;
         Ok(self.pending(StepSums { gt, ..d }))

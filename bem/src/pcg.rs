@@ -269,19 +269,7 @@ impl State<'_> {
             |_| Some(()),
             |_, i, [t, r, _, _], q| {
                 r.copy_from_slice(q);
-                let prow = &p[i * nx..(i + 1) * nx];
-                #[cfg(target_arch = "x86_64")]
-                if wide {
-                    // SAFETY: the CPU has AVX2; the rows hold nx values.
-                    return unsafe { crate::simd::step_sums(f, prow, t, q) };
-                }
-                let mut d = StepSums::default();
-                for k in 0..nx {
-                    if prow[k] > 0.0 {
-                        d.add(f * prow[k], t[k], q[k]);
-                    }
-                }
-                d
+                StepSums::row(f, &p[i * nx..(i + 1) * nx], t, q)
             },
         )?;
         let mut d = d.unwrap_or_default();
