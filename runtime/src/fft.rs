@@ -405,12 +405,7 @@ impl RealFft2 {
             let kn = spec.len() / gy;
             for b in (0..kn).step_by(BLOCK) {
                 let be = (b + BLOCK).min(kn);
-                for i in 0..ny {
-                    let src = &rows[i * h + k0 + b..i * h + k0 + be];
-                    for (k, &v) in src.iter().enumerate() {
-                        spec[(b + k) * gy + i] = v;
-                    }
-                }
+                gather_columns(rows, spec, [ny, h, gy], k0, b..be);
                 for k in b..be {
                     let line = &mut spec[k * gy..(k + 1) * gy];
                     line[ny..].fill(Complex::default());
@@ -638,12 +633,7 @@ impl RealFft2 {
             let kn = block.len() / gy;
             for b in (0..kn).step_by(BLOCK) {
                 let be = (b + BLOCK).min(kn);
-                for i in 0..ny {
-                    let src = &rows[i * h + k0 + b..i * h + k0 + be];
-                    for (k, &v) in src.iter().enumerate() {
-                        block[(b + k) * gy + i] = v;
-                    }
-                }
+                gather_columns(rows, block, [ny, h, gy], k0, b..be);
                 for k in b..be {
                     block[k * gy + ny..(k + 1) * gy].fill(Complex::default());
                 }
@@ -695,6 +685,26 @@ pub fn signed_index(i: usize, n: usize) -> i64 {
         i as i64
     } else {
         i as i64 - n as i64
+    }
+}
+
+/// The column block `cols` (columns k0 + cols of the ny × h row spectra `rows`) gathered
+/// into `dst` as lines of length gy (column k at dst[k·gy..], rows 0..ny): the blocked
+/// transpose of the column pass.
+#[inline(always)]
+fn gather_columns(
+    rows: &[Complex<f64>],
+    dst: &mut [Complex<f64>],
+    [ny, h, gy]: [usize; 3],
+    k0: usize,
+    cols: std::ops::Range<usize>,
+) {
+    let b = cols.start;
+    for i in 0..ny {
+        let src = &rows[i * h + k0 + b..i * h + k0 + cols.end];
+        for (k, &v) in src.iter().enumerate() {
+            dst[(b + k) * gy + i] = v;
+        }
     }
 }
 
