@@ -61,7 +61,7 @@
 //! Polonsky & Keer's constrained conjugate gradient (module `cg`), preconditioned by
 //! default with the inverse influence operator on the whole cell (Vollebregt, J. Comput.
 //! Phys. 257, 2014; module `pcg`: y = P_C M⁻¹ P_C g, M⁻¹ = 1/K̂ in Fourier space), which
-//! makes the iteration count nearly independent of the grid (17–26 per cold load step
+//! makes the iteration count nearly independent of the grid (19–28 per cold load step
 //! from 512² to 2048², against 181–808 plain); convolutions by real-to-complex FFTs with
 //! the kernel applied in place ([`strata_runtime::fft`]), the vector operations fused
 //! into the FFT's row passes, 4 points per instruction where the CPU has AVX2 (module

@@ -13,8 +13,8 @@
 //! The operator K ~ 1/|k| has its small eigenvalues at short wavelengths, where the
 //! plain iteration converges slowly (condition ~ n); M⁻¹ ~ |k| flattens the spectrum on
 //! the contact set, and the iteration count becomes nearly independent of the grid
-//! (512²: 76 → 17 per load step along a curve, 2048² under mean-pressure control:
-//! 808 → 26). Each iteration costs two convolutions, M⁻¹ and K: the update of p and u
+//! (512²: 80 → 21 per load step along a curve, 2048² under mean-pressure control:
+//! 808 → 28). Each iteration costs two convolutions, M⁻¹ and K: the update of p and u
 //! is fused into the preconditioner's product while the contact set stays put (as in the
 //! plain iteration), and a third product corrects u when it changes at more than a few
 //! points (fewer: summed in real space, [`crate::update::POINT_SUMS`]). The stopping
