@@ -40,6 +40,7 @@ pub mod tables;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;
+use strata_tablegen::fredholm::clear_upper_simd;
 
 use anyhow::{Context, Result};
 
@@ -160,13 +161,9 @@ impl Runner {
     /// Clears the upper SIMD register state on every thread that runs study code
     /// (this one, the global rayon workers and the one-thread pool).
     ///
-    /// Why: faer's parallel LU (systems above `fredholm::SEQUENTIAL_LU_MAX`) leaves
-    /// the upper halves of the AVX registers dirty on the rayon workers, and SSE code
-    /// that runs there afterwards is then several times slower (measured here: a
-    /// 13×7 table build 0.33 s in a fresh process, 1.0–1.4 s after product-integration
-    /// solves, 0.31 s again after `vzeroupper` on the workers). Clearing the state
-    /// before every timed run times each item as in a fresh process, independent of
-    /// the order of the stages.
+    /// Why: see [`clear_upper_simd`] (the Fredholm solver clears the state after its
+    /// own parallel LUs; clearing it again before every timed run times each item as in
+    /// a fresh process, whatever ran before it).
     pub fn reset_simd(&self) {
         clear_upper_simd();
         rayon::broadcast(|_| clear_upper_simd());
@@ -240,21 +237,6 @@ impl Runner {
         };
         self.log.push((stage.to_string(), case.to_string(), per));
         Ok(per)
-    }
-}
-
-/// `vzeroupper` on the calling thread when the CPU has AVX (no-op otherwise).
-pub fn clear_upper_simd() {
-    #[cfg(target_arch = "x86_64")]
-    {
-        #[target_feature(enable = "avx")]
-        fn zeroupper() {
-            core::arch::x86_64::_mm256_zeroupper();
-        }
-        if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the CPU supports AVX (checked just above).
-            unsafe { zeroupper() }
-        }
     }
 }
 
