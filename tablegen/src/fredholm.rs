@@ -369,6 +369,54 @@ mod tests {
         solve(&q, a, disc, &[&one, &sq], 0).unwrap()
     }
 
+    /// The AVX upper state in use on this thread (XINUSE bits 2 and 6, YMM_Hi128 and
+    /// ZMM_Hi256, read with XGETBV(1)); `None` where the CPU cannot report it.
+    #[cfg(target_arch = "x86_64")]
+    fn avx_upper_in_use() -> Option<u64> {
+        use core::arch::x86_64::{__cpuid_count, _xgetbv};
+        if !std::arch::is_x86_feature_detected!("xsave") {
+            return None;
+        }
+        #[allow(unused_unsafe)]
+        // SAFETY: CPUID exists on every x86_64 CPU.
+        let leaf = unsafe { __cpuid_count(0xD, 1) };
+        if leaf.eax & (1 << 2) == 0 {
+            return None;
+        }
+        #[target_feature(enable = "xsave")]
+        fn xinuse() -> u64 {
+            // SAFETY: XGETBV with ECX = 1 is supported (CPUID.(0DH, 1):EAX[2]).
+            unsafe { _xgetbv(1) }
+        }
+        // SAFETY: the CPU has XSAVE (checked above).
+        Some(unsafe { xinuse() } & ((1 << 2) | (1 << 6)))
+    }
+
+    /// After a parallel LU (n = 600 > `SEQUENTIAL_LU_MAX`) no thread of the pool that ran
+    /// it keeps the AVX upper state in use: SSE code on those threads then runs at full
+    /// speed (see `clear_upper_simd`; without the clear the workers report the state in
+    /// use and a table build on them ran 3–4× slower).
+    #[test]
+    #[cfg(target_arch = "x86_64")]
+    fn parallel_lu_leaves_the_avx_upper_state_clean() {
+        let Some(_) = avx_upper_in_use() else {
+            eprintln!("*** XGETBV(1) is not available on this CPU: the SIMD state is NOT checked");
+            return;
+        };
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        let st = stack(5.0);
+        let sol = pool.install(|| run(&st, 2e-4, Discretisation::Nystrom { nodes: 600 }));
+        assert!(sol.at_one.iter().all(|v| v.is_finite()));
+        let state = pool.broadcast(|_| avx_upper_in_use());
+        assert!(
+            state.iter().all(|s| *s == Some(0)),
+            "XINUSE bits 2 | 6 per worker after the LU: {state:?}"
+        );
+    }
+
     /// Nyström and product integration agree where both apply (a/h = 0.5, 2, 4).
     #[test]
     fn nystrom_and_product_agree() {
