@@ -40,9 +40,9 @@ pub mod tables;
 use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::Instant;
-use strata_tablegen::fredholm::clear_upper_simd;
 
 use anyhow::{Context, Result};
+use strata_tablegen::fredholm::clear_upper_simd;
 
 /// How much to measure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
