@@ -64,8 +64,9 @@
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod compliance;
+/// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).
 #[cfg(feature = "spectral")]
-pub mod fft;
+pub use strata_fft as fft;
 pub mod hash;
 pub mod interface;
 pub mod law;

@@ -1,10 +1,9 @@
 //! Spectral synthesis of self-affine random surfaces (feature `spectral`).
 
 use rand::{RngExt, SeedableRng};
-use rustfft::num_complex::Complex;
 
 use super::{Surface, SurfaceError, invalid};
-use crate::fft::RealFft2;
+use crate::fft::{Complex, RealFft2};
 
 /// Parameters of a generated self-affine surface (physics.md §5).
 #[derive(Debug, Clone, Copy, PartialEq)]
