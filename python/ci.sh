@@ -3,9 +3,12 @@
 # command (`pip install ./python`), pytest (+ SurfaceTopography for the adapter test,
 # matplotlib for the examples), then the two examples.
 #
-# Usage: python/ci.sh [--ci]
-#   --ci  CI mode: SurfaceTopography must be installed and its test must run
-#         (STRATA_REQUIRE_TOOLS=1); the examples run headless (MPLBACKEND=Agg).
+# Usage: python/ci.sh [--ci] [--venv DIR]
+#   --ci        CI mode: SurfaceTopography must be installed and its test must run
+#               (STRATA_REQUIRE_TOOLS=1); the examples run headless (MPLBACKEND=Agg).
+#   --venv DIR  use DIR, a venv made for this run without strata in it (.ci/run makes it
+#               and installs pytest, matplotlib and SurfaceTopography while cargo builds),
+#               instead of making one here.
 #
 # Build cost: maturin builds with the dev profile and the same CARGO_TARGET_DIR as
 # `cargo test` (MATURIN_PEP517_ARGS="--profile dev"). `cargo test` builds every library
@@ -25,11 +28,15 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$PWD
 CI_MODE=""
-for a in "$@"; do
-    case "$a" in
+GIVEN_VENV=""
+usage() { echo "usage: python/ci.sh [--ci] [--venv DIR]" >&2; exit 2; }
+while [ $# -gt 0 ]; do
+    case "$1" in
         --ci) CI_MODE=1 ;;
-        *) echo "usage: python/ci.sh [--ci]" >&2; exit 2 ;;
+        --venv) [ $# -ge 2 ] || usage; GIVEN_VENV=$2; shift ;;
+        *) usage ;;
     esac
+    shift
 done
 fail() { echo "python/ci.sh: ERROR: $*" >&2; exit 1; }
 PY=${PYTHON:-python3}
@@ -40,10 +47,19 @@ t0=$(date +%s)
 
 WORK=$(mktemp -d)
 trap 'rm -rf "$WORK"' EXIT
-"$PY" -m venv "$WORK/venv" || fail "cannot create a venv with $PY (install python3-venv)"
-VPY="$WORK/venv/bin/python"
-"$VPY" -m pip install --quiet --disable-pip-version-check --upgrade pip \
-    || fail "pip cannot reach PyPI"
+if [ -n "$GIVEN_VENV" ]; then
+    VPY="$GIVEN_VENV/bin/python"
+    [ -x "$VPY" ] || fail "--venv $GIVEN_VENV: no $VPY (make it with: $PY -m venv $GIVEN_VENV)"
+    # The README's install must meet a venv without strata, as a new user's.
+    if "$VPY" -m pip show --quiet strata >/dev/null 2>&1; then
+        fail "--venv $GIVEN_VENV already has strata installed: give a fresh venv"
+    fi
+else
+    "$PY" -m venv "$WORK/venv" || fail "cannot create a venv with $PY (install python3-venv)"
+    VPY="$WORK/venv/bin/python"
+    "$VPY" -m pip install --quiet --disable-pip-version-check --upgrade pip \
+        || fail "pip cannot reach PyPI"
+fi
 
 echo "== python: pip install ./python (maturin, profile $PROFILE, CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
 t1=$(date +%s)

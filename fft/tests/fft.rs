@@ -1,7 +1,7 @@
 //! The 2-D FFT helper against direct sums: the DFT, linear (padded) convolution, the fused
 //! row passes of the boundary-element solver.
 
-use strata_fft::{Complex, Fields, Merge, RealFft2, RowPasses, signed_index};
+use strata_fft::{Complex, Fields, RealFft2, RowPasses, signed_index};
 
 /// Direct O(n⁴) DFT of a real ny×nx field at (kx, ky).
 fn dft(z: &[f64], ny: usize, nx: usize, kx: usize, ky: usize) -> Complex<f64> {
