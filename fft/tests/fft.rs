@@ -1,7 +1,7 @@
 //! The 2-D FFT helper against direct sums: the DFT, linear (padded) convolution, the fused
 //! row passes of the boundary-element solver.
 
-use strata_fft::{Complex, Fields, RealFft2, RowPasses, signed_index};
+use strata_fft::{Complex, Fft2Work, Fields, RealFft2, RowPasses, signed_index};
 
 /// Direct O(n⁴) DFT of a real ny×nx field at (kx, ky).
 fn dft(z: &[f64], ny: usize, nx: usize, kx: usize, ky: usize) -> Complex<f64> {
@@ -20,6 +20,18 @@ fn field(ny: usize, nx: usize) -> Vec<f64> {
     (0..ny * nx)
         .map(|i| ((i * 37 % 11) as f64) - 3.0 + 0.1 * (i as f64).sin())
         .collect()
+}
+
+/// A test kernel (1/(1 + i) over the spectrum), the plain convolution of `z` with it
+/// (mean term `dc`), and the work buffers.
+fn plain_convolution(plan: &RealFft2, z: &[f64], dc: f64) -> (Vec<f64>, Vec<f64>, Fft2Work) {
+    let kernel: Vec<f64> = (0..plan.spectrum_len())
+        .map(|i| 1.0 / (1.0 + i as f64))
+        .collect();
+    let mut w = plan.work();
+    let mut plain = vec![0.0; z.len()];
+    plan.convolve(z, &mut plain, &kernel, dc, &mut w).unwrap();
+    (kernel, plain, w)
 }
 
 #[test]
@@ -97,12 +109,7 @@ fn fused_convolution_equals_plain_with_row_sums() {
         let plan = RealFft2::padded(grid, data).unwrap();
         let (ny, nx) = data;
         let z = field(ny, nx);
-        let kernel: Vec<f64> = (0..plan.spectrum_len())
-            .map(|i| 1.0 / (1.0 + i as f64))
-            .collect();
-        let mut w = plan.work();
-        let mut plain = vec![0.0; ny * nx];
-        plan.convolve(&z, &mut plain, &kernel, 0.5, &mut w).unwrap();
+        let (kernel, plain, mut w) = plain_convolution(&plan, &z, 0.5);
         // fill doubles the data in place and feeds it; drain writes the result.
         let mut d = z.clone();
         let mut out = vec![0.0; ny * nx];
@@ -143,12 +150,7 @@ fn gated_fields_convolution_stops_or_hands_its_value_to_the_drain() {
     let (ny, nx) = (130, 128);
     let plan = RealFft2::new(ny, nx).unwrap();
     let z = field(ny, nx);
-    let kernel: Vec<f64> = (0..plan.spectrum_len())
-        .map(|i| 1.0 / (1.0 + i as f64))
-        .collect();
-    let mut w = plan.work();
-    let mut plain = vec![0.0; ny * nx];
-    plan.convolve(&z, &mut plain, &kernel, 0.0, &mut w).unwrap();
+    let (kernel, plain, mut w) = plain_convolution(&plan, &z, 0.0);
     for go in [false, true] {
         // Three fields: the source (scaled by 3 in place), an output, a row counter.
         let (mut a, mut b, mut c) = (z.clone(), vec![0.0; ny * nx], vec![0.0; ny * nx]);
