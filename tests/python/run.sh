@@ -42,7 +42,7 @@ fail() { echo "tests/python/run.sh: ERROR: $*" >&2; exit 1; }
 
 t_start=$(date +%s)
 mkdir -p "$STRATA_PY_REF"
-rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv" "$STRATA_PY_REF/cm.csv" "$STRATA_PY_REF/free.csv"
+rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF"/{tamaas,cm,free}.{csv,log}
 if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV" || fail "cannot create a venv with $PY (install python3-venv)"
 fi
@@ -57,11 +57,24 @@ echo "python: venv ready in $((t_pip - t_start)) s ($("$VENV/bin/python" --versi
 # package-only build unifies features differently and recompiles the workspace crates).
 cargo test --workspace --test it -- --ignored --exact bem_reference::write_cross_check_surface --nocapture
 t_surf=$(date +%s)
-# Single-threaded on both sides: a fair per-core comparison on shared CI machines.
+# Each solver single-threaded (a fair per-core comparison on shared CI machines); the
+# three run side by side, each into a log of its own printed when all are done (one after
+# the other they left a core idle for ~20 s of a CI run).
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
-"$VENV/bin/python" tests/python/compare.py tamaas "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/tamaas.csv"
-"$VENV/bin/python" tests/python/compare.py cm "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/cm.csv"
-"$VENV/bin/python" tests/python/compare.py free "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF/free.csv"
+solvers=(tamaas cm free)
+pids=()
+for solver in "${solvers[@]}"; do
+    "$VENV/bin/python" tests/python/compare.py "$solver" "$STRATA_PY_REF/surface.npy" \
+        "$STRATA_PY_REF/$solver.csv" >"$STRATA_PY_REF/$solver.log" 2>&1 &
+    pids+=($!)
+done
+failed=""
+for i in "${!solvers[@]}"; do
+    solver=${solvers[$i]}
+    wait "${pids[$i]}" || failed="$failed $solver"
+    cat "$STRATA_PY_REF/$solver.log"
+done
+[ -z "$failed" ] || fail "tests/python/compare.py failed for:$failed (logs above)"
 t_py=$(date +%s)
 cargo test --workspace --test it -- --ignored bem_reference::python_ --nocapture
 t_end=$(date +%s)
