@@ -12,7 +12,7 @@
 //! (not captured) and passes; with `STRATA_REQUIRE_TOOLS=1` (CI) it fails instead.
 
 use std::ffi::{CStr, CString, c_char};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use strata_capi::*;
@@ -43,11 +43,30 @@ fn lib_dir() -> PathBuf {
     exe.parent().expect("target/<profile>/deps").to_path_buf()
 }
 
-fn tmp(name: &str) -> PathBuf {
+fn tmp(name: &str) -> Scratch {
     let d = std::env::temp_dir().join(format!("strata-capi-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    Scratch(d)
+}
+
+/// A test's temporary directory: removed when the test passes, kept for inspection
+/// when it fails.
+struct Scratch(PathBuf);
+
+impl std::ops::Deref for Scratch {
+    type Target = Path;
+    fn deref(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for Scratch {
+    fn drop(&mut self) {
+        if !std::thread::panicking() {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
 }
 
 /// The Rust side of the example: same inputs, runtime API only.
@@ -523,7 +542,7 @@ fn fortran_example_matches_c_example_bit_for_bit() {
     let exe = dir.join("law_example_f");
     let out = Command::new(&fc)
         .args(["-std=f2008", "-Wall", "-Wextra", "-pedantic", "-J"])
-        .arg(&dir)
+        .arg(&*dir)
         .arg(root.join("capi/fortran/strata.f90"))
         .arg(root.join("examples/fortran/law_example.f90"))
         .arg("-L")
@@ -836,5 +855,4 @@ fn surface_read_through_the_abi() {
     let code =
         unsafe { strata_surface_info(std::ptr::null(), &mut n, &mut n, &mut v, &mut v, &mut v) };
     assert_eq!(code, STRATA_ERR_NULL);
-    let _ = std::fs::remove_dir_all(&dir);
 }

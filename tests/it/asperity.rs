@@ -12,7 +12,7 @@ fn reference_dir() -> PathBuf {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("strata-asperity-cli-{}", std::process::id()));
+    let dir = crate::support::scratch().join("asperity-cli");
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

@@ -178,7 +178,7 @@ fn memory_limit_is_an_error_not_an_abort() {
     let e = check_against("BEM grid 16384×16384", need, (1 << 30, "test")).unwrap_err();
     assert!(e.to_string().contains("BEM grid 16384×16384"), "{e}");
     assert!(BemSolver::memory_needed(16384, 16384, false) > need);
-    let d = std::env::temp_dir().join(format!("strata-bem-mem-{}", std::process::id()));
+    let d = crate::support::scratch().join("bem-mem");
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     let scene = d.join("scene.toml");

@@ -37,7 +37,7 @@ fn die_compliance() -> f64 {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-ccx-{}-{name}", std::process::id()));
+    let d = crate::support::scratch().join(format!("ccx-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d

@@ -15,7 +15,7 @@ fn repo() -> PathBuf {
 }
 
 fn tmp_stack(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("strata-cli-{}", std::process::id()));
+    let dir = crate::support::scratch().join("cli");
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();

@@ -714,7 +714,7 @@ fn strata(args: &[&str]) -> Output {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-hard-{}-{name}", std::process::id()));
+    let d = crate::support::scratch().join(format!("hard-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d

@@ -12,7 +12,7 @@ use strata_bem::read_heights_npy;
 const N: usize = 64;
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-maps-{}-{name}", std::process::id()));
+    let d = crate::support::scratch().join(format!("maps-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

@@ -27,7 +27,7 @@ fn fixture_dir() -> PathBuf {
 }
 
 fn write_fixture() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-scene-fuzz-{}", std::process::id()));
+    let d = crate::support::scratch().join("scene-fuzz");
     std::fs::create_dir_all(&d).expect("temp dir");
     let mut text = String::new();
     for i in 0..8 {

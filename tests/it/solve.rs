@@ -12,7 +12,7 @@ fn reference_surface() -> PathBuf {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-solve-{}-{name}", std::process::id()));
+    let d = crate::support::scratch().join(format!("solve-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d

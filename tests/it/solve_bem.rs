@@ -21,7 +21,7 @@ fn reference_rows() -> Vec<Vec<f64>> {
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-solve-bem-{}-{name}", std::process::id()));
+    let d = crate::support::scratch().join(format!("solve-bem-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).unwrap();
     d

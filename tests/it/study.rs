@@ -11,7 +11,7 @@ fn root() -> PathBuf {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-study-{}-{name}", std::process::id()));
+    let d = crate::support::scratch().join(format!("study-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     d
 }

@@ -1,7 +1,8 @@
 //! Shared helpers of the integration tests: where the repository and its reference data
 //! are, and the `strata` binary.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
 /// The repository root (the `strata` package's manifest directory).
 pub fn repo() -> PathBuf {
@@ -28,7 +29,7 @@ pub fn reference(name: &str) -> PathBuf {
     p
 }
 
-/// A fresh, empty temporary directory for one test (`strata-TAG-PID`).
+/// A fresh, empty temporary directory for one test (`TAG-` below [`scratch`]).
 #[allow(dead_code)]
 pub fn temp_dir(tag: &str) -> PathBuf {
     fresh_dir(tag, "")
@@ -47,10 +48,39 @@ pub fn strata_in(cache: &std::path::Path) -> std::process::Command {
     c
 }
 
-/// A fresh temporary directory for one test.
+/// This run's scratch root, `$TMPDIR/strata-it-PID`: every test's files go below it.
+/// On first use the roots of earlier runs whose process has ended are removed (on
+/// Linux, where `/proc` tells), so the tests leave at most one run's files behind, kept
+/// for inspection until the next run (a `cargo test --workspace` wrote ~22 MB that
+/// nothing removed).
+pub fn scratch() -> &'static Path {
+    static ROOT: OnceLock<PathBuf> = OnceLock::new();
+    ROOT.get_or_init(|| {
+        let tmp = std::env::temp_dir();
+        let me = std::process::id();
+        if Path::new("/proc/self").exists() {
+            for entry in std::fs::read_dir(&tmp).into_iter().flatten().flatten() {
+                let name = entry.file_name();
+                let pid = name.to_str().and_then(|n| n.strip_prefix("strata-it-"));
+                let Some(pid) = pid.and_then(|p| p.parse::<u32>().ok()) else {
+                    continue;
+                };
+                if pid != me && !Path::new(&format!("/proc/{pid}")).exists() {
+                    let _ = std::fs::remove_dir_all(entry.path());
+                }
+            }
+        }
+        let root = tmp.join(format!("strata-it-{me}"));
+        std::fs::create_dir_all(&root)
+            .unwrap_or_else(|e| panic!("cannot create {}: {e}", root.display()));
+        root
+    })
+}
+
+/// A fresh temporary directory for one test, below [`scratch`].
 #[allow(dead_code)]
 pub fn fresh_dir(module: &str, name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("strata-{module}-{}-{name}", std::process::id()));
+    let d = scratch().join(format!("{module}-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d

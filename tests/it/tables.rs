@@ -27,7 +27,7 @@ fn reference(name: &str) -> PathBuf {
 }
 
 fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("strata-tables-{}", std::process::id()));
+    let dir = crate::support::scratch().join("tables");
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }
