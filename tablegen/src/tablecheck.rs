@@ -291,7 +291,7 @@ mod tests {
     /// is within 1e-4, asserted at the builder's probes and independently out to 30 ×
     /// the join. The 4 GPa on 12 GPa stack keeps the 20 H join with < 1e-6.
     #[test]
-    fn slow_soft_base_far_field_within_tolerance() {
+    fn soft_base_far_field_within_tolerance() {
         let soft = one_layer(10e6, 0.49, elastic(2e6, 0.3));
         let x = Axis {
             lo: 1e-2f64.ln(),
@@ -336,7 +336,7 @@ mod tests {
     /// points and the far field), every value is finite, and the far field holds out
     /// to 30 × the join against direct quadrature.
     #[test]
-    fn slow_poisson_near_minus_one() {
+    fn poisson_near_minus_one() {
         for (name, st) in [
             (
                 "-0.999 on -0.999 (1:5)",
@@ -370,7 +370,7 @@ mod tests {
     /// ≫ H) has no accurate far field within reach of the direct quadrature: the build
     /// is refused with the measured error and the tolerance, not shipped 20× off.
     #[test]
-    fn slow_far_field_out_of_reach_is_refused() {
+    fn far_field_out_of_reach_is_refused() {
         let st = one_layer(1e9, -0.999, elastic(1e9, 0.3));
         let o = BuildOptions {
             far_max: 320.0,
