@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
 # Checks strata's FFT-BEM against independent public solvers (issue 6):
-#   * Tamaas 2.9 (homogeneous half-space, equal mean gap) and
-#   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach),
+#   * Tamaas 2.9 (homogeneous half-space, equal mean gap),
+#   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach) and
+#   * ContactMechanics 1.8 FreeFFTElasticHalfSpace (the surface as an isolated,
+#     non-periodic sample on a half-space, equal approach),
 # on strata's generated paper-like surface (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm),
 # written to .npy by the ignored Rust test `write_cross_check_surface`: nothing outside the
-# repository is needed. Tolerances (tests/bem_reference.rs): 1e-4 in mean pressure,
+# repository is needed. Tolerances (tests/it/bem_reference.rs): 1e-4 in mean pressure,
 # 0.5 % in area, with loads spanning A/A0 from ≤ 1 % to ≥ 20 %.
 #
 # Usage: tests/python/run.sh [--ci] [--speed]
-#   --ci     CI mode: 256² surface and 4 loads per solver instead of 512² and 8–9
-#            (same tolerances, same A/A0 span); about 1.5 min with a fresh venv.
-#   --speed  also times one load step at n = 512 on the shared surface
-#            (../shared/reference) for Tamaas (Python) and strata (criterion bench
-#            `bem`, release build) and prints the ratio.
+#   --ci     CI mode: 256² surface and 4 loads per solver instead of 512² and 7–9
+#            (same tolerances, same A/A0 span); 15 s once the venv exists (124 s without
+#            --ci), plus ~40 s to make the venv.
+#   --speed  also times one load step at n = 512 and 2048 (mean pressure and mean gap)
+#            for Tamaas (Python) and strata (criterion bench `bem`, release build), on
+#            surfaces the bench writes, and prints the ratios.
 # Environment: PYTHON (default python3; CPython 3.11 has wheels for both packages),
 #   STRATA_PY_VENV (default target/python-venv), STRATA_PY_REF (default
 #   target/python-reference: surface.npy and the CSVs the Rust tests read).
