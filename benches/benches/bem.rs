@@ -14,7 +14,11 @@
 //!   The table also times a state pass (read and write p, u, t, r, read z: the memory
 //!   traffic any Polonsky–Keer iteration has besides its convolution) and gives
 //!   (pair + state pass) / pair, the floor of an iteration where the fields outgrow
-//!   the cache.
+//!   the cache, and the fused floor (`FusedPass`: the pair with a clean iteration's
+//!   least row work fused into its row passes) over the pair. The last column is the
+//!   preconditioned solve's time over 1.5 pairs × the plain solve's iterations: the
+//!   step time of the default solver against what a plain iteration at 1.5 pairs
+//!   would give.
 //!   All on all cores (rayon).
 //! * `bem_fft_pair/n`, `bem_iteration/n`: the same two quantities under criterion.
 //! * `bem_512`: one load step at n = 512 on the shared paper-like surface
@@ -149,6 +153,82 @@ impl StatePass {
     }
 }
 
+/// The fused floor: one convolution with a clean Polonsky–Keer iteration's row work
+/// fused into its two row passes and nothing else (no sums, no contact-set checks):
+/// the fill applies the step (p ← max(p − a t, 0), u ← u − a r) and forms the gap
+/// g = u − z + b on the set as the transform's input; the drain forms t ← g + b t and
+/// r ← q + b r from the product q. The least a fused iteration can cost (its fields move
+/// through memory once, beside the FFT's own traffic).
+struct FusedPass {
+    plan: RealFft2,
+    work: strata_runtime::fft::Fft2Work,
+    kernel: Vec<f64>,
+    fields: [Vec<f64>; 6],
+}
+
+impl FusedPass {
+    fn new(n: usize) -> Self {
+        let plan = RealFft2::new(n, n).expect("plan");
+        let work = plan.work();
+        let kernel: Vec<f64> = (0..plan.spectrum_len())
+            .map(|i| 1.0 / (1.0 + i as f64))
+            .collect();
+        let f = |s: f64| {
+            (0..n * n)
+                .map(|i| (i as f64 * s).sin())
+                .collect::<Vec<f64>>()
+        };
+        FusedPass {
+            plan,
+            work,
+            kernel,
+            fields: [f(0.1), f(0.2), f(0.3), f(0.4), f(0.5), vec![0.0; n * n]],
+        }
+    }
+
+    fn run(&mut self) {
+        use strata_runtime::fft::Fields;
+        let (a, b) = (1e-3, 0.5);
+        let [p, u, t, r, z, g] = &mut self.fields;
+        self.plan
+            .convolve_fields(
+                Fields {
+                    fields: [
+                        &mut p[..],
+                        &mut u[..],
+                        &mut t[..],
+                        &mut r[..],
+                        &mut z[..],
+                        &mut g[..],
+                    ],
+                    kernel: &self.kernel,
+                    dc: 0.0,
+                },
+                &mut self.work,
+                |_, [p, u, t, r, z, g], input: &mut [f64]| {
+                    for k in 0..input.len() {
+                        let pn = (p[k] - a * t[k]).max(0.0);
+                        let un = u[k] - a * r[k];
+                        let gn = if pn > 0.0 { un - z[k] + b } else { 0.0 };
+                        p[k] = pn;
+                        u[k] = un;
+                        g[k] = gn;
+                        input[k] = gn;
+                    }
+                },
+                |_| Some(b),
+                |&b, _, [_, _, t, r, _, g], q: &[f64]| {
+                    for k in 0..q.len() {
+                        t[k] = g[k] + b * t[k];
+                        r[k] = q[k] + b * r[k];
+                    }
+                },
+            )
+            .expect("convolve");
+        black_box(&self.fields);
+    }
+}
+
 /// The floor table's solve at n: a warm-started load step (the approach 5 µm from the
 /// solution at 4.75 µm), ready to time.
 struct Step {
@@ -220,9 +300,9 @@ fn floor_table(_c: &mut Criterion) {
         rayon::current_num_threads()
     );
     println!(
-        "| n | FFT pair (ms) | state pass (ms) | (pair + state pass) / pair | iteration (ms): plain / preconditioned | iteration / pair: plain / preconditioned | convolutions per iteration: plain / preconditioned | iterations: plain / preconditioned | CPU ratio: plain / preconditioned | load average |"
+        "| n | FFT pair (ms) | state pass (ms) | (pair + state pass) / pair | fused floor / pair | iteration (ms): plain / preconditioned | iteration / pair: plain / preconditioned | convolutions per iteration: plain / preconditioned | iterations: plain / preconditioned | CPU ratio: plain / preconditioned | preconditioned step / (1.5 pair × plain iterations) | load average |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
     // STRATA_FLOOR_GRIDS (e.g. "512,2048") limits the grids; "0" skips the table.
     let grids: Vec<usize> = std::env::var("STRATA_FLOOR_GRIDS")
         .ok()
@@ -231,10 +311,12 @@ fn floor_table(_c: &mut Criterion) {
     for n in grids.into_iter().filter(|&n| n > 0) {
         let mut pair = Pair::new(n);
         let mut state = StatePass::new(n);
+        let mut fused = FusedPass::new(n);
         let steps = [Step::new(n, false), Step::new(n, true)];
         let (rounds, pairs) = if n >= 2048 { (4, 3) } else { (8, 9) };
         let mut best_pair = f64::INFINITY;
         let mut best_state = f64::INFINITY;
+        let mut best_fused = f64::INFINITY;
         let (mut cpu_pair, mut n_pair) = (0u64, 0usize);
         // Per solver: best time per iteration, CPU ns, iterations timed, last counts.
         let mut best = [f64::INFINITY; 2];
@@ -251,6 +333,9 @@ fn floor_table(_c: &mut Criterion) {
             for _ in 0..pairs {
                 best_state = best_state.min(once(|| state.run()));
             }
+            for _ in 0..pairs {
+                best_fused = best_fused.min(once(|| fused.run()));
+            }
             for (k, step) in steps.iter().enumerate() {
                 let c1 = cpu_ns();
                 let t = once(|| counts[k] = step.run());
@@ -263,10 +348,11 @@ fn floor_table(_c: &mut Criterion) {
         let ci = |k: usize| cpu[k] as f64 / timed[k] as f64;
         let per = |k: usize| counts[k].1 as f64 / counts[k].0 as f64;
         println!(
-            "| {n} | {:.3} | {:.3} | {:.2} | {:.3} / {:.3} | {:.2} / {:.2} | {:.2} / {:.2} | {} / {} | {:.2} / {:.2} | {} |",
+            "| {n} | {:.3} | {:.3} | {:.2} | {:.2} | {:.3} / {:.3} | {:.2} / {:.2} | {:.2} / {:.2} | {} / {} | {:.2} / {:.2} | {:.2} | {} |",
             best_pair * 1e3,
             best_state * 1e3,
             (best_pair + best_state) / best_pair,
+            best_fused / best_pair,
             best[0] * 1e3,
             best[1] * 1e3,
             best[0] / best_pair,
@@ -277,6 +363,7 @@ fn floor_table(_c: &mut Criterion) {
             counts[1].0,
             ci(0) / cp,
             ci(1) / cp,
+            best[1] * counts[1].0 as f64 / (1.5 * best_pair * counts[0].0 as f64),
             load_average()
         );
     }
