@@ -131,7 +131,14 @@ pub struct Compliance {
     nu1: f64,
     /// S(0): E*₁/E*_b (elastic base) or 0 (rigid base).
     s0: f64,
+    /// The thinnest layer's thickness (m).
+    h_min: f64,
 }
+
+/// Below this ρh of the thinnest layer S(ρ) is extrapolated linearly from ρh = 2·SMALL_T
+/// (see [`Compliance::s`]): S − S(0) is linear in ρ there to a relative 1e−60, and the
+/// transfer matrices' t² terms would underflow (ρh ≲ 1e−154 gave NaN).
+const SMALL_T: f64 = 1e-60;
 
 impl Compliance {
     /// Precomputes the constants of `stack`.
@@ -161,11 +168,13 @@ impl Compliance {
                     / crate::stack::plane_strain_modulus(young, poisson)
             }
         };
+        let h_min = ls.iter().map(|l| l.thickness).fold(f64::INFINITY, f64::min);
         Compliance {
             layers,
             base_nu,
             nu1,
             s0,
+            h_min,
         }
     }
 
@@ -185,6 +194,12 @@ impl Compliance {
         }
         if rho.is_infinite() {
             return 1.0;
+        }
+        if rho * self.h_min < SMALL_T {
+            // S(ρ) = S(0) + S′(0)ρ + O(ρ²) (O(ρ³) beside a small linear term on a
+            // nearly incompressible layer over a rigid base): the slope from ρ₁.
+            let r1 = 2.0 * SMALL_T / self.h_min; // ρ₁h ≈ 2·SMALL_T: no second pass here
+            return self.s0 + (self.s(r1) - self.s0) * (rho / r1);
         }
         let n = self.layers.len();
         // Impedance at the bottom of the current layer, in units of that layer's μ.
@@ -356,6 +371,46 @@ mod tests {
             }
             assert_eq!(single_layer_on_rigid(0.0, nu), 0.0);
             assert_eq!(c.s(0.0), 0.0);
+        }
+    }
+
+    /// ρh down to the smallest f64 (5e−324): finite, on the closed form of a layer on a
+    /// rigid base (relative 1e−12, ν from 0 to 0.4999), and on S(0) over an elastic base.
+    /// Before, every ρh ≲ 1e−154 gave NaN (the transfer matrices' t² underflowed).
+    #[test]
+    fn tiny_rho_h_stays_on_the_closed_form() {
+        let h = 2e-6;
+        for nu in [0.0, 0.15, 0.3, 0.49, 0.4999] {
+            let c = Compliance::new(&Stack::new(vec![layer(h, 4e9, nu)], Base::Rigid).unwrap());
+            for t in [1e-20, 1e-59, 1e-61, 1e-100, 1e-170, 1e-250, 1e-300, 1e-310] {
+                let (got, want) = (c.s(t / h), single_layer_on_rigid(t, nu));
+                assert!(
+                    got.is_finite() && ((got - want) / want).abs() < 1e-12,
+                    "ν {nu}, ρh {t:e}: {got:e} vs {want:e}"
+                );
+            }
+            let got = c.s(5e-324);
+            assert!(
+                (0.0..1e-300).contains(&got),
+                "ν {nu}: {got:e}"
+            );
+            assert_eq!(c.kz(1e-170 / h), -1.0);
+        }
+        let s = Stack::new(
+            vec![layer(h, 4e9, 0.15), layer(1e-3, 4e11, 0.3)],
+            Base::Elastic {
+                young: 4e7,
+                poisson: 0.45,
+            },
+        )
+        .unwrap();
+        let c = Compliance::new(&s);
+        for rho in [1e-100, 1e-200, 1e-300, 5e-324] {
+            let v = c.s(rho);
+            assert!(
+                v.is_finite() && ((v - c.s_at_zero()) / c.s_at_zero()).abs() < 1e-15,
+                "{rho:e}: {v:e}"
+            );
         }
     }
 

@@ -115,7 +115,7 @@ fn export(a: ExportArgs) -> Result<()> {
             a.out.display()
         );
     }
-    let surface = scene.load_surface().context("surface")?;
+    let surface = crate::engine::load_surface(&scene, true).context("surface")?;
     crate::engine::surface_report(&surface, false);
     let source = match &scene.surface.source {
         SurfaceSource::File(p) => format!("file {}", p.display()),
@@ -124,6 +124,11 @@ fn export(a: ExportArgs) -> Result<()> {
             g.size, g.grid, g.fractal_dimension, g.k_min, g.k_max, g.rms, g.seed
         ),
     };
+    if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| {
+            format!("--out {}: cannot create {}", a.out.display(), dir.display())
+        })?;
+    }
     if kind == "x3p" {
         let comment = format!(
             "exported by strata from scene {} ({source}); periodic = {}",
@@ -175,7 +180,7 @@ fn info(a: InfoArgs) -> Result<()> {
         }
         let scene =
             Scene::from_file(&a.file).with_context(|| format!("scene {}", a.file.display()))?;
-        scene.load_surface().context("surface")?
+        crate::engine::load_surface(&scene, true).context("surface")?
     } else {
         let spacing = match (&a.size, &a.pixel_size) {
             (Some(_), Some(_)) => bail!("give either --size or --pixel-size, not both"),

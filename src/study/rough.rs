@@ -236,7 +236,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     let set = Settings::for_mode(runner.mode);
     let scene = Scene::from_file(&inputs.scene)
         .with_context(|| format!("--scene {}", inputs.scene.display()))?;
-    let surface = scene.load_surface().context("scene surface")?;
+    let surface = crate::engine::load_surface(&scene, true).context("scene surface")?;
     if !surface.is_periodic() {
         bail!("--scene: the study's BEM needs a periodic surface");
     }

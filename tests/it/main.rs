@@ -15,6 +15,7 @@ mod compliance_cli;
 mod compliance_hard_cases;
 mod compliance_second_method;
 mod errors;
+mod field_inputs;
 mod fuzz_solvers;
 mod hard_cases;
 mod law;

@@ -172,20 +172,28 @@ fn build_above_tolerance_refused() {
         assert!(!err.contains("panicked"), "{err}");
         assert!(!out.exists(), "a refused table must not be written");
     }
-    let o = strata(
-        &[
-            "table",
-            "build",
-            stack.to_str().unwrap(),
-            "--out",
-            tmp("never.strata").to_str().unwrap(),
-            "--tol",
-            "0",
-        ],
-        &[],
-    );
-    let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success() && err.contains("--tol"), "{err}");
+    // 0, and above 1 (a table stating a relative tolerance of 1e30 passed any check).
+    for tol in ["0", "1e30", "nan"] {
+        let never = tmp("never.strata");
+        let o = strata(
+            &[
+                "table",
+                "build",
+                stack.to_str().unwrap(),
+                "--out",
+                never.to_str().unwrap(),
+                "--tol",
+                tol,
+            ],
+            &[],
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(
+            o.status.code() == Some(1) && err.contains("--tol must be in (0, 1]"),
+            "{tol}: {err}"
+        );
+        assert!(!never.exists());
+    }
 }
 
 /// Bad table files and bad arguments: clear errors, no panic.

@@ -91,6 +91,16 @@ pub enum NewtonError {
     },
     #[error("I model: non-finite value in the {0}")]
     NonFinite(&'static str),
+    #[error(
+        "I model: no asperity in contact at δ = {delta:e} m although summits are loaded by up to \
+         {interference:e} m (no such equilibrium exists): interferences of that size on summit \
+         radii up to {radius:e} m leave the model's numerical range"
+    )]
+    NoContact {
+        delta: f64,
+        interference: f64,
+        radius: f64,
+    },
     #[error("I model: the Jacobian of the stationarity system is singular at δ = {delta:e} m")]
     Singular { delta: f64 },
 }

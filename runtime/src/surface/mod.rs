@@ -56,9 +56,11 @@ use thiserror::Error;
 pub enum SurfaceError {
     #[error("cannot read surface file {path}: {message}")]
     Io { path: String, message: String },
+    #[error("cannot write surface file {path}: {message}")]
+    Write { path: String, message: String },
     #[error("surface file {path}: {message}")]
     Format { path: String, message: String },
-    #[error("surface: field `{field}` = {value} is invalid: {reason}")]
+    #[error("surface: field `{field}` = {} is invalid: {reason}", shown(*value))]
     Invalid {
         field: &'static str,
         value: f64,
@@ -164,6 +166,16 @@ pub struct Surface {
     warnings: Vec<String>,
 }
 
+/// A value as a person reads it: plain between 1e−4 and 1e15, else in exponent form
+/// (never 300 digits).
+fn shown(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e15).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 fn invalid(field: &'static str, value: f64, reason: &'static str) -> SurfaceError {
     SurfaceError::Invalid {
         field,
@@ -212,7 +224,7 @@ impl Surface {
                 value: z[k],
             });
         }
-        Ok(Surface {
+        let s = Surface {
             z,
             n0,
             n1,
@@ -222,7 +234,26 @@ impl Surface {
             repaired: 0,
             log: Vec::new(),
             warnings: Vec::new(),
-        })
+        };
+        // Finite heights whose statistics overflow (|z| ~ 1e300 m, or a pixel of 1e−300 m)
+        // would reach the models as RMS = inf and give contradictory curves: refused here,
+        // for every solver and command alike.
+        if !s.rms().is_finite() {
+            let top = s.z.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            return Err(invalid(
+                "heights",
+                top,
+                "the largest |height| (m) is too large: the RMS height overflows; heights are in metres",
+            ));
+        }
+        if !s.rms_slope().is_finite() {
+            return Err(invalid(
+                "pixel_size",
+                dx.min(dy),
+                "the RMS slope overflows: the pixel (m) is too small for these heights; lengths are in metres",
+            ));
+        }
+        Ok(s)
     }
 
     /// Checks (or repairs, with [`Repair::Median`]) measured heights: non-finite values

@@ -214,7 +214,7 @@ impl Surface {
     #[cfg(feature = "npy")]
     pub fn write_npy(&self, path: &Path) -> Result<(), SurfaceError> {
         let p = path.display().to_string();
-        let io = |e: std::io::Error| SurfaceError::Io {
+        let io = |e: std::io::Error| SurfaceError::Write {
             path: p.clone(),
             message: e.to_string(),
         };

@@ -322,6 +322,17 @@ impl<'r, 'a> Problem<'r, 'a> {
         if amax > geo.a_valid {
             return Ok(Err(amax));
         }
+        if amax <= 0.0 {
+            // The most loaded summit would have F_k(0⁺) = −δ_k < 0 with no contact
+            // anywhere: a "solution" without contact is numerical breakdown (found with
+            // a 1e−100 m RMS surface and a 1e50 m approach), never a result.
+            return Err(NewtonError::NoContact {
+                delta,
+                interference: scale,
+                radius: geo.radius.iter().copied().fold(0.0, f64::max),
+            }
+            .into());
+        }
         // Stiffness: J da/dδ = 2·1 on the active set; dP/dδ = (4/3)E* Σ Q'_k da_k/dδ.
         let act: Vec<usize> = (0..n).filter(|&p| a[p] > 0.0).collect();
         let dadd = newton.rates(&a, &act, delta)?;

@@ -81,6 +81,14 @@ impl Surface {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &z| {
                 (a.min(z), b.max(z))
             });
+        let top = lo.abs().max(hi.abs());
+        if t == DataType::F && top > f32::MAX as f64 {
+            return Err(SurfaceError::Unsupported(format!(
+                "heights up to {top:e} m do not fit the .x3p data type F (float32, up to {:e}); \
+                 write them as D (float64)",
+                f32::MAX
+            )));
+        }
         let vmax = match t {
             DataType::I => Some(i16::MAX as f64),
             DataType::L => Some(i32::MAX as f64),
@@ -204,7 +212,7 @@ impl Surface {
     /// Writes this surface as an ISO 25178-72 `.x3p` file (module docs), atomically.
     pub fn write_x3p(&self, path: &Path, opts: &X3pWriteOptions) -> Result<(), SurfaceError> {
         let bytes = self.to_x3p_bytes(opts)?;
-        crate::output::write_atomic(path, &bytes).map_err(|e| SurfaceError::Io {
+        crate::output::write_atomic(path, &bytes).map_err(|e| SurfaceError::Write {
             path: path.display().to_string(),
             message: e.to_string(),
         })
