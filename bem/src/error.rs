@@ -56,14 +56,21 @@ pub enum BemError {
     },
     #[error("the solution became non-finite at iteration {0} (ill-posed load or stack?)")]
     NonFinite(usize),
+    /// The message includes the limit's; no `source` (a chain would print it twice).
     #[error("BEM: {0}")]
-    Memory(#[from] ResourceError),
+    Memory(ResourceError),
     #[error("BEM: internal FFT error: {0}")]
     Fft(String),
     #[error("cannot read {path}: {message}")]
     Read { path: String, message: String },
     #[error("cannot write {path}: {message}")]
     Write { path: String, message: String },
+}
+
+impl From<ResourceError> for BemError {
+    fn from(e: ResourceError) -> Self {
+        BemError::Memory(e)
+    }
 }
 
 impl From<strata_runtime::fft::FftError> for BemError {

@@ -390,10 +390,7 @@ mod tests {
                 );
             }
             let got = c.s(5e-324);
-            assert!(
-                (0.0..1e-300).contains(&got),
-                "ν {nu}: {got:e}"
-            );
+            assert!((0.0..1e-300).contains(&got), "ν {nu}: {got:e}");
             assert_eq!(c.kz(1e-170 / h), -1.0);
         }
         let s = Stack::new(

@@ -87,10 +87,17 @@ pub enum InterfaceError {
         "gap = {gap:e} m is below the sampled range (smallest separation {min_gap:e} m): rebuild the law with a smaller min_gap"
     )]
     BelowSampledRange { gap: f64, min_gap: f64 },
+    /// The message includes the solver's; no `source` (a chain would print it twice).
     #[error("solving the load curve: {0}")]
-    Rough(#[from] RoughError),
-    #[error("{0}")]
+    Rough(RoughError),
+    #[error(transparent)]
     Resource(#[from] ResourceError),
+}
+
+impl From<RoughError> for InterfaceError {
+    fn from(e: RoughError) -> Self {
+        InterfaceError::Rough(e)
+    }
 }
 
 /// Which samples [`InterfaceLaw::sample`] solves: `samples` separations evenly from

@@ -102,8 +102,9 @@ pub enum TableError {
     Corrupt(String),
     #[error("table is inconsistent: {0}")]
     Invalid(String),
+    /// The message includes the stack's; no `source` (a chain would print it twice).
     #[error("table stack is invalid: {0}")]
-    Stack(#[from] StackError),
+    Stack(StackError),
     #[error("stack is not served by this table: {0}")]
     NotInFamily(String),
     #[error("{what} = {value} is outside the table range [{lo}, {hi}]")]
@@ -113,6 +114,12 @@ pub enum TableError {
         lo: f64,
         hi: f64,
     },
+}
+
+impl From<StackError> for TableError {
+    fn from(e: StackError) -> Self {
+        TableError::Stack(e)
+    }
 }
 
 /// Which modulus varies along a family axis.

@@ -338,6 +338,10 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
     let machine_start = machine::Machine::detect();
     let mut runner = Runner::new(mode)?;
     let mut errors = Errors::default();
+    // Every input file first: a bad --table or --scene fails before the first stage.
+    strata_runtime::table::Table::load(&inputs.table)
+        .with_context(|| format!("--table {}", inputs.table.display()))?;
+    rough::inputs(inputs)?;
     let stage = |name: &str| crate::progress::log(format!("study ({}): {name} …", mode.name()));
     stage("Fredholm solver");
     let fredholm = fredholm::run(&mut runner, &mut errors).context("Fredholm stage")?;

@@ -232,8 +232,10 @@ fn bem_curve(
     ))
 }
 
-pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<Results> {
-    let set = Settings::for_mode(runner.mode);
+/// The stage's inputs, read and checked: the scene, its (periodic) surface, and the table
+/// that serves its stack (the scene's, else `--table`). [`super::run`] calls it before
+/// the first stage, so that a bad `--scene` fails at once, not after minutes of work.
+pub fn inputs(inputs: &Inputs) -> Result<(Scene, Surface, std::path::PathBuf, Table)> {
     let scene = Scene::from_file(&inputs.scene)
         .with_context(|| format!("--scene {}", inputs.scene.display()))?;
     let surface = crate::engine::load_surface(&scene, true).context("scene surface")?;
@@ -242,6 +244,15 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     }
     let table_path = scene.table.clone().unwrap_or_else(|| inputs.table.clone());
     let table = Table::load(&table_path).with_context(|| table_path.display().to_string())?;
+    table
+        .law_for(&scene.stack)
+        .with_context(|| format!("{} does not serve the scene's stack", table_path.display()))?;
+    Ok((scene, surface, table_path, table))
+}
+
+pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<Results> {
+    let set = Settings::for_mode(runner.mode);
+    let (scene, surface, table_path, table) = self::inputs(inputs)?;
     let law = table
         .law_for(&scene.stack)
         .with_context(|| format!("{} does not serve the scene's stack", table_path.display()))?;

@@ -108,7 +108,7 @@ fn heights_and_pixels_whose_statistics_overflow_are_refused_by_name() {
 /// a 1e−100 m RMS surface (summit radii ~1e91 m) at approaches of µm, and an approach of
 /// 1e50 m. With positive interference no equilibrium without contact exists (the most
 /// loaded summit would have F_k(0⁺) = −δ_k < 0): refused by name, nothing written. The
-/// same scenes at ordinary scales solve.
+/// same scenes at ordinary scales solve. Through `law` the message appears once.
 #[test]
 fn interacting_model_refuses_a_contactless_equilibrium() {
     let d = dir("contactless");
@@ -143,6 +143,20 @@ fn interacting_model_refuses_a_contactless_equilibrium() {
             "{what}: {e}"
         );
         assert!(!out.join("curve.csv").exists(), "{what}: nothing written");
+        // Through `law` the solver's message is printed once (it was printed twice:
+        // the wrapper's text and its `source`).
+        let law = d.join("law.csv");
+        let (code, e) = run(
+            &d,
+            &["law", sc.to_str().unwrap(), "--out", law.to_str().unwrap()],
+        );
+        assert_eq!(code, Some(1), "{what}: {e}");
+        assert_eq!(
+            e.matches("no asperity in contact").count(),
+            1,
+            "{what}: {e}"
+        );
+        assert!(!law.exists(), "{what}: nothing written");
     }
     let sc = scene(
         &d,

@@ -187,5 +187,40 @@ fn bad_arguments_are_refused() {
     );
     let o = study(&["--tiny", "--quick", "--out", out.to_str().unwrap()]);
     assert!(!o.status.success());
+    // A bad --table or a scene the rough stage refuses (non-periodic) fails before the
+    // first stage (it failed after ~33 s of Fredholm and table work).
+    let flat = out.join("flat.toml");
+    let text = std::fs::read_to_string(root().join("scenes/paper-E2E1-1-interacting.toml"))
+        .unwrap()
+        .replace("periodic = true", "periodic = false")
+        .replace("file = \"../", &format!("file = \"{}/", root().display()))
+        .replace("table = \"../", &format!("table = \"{}/", root().display()));
+    assert!(text.contains("periodic = false"), "{text}");
+    std::fs::write(&flat, text).unwrap();
+    for (flag, value, expect) in [
+        ("--table", root().join("README.md"), "not a strata table"),
+        ("--scene", flat, "periodic"),
+    ] {
+        let mut c = Command::new(env!("CARGO_BIN_EXE_strata"));
+        c.args(["study", "--tiny", "--out"]).arg(out.join("early"));
+        c.arg("--scene").arg(if flag == "--scene" {
+            value.clone()
+        } else {
+            root().join("scenes/paper-E2E1-1-interacting.toml")
+        });
+        c.arg("--table").arg(if flag == "--table" {
+            value.clone()
+        } else {
+            root().join("tables/paper-two-layer.strata")
+        });
+        let o = c.output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{flag}: {err}");
+        assert!(err.contains(expect), "{flag}: {err}");
+        assert!(
+            !err.contains("Fredholm solver"),
+            "{flag}: before any stage: {err}"
+        );
+    }
     let _ = std::fs::remove_dir_all(&out);
 }

@@ -88,8 +88,15 @@ pub enum SurfaceError {
         "surface: cannot repair row {row}, column {col} (0-based): none of its neighbours is valid"
     )]
     Unrepairable { row: usize, col: usize },
+    /// The message includes the limit's; no `source` (a chain would print it twice).
     #[error("surface: {0}")]
-    Resources(#[from] crate::resources::ResourceError),
+    Resources(crate::resources::ResourceError),
+}
+
+impl From<crate::resources::ResourceError> for SurfaceError {
+    fn from(e: crate::resources::ResourceError) -> Self {
+        SurfaceError::Resources(e)
+    }
 }
 
 /// Spike limit in robust standard deviations of the neighbour differences (see the
