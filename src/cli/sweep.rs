@@ -33,7 +33,7 @@
 mod plots;
 pub mod spec;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::csv_out::{self, num};
@@ -523,6 +523,21 @@ fn merge(a: MergeArgs) -> Result<()> {
     }
     if let Some(f) = found.iter().find(|f| f.index == 0 || f.index > n) {
         bail!("merge: {}: shard index out of 1..={n}", f.csv.display());
+    }
+    // Writing over an input would destroy a shard the merge is reading.
+    let same = |p: &Path| match (p.canonicalize(), a.out.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    };
+    if let Some(f) = found
+        .iter()
+        .find(|f| same(&f.csv) || same(&f.csv.with_extension("json")))
+    {
+        bail!(
+            "--out {}: is the shard {} this merge reads; write the merged table elsewhere",
+            a.out.display(),
+            f.csv.display()
+        );
     }
     let mut fingerprint: Option<(String, PathBuf)> = None;
     let mut head: Option<Vec<String>> = None;

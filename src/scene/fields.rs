@@ -238,6 +238,11 @@ pub(super) fn existing_file(
     };
     Err(SceneError::MissingFile {
         field,
+        what: if p.is_dir() {
+            "a directory, not a file:"
+        } else {
+            "no such file"
+        },
         value: value.to_string(),
         resolved: p.display().to_string(),
         dir: shown,

@@ -77,10 +77,12 @@ pub enum SceneError {
     #[error(transparent)]
     Surface(#[from] SurfaceError),
     #[error(
-        "{field} = \"{value}\": no such file {resolved} (paths in a scene are relative to the scene's directory, {dir}){hint}"
+        "{field} = \"{value}\": {what} {resolved} (paths in a scene are relative to the scene's directory, {dir}){hint}"
     )]
     MissingFile {
         field: &'static str,
+        /// "no such file", or "a directory, not a file:".
+        what: &'static str,
         value: String,
         resolved: String,
         dir: String,

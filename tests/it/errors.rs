@@ -125,6 +125,16 @@ fn files_are_named_and_relative_paths_explained() {
             )),
         "{e}"
     );
+    // A directory where a file is expected says so (it said "no such file").
+    let folder = scene("f.toml", "stacks");
+    let e = error_line(&d, &["solve", &s(&folder), "--out", &s(&d.join("o"))]);
+    assert!(
+        e.contains(&format!(
+            "stack.file = \"stacks\": a directory, not a file: {}",
+            d.join("stacks").display()
+        )),
+        "{e}"
+    );
     // Sweeps name the sweep file and the base scene.
     let sw = d.join("sweep.toml");
     std::fs::write(&sw, "scene = \"s.toml\"\n[sweep]\nsurface.seed = [1, 2]\n").unwrap();

@@ -231,6 +231,19 @@ fn shards_merge_to_the_unsharded_csv() {
     // the merged file is not overwritten without --force
     let e = fails(&strata(&["sweep", "merge", s(&sh), "--out", s(&merged)]));
     assert!(e.contains("--force"), "{e}");
+    // nor, even with --force, a shard it reads (the next merge then failed: 40 rows)
+    let first = sh.join("shard-1-of-2.csv");
+    let before = std::fs::read(&first).unwrap();
+    let e = fails(&strata(&[
+        "sweep",
+        "merge",
+        s(&sh),
+        "--out",
+        s(&first),
+        "--force",
+    ]));
+    assert!(e.contains("is the shard"), "{e}");
+    assert_eq!(std::fs::read(&first).unwrap(), before);
 }
 
 /// Merge refuses a missing shard, a duplicate (copied) shard, shards of another sweep
