@@ -291,3 +291,57 @@ fn compliance_at_vanishing_rho_h_is_the_limit() {
     assert_eq!(kz[..2], [-1.0, -1.0], "{out}");
     assert!(kz[2] > -1.0 && kz[2] < -0.99, "{out}");
 }
+
+/// A `.npy` file (format 1.0) with the given header dict and payload.
+fn write_npy(path: &Path, dict: &str, payload: &[u8]) {
+    let mut header = dict.to_string();
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+    bytes.extend_from_slice(&(header.len() as u16).to_le_bytes());
+    bytes.extend_from_slice(header.as_bytes());
+    bytes.extend_from_slice(payload);
+    std::fs::write(path, bytes).unwrap();
+}
+
+/// Bad `.npy` files give one plain line: a 1-D array (the message showed Rust's
+/// `Some(2)`), a header that is not a dict (the parser's multi-line excerpt with a caret).
+#[test]
+fn bad_npy_files_give_one_plain_line() {
+    let d = dir("npy");
+    let data: Vec<u8> = (0..16).flat_map(|i| (i as f64).to_le_bytes()).collect();
+    let one_d = d.join("oned.npy");
+    write_npy(
+        &one_d,
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (16,), }",
+        &data,
+    );
+    let garbage = d.join("garbage.npy");
+    write_npy(&garbage, "garbage", &data);
+    let good = d.join("good.npy");
+    write_npy(
+        &good,
+        "{'descr': '<f8', 'fortran_order': False, 'shape': (4, 4), }",
+        &data,
+    );
+    for (f, expect) in [
+        (&one_d, "expected a 2-D array, found 1 dimension(s)"),
+        (&garbage, "not a valid .npy file: error parsing header"),
+    ] {
+        let (code, e) = run(
+            &d,
+            &["surface", "info", f.to_str().unwrap(), "--size", "1e-3"],
+        );
+        assert_eq!(code, Some(1), "{e}");
+        assert_eq!(e.trim_end().lines().count(), 1, "{e}");
+        assert!(e.contains(expect), "{e}");
+        assert!(!e.contains("Some(") && !e.contains("-->"), "{e}");
+    }
+    let (code, e) = run(
+        &d,
+        &["surface", "info", good.to_str().unwrap(), "--size", "1e-3"],
+    );
+    assert_eq!(code, Some(0), "the same writer, a valid file: {e}");
+}

@@ -346,13 +346,20 @@ fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     })?;
     let arr = Array2::<f64>::read_npy(std::io::BufReader::new(file)).map_err(|e| {
         let message = match e {
-            ReadNpyError::WrongNdim(exp, got) => format!(
-                "wrong shape: expected a 2-D array, found {got} dimension(s) (expected {exp:?})"
-            ),
+            ReadNpyError::WrongNdim(_, got) => {
+                format!("wrong shape: expected a 2-D array, found {got} dimension(s)")
+            }
             ReadNpyError::WrongDescriptor(d) => {
                 format!("wrong dtype: expected little-endian float64 ('<f8'), found {d}")
             }
-            other => format!("not a valid .npy file: {other}"),
+            // One line: the header parser's message spans several (source excerpt, caret).
+            other => {
+                let text = other.to_string();
+                let first = text.lines().next().unwrap_or("");
+                let first = first.split(" -->").next().unwrap_or(first);
+                let first = first.trim_end().trim_end_matches(':');
+                format!("not a valid .npy file: {first}")
+            }
         };
         SurfaceError::Format { path: p, message }
     })?;
