@@ -87,6 +87,12 @@ pub enum InterfaceError {
         "gap = {gap:e} m is below the sampled range (smallest separation {min_gap:e} m): rebuild the law with a smaller min_gap"
     )]
     BelowSampledRange { gap: f64, min_gap: f64 },
+    #[error(
+        "the sampled curve reaches A/A₀ = {area} > 1 at g = {gap:e} m (the summed contact \
+         areas exceed the nominal area: outside the asperity models' validity); end the law at a \
+         larger separation (min_gap, --min-gap)"
+    )]
+    AreaAboveNominal { gap: f64, area: f64 },
     /// The message includes the solver's; no `source` (a chain would print it twice).
     #[error("solving the load curve: {0}")]
     Rough(RoughError),
@@ -214,6 +220,9 @@ impl InterfaceLaw {
         let p: Vec<f64> = steps.iter().map(|s| s.mean_pressure).collect();
         let k: Vec<f64> = steps.iter().map(|s| s.stiffness / rc.area()).collect();
         let a: Vec<f64> = steps.iter().map(|s| s.area_fraction).collect();
+        if let Some((i, &area)) = a.iter().enumerate().find(|(_, a)| **a > 1.0) {
+            return Err(InterfaceError::AreaAboveNominal { gap: gaps[i], area });
+        }
         Self::from_samples(&gaps, &p, &k, &a)
     }
 

@@ -345,3 +345,30 @@ fn bad_npy_files_give_one_plain_line() {
     );
     assert_eq!(code, Some(0), "the same writer, a valid file: {e}");
 }
+
+/// `law --min-gap` deep enough that the summed contact areas exceed the nominal area
+/// (A/A₀ > 1, outside the asperity models' validity): said so, with the separation and
+/// what to do (it said `samples: area_fraction[25] = 1.02…: must lie in [0, 1]`); a
+/// shallower one writes the law.
+#[test]
+fn law_past_full_contact_says_why() {
+    let d = dir("law-full");
+    let sc = scene(
+        &d,
+        &format!("{GENERATED_64}rms = 3.4e-6"),
+        "independent",
+        "approach = { from = 1e-6, to = 2e-6, steps = 2 }",
+    );
+    let out = d.join("law.csv");
+    let (s, o) = (sc.to_str().unwrap(), out.to_str().unwrap());
+    let (code, e) = run(&d, &["law", s, "--out", o, "--min-gap=-1e-3"]);
+    assert_eq!(code, Some(1), "{e}");
+    assert!(
+        e.contains("reaches A/A₀ = 1.") && e.contains("> 1 at g = -") && e.contains("--min-gap"),
+        "{e}"
+    );
+    assert!(!out.exists());
+    let (code, e) = run(&d, &["law", s, "--out", o, "--min-gap=-2e-5"]);
+    assert_eq!(code, Some(0), "{e}");
+    assert!(out.exists());
+}
