@@ -314,13 +314,13 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
     let _ = writeln!(w, "## 4. Rough contact\n");
     let _ = writeln!(
         w,
-        "The paper scene's surface (generated, 512², L = 1 mm, k = 2…10, RMS 3.4 µm; \
-         {} summits) on E₂/E₁ = 1. N and I models on the 512² summits with the scene's \
-         table; FFT-BEM on the surface resampled spectrally to n² (exact for this \
+        "The surface of {} ({} summits) on the scene's stack. N and I models on these \
+         summits with the scene's table; FFT-BEM on the surface resampled spectrally to n² (exact for this \
          band-limited surface), grids {{{}}}, tolerances {{{}}}. Reference: the BEM at n = {} \
          and the default tolerance {:.0e}{}. {} load steps at separations g_n (m) = {}. \
          p error = max over steps of |p_n/p_n,ref − 1|; same for A/A₀. Time per load curve \
          from the surface (summits or BEM kernel) to the last step. Floor {:.0e}.\n",
+        r.surface,
         r.summits,
         list(r.settings.grids.iter().map(|x| x.to_string())),
         list(r.settings.tolerances.iter().map(|x| format!("{x:.0e}"))),
@@ -329,7 +329,7 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
         if study.mode == super::Mode::Full {
             ""
         } else {
-            " (the full study uses n = 512, the scene's own grid; `--quick` stops at 256 to stay within its time budget)"
+            " (the full study's largest grid is 512; `--quick` stops at 256 to stay within its time budget)"
         },
         r.separations.len(),
         list(r.separations.iter().map(|g| format!("{g:.3e}"))),

@@ -137,6 +137,8 @@ impl FarRow {
 
 pub struct Results {
     pub settings: Settings,
+    /// The scene's surface as the report describes it (file, grid, sides, RMS).
+    pub surface: String,
     pub summits: usize,
     pub separations: Vec<f64>,
     pub rows: Vec<Row>,
@@ -403,8 +405,15 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
             timing,
         });
     }
+    let (n0, n1) = surface.shape();
+    let (lx, ly) = surface.extent();
     Ok(Results {
         settings: set,
+        surface: format!(
+            "scene {}: {n0}×{n1} points, {lx:.3e} × {ly:.3e} m, RMS {:.2e} m",
+            inputs.scene.display(),
+            surface.rms()
+        ),
         summits,
         separations,
         rows,
