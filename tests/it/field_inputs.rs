@@ -295,7 +295,7 @@ fn compliance_at_vanishing_rho_h_is_the_limit() {
 /// A `.npy` file (format 1.0) with the given header dict and payload.
 fn write_npy(path: &Path, dict: &str, payload: &[u8]) {
     let mut header = dict.to_string();
-    while (10 + header.len() + 1) % 64 != 0 {
+    while !(10 + header.len() + 1).is_multiple_of(64) {
         header.push(' ');
     }
     header.push('\n');
