@@ -109,7 +109,7 @@ pub fn run(a: Args) -> Result<()> {
     for &d in &deltas {
         if let Some(law) = &approx {
             let (ca, force) = super::table::approx_paraboloid(law, d, a.radius)
-                .with_context(|| format!("solving delta = {d} m"))?;
+                .with_context(|| format!("solving delta = {d:e} m"))?;
             if a.profile.is_some() && ca > 0.0 {
                 for i in 0..=60 {
                     let r = 3.0 * ca * i as f64 / 60.0;
@@ -125,7 +125,7 @@ pub fn run(a: Args) -> Result<()> {
         };
         let s = solver
             .paraboloid_at_delta(d, a.radius)
-            .with_context(|| format!("solving delta = {d} m"))?;
+            .with_context(|| format!("solving delta = {d:e} m"))?;
         if a.profile.is_some() && s.a > 0.0 {
             let r: Vec<f64> = (0..=60).map(|i| 3.0 * s.a * i as f64 / 60.0).collect();
             let p = s.pressure(&r);

@@ -60,8 +60,9 @@ pub struct Args {
     /// keeps at most 200 table lines).
     #[arg(long, default_value_t = 200)]
     pub samples: usize,
-    /// Smallest separation g (m) (default: the smallest one the scene's load reaches).
-    #[arg(long)]
+    /// Smallest separation g (m) (default: the smallest one the scene's load reaches);
+    /// negative below the mean plane (`--min-gap -1e-6` or `--min-gap=-1e-6`).
+    #[arg(long, allow_hyphen_values = true)]
     pub min_gap: Option<f64>,
     /// Overwrite existing output files.
     #[arg(long)]

@@ -201,36 +201,28 @@ fn surface_export_refuses_float32_overflow_creates_its_directory_and_honours_the
         "independent",
         "approach = { from = 1e39, to = 2e39, steps = 2 }",
     );
-    let s = sc.to_str().unwrap();
+    let export = |out: &Path, dtype: &str| {
+        let o = out.to_str().unwrap();
+        run(
+            &d,
+            &[
+                "surface",
+                "export",
+                sc.to_str().unwrap(),
+                "--out",
+                o,
+                "--dtype",
+                dtype,
+            ],
+        )
+    };
     let f = d.join("f.x3p");
-    let (code, e) = run(
-        &d,
-        &[
-            "surface",
-            "export",
-            s,
-            "--out",
-            f.to_str().unwrap(),
-            "--dtype",
-            "F",
-        ],
-    );
+    let (code, e) = export(&f, "F");
     assert_eq!(code, Some(1), "{e}");
     assert!(e.contains("float32") && e.contains("as D"), "{e}");
     assert!(!f.exists(), "nothing written");
     let nested = d.join("new/sub/d.x3p");
-    let (code, e) = run(
-        &d,
-        &[
-            "surface",
-            "export",
-            s,
-            "--out",
-            nested.to_str().unwrap(),
-            "--dtype",
-            "D",
-        ],
-    );
+    let (code, e) = export(&nested, "D");
     assert_eq!(code, Some(0), "{e}");
     assert!(nested.exists());
     let generated = scene(
@@ -368,7 +360,8 @@ fn law_past_full_contact_says_why() {
         "{e}"
     );
     assert!(!out.exists());
-    let (code, e) = run(&d, &["law", s, "--out", o, "--min-gap=-2e-5"]);
+    // Without `=`: a negative value is a value, not a flag (clap took it for one).
+    let (code, e) = run(&d, &["law", s, "--out", o, "--min-gap", "-2e-5"]);
     assert_eq!(code, Some(0), "{e}");
     assert!(out.exists());
 }
