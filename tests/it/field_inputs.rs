@@ -42,6 +42,12 @@ fn scene(d: &Path, surface: &str, model: &str, load: &str) -> PathBuf {
     p
 }
 
+/// `strata solve SCENE --out OUT --no-plots` in `d`.
+fn solve(d: &Path, scene: &Path, out: &Path) -> (Option<i32>, String) {
+    let (s, o) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    run(d, &["solve", s, "--out", o, "--no-plots"])
+}
+
 const GENERATED_64: &str = "[surface.generate]\nsize = 1e-3\ngrid = 64\nfractal_dimension = 2.4\n\
                             k_min = 2\nk_max = 10\nseed = 20240611\n";
 
@@ -76,16 +82,7 @@ fn heights_and_pixels_whose_statistics_overflow_are_refused_by_name() {
             "approach = { from = 1e-8, to = 2e-6, steps = 4 }",
         );
         let out = d.join(format!("out-{model}"));
-        let (code, e) = run(
-            &d,
-            &[
-                "solve",
-                sc.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-                "--no-plots",
-            ],
-        );
+        let (code, e) = solve(&d, &sc, &out);
         assert_eq!(code, Some(1), "{model}: {e}");
         assert!(e.contains("`heights`"), "{model}: {e}");
         assert!(!out.join("curve.csv").exists(), "{model}: nothing written");
@@ -126,17 +123,8 @@ fn interacting_model_refuses_a_contactless_equilibrium() {
     ] {
         let sc = scene(&d, &surface, "interacting", load);
         let out = d.join("out");
-        let (code, e) = run(
-            &d,
-            &[
-                "solve",
-                sc.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-                "--no-plots",
-                "--force",
-            ],
-        );
+        let _ = std::fs::remove_dir_all(&out);
+        let (code, e) = solve(&d, &sc, &out);
         assert_eq!(code, Some(1), "{what}: {e}");
         assert!(
             e.contains("no asperity in contact") && e.contains("numerical range"),
@@ -165,16 +153,7 @@ fn interacting_model_refuses_a_contactless_equilibrium() {
         "approach = { from = 1.3e-6, to = 9.8e-6, steps = 3 }",
     );
     let out = d.join("ok");
-    let (code, e) = run(
-        &d,
-        &[
-            "solve",
-            sc.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--no-plots",
-        ],
-    );
+    let (code, e) = solve(&d, &sc, &out);
     assert_eq!(code, Some(0), "{e}");
     let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
     let loads: Vec<f64> = csv
