@@ -535,6 +535,7 @@ impl Table {
             e_star: stack.top_plane_strain_modulus(),
             h1,
             k0,
+            point_force: crate::law::PointForce::of_stack(stack),
             far: self.far_field(stack, k0),
             rigid: matches!(stack.base(), Base::Rigid),
             x: h.x,
@@ -553,6 +554,8 @@ pub struct TableLaw {
     e_star: f64,
     h1: f64,
     k0: f64,
+    /// S(0), S′(0), k₂ of the stack (periodic image sums).
+    point_force: crate::law::PointForce,
     /// Far field of g beyond the tabulated range (r − a > h₁ sinh²(w_max)).
     far: far::FarField,
     rigid: bool,
@@ -735,6 +738,9 @@ impl AsperityLaw for TableLaw {
     }
     fn g(&self, a: f64, r: f64) -> f64 {
         self.g_value(a, r)
+    }
+    fn point_force(&self) -> crate::law::PointForce {
+        self.point_force
     }
     fn chi_zeta_derivs(&self, a: f64) -> (f64, f64, f64, f64) {
         self.chi_zeta_with_derivs(a)

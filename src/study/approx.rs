@@ -103,6 +103,7 @@ impl Results {
 struct Direct<'a> {
     ap: &'a Approx,
     e_star: f64,
+    point_force: law::PointForce,
 }
 
 impl AsperityLaw for Direct<'_> {
@@ -117,6 +118,9 @@ impl AsperityLaw for Direct<'_> {
     }
     fn g(&self, _a: f64, _r: f64) -> f64 {
         f64::NAN
+    }
+    fn point_force(&self) -> law::PointForce {
+        self.point_force
     }
 }
 
@@ -144,7 +148,11 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
         })?;
         let a_max = set.a_over_h.iter().copied().fold(0.0, f64::max) * H1;
         let ap = Approx::with_cache(&stack, 2.0 * a_max);
-        let direct = Direct { ap: &ap, e_star };
+        let direct = Direct {
+            ap: &ap,
+            e_star,
+            point_force: law::PointForce::of_stack(&stack),
+        };
         let full = Asperity::new(
             &stack,
             Options {

@@ -37,3 +37,4 @@ mod sweep;
 mod table_fuzz;
 mod tables;
 mod x3p;
+mod zero_mean_images;

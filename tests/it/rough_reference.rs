@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Mutex;
 
-use strata_runtime::law::AsperityLaw;
+use strata_runtime::law::{AsperityLaw, PointForce};
 use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::Surface;
 use strata_runtime::{Compliance, Stack};
@@ -72,6 +72,7 @@ fn factorial(n: usize) -> f64 {
 /// with power series in a when a·ρ_cut ≤ 2.5 (exact to round-off there), else direct sums.
 struct QuadLaw {
     e_star: f64,
+    point_force: PointForce,
     rho: Vec<f64>,
     /// w_i · k_z(ρ_i)
     wk: Vec<f64>,
@@ -149,6 +150,7 @@ impl QuadLaw {
             .collect();
         QuadLaw {
             e_star: stack.top_plane_strain_modulus(),
+            point_force: PointForce::of_stack(stack),
             rho,
             wk,
             rho_cut,
@@ -246,6 +248,9 @@ impl AsperityLaw for QuadLaw {
         let zeta = (1.0 + k * aa) * chi;
         let dzeta = k * da * chi + (1.0 + k * aa) * dchi;
         (chi, dchi, zeta, dzeta)
+    }
+    fn point_force(&self) -> PointForce {
+        self.point_force
     }
     fn g(&self, a: f64, r: f64) -> f64 {
         if self.series(a) {

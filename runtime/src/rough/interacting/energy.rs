@@ -5,6 +5,7 @@
 use super::far_field::{FarModel, NB, Vb, bracket, dot};
 use super::images::Prepared;
 use super::near::GridWork;
+use super::uniform::ZeroMean;
 use crate::law::AsperityLaw;
 use crate::rough::local::Local;
 
@@ -118,6 +119,9 @@ pub(crate) struct State {
     /// Σ of the near self images G_k(r) and ∂G_k(r)/∂a_k.
     pub self_g: Vec<f64>,
     pub self_h: Vec<f64>,
+    /// Σ_{l≠k} Q_l V(x_l − x_k): the others' share of the zero-mean correction
+    /// ([`ZeroMean`]; empty without one).
+    pub uni: Vec<f64>,
     /// F (NaN where a = 0).
     pub f: Vec<f64>,
     /// Scratch: active local indices.
@@ -140,6 +144,8 @@ fn refill<T: Clone>(v: &mut Vec<T>, n: usize, x: T) {
 pub(crate) struct Energy<'p> {
     pub law: &'p dyn AsperityLaw,
     pub geo: &'p Prepared,
+    /// The zero-mean correction of periodic images on an elastic base.
+    pub zero_mean: Option<&'p ZeroMean>,
     pub deltas: &'p [f64],
     /// Relative step of the differences of g in a.
     pub h_g: f64,
@@ -253,6 +259,14 @@ impl Energy<'_> {
                 }
             }
         }
+        if let Some(zm) = self.zero_mean {
+            let w: Vec<f64> = (0..n).map(|l| st.loc[l].q).collect();
+            refill(&mut st.uni, n, 0.0);
+            zm.apply(&geo.pos, &w, &mut st.uni);
+            for (u, wl) in st.uni.iter_mut().zip(&w) {
+                *u -= wl * zm.v0;
+            }
+        }
         refill(&mut st.f, n, f64::NAN);
         for i in 0..st.act.len() {
             let p = st.act[i];
@@ -279,6 +293,12 @@ impl Energy<'_> {
     ) -> (f64, f64) {
         let mut d = st.d_other[p] + near.0;
         let mut e = near.2 + lp.q * near.1;
+        if let Some(zm) = self.zero_mean {
+            // Σ_l Q_l V_pl, p's own images included; symmetric, so E gains Q'_p times it
+            let u = st.uni[p] + lp.q * zm.v0;
+            d += u;
+            e += lp.dq * u;
+        }
         if self.far().is_some() {
             let nkk = &self.geo.self_far;
             let mut u = st.u_other[p];
@@ -380,6 +400,18 @@ impl Energy<'_> {
             let (dp, dq) = (st.loc[p].dq, st.loc[q].dq);
             jm[iq * ma + ip] += hp + dp * hq / dq;
             jm[ip * ma + iq] += hq + dq * hp / dp;
+        }
+        if let Some(zm) = self.zero_mean {
+            // ∂(2 Σ_l Q_l V_kl)/∂a_l
+            for (ii, &k) in act.iter().enumerate() {
+                let pk = geo.pos[k];
+                for (jj, &l) in act.iter().enumerate() {
+                    if l != k {
+                        let pl = geo.pos[l];
+                        jm[ii * ma + jj] += 2.0 * zm.value(pl.0 - pk.0, pl.1 - pk.1) * st.loc[l].dq;
+                    }
+                }
+            }
         }
         for (ii, &p) in act.iter().enumerate() {
             jm[ii * ma + ii] = self.diagonal(st, p);

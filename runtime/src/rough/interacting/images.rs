@@ -18,6 +18,8 @@ pub(crate) struct Prepared {
     pub cand: Vec<usize>,
     /// Radius R of each local index (m).
     pub radius: Vec<f64>,
+    /// Position (x, y) of each local index (m).
+    pub pos: Vec<(f64, f64)>,
     pub far: Option<FarModel>,
     /// N_kl,j = Σ_far images c_j(r), the Chebyshev coefficients of Σ_far images W(·, r)
     /// (1/m; m×m row-major, symmetric; the diagonal holds the far self-images); empty
@@ -95,6 +97,7 @@ impl Prepared {
                     let near_of = near_of(n, &near);
                     return Ok(Prepared {
                         radius: cand.iter().map(|&k| summits[k].radius).collect(),
+                        pos: cand.iter().map(|&k| (summits[k].x, summits[k].y)).collect(),
                         cand,
                         a_valid: f.a_max,
                         far,
@@ -158,6 +161,7 @@ impl Prepared {
         let a_valid = far.as_ref().map_or(f64::INFINITY, |f| f.a_max);
         Ok(Prepared {
             radius: cand.iter().map(|&k| summits[k].radius).collect(),
+            pos: cand.iter().map(|&k| (summits[k].x, summits[k].y)).collect(),
             cand,
             far,
             nf,

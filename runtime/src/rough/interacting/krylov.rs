@@ -139,6 +139,18 @@ impl<'s, 'e, 'p> Operator<'s, 'e, 'p> {
             out[iq] += (hp + dp * hq / dq) * v[ip];
             out[ip] += (hq + dq * hp / dp) * v[iq];
         }
+        if let Some(zm) = self.en.zero_mean {
+            // 2 Σ_{l≠k} V_kl Q'_l v_l (the diagonal's share is in J_kk)
+            self.od.iter_mut().for_each(|x| *x = 0.0);
+            for (ii, &l) in self.act.iter().enumerate() {
+                self.od[l] = self.dq[ii] * v[ii];
+            }
+            let w = self.od.clone();
+            zm.apply(&geo.pos, &w, &mut self.od);
+            for (ii, &k) in self.act.iter().enumerate() {
+                out[ii] += 2.0 * (self.od[k] - w[k] * zm.v0);
+            }
+        }
         true
     }
 }

@@ -84,6 +84,7 @@ pub(crate) mod newton;
 pub(crate) mod path;
 #[cfg(all(test, feature = "spectral"))]
 mod scale_tests;
+pub(crate) mod uniform;
 
 use std::time::Instant;
 
@@ -91,6 +92,7 @@ use energy::{Energy, State};
 use far_field::FarModel;
 use images::{Prepared, Sums};
 use newton::{Newton, Search};
+use uniform::ZeroMean;
 
 use super::{
     Diagnostics, FarFieldError, FarFieldInfo, Images, NewtonError, RoughContact, RoughError, Step,
@@ -104,6 +106,10 @@ pub(crate) struct Problem<'r, 'a> {
     rc: &'r RoughContact<'a>,
     images: Images,
     geo: Prepared,
+    /// The uniform mode removed from the periodic image sums on an elastic base
+    /// (physics.md §6.4; None: isolated, a rigid base, or not asked for by
+    /// [`Params::zero_mean_images`](crate::rough::Params::zero_mean_images)).
+    zero_mean: Option<ZeroMean>,
     /// Far-field models built so far (rebuilds with a larger bound included).
     builds: usize,
 }
@@ -126,9 +132,23 @@ impl<'r, 'a> Problem<'r, 'a> {
                 .unwrap_or(0.0);
             amax = amax.max(a).max(warm.get(k).copied().unwrap_or(0.0));
         }
+        let zero_mean = match images {
+            Images::Periodic(m) if rc.params.zero_mean_images => {
+                let pf = rc.law.point_force();
+                let zm = ZeroMean::build(pf, rc.extent, m);
+                if zm.is_none() && pf.s0 > 0.0 {
+                    return Err(RoughError::NonFinite(
+                        "I model: the periodic images' zero-mean correction (no interpolant met its tolerance)",
+                    ));
+                }
+                zm
+            }
+            _ => None,
+        };
         let mut p = Problem {
             rc,
             images,
+            zero_mean,
             geo: Prepared::new(
                 &rc.summits,
                 rc.extent,
@@ -181,6 +201,7 @@ impl<'r, 'a> Problem<'r, 'a> {
         Energy {
             law: self.rc.law,
             geo: &self.geo,
+            zero_mean: self.zero_mean.as_ref(),
             deltas,
             h_g: self.rc.params.g_difference_step,
             h_jac: self.rc.params.jacobian_difference_step,
