@@ -259,6 +259,40 @@ fn bad_target(flag: &'static str, shown: &str, reason: &'static str) -> OutputSe
     }
 }
 
+/// Where an output at `abs` is written: through a symbolic link to its target (a link
+/// is never replaced: `--out /dev/stdout` or a link into another directory writes where
+/// it points), refusing a dangling link and anything but a regular file or directory (a
+/// device, FIFO or socket, e.g. `/dev/full` or `/proc/self/fd/1`: strata replaces
+/// outputs by renaming, which would replace the node itself).
+fn resolve_output(
+    flag: &'static str,
+    shown: &str,
+    abs: PathBuf,
+) -> Result<PathBuf, OutputSetError> {
+    let Ok(meta) = fs::symlink_metadata(&abs) else {
+        return Ok(abs);
+    };
+    let target = if meta.file_type().is_symlink() {
+        abs.canonicalize().map_err(|_| {
+            bad_target(
+                flag,
+                shown,
+                "is a symbolic link whose target does not exist (strata writes through links and never replaces them)",
+            )
+        })?
+    } else {
+        abs
+    };
+    match fs::metadata(&target) {
+        Ok(m) if !(m.file_type().is_file() || m.file_type().is_dir()) => Err(bad_target(
+            flag,
+            shown,
+            "is a device, FIFO or socket: strata writes regular files and directories only",
+        )),
+        _ => Ok(target),
+    }
+}
+
 impl OutputSet {
     fn io(&self, action: impl Into<String>) -> impl FnOnce(std::io::Error) -> OutputSetError {
         io_error(self.flag, &self.shown, &action.into())
@@ -271,6 +305,7 @@ impl OutputSet {
         let io = |action: &str| io_error(flag, &shown, action);
         let bad = |reason| bad_target(flag, &shown, reason);
         let abs = std::path::absolute(target).map_err(io("resolving the path"))?;
+        let abs = resolve_output(flag, &shown, abs)?;
         if let (Ok(cwd), Ok(t)) = (
             std::env::current_dir().and_then(|c| c.canonicalize()),
             abs.canonicalize(),
@@ -349,6 +384,7 @@ impl OutputSet {
         let mut names = Vec::new();
         for p in paths {
             let abs = std::path::absolute(p).map_err(io("resolving the path"))?;
+            let abs = resolve_output(flag, &shown, abs)?;
             let name = abs
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
@@ -624,6 +660,79 @@ mod tests {
 
     /// A directory set replaces the previous set as a whole: stale files go, the
     /// user's own files stay, nothing is left beside the target.
+    /// Devices and FIFOs are refused and left as they are (issue 37: `law --out /dev/full
+    /// --force` as root replaced the device node by a regular file); a symlinked output
+    /// file or directory is written through, the link kept; a dangling link is refused.
+    #[test]
+    fn links_are_written_through_and_devices_refused() {
+        let root = tmp("links");
+        fs::create_dir_all(&root).unwrap();
+        // a character device
+        for force in [false, true] {
+            let e = OutputSet::file("--out", Path::new("/dev/null"), force)
+                .err()
+                .expect("refused");
+            assert!(e.to_string().contains("device, FIFO or socket"), "{e}");
+        }
+        assert!(!fs::metadata("/dev/null").unwrap().file_type().is_file());
+        // a FIFO
+        let fifo = root.join("fifo");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let e = OutputSet::file("--out", &fifo, true)
+                .err()
+                .expect("refused");
+            assert!(e.to_string().contains("device, FIFO or socket"), "{e}");
+            use std::os::unix::fs::FileTypeExt;
+            assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+        }
+        // a link to a file in another directory
+        let other = root.join("other");
+        fs::create_dir_all(&other).unwrap();
+        fs::write(other.join("law.csv"), b"old").unwrap();
+        let link = root.join("law.csv");
+        std::os::unix::fs::symlink(other.join("law.csv"), &link).unwrap();
+        let set = OutputSet::file("--out", &link, true).unwrap();
+        set.write("law.csv", b"new").unwrap();
+        set.commit().unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(other.join("law.csv")).unwrap(), b"new");
+        // a link to a directory
+        let target = root.join("target-dir");
+        fs::create_dir_all(&target).unwrap();
+        let dlink = root.join("out-link");
+        std::os::unix::fs::symlink(&target, &dlink).unwrap();
+        let set = OutputSet::dir("--out", &dlink, true).unwrap();
+        set.write("curve.csv", b"x").unwrap();
+        set.commit().unwrap();
+        assert!(
+            fs::symlink_metadata(&dlink)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(target.join("curve.csv")).unwrap(), b"x");
+        // a dangling link
+        let dangling = root.join("dangling");
+        std::os::unix::fs::symlink(root.join("missing/nowhere"), &dangling).unwrap();
+        let e = OutputSet::dir("--out", &dangling, true)
+            .err()
+            .expect("refused");
+        assert!(e.to_string().contains("does not exist"), "{e}");
+        assert!(
+            fs::symlink_metadata(&dangling)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        fs::remove_dir_all(&root).ok();
+    }
+
     #[test]
     fn directory_set_replaces_the_previous_one() {
         let d = tmp("dir");
