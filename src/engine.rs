@@ -36,6 +36,21 @@ pub struct EngineOptions {
     /// A table already in memory for a layered stack, used before `stack.table` and
     /// the cache (the Python package passes its `Table` objects this way).
     pub table: Option<std::sync::Arc<Table>>,
+    /// Approach-controlled asperity models: when a step fails, return the steps solved
+    /// before it with [`SceneSolution::failed`] set (the CLI's `solve` writes them as a
+    /// partial curve) instead of an error.
+    pub keep_partial: bool,
+}
+
+/// The step at which a load path stopped ([`EngineOptions::keep_partial`]).
+#[derive(Debug, Clone)]
+pub struct StepFailure {
+    /// Index of the failing step (= the number of steps solved before it).
+    pub step: usize,
+    /// Its approach δ (m).
+    pub delta: f64,
+    /// Why it failed.
+    pub error: String,
 }
 
 /// Receives the BEM maps as they are solved: `(step, number of steps, solution)`.
@@ -52,6 +67,8 @@ pub struct SceneSolution {
     pub meta: serde_json::Value,
     /// Wall time of the solve, without table building (s).
     pub seconds: f64,
+    /// Set when the path stopped early (only with [`EngineOptions::keep_partial`]).
+    pub failed: Option<StepFailure>,
 }
 
 macro_rules! log {
@@ -271,6 +288,7 @@ pub fn solve_surface_with_maps(
     log!(quiet, "simulating: {effects}; {layered}");
     // Any approach δ ≥ 0 is admissible for the asperity models: steps beyond their
     // validity are solved, logged and flagged in curve.json.
+    let mut failed = None;
     let steps: Vec<Step> = match scene
         .load
         .approaches(rc.top_to_mean(), f64::INFINITY)
@@ -280,7 +298,18 @@ pub fn solve_surface_with_maps(
             let _spin = (!quiet).then(|| {
                 progress::spinner(format!("{}: {} load steps", model_short(model), d.len()))
             });
-            rc.curve(model, &d)?
+            let (steps, stop) = rc.curve_partial(model, &d);
+            if let Some((i, e)) = stop {
+                if !opts.keep_partial || steps.is_empty() {
+                    return Err(e.into());
+                }
+                failed = Some(StepFailure {
+                    step: i,
+                    delta: d[i],
+                    error: e.to_string(),
+                });
+            }
+            steps
         }
         None => {
             let LoadSpec::MeanPressures(ps) = &scene.load else {
@@ -344,10 +373,18 @@ pub fn solve_surface_with_maps(
         "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",
                   "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
     });
+    let mut meta = meta;
+    if let Some(f) = &failed {
+        meta["partial"] = serde_json::json!({
+            "failed_step": f.step, "delta": f.delta, "error": f.error,
+            "note": "the path stopped at this step: the steps before it are written",
+        });
+    }
     Ok(SceneSolution {
         steps,
         meta,
         seconds,
+        failed,
     })
 }
 
@@ -556,6 +593,7 @@ fn solve_bem(
         steps,
         meta,
         seconds,
+        failed: None,
     })
 }
 

@@ -23,7 +23,7 @@ pub trait AsperityLaw: Send + Sync {
     fn g(&self, a: f64, r: f64) -> f64;
     /// The small-ρ expansion of the solid's compliance S(ρ) (the far field of a point
     /// force and the plane integral of the rest): fixes the uniform mode of periodic
-    /// loads (physics.md §6.4).
+    /// loads (physics.md §5).
     fn point_force(&self) -> PointForce;
     /// True when χ ≡ ζ ≡ 1 and g ≡ 0, so callers may skip lookups.
     fn is_homogeneous(&self) -> bool {

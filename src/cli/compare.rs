@@ -354,8 +354,10 @@ fn step_table(c: &Compared) -> String {
 fn report(c: &Compared, heading: &str) -> String {
     format!(
         "{heading} {}\n\nScene `{}`: {}; I model: {}; E*₁ = {:.6e} Pa.\n\
-         Differences to the BEM: pressure at equal separation g_n, area at equal mean \
-         pressure p_n (log–log interpolation). Wall times: one run each, without surface \
+         Differences to the BEM: pressure at equal separation g_n (the flat's height above \
+         the mean plane: the same in every model, although δ is measured from the highest \
+         summit in the N and I models and from the highest grid point in the BEM), area at \
+         equal mean pressure p_n (log–log interpolation). Wall times: one run each, without surface \
          generation and table loading.\n\n{}\n{}",
         c.label,
         c.scene_path.display(),

@@ -33,7 +33,7 @@ use crate::csv_out;
 use crate::output_set::OutputSet;
 use crate::progress;
 use crate::scene::{MapsSpec, Scene, SurfaceSpec};
-use anyhow::{Context, Result};
+use anyhow::{Context, Result, bail};
 use strata_bem::BemSolution;
 use strata_runtime::rough::Step;
 
@@ -96,6 +96,7 @@ pub fn run(a: Args) -> Result<()> {
     let set = OutputSet::dir("--out", &a.out, a.force)?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
+        keep_partial: true,
         ..Default::default()
     };
     let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots, &scene.surface);
@@ -104,6 +105,17 @@ pub fn run(a: Args) -> Result<()> {
     maps.finish()?;
     write_outputs(&set, a.no_plots, &sol.steps, sol.meta)?;
     set.commit()?;
+    if let Some(f) = &sol.failed {
+        bail!(
+            "scene {}: load step {} (δ = {:e} m) failed: {}; the {} steps before it were written to {} as a partial curve (curve.json: \"partial\")",
+            a.scene.display(),
+            f.step,
+            f.delta,
+            f.error,
+            f.step,
+            a.out.display()
+        );
+    }
     progress::log(format!(
         "wrote {} steps to {} in {:.3} s",
         sol.steps.len(),

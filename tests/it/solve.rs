@@ -178,17 +178,21 @@ fn bad_scenes_name_the_field() {
 }
 
 /// Issue 19.1 through the command: separations below the deepest valley (δ > z_M −
-/// z_min) are solved by the I model, logged as outside the model's validity and flagged
-/// per step in curve.json; the first step (inside the surface) is valid.
+/// z_min) are solved by the I model on an isolated sample, logged as outside the model's
+/// validity and flagged per step in curve.json; the first step is inside the surface.
+/// With periodic images (the mean displacement removed, as the BEM does) the
+/// contacts there cover the cell: that step is refused with the BEM advice, exit 1, and
+/// the step before it is written as a partial curve (issue 39).
 #[test]
 fn separations_below_the_valley_are_solved_and_flagged() {
     let dir = tmp("deep");
-    let sc = scene(&dir, "interacting", |t| {
+    let deep = |t: String| {
         t.replace(
             "separations = [9e-6, 7e-6, 5e-6, 3e-6]",
             "separations = [3e-6, -2e-5]",
         )
-    });
+    };
+    let sc = scene(&dir, "interacting\"\nimages = \"isolated", deep);
     let out = dir.join("out");
     let o = solve(&sc, &out, &["--no-plots"]);
     let err = String::from_utf8_lossy(&o.stderr);
@@ -201,10 +205,33 @@ fn separations_below_the_valley_are_solved_and_flagged() {
         serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).expect("json"))
             .expect("valid json");
     let steps = json["steps"].as_array().expect("steps");
-    assert_eq!(steps[0]["validity"]["valid"], true);
+    // (step 0: two contact circles overlap on the isolated sample, nothing else)
+    assert_eq!(steps[0]["validity"]["beyond_deepest_valley"], false);
+    assert_eq!(steps[0]["validity"]["below_mean_plane"], false);
     assert_eq!(steps[1]["validity"]["beyond_deepest_valley"], true);
     assert_eq!(steps[1]["validity"]["below_mean_plane"], true);
     assert!(steps[1]["kkt_residual"].as_f64().expect("kkt") < 1e-8);
     assert!(steps[1]["load"].as_f64().expect("load") > steps[0]["load"].as_f64().expect("load"));
+    assert!(json.get("partial").is_none());
+
+    // periodic images: refused at step 1, step 0 kept
+    let sc = scene(&dir, "interacting", deep);
+    let out = dir.join("out-periodic");
+    let o = solve(&sc, &out, &["--no-plots"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("load step 1")
+            && err.contains("model.kind = \"bem\"")
+            && err.contains("partial curve"),
+        "{err}"
+    );
+    let csv = std::fs::read_to_string(out.join("curve.csv")).expect("partial curve.csv");
+    assert_eq!(csv.lines().count(), 2, "{csv}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).expect("json"))
+            .expect("valid json");
+    assert_eq!(json["partial"]["failed_step"], 1);
+    assert_eq!(json["steps"].as_array().expect("steps").len(), 1);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -173,7 +173,8 @@ impl InterfaceLaw {
         }
         s.push_str(&format!(
             "** Convention: overclosure h = g0 - g (m), g = separation of the mean planes (P26),\n\
-             **   g0 = z_M - zbar = {} m = separation at first contact (highest summit touching).\n\
+             **   g0 = z_M - zbar = {} m = separation at first contact (z_M: highest summit in\n\
+             **   the N and I models, highest grid point in the BEM; g means the same in both).\n\
              **   h = 0 is first contact; place the FE surfaces so that zero FE overclosure means\n\
              **   mean planes g0 apart. pressure = mean (nominal) contact pressure p = P/A0 (Pa).\n\
              ** Units: SI (Pa, m). Use a consistent unit system (scale both columns otherwise).\n\

@@ -103,6 +103,13 @@ pub enum NewtonError {
     },
     #[error("I model: the Jacobian of the stationarity system is singular at δ = {delta:e} m")]
     Singular { delta: f64 },
+    #[error(
+        "I model: at δ = {delta:e} m a contact radius passes {cap:e} m, half the periodic cell: the \
+         contacts cover the sample and the asperity models do not hold there (with the mean \
+         displacement removed, as the BEM removes it, their energy has no minimum); use \
+         model.kind = \"bem\" for this load"
+    )]
+    CoversCell { delta: f64, cap: f64 },
 }
 
 /// The pressure-controlled driver.

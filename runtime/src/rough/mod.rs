@@ -302,7 +302,20 @@ impl<'a> RoughContact<'a> {
 
     /// Interference δ_k = ⟨δ − (z_M − z_k)⟩ of summit k at approach δ (m), eq. (P20).
     fn interference(&self, k: usize, delta: f64) -> f64 {
-        (delta - (self.z_max - self.summits[k].z)).max(0.0)
+        self.signed_interference(k, delta).max(0.0)
+    }
+
+    /// δ − (z_M − z_k) (m): negative below the rigid plane.
+    fn signed_interference(&self, k: usize, delta: f64) -> f64 {
+        delta - (self.z_max - self.summits[k].z)
+    }
+
+    /// The summits that may touch at approach δ (m) when the surface between contacts
+    /// may rise by up to `lift` (m): δ − (z_M − z_k) > −lift (lift 0: the loaded ones).
+    fn candidates(&self, delta: f64, lift: f64) -> Vec<usize> {
+        (0..self.summits.len())
+            .filter(|&k| self.signed_interference(k, delta) > -lift)
+            .collect()
     }
 
     /// The step at approach δ from the contact radii of every summit (m): load (P24),
@@ -375,6 +388,27 @@ impl<'a> RoughContact<'a> {
             Model::Independent => deltas.iter().map(|&d| self.solve_independent(d)).collect(),
             Model::Interacting(images) => interacting::path::curve(self, images, deltas),
         }
+    }
+
+    /// [`curve`](Self::curve) keeping what was solved: the steps before the first that
+    /// failed, and that step's index and error (None when the whole path was solved).
+    pub fn curve_partial(
+        &self,
+        model: Model,
+        deltas: &[f64],
+    ) -> (Vec<Step>, Option<(usize, RoughError)>) {
+        let mut out = Vec::with_capacity(deltas.len());
+        let res = match model {
+            Model::Independent => deltas.iter().try_for_each(|&d| {
+                out.push(self.solve_independent(d)?);
+                Ok(())
+            }),
+            Model::Interacting(images) => {
+                interacting::path::curve_into(self, images, deltas, &mut out)
+            }
+        };
+        let failed = res.err().map(|e| (out.len(), e));
+        (out, failed)
     }
 
     /// Finds the approach giving mean pressure `target` (Pa) by safeguarded Newton on δ

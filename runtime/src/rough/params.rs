@@ -15,12 +15,13 @@ pub struct Params {
     /// r ≈ 5A, 1.5e-5 at every r ≥ 1.1A).
     pub far_field_tolerance: f64,
     /// Periodic images on an elastic base: remove the uniform mode of the image sums as
-    /// the periodic BEM does (physics.md §6.4, `rough::interacting::uniform`), so that
-    /// the I model's pressure converges as the image block grows and δ is the
-    /// mean-plane approach. Rigid bases are unaffected (their sums converge). Default
-    /// false while the I model's energy with it is checked on soft bases, where it is
-    /// not bounded below once contacts are comparable to their spacing
-    /// (docs/validation.md, "Periodic images on elastic bases").
+    /// the periodic BEM does (physics.md §5, `rough::interacting::uniform`), so that the
+    /// I model's pressure converges as the image block grows and δ is the mean-plane
+    /// approach; summits below the rigid plane become candidates (the surface between
+    /// contacts rises) and a contact radius past half the cell is refused
+    /// ([`NewtonError::CoversCell`](crate::rough::NewtonError::CoversCell)). Rigid
+    /// bases are unaffected (their sums converge). Default true; false gives the raw
+    /// image sums of earlier releases, which depend on the block's size.
     pub zero_mean_images: bool,
     /// Bound A of the far-field model as a multiple of the largest N-model (or warm
     /// start) contact radius of the solve (interactions shrink contacts). Default 1.2.
@@ -98,7 +99,7 @@ impl Default for Params {
     fn default() -> Self {
         Params {
             far_field_tolerance: 3e-5,
-            zero_mean_images: false,
+            zero_mean_images: true,
             far_field_bound_factor: 1.2,
             dense_pair_limit: 1500,
             far_field_rebuilds: 3,

@@ -39,6 +39,9 @@ pub(crate) struct Prepared {
     pub self_far: Vb,
     /// The grid far field and near corrections (None: the dense sums `nf`).
     pub fast: Option<FastSums>,
+    /// The dense sums skip the rows of candidates with δ_k at or below this (m): 0
+    /// (not loaded), −∞ with the zero-mean images (every candidate may touch).
+    pub rows_from: f64,
 }
 
 /// How the far-field pair sums are held: chosen by [`Prepared::new`].
@@ -108,6 +111,7 @@ impl Prepared {
                         far_pairs,
                         self_far,
                         fast: Some(fast),
+                        rows_from: 0.0,
                     });
                 }
                 Ok(None) => {}
@@ -172,13 +176,14 @@ impl Prepared {
             far_pairs,
             self_far,
             fast: None,
+            rows_from: 0.0,
         })
     }
 
     /// The far pair sums at every candidate k: `out_d[k] = Σ_{l≠k} N_kl·src[l]` and
     /// `out_u[k] = Σ_{l≠k} N_kl sc[l]` (the self images excluded: they go through
     /// `self_far`), by the grid or the dense N_kl. `src[l]` must be zero where
-    /// `sc[l]` is. The dense sums skip (zero) the rows with `deltas[k]` ≤ 0 (not
+    /// `sc[l]` is. The dense sums skip (zero) the rows with `deltas[k]` ≤ `rows_from` (not
     /// loaded). Only with a far model. `sources_only`: the grid sums may leave the
     /// outputs of non-sources (sc = 0) at zero (Jacobian–vector products).
     #[allow(clippy::too_many_arguments)]
@@ -203,7 +208,7 @@ impl Prepared {
             let row = &self.nf[k * n..(k + 1) * n];
             let mut d = 0.0;
             let mut u = [0.0; NB];
-            if deltas[k] <= 0.0 {
+            if deltas[k] <= self.rows_from {
                 out_d[k] = d;
                 out_u[k] = u;
                 continue;

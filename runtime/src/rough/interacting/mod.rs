@@ -99,6 +99,11 @@ use super::{
 };
 use crate::law::contact_radius;
 
+/// Safety factor on the lift of the zero-mean images when choosing candidates.
+const LIFT_MARGIN: f64 = 1.25;
+/// Rounds of widening the candidates to the lift of the solution.
+const LIFT_ROUNDS: usize = 4;
+
 /// An I-model problem prepared for approaches up to the one it was built for: the
 /// candidates (summits loaded at that approach), the far-field model and the image
 /// geometry. Built per solve or per load path; nothing survives it.
@@ -107,9 +112,12 @@ pub(crate) struct Problem<'r, 'a> {
     images: Images,
     geo: Prepared,
     /// The uniform mode removed from the periodic image sums on an elastic base
-    /// (physics.md §6.4; None: isolated, a rigid base, or not asked for by
+    /// (physics.md §5; None: isolated, a rigid base, or not asked for by
     /// [`Params::zero_mean_images`](crate::rough::Params::zero_mean_images)).
     zero_mean: Option<ZeroMean>,
+    /// How far below the rigid plane summits are candidates (m): 0 without the
+    /// zero-mean correction.
+    lift: f64,
     /// Far-field models built so far (rebuilds with a larger bound included).
     builds: usize,
 }
@@ -123,20 +131,44 @@ impl<'r, 'a> Problem<'r, 'a> {
         delta: f64,
         warm: &[f64],
     ) -> Result<Self, RoughError> {
-        let cand: Vec<usize> = (0..rc.summits.len())
-            .filter(|&k| rc.interference(k, delta) > 0.0)
-            .collect();
-        let mut amax: f64 = 0.0;
-        for &k in &cand {
-            let a = contact_radius(rc.law, rc.summits[k].radius, rc.interference(k, delta))
-                .unwrap_or(0.0);
-            amax = amax.max(a).max(warm.get(k).copied().unwrap_or(0.0));
-        }
+        Self::with_lift(rc, images, delta, warm, None)
+    }
+
+    /// [`Problem::new`] with the candidates' lift (m) given (None: estimated from the
+    /// N-model loads; only with the zero-mean images).
+    fn with_lift(
+        rc: &'r RoughContact<'a>,
+        images: Images,
+        delta: f64,
+        warm: &[f64],
+        lift: Option<f64>,
+    ) -> Result<Self, RoughError> {
         let zero_mean = match images {
-            Images::Periodic(m) if rc.params.zero_mean_images => {
-                let pf = rc.law.point_force();
-                let zm = ZeroMean::build(pf, rc.extent, m);
-                if zm.is_none() && pf.s0 > 0.0 {
+            Images::Periodic(m) if rc.params.zero_mean_images && rc.law.point_force().s0 > 0.0 => {
+                // the correction is interpolated for offsets within one cell
+                let (lx, ly) = rc.extent;
+                if let Some(s) = rc
+                    .summits
+                    .iter()
+                    .find(|s| !(0.0..=lx).contains(&s.x) || !(0.0..=ly).contains(&s.y))
+                {
+                    return Err(RoughError::LoadOutOfRange {
+                        field: "summits",
+                        value: if (0.0..=lx).contains(&s.x) { s.y } else { s.x },
+                        reason: format!(
+                            "periodic images on an elastic base need every summit inside the cell [0, {lx:e}] × [0, {ly:e}] m"
+                        ),
+                    });
+                }
+                if m == 0 {
+                    return Err(RoughError::LoadOutOfRange {
+                        field: "images",
+                        value: 0.0,
+                        reason: "periodic images on an elastic base need at least one image cell per side (m ≥ 1)".into(),
+                    });
+                }
+                let zm = ZeroMean::build(rc.law, rc.extent, m);
+                if zm.is_none() {
                     return Err(RoughError::NonFinite(
                         "I model: the periodic images' zero-mean correction (no interpolant met its tolerance)",
                     ));
@@ -145,10 +177,35 @@ impl<'r, 'a> Problem<'r, 'a> {
             }
             _ => None,
         };
+        // With the mean displacement removed the surface between contacts rises (by at
+        // most |V(0)| Σ Q, the correction's largest share), so summits below the rigid
+        // plane may touch: they are candidates from the start (lift from the N-model
+        // loads; [`Problem::solve`] widens it if the solution lifts more).
+        let lift = zero_mean.as_ref().map_or(0.0, |zm| {
+            if let Some(l) = lift {
+                return l;
+            }
+            let q: f64 = (0..rc.summits.len())
+                .filter_map(|k| {
+                    let r = rc.summits[k].radius;
+                    let a = contact_radius(rc.law, r, rc.interference(k, delta))?;
+                    Some(rc.law.chi(a) * a.powi(3) / r)
+                })
+                .sum();
+            LIFT_MARGIN * (-zm.v0).max(0.0) * q
+        });
+        let cand = rc.candidates(delta, lift);
+        let mut amax: f64 = 0.0;
+        for &k in &cand {
+            let a = contact_radius(rc.law, rc.summits[k].radius, rc.interference(k, delta))
+                .unwrap_or(0.0);
+            amax = amax.max(a).max(warm.get(k).copied().unwrap_or(0.0));
+        }
         let mut p = Problem {
             rc,
             images,
             zero_mean,
+            lift,
             geo: Prepared::new(
                 &rc.summits,
                 rc.extent,
@@ -184,15 +241,32 @@ impl<'r, 'a> Problem<'r, 'a> {
             FarModel::build(rc.law, bound, reach, tol, rc.params.g_difference_step)
         };
         self.geo = Prepared::new(&rc.summits, rc.extent, self.images, cand, far, sums, tol)?;
+        self.geo.a_valid = self.geo.a_valid.min(self.radius_cap());
+        if self.zero_mean.is_some() {
+            self.geo.rows_from = f64::NEG_INFINITY;
+        }
         Ok(())
     }
 
-    /// The interferences δ_k of the candidates at approach δ (m).
+    /// The largest contact radius the model may reach (m): half the cell with the
+    /// zero-mean periodic images (beyond it contacts overlap their own images and the
+    /// energy, its pair terms point values of each contact's field, has no minimum);
+    /// unbounded otherwise.
+    fn radius_cap(&self) -> f64 {
+        if self.zero_mean.is_some() {
+            0.5 * self.rc.extent.0.min(self.rc.extent.1)
+        } else {
+            f64::INFINITY
+        }
+    }
+
+    /// The interferences δ_k = δ − (z_M − z_k) of the candidates at approach δ (m):
+    /// positive but for candidates below the rigid plane within the lift.
     fn deltas(&self, delta: f64) -> Vec<f64> {
         self.geo
             .cand
             .iter()
-            .map(|&k| self.rc.interference(k, delta))
+            .map(|&k| self.rc.signed_interference(k, delta))
             .collect()
     }
 
@@ -212,6 +286,51 @@ impl<'r, 'a> Problem<'r, 'a> {
     /// A, finally exact sums) while a contact radius leaves the far-field model's range:
     /// the step and da_k/dδ of every summit (-).
     pub fn solve(&mut self, delta: f64, warm: &[f64]) -> Result<(Step, Vec<f64>), RoughError> {
+        let mut warm = warm.to_vec();
+        for _ in 0..LIFT_ROUNDS {
+            let (s, rate) = self.solve_bounded(delta, &warm)?;
+            let Some(zm) = &self.zero_mean else {
+                return Ok((s, rate));
+            };
+            // Did the solution lift the surface further than the candidates allow?
+            let rc = self.rc;
+            let q: f64 = s
+                .radii
+                .iter()
+                .zip(&rc.summits)
+                .filter(|(a, _)| **a > 0.0)
+                .map(|(&a, sm)| rc.law.chi(a) * a.powi(3) / sm.radius)
+                .sum();
+            let lift = (-zm.v0).max(0.0) * q;
+            let mut is_cand = vec![false; rc.summits.len()];
+            self.geo.cand.iter().for_each(|&k| is_cand[k] = true);
+            let wanted = rc.candidates(delta, lift);
+            if wanted.iter().all(|&k| is_cand[k]) {
+                return Ok((s, rate));
+            }
+            self.lift = self.lift.max(LIFT_MARGIN * lift);
+            let mut cand = rc.candidates(delta, self.lift);
+            cand.extend(self.geo.cand.iter().copied());
+            cand.sort_unstable();
+            cand.dedup();
+            let amax = s.radii.iter().copied().fold(0.0, f64::max);
+            let bound = self
+                .geo
+                .far
+                .as_ref()
+                .map_or(0.0, |f| f.a_max)
+                .max(rc.params.far_field_bound_factor * amax);
+            self.prepare(cand, bound, false)?;
+            warm = s.radii;
+        }
+        Err(RoughError::NonFinite(
+            "I-model candidates (the lift of the zero-mean images kept growing)",
+        ))
+    }
+
+    /// [`Problem::solve`] on the current candidates, preparing again while a contact
+    /// radius leaves the far-field model's range.
+    fn solve_bounded(&mut self, delta: f64, warm: &[f64]) -> Result<(Step, Vec<f64>), RoughError> {
         let t0 = Instant::now();
         let builds0 = self.builds;
         let mut diag = Diagnostics::default();
@@ -224,6 +343,10 @@ impl<'r, 'a> Problem<'r, 'a> {
                     return Ok((s, rate));
                 }
                 Err(amax) => {
+                    let cap = self.radius_cap();
+                    if amax > cap || self.geo.a_valid >= cap {
+                        return Err(NewtonError::CoversCell { delta, cap }.into());
+                    }
                     if attempt == rebuilds {
                         return Err(FarFieldError::Bound {
                             bound: self.geo.a_valid,
@@ -289,7 +412,8 @@ impl<'r, 'a> Problem<'r, 'a> {
         let a: Vec<f64> = (0..n)
             .map(|p| {
                 let w = warm.get(geo.cand[p]).copied().unwrap_or(0.0);
-                if deltas[p] > 0.0 && w > 0.0 { w } else { 0.0 }
+                let loaded = deltas[p] > 0.0 || self.zero_mean.is_some();
+                if loaded && w > 0.0 { w } else { 0.0 }
             })
             .collect();
         let mut newton = Newton {
@@ -394,7 +518,7 @@ pub struct Interaction<'r, 'a> {
 impl Interaction<'_, '_> {
     /// U_E of eq. (P22) (J) and its gradient ∂U_E/∂a_k (N) at the contact radii `radii`
     /// (m, one per summit, as [`Step::radii`]); `grad` (one per summit) receives the
-    /// gradient, 0 for asperities out of contact or not loaded at this approach (their
+    /// gradient, 0 for asperities out of contact or, without the zero-mean images, not loaded (their
     /// radii are ignored). ∂U_E/∂a_k = c·Q'_k·F_k with c = 2E*₁/3 (module docs).
     pub fn energy_gradient(&self, radii: &[f64], grad: &mut [f64]) -> Result<f64, RoughError> {
         let rc = self.problem.rc;
@@ -419,7 +543,7 @@ impl Interaction<'_, '_> {
                     reason: "contact radii must be finite and ≥ 0 (m)".into(),
                 });
             }
-            if self.deltas[k] > 0.0 {
+            if self.deltas[k] > 0.0 || self.problem.zero_mean.is_some() {
                 a[k] = v;
             }
         }
@@ -487,7 +611,14 @@ impl<'a> RoughContact<'a> {
         delta: f64,
     ) -> Result<Interaction<'_, 'a>, RoughError> {
         self.check_delta(delta)?;
-        let problem = Problem::new(self, images, delta, &[])?;
+        // with the zero-mean images any summit may touch: all are candidates
+        let mut problem = Problem::with_lift(self, images, delta, &[], Some(f64::INFINITY))?;
+        if problem.zero_mean.is_some() {
+            // the surface between contacts rises, so contacts may outgrow the N model's:
+            // the far field prepared for radii up to the cap
+            let cand = std::mem::take(&mut problem.geo.cand);
+            problem.prepare(cand, problem.radius_cap(), false)?;
+        }
         let deltas = problem.deltas(delta);
         Ok(Interaction { problem, deltas })
     }

@@ -83,8 +83,10 @@ impl Newton<'_, '_> {
         for (p, &dp) in deltas.iter().enumerate() {
             if st.a[p] > 0.0 {
                 worst_act = worst_act.max(st.f[p].abs());
-            } else if dp > 0.0 {
-                let tiny = self.params.activation_probe * (geo.radius[p] * dp).sqrt();
+            } else if dp > 0.0 || self.energy.zero_mean.is_some() {
+                // below the rigid plane (zero-mean images) probe at the scale of the step
+                let reach = dp.max(1e-3 * self.scale);
+                let tiny = self.params.activation_probe * (geo.radius[p] * reach).sqrt();
                 let f0 = self.energy.row(st, p, tiny);
                 worst_inact = worst_inact.max(-f0);
                 if -f0 > tol {
@@ -139,10 +141,17 @@ impl Newton<'_, '_> {
                     .map(|&(p, v)| {
                         let r = geo.radius[p];
                         let d = en.deltas[p];
-                        let full = contact_radius(law, r, (0.5 * v).min(d))
+                        // the others' displacement D_p ≥ 0 caps the target at δ_p, unless
+                        // the zero-mean images lift the surface (D_p < 0 possible)
+                        let target = if en.zero_mean.is_some() {
+                            0.5 * v
+                        } else {
+                            (0.5 * v).min(d)
+                        };
+                        let full = contact_radius(law, r, target)
                             .unwrap_or(0.0)
                             .min(geo.a_valid);
-                        (p, full, prm.activation_start * (r * d).sqrt())
+                        (p, full, prm.activation_start * (r * d.max(target)).sqrt())
                     })
                     .collect();
                 let u_before = u;
@@ -183,7 +192,16 @@ impl Newton<'_, '_> {
                     }
                 }
                 self.diag.newton_steps += 1;
-                self.budget(fmax / scale)?;
+                if let Err(e) = self.budget(fmax / scale) {
+                    // a budget spent below the KKT acceptance (only the inner Newton
+                    // target is missed) ends the round there, not the step (issue 39:
+                    // a step at 3.1e-11 was reported as stalled)
+                    if fmax <= prm.kkt_tolerance * scale {
+                        at_floor = true;
+                        break;
+                    }
+                    return Err(e);
+                }
                 let rhs: Vec<f64> = act.iter().map(|&p| -st.f[p]).collect();
                 // inexact Newton on the grid sums: relative residual √(|F|/δ_max)
                 let rtol = (fmax / scale).sqrt().clamp(1e-12, 0.1);

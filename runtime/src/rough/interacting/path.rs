@@ -19,6 +19,19 @@ pub(crate) fn curve(
     deltas: &[f64],
 ) -> Result<Vec<Step>, RoughError> {
     let mut out: Vec<Step> = Vec::with_capacity(deltas.len());
+    match curve_into(rc, images, deltas, &mut out) {
+        Ok(()) => Ok(out),
+        Err(e) => Err(e),
+    }
+}
+
+/// [`curve`] keeping the steps solved before a failing one in `out`.
+pub(crate) fn curve_into(
+    rc: &RoughContact<'_>,
+    images: Images,
+    deltas: &[f64],
+    out: &mut Vec<Step>,
+) -> Result<(), RoughError> {
     let mut warm: Vec<f64> = Vec::new();
     let mut last: Option<(f64, Vec<f64>)> = None; // (δ, da/dδ) of the previous step
     let mut problem: Option<(f64, Problem)> = None; // (prepared approach, problem)
@@ -62,7 +75,7 @@ pub(crate) fn curve(
         warm.clone_from(&s.radii);
         out.push(s);
     }
-    Ok(out)
+    Ok(())
 }
 
 /// Growth of the loaded summits over which one prepared I-model problem serves a load
