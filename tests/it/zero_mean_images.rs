@@ -12,6 +12,7 @@
 //!   here), m = 4: median |p_I/p_BEM − 1| 21.7 %, largest 32.2 % (the N model: 21.9 %,
 //!   38.1 %);
 //! - the soft base below: +1.6e-3 (raw −43.7 %), median 14.4 %, largest 27.7 %.
+//!
 //! The requirement (issue 39): < 0.5 % from m = 4 to 8, median ≤ 25 %.
 
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver};
