@@ -1,4 +1,4 @@
-//! Criterion benchmarks of strata; see `benches/` and the README ("Benchmarks").
+//! Criterion benchmarks of strata; see `benches/` and docs/performance.md ("Benchmarks").
 
 use strata_bem::Array2;
 use strata_runtime::surface::{GenerateParams, Surface};

@@ -374,7 +374,7 @@ fn grid_refinement_converges() {
     }
 }
 
-/// Prints the convergence table reported in the README (1024² is slow in the dev profile).
+/// Prints the convergence table reported in docs/validation.md (1024² is slow in the dev profile).
 #[test]
 #[ignore = "slow (1024² grid); prints the grid-convergence table"]
 fn grid_convergence_table() {

@@ -11,7 +11,7 @@
 //!   rigid die, M = E(1−ν)/((1+ν)(1−2ν)) the constrained modulus): a check that
 //!   does not rely on CalculiX's own contact output.
 //!
-//! A second test checks what the README and the block's comments say CalculiX does:
+//! A second test checks what docs/embedding.md and the block's comments say CalculiX does:
 //! the pressure is held beyond the last line, a table of more than 200 lines is
 //! resampled onto 200 evenly spaced overclosures (and `strata law` warns), and
 //! `TYPE=SURFACE TO SURFACE` with a TABULAR law does not run.
@@ -269,7 +269,7 @@ fn calculix_pressure_follows_the_law_layered_interacting() {
     fe_pressure_follows_the_law("scenes/paper-E2E1-1-interacting.toml", &[], "layered");
 }
 
-/// What the block's comments and the README say CalculiX 2.20 does with a table.
+/// What the block's comments and docs/embedding.md say CalculiX 2.20 does with a table.
 #[test]
 fn calculix_holds_beyond_the_table_resamples_long_ones_and_needs_node_to_surface() {
     let Some(ccx) = ccx() else { return };
@@ -337,6 +337,6 @@ fn calculix_holds_beyond_the_table_resamples_long_ones_and_needs_node_to_surface
     let out = run_ccx(&ccx, &dir, "rough_block");
     assert!(
         !out.status.success(),
-        "SURFACE TO SURFACE ran: update the README and the block's comments"
+        "SURFACE TO SURFACE ran: update docs/embedding.md and the block's comments"
     );
 }

@@ -1,7 +1,7 @@
 //! End-to-end hard cases (issue 8). Every case checks accuracy against an independent
 //! truth — a closed-form limit, a second method, or convergence under refinement —
 //! not only finiteness, so a wrong answer fails. Measured values are printed (run with
-//! `--nocapture`) and quoted in the comments; the README's hard-case table lists them.
+//! `--nocapture`) and quoted in the comments; docs/validation.md's hard-case table lists them.
 //!
 //! Cost: ~25 s in the test profile on 2 shared cores. The slowest limits (a/h = 1000,
 //! 10–17 s) stay in strata-tablegen's own tests and are cited, not repeated.
