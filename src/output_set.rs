@@ -669,9 +669,7 @@ mod tests {
         fs::create_dir_all(&root).unwrap();
         // a character device
         for force in [false, true] {
-            let e = OutputSet::file("--out", Path::new("/dev/null"), force)
-                .err()
-                .expect("refused");
+            let e = OutputSet::file("--out", Path::new("/dev/null"), force).expect_err("refused");
             assert!(e.to_string().contains("device, FIFO or socket"), "{e}");
         }
         assert!(!fs::metadata("/dev/null").unwrap().file_type().is_file());
@@ -679,9 +677,7 @@ mod tests {
         let fifo = root.join("fifo");
         let made = std::process::Command::new("mkfifo").arg(&fifo).status();
         if made.is_ok_and(|s| s.success()) {
-            let e = OutputSet::file("--out", &fifo, true)
-                .err()
-                .expect("refused");
+            let e = OutputSet::file("--out", &fifo, true).expect_err("refused");
             assert!(e.to_string().contains("device, FIFO or socket"), "{e}");
             use std::os::unix::fs::FileTypeExt;
             assert!(fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
@@ -720,9 +716,7 @@ mod tests {
         // a dangling link
         let dangling = root.join("dangling");
         std::os::unix::fs::symlink(root.join("missing/nowhere"), &dangling).unwrap();
-        let e = OutputSet::dir("--out", &dangling, true)
-            .err()
-            .expect("refused");
+        let e = OutputSet::dir("--out", &dangling, true).expect_err("refused");
         assert!(e.to_string().contains("does not exist"), "{e}");
         assert!(
             fs::symlink_metadata(&dangling)
