@@ -15,4 +15,5 @@ pub mod output_set;
 pub mod plot;
 pub mod progress;
 pub mod scene;
+pub mod stdio;
 pub mod study;

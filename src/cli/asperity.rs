@@ -136,15 +136,14 @@ pub fn run(a: Args) -> Result<()> {
         }
         rows.push((d, s.a, s.force));
     }
-    let out = std::io::BufWriter::new(std::io::stdout().lock());
-    if let Err(e) = csv_out::write(
-        out,
-        ["delta", "a", "force"],
-        rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
-    ) && !e.is_broken_pipe()
-    {
-        bail!("writing to stdout: {e}");
-    }
+    crate::stdio::print(|o| {
+        csv_out::write(
+            o,
+            ["delta", "a", "force"],
+            rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
+        )
+        .map_err(Into::into)
+    })?;
     if let (Some(path), Some(set)) = (&a.profile, profile_set) {
         let text = csv_out::text(
             ["delta", "r", "pressure", "displacement"],

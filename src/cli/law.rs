@@ -377,7 +377,7 @@ pub fn run(a: Args) -> Result<()> {
         .with_context(|| format!("scene {}", a.scene.display()))?;
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
         for w in solved.law.calculix_warnings() {
-            eprintln!("warning: {w}");
+            crate::stdio::eprint_line(format_args!("warning: {w}"));
         }
     }
     for (f, p) in &outs {

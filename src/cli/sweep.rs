@@ -289,11 +289,7 @@ fn run_sweep(a: Args) -> Result<()> {
             }),
         )?;
         // A closed pipe (`| head`) is not an error.
-        if let Err(e) = std::io::Write::write_all(&mut std::io::stdout().lock(), s.as_bytes())
-            && e.kind() != std::io::ErrorKind::BrokenPipe
-        {
-            return Err(e).context("writing the case list");
-        }
+        crate::stdio::print_str(&s)?;
         progress::log(format!(
             "sweep: {} cases in all{}",
             sweep.cases,
