@@ -17,3 +17,4 @@ pub mod progress;
 pub mod scene;
 pub mod stdio;
 pub mod study;
+pub mod threads;

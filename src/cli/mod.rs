@@ -90,6 +90,11 @@ pub fn main() -> std::process::ExitCode {
         eprint_line(format_args!("error: {e}"));
         return std::process::ExitCode::FAILURE;
     }
+    // Every command's parallel loops run on this one pool, capped as `sweep --threads`.
+    if let Err(e) = crate::threads::init_global_pool() {
+        eprint_line(format_args!("error: {e}"));
+        return std::process::ExitCode::FAILURE;
+    }
     match run(args) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
