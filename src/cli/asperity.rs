@@ -16,7 +16,7 @@ use strata_runtime::Stack;
 use strata_tablegen::asperity::{Asperity, Options};
 
 use crate::csv_out::{self, num};
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::plot::{self, PlotSpec, Series, Style};
 
 /// Which solution to compute.
@@ -81,6 +81,13 @@ pub fn run(a: Args) -> Result<()> {
             .map(|e| e.to_string_lossy().to_ascii_lowercase());
         if !matches!(ext.as_deref(), Some("svg" | "png")) {
             bail!("--plot {}: extension must be .svg or .png", p.display());
+        }
+    }
+    let mut inputs = vec![("the stack file".to_string(), a.stack.clone())];
+    inputs.extend(a.table.iter().map(|t| ("the table".to_string(), t.clone())));
+    for (flag, out) in [("--plot", &a.plot), ("--profile", &a.profile)] {
+        if let Some(p) = out {
+            refuse_inputs(flag, p, &inputs)?;
         }
     }
     let plot_set = a

@@ -91,6 +91,7 @@ pub fn run(a: Args) -> Result<()> {
 fn export(a: ExportArgs) -> Result<()> {
     let scene =
         Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
+    crate::output_set::refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
     let kind = a
         .out
         .extension()

@@ -26,7 +26,7 @@ use strata_runtime::Stack;
 use strata_runtime::table::{Table, Vary};
 use strata_tablegen::tablebuild::{self, Bars, BuildOptions};
 
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 use crate::stdio;
 
@@ -172,6 +172,11 @@ pub fn run(a: Args) -> Result<()> {
         Sub::Build(b) => {
             let stack = Stack::from_toml_file(&b.stack)?;
             let family = b.vary.as_deref().map(parse_vary).transpose()?;
+            refuse_inputs(
+                "--out",
+                &b.out,
+                &[("the stack file".into(), b.stack.clone())],
+            )?;
             let set = OutputSet::file("--out", &b.out, b.force)?;
             let opts = BuildOptions {
                 nx: b.nx,
