@@ -15,10 +15,14 @@ pub enum CsvError {
     Other(String),
 }
 
-impl CsvError {
-    /// The reader went away (`strata compliance … | head`): not an error.
-    pub fn is_broken_pipe(&self) -> bool {
-        matches!(self, CsvError::Io(e) if e.kind() == std::io::ErrorKind::BrokenPipe)
+/// For writers whose errors are I/O errors ([`crate::stdio::print`]): the I/O error
+/// itself, anything else as an "other" error with this message.
+impl From<CsvError> for std::io::Error {
+    fn from(e: CsvError) -> Self {
+        match e {
+            CsvError::Io(io) => io,
+            other => std::io::Error::other(other.to_string()),
+        }
     }
 }
 

@@ -181,7 +181,7 @@ pub fn surface_report(surface: &Surface, quiet: bool) -> (serde_json::Value, Vec
     log!(quiet, "surface: {}", surface.stats().describe());
     let warnings = surface_warnings(surface);
     for w in &warnings {
-        eprintln!("WARNING: surface: {w}");
+        crate::stdio::eprint_line(format_args!("WARNING: surface: {w}"));
     }
     (surface_json(surface), warnings)
 }

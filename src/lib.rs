@@ -15,4 +15,6 @@ pub mod output_set;
 pub mod plot;
 pub mod progress;
 pub mod scene;
+pub mod stdio;
 pub mod study;
+pub mod threads;

@@ -74,6 +74,12 @@ pub enum OutputSetError {
         "{flag} {path}: is the current directory or one above it; strata replaces an output directory as a whole, so give a dedicated one (e.g. out/run1)"
     )]
     EnclosesCwd { flag: &'static str, path: String },
+    #[error("{flag} {path} is also an input of this command ({what}); choose another path")]
+    IsInput {
+        flag: &'static str,
+        path: String,
+        what: String,
+    },
     #[error("{flag} {path}: {reason}")]
     BadTarget {
         flag: &'static str,
@@ -291,6 +297,48 @@ fn resolve_output(
         )),
         _ => Ok(target),
     }
+}
+
+/// Refuses an output `out` (as given on the command line) that is also an input of the
+/// same command, before any work: `inputs` are (what it is, e.g. "the scene"; path).
+/// Paths are compared after canonicalisation, so a file reached through a symbolic link
+/// or `./` is the same file (an output is written through links, see `resolve_output`);
+/// a hard link is a different name that the rename of the commit leaves alone. For an
+/// output directory, an input inside it is refused too when the previous set's manifest
+/// says strata wrote it there (e.g. a surface read from `OUT/maps/`): `--force` would
+/// replace or remove it; files the user put there are kept, so they may be inputs.
+pub fn refuse_inputs(
+    flag: &'static str,
+    out: &Path,
+    inputs: &[(String, PathBuf)],
+) -> Result<(), OutputSetError> {
+    let Ok(target) = out.canonicalize() else {
+        return Ok(()); // nothing there yet: no input can be it
+    };
+    let owned = if target.is_dir() {
+        owned_names(&target)
+    } else {
+        BTreeSet::new()
+    };
+    for (what, p) in inputs {
+        let Ok(input) = p.canonicalize() else {
+            continue;
+        };
+        let replaced = input == target
+            || input
+                .strip_prefix(&target)
+                .ok()
+                .and_then(|rel| rel.components().next())
+                .is_some_and(|c| owned.contains(&*c.as_os_str().to_string_lossy()));
+        if replaced {
+            return Err(OutputSetError::IsInput {
+                flag,
+                path: out.display().to_string(),
+                what: what.clone(),
+            });
+        }
+    }
+    Ok(())
 }
 
 impl OutputSet {

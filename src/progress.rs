@@ -21,6 +21,8 @@ use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
+use crate::stdio::eprint_line;
+
 /// How progress is shown (see the module docs).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
@@ -72,12 +74,13 @@ fn multi() -> &'static MultiProgress {
     MULTI.get_or_init(|| MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))
 }
 
-/// Prints one log line on stderr (above any bar); nothing when quiet.
+/// Prints one log line on stderr (above any bar); nothing when quiet. A line stderr
+/// cannot take (a full disk) is dropped ([`eprint_line`]).
 pub fn log(line: impl std::fmt::Display) {
     match mode() {
         Mode::Off => {}
-        Mode::Bar => multi().suspend(|| eprintln!("{line}")),
-        Mode::Log => eprintln!("{line}"),
+        Mode::Bar => multi().suspend(|| eprint_line(line)),
+        Mode::Log => eprint_line(line),
     }
 }
 
@@ -137,7 +140,7 @@ fn spawn_logger(pb: &ProgressBar, interval: Duration, ended: Arc<AtomicBool>) {
                 }
                 if last.elapsed() >= interval {
                     last = Instant::now();
-                    eprintln!("{}", status_line(&pb));
+                    eprint_line(status_line(&pb));
                 }
             }
         });
@@ -149,7 +152,7 @@ fn spawn_logger(pb: &ProgressBar, interval: Duration, ended: Arc<AtomicBool>) {
 /// interval).
 fn last_line(pb: &ProgressBar, interval: Duration, ended: &AtomicBool) {
     if pb.elapsed() >= interval && !ended.swap(true, Ordering::SeqCst) {
-        eprintln!("{} (done)", status_line(pb));
+        eprint_line(format!("{} (done)", status_line(pb)));
     }
 }
 

@@ -16,7 +16,7 @@ use strata_runtime::Stack;
 use strata_tablegen::asperity::{Asperity, Options};
 
 use crate::csv_out::{self, num};
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::plot::{self, PlotSpec, Series, Style};
 
 /// Which solution to compute.
@@ -83,6 +83,13 @@ pub fn run(a: Args) -> Result<()> {
             bail!("--plot {}: extension must be .svg or .png", p.display());
         }
     }
+    let mut inputs = vec![("the stack file".to_string(), a.stack.clone())];
+    inputs.extend(a.table.iter().map(|t| ("the table".to_string(), t.clone())));
+    for (flag, out) in [("--plot", &a.plot), ("--profile", &a.profile)] {
+        if let Some(p) = out {
+            refuse_inputs(flag, p, &inputs)?;
+        }
+    }
     let plot_set = a
         .plot
         .as_ref()
@@ -136,15 +143,14 @@ pub fn run(a: Args) -> Result<()> {
         }
         rows.push((d, s.a, s.force));
     }
-    let out = std::io::BufWriter::new(std::io::stdout().lock());
-    if let Err(e) = csv_out::write(
-        out,
-        ["delta", "a", "force"],
-        rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
-    ) && !e.is_broken_pipe()
-    {
-        bail!("writing to stdout: {e}");
-    }
+    crate::stdio::print(|o| {
+        csv_out::write(
+            o,
+            ["delta", "a", "force"],
+            rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
+        )
+        .map_err(Into::into)
+    })?;
     if let (Some(path), Some(set)) = (&a.profile, profile_set) {
         let text = csv_out::text(
             ["delta", "r", "pressure", "displacement"],

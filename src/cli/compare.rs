@@ -40,7 +40,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::csv_out::{self, num};
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 use crate::scene::{ModelKind, Scene};
 use anyhow::{Context, Result, bail};
@@ -593,6 +593,10 @@ pub fn run(a: Args) -> Result<()> {
             a.labels.len(),
             a.scenes.len()
         );
+    }
+    for p in &a.scenes {
+        let scene = Scene::from_file(p)?;
+        refuse_inputs("--out", &a.out, &scene.inputs(p))?;
     }
     let set = OutputSet::dir("--out", &a.out, a.force)?;
     if a.scenes.len() == 1 {

@@ -49,11 +49,6 @@ pub fn run(a: Args) -> Result<()> {
         }
         rows.push([format!("{x:e}"), format!("{kz:e}")]);
     }
-    let out = std::io::stdout().lock();
-    if let Err(e) = csv_out::write(out, ["rho_h", "k_z"], rows)
-        && !e.is_broken_pipe()
-    {
-        bail!("writing to stdout: {e}");
-    }
+    crate::stdio::print(|o| csv_out::write(o, ["rho_h", "k_z"], rows).map_err(Into::into))?;
     Ok(())
 }

@@ -32,7 +32,7 @@ use anyhow::{Context, Result, bail};
 use strata_runtime::interface::{InterfaceLaw, MAX_SAMPLES, SampleOptions, sample_gaps};
 use strata_runtime::rough::{Images, Model, RoughContact};
 
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 
 use crate::engine::{EngineOptions, law_for, solve_surface};
@@ -367,6 +367,10 @@ pub fn run(a: Args) -> Result<()> {
     let outs = outputs(&a)?;
     let scene = Scene::from_file(&a.scene)?;
     let paths: Vec<PathBuf> = outs.iter().map(|(_, p)| p.clone()).collect();
+    let inputs = scene.inputs(&a.scene);
+    for p in &paths {
+        refuse_inputs("--out", p, &inputs)?;
+    }
     let set = OutputSet::files("--out", &paths, a.force)?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
@@ -377,7 +381,7 @@ pub fn run(a: Args) -> Result<()> {
         .with_context(|| format!("scene {}", a.scene.display()))?;
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
         for w in solved.law.calculix_warnings() {
-            eprintln!("warning: {w}");
+            crate::stdio::eprint_line(format_args!("warning: {w}"));
         }
     }
     for (f, p) in &outs {

@@ -12,6 +12,8 @@ pub mod sweep;
 pub mod table;
 
 use anyhow::Result;
+
+use crate::stdio::eprint_line;
 use clap::{Parser, Subcommand};
 
 /// strata: normal contact of rough surfaces on multi-layered elastic solids (SI units).
@@ -80,18 +82,23 @@ pub fn main() -> std::process::ExitCode {
         match strata_runtime::resources::parse_bytes(m) {
             Ok(b) => strata_runtime::resources::set_memory_limit(b),
             Err(e) => {
-                eprintln!("error: --memory-limit: {e}");
+                eprint_line(format_args!("error: --memory-limit: {e}"));
                 return std::process::ExitCode::FAILURE;
             }
         }
     } else if let Err(e) = strata_runtime::resources::memory_limit() {
-        eprintln!("error: {e}");
+        eprint_line(format_args!("error: {e}"));
+        return std::process::ExitCode::FAILURE;
+    }
+    // Every command's parallel loops run on this one pool, capped as `sweep --threads`.
+    if let Err(e) = crate::threads::init_global_pool() {
+        eprint_line(format_args!("error: {e}"));
         return std::process::ExitCode::FAILURE;
     }
     match run(args) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprint_line(format_args!("error: {e:#}"));
             std::process::ExitCode::FAILURE
         }
     }

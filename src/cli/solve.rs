@@ -30,7 +30,7 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use crate::csv_out;
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 use crate::scene::{MapsSpec, Scene, SurfaceSpec};
 use anyhow::{Context, Result, bail};
@@ -93,6 +93,7 @@ pub fn curve_csv(steps: &[Step]) -> Result<String> {
 pub fn run(a: Args) -> Result<()> {
     let t0 = Instant::now();
     let scene = Scene::from_file(&a.scene)?;
+    refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
     let set = OutputSet::dir("--out", &a.out, a.force)?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),

@@ -129,10 +129,13 @@ pub fn run(a: Args) -> Result<()> {
         rs.commit()?;
     }
     let path = a.out.join("report.md");
-    println!("report: {}", path.display());
-    for line in report::summary(&result) {
-        println!("  {line}");
-    }
+    crate::stdio::print(|o| {
+        writeln!(o, "report: {}", path.display())?;
+        for line in report::summary(&result) {
+            writeln!(o, "  {line}")?;
+        }
+        Ok(())
+    })?;
     Ok(())
 }
 

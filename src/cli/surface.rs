@@ -19,6 +19,7 @@ use clap::Subcommand;
 
 use crate::cli::args::parse_list;
 use crate::scene::{Scene, SurfaceSource};
+use crate::stdio::{self, eprint_line};
 use strata_runtime::surface::x3p::{DataType, X3pWriteOptions};
 use strata_runtime::surface::{
     Detrend, FileKind, HeightUnit, ReadOptions, Repair, Spacing, Surface,
@@ -90,6 +91,7 @@ pub fn run(a: Args) -> Result<()> {
 fn export(a: ExportArgs) -> Result<()> {
     let scene =
         Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
+    crate::output_set::refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
     let kind = a
         .out
         .extension()
@@ -150,7 +152,7 @@ fn export(a: ExportArgs) -> Result<()> {
             .with_context(|| format!("--out {}", a.out.display()))?;
     }
     let (n0, n1) = surface.shape();
-    eprintln!(
+    eprint_line(format_args!(
         "wrote the {n0}×{n1} surface ({source}) to {}{}",
         a.out.display(),
         if kind == "x3p" {
@@ -158,10 +160,10 @@ fn export(a: ExportArgs) -> Result<()> {
         } else {
             String::new()
         }
-    );
+    ));
     if surface.is_periodic() {
-        eprintln!(
-            "note: .x3p and .npy carry no periodic flag: set surface.periodic = true in a scene that reads it back"
+        eprint_line(
+            "note: .x3p and .npy carry no periodic flag: set surface.periodic = true in a scene that reads it back",
         );
     }
     Ok(())
@@ -233,35 +235,44 @@ fn info(a: InfoArgs) -> Result<()> {
     let stats = surface.stats();
     let warnings = crate::engine::surface_warnings(&surface);
     for w in &warnings {
-        eprintln!("WARNING: surface: {w}");
+        eprint_line(format_args!("WARNING: surface: {w}"));
     }
     if a.json {
         let mut v = crate::engine::surface_json(&surface);
         v["file"] = serde_json::json!(a.file.display().to_string());
         v["warnings"] = serde_json::json!(warnings);
-        println!("{}", serde_json::to_string_pretty(&v)?);
-        return Ok(());
+        let text = serde_json::to_string_pretty(&v)?;
+        return Ok(stdio::print(|o| writeln!(o, "{text}"))?);
     }
-    println!("file: {}", a.file.display());
-    println!(
-        "grid: {} × {} points (first axis x)",
-        stats.shape.0, stats.shape.1
-    );
-    println!(
-        "pixel size: dx = {:e} m, dy = {:e} m",
-        stats.pixel_size.0, stats.pixel_size.1
-    );
-    println!("size: Lx = {:e} m, Ly = {:e} m", stats.size.0, stats.size.1);
-    println!("periodic: {}", stats.periodic);
-    println!("mean height: {:e} m", stats.mean_height);
-    println!("RMS height: {:e} m", stats.rms_height);
-    println!("RMS slope: {:e}", stats.rms_slope);
-    println!("peak-to-valley: {:e} m", stats.peak_to_valley);
-    for l in surface.log() {
-        println!("read: {l}");
-    }
-    for w in &warnings {
-        println!("warning: {w}");
-    }
+    stdio::print(|o| {
+        writeln!(o, "file: {}", a.file.display())?;
+        writeln!(
+            o,
+            "grid: {} × {} points (first axis x)",
+            stats.shape.0, stats.shape.1
+        )?;
+        writeln!(
+            o,
+            "pixel size: dx = {:e} m, dy = {:e} m",
+            stats.pixel_size.0, stats.pixel_size.1
+        )?;
+        writeln!(
+            o,
+            "size: Lx = {:e} m, Ly = {:e} m",
+            stats.size.0, stats.size.1
+        )?;
+        writeln!(o, "periodic: {}", stats.periodic)?;
+        writeln!(o, "mean height: {:e} m", stats.mean_height)?;
+        writeln!(o, "RMS height: {:e} m", stats.rms_height)?;
+        writeln!(o, "RMS slope: {:e}", stats.rms_slope)?;
+        writeln!(o, "peak-to-valley: {:e} m", stats.peak_to_valley)?;
+        for l in surface.log() {
+            writeln!(o, "read: {l}")?;
+        }
+        for w in &warnings {
+            writeln!(o, "warning: {w}")?;
+        }
+        Ok(())
+    })?;
     Ok(())
 }

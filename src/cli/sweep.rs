@@ -178,35 +178,6 @@ fn caption(sweep: &Sweep) -> String {
     )
 }
 
-/// Most worker threads per core that `--threads` (or RAYON_NUM_THREADS) may ask for:
-/// the cases are CPU-bound, more threads only add memory and contention.
-pub const THREADS_PER_CORE: usize = 4;
-
-/// The worker-thread count: `--threads`, else RAYON_NUM_THREADS, else 0 (all cores);
-/// refused above [`THREADS_PER_CORE`] per core.
-fn thread_count(flag: Option<usize>) -> Result<usize> {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let cap = THREADS_PER_CORE * cores;
-    let (n, from) = match flag {
-        Some(n) => (n, "--threads"),
-        None => match std::env::var("RAYON_NUM_THREADS") {
-            Ok(v) => (
-                v.trim()
-                    .parse()
-                    .map_err(|_| anyhow!("RAYON_NUM_THREADS = `{v}`: not a number of threads"))?,
-                "RAYON_NUM_THREADS",
-            ),
-            Err(_) => (0, "default"),
-        },
-    };
-    if n > cap {
-        bail!(
-            "{from} {n}: at most {cap} worker threads ({THREADS_PER_CORE} per core, {cores} core(s) here)"
-        );
-    }
-    Ok(n)
-}
-
 /// Loads (or builds into the cache) the table of every distinct layered stack once,
 /// before the parallel part, so that no two workers build the same table. A stack the
 /// scene's table does not serve (a thickness ratio changed, E2/E1 outside the family
@@ -289,11 +260,7 @@ fn run_sweep(a: Args) -> Result<()> {
             }),
         )?;
         // A closed pipe (`| head`) is not an error.
-        if let Err(e) = std::io::Write::write_all(&mut std::io::stdout().lock(), s.as_bytes())
-            && e.kind() != std::io::ErrorKind::BrokenPipe
-        {
-            return Err(e).context("writing the case list");
-        }
+        crate::stdio::print_str(&s)?;
         progress::log(format!(
             "sweep: {} cases in all{}",
             sweep.cases,
@@ -308,7 +275,8 @@ fn run_sweep(a: Args) -> Result<()> {
         .out
         .clone()
         .ok_or_else(|| anyhow!("--out DIR is required (or --list)"))?;
-    let threads = thread_count(a.threads)?;
+    // The cap of every command (`crate::threads`), for this pool of its own.
+    let (threads, _) = crate::threads::thread_count(a.threads.map(|n| ("--threads", n)))?;
     let (stem, set) = match shard {
         None => ("sweep".to_string(), OutputSet::dir("--out", &out, a.force)?),
         Some((i, n)) => {

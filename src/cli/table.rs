@@ -18,6 +18,7 @@
 //! interpolation error exceeds `--tol` (default 1e-4), naming both.
 //! * `export FILE --npy DIR [--force]` writes every array as .npy (one output set).
 
+use std::io::{self, Write};
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
@@ -25,8 +26,9 @@ use strata_runtime::Stack;
 use strata_runtime::table::{Table, Vary};
 use strata_tablegen::tablebuild::{self, Bars, BuildOptions};
 
-use crate::output_set::OutputSet;
+use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
+use crate::stdio;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -170,6 +172,11 @@ pub fn run(a: Args) -> Result<()> {
         Sub::Build(b) => {
             let stack = Stack::from_toml_file(&b.stack)?;
             let family = b.vary.as_deref().map(parse_vary).transpose()?;
+            refuse_inputs(
+                "--out",
+                &b.out,
+                &[("the stack file".into(), b.stack.clone())],
+            )?;
             let set = OutputSet::file("--out", &b.out, b.force)?;
             let opts = BuildOptions {
                 nx: b.nx,
@@ -196,9 +203,12 @@ pub fn run(a: Args) -> Result<()> {
                 b.out.display(),
                 t0.elapsed().as_secs_f64()
             ));
-            print_info(&table);
+            stdio::print(|o| print_info(&table, o))?;
         }
-        Sub::Info { file } => print_info(&load(&file)?),
+        Sub::Info { file } => {
+            let table = load(&file)?;
+            stdio::print(|o| print_info(&table, o))?;
+        }
         Sub::Check {
             file,
             points,
@@ -215,13 +225,17 @@ pub fn run(a: Args) -> Result<()> {
             };
             let bar = progress::bar(points as u64, "table check: direct solves");
             let e = tablebuild::check_with(&table, points, seed, bar.bar())?;
-            println!(
-                "points,seed,max_rel_err_chi,max_rel_err_zeta,max_err_g_over_4a3_3r,max_err_g_far_over_4a3_3r,tolerance"
-            );
-            println!(
-                "{},{},{:e},{:e},{:e},{:e},{:e}",
-                e.points, e.seed, e.chi, e.zeta, e.g, e.far, tol
-            );
+            stdio::print(|o| {
+                writeln!(
+                    o,
+                    "points,seed,max_rel_err_chi,max_rel_err_zeta,max_err_g_over_4a3_3r,max_err_g_far_over_4a3_3r,tolerance"
+                )?;
+                writeln!(
+                    o,
+                    "{},{},{:e},{:e},{:e},{:e},{:e}",
+                    e.points, e.seed, e.chi, e.zeta, e.g, e.far, tol
+                )
+            })?;
             if let Some((what, measured)) = e.exceeds(tol) {
                 bail!(
                     "table check failed for {}: measured {what} error {measured:.3e} exceeds the tolerance {tol:.3e}",
@@ -234,61 +248,74 @@ pub fn run(a: Args) -> Result<()> {
             let set = OutputSet::dir("--npy", &npy, force)?;
             let files = strata_runtime::table::export::export_npy(&table, set.root())?;
             set.commit()?;
-            for f in files {
-                let name = f.file_name().map(PathBuf::from).unwrap_or(f);
-                println!("{}", npy.join(name).display());
-            }
+            stdio::print(|o| {
+                for f in files {
+                    let name = f.file_name().map(PathBuf::from).unwrap_or(f);
+                    writeln!(o, "{}", npy.join(name).display())?;
+                }
+                Ok(())
+            })?;
         }
     }
     Ok(())
 }
 
-fn print_info(t: &Table) {
+/// What `table info` prints: the header of `t` in words.
+fn print_info(t: &Table, o: &mut dyn Write) -> io::Result<()> {
     let h = &t.header;
-    println!("format version: {}", h.format_version);
-    println!("strata version: {}", h.strata_version);
-    println!("build time: {} (s since Unix epoch)", h.build_time);
-    println!("stack: {}", h.stack.name.as_deref().unwrap_or("(unnamed)"));
+    writeln!(o, "format version: {}", h.format_version)?;
+    writeln!(o, "strata version: {}", h.strata_version)?;
+    writeln!(o, "build time: {} (s since Unix epoch)", h.build_time)?;
+    writeln!(
+        o,
+        "stack: {}",
+        h.stack.name.as_deref().unwrap_or("(unnamed)")
+    )?;
     for line in h.stack.to_toml_string().lines() {
-        println!("  {line}");
+        writeln!(o, "  {line}")?;
     }
     match h.family {
-        Some(f) => println!(
+        Some(f) => writeln!(
+            o,
             "family: {} modulus ratio to layer 1 from {} to {}, {} members (log grid)",
             f.vary,
             f.ratio.lo.exp(),
             f.ratio.hi.exp(),
             f.ratio.n
         ),
-        None => println!("family: none (single stack)"),
-    }
-    println!(
+        None => writeln!(o, "family: none (single stack)"),
+    }?;
+    writeln!(
+        o,
         "a/h1: {:e} … {:e}, {} nodes (log grid)",
         h.x.lo.exp(),
         h.x.hi.exp(),
         h.x.n
-    );
-    println!(
+    )?;
+    writeln!(
+        o,
         "g: w = asinh(sqrt((r-a)/h1)) in [0, {:.4}], {} nodes; far field beyond r - a = {:.1} H with {} correction terms (error {:.2e} of (4/3)a^3/r)",
         h.w.hi,
         h.w.n,
         h.stack.layers()[0].thickness * h.w.hi.sinh().powi(2) / h.stack.total_thickness(),
         h.far_terms,
         h.far_field_error
-    );
-    println!("stated tolerance: {:e}", h.tolerance);
-    println!(
+    )?;
+    writeln!(o, "stated tolerance: {:e}", h.tolerance)?;
+    writeln!(
+        o,
         "S: rho*h1 {:e} … {:e}, {} nodes (log grid)",
         h.s.lo.exp(),
         h.s.hi.exp(),
         h.s.n
-    );
+    )?;
     match h.interp_error {
-        Some(e) => println!(
+        Some(e) => writeln!(
+            o,
             "interpolation error at {} random points (seed {}): chi {:.2e}, zeta {:.2e} (relative), g {:.2e}, far field {:.2e} (of (4/3)a^3/r)",
             e.points, e.seed, e.chi, e.zeta, e.g, e.far
         ),
-        None => println!("interpolation error: not measured"),
+        None => writeln!(o, "interpolation error: not measured"),
     }
 }
 

@@ -205,6 +205,23 @@ impl Scene {
         })
     }
 
+    /// The files a command reading this scene (from `path`) reads: (what, path) for the
+    /// scene itself, its stack file, table and surface file, for
+    /// [`crate::output_set::refuse_inputs`].
+    pub fn inputs(&self, path: &Path) -> Vec<(String, PathBuf)> {
+        let mut v = vec![("the scene".to_string(), path.to_path_buf())];
+        if let Some(p) = &self.stack_file {
+            v.push(("the scene's stack file".into(), p.clone()));
+        }
+        if let Some(p) = &self.table {
+            v.push(("the scene's table".into(), p.clone()));
+        }
+        if let SurfaceSource::File(p) = &self.surface.source {
+            v.push(("the scene's surface file".into(), p.clone()));
+        }
+        v
+    }
+
     /// Parses a scene from TOML text, resolving relative paths against `dir`.
     pub fn from_str_in(text: &str, dir: &Path) -> Result<Scene, SceneError> {
         let top: Table = text

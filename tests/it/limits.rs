@@ -195,6 +195,49 @@ fn thread_count_is_capped() {
     assert!(o.status.success(), "{}", stderr_of(&o));
 }
 
+/// RAYON_NUM_THREADS above 4 per core is refused by every command, not only `sweep`
+/// (issue 37: `RAYON_NUM_THREADS=100000 strata asperity …` spawned threads without
+/// end), at once and with the cap; so is a value that is not a number; the cap itself
+/// is accepted.
+#[test]
+fn rayon_num_threads_is_capped_for_every_command() {
+    let d = dir("rayon-threads");
+    let cap = 4 * std::thread::available_parallelism().map_or(1, |n| n.get());
+    let stack = crate::support::repo().join("tables/stacks/paper-two-layer.toml");
+    let asperity = |threads: &str| {
+        strata_in(&d)
+            .env("RAYON_NUM_THREADS", threads)
+            .arg("asperity")
+            .arg(&stack)
+            .args(["--radius", "1e-4", "--delta", "1e-7"])
+            .output()
+            .unwrap()
+    };
+    for n in [cap + 1, 100000] {
+        let e = refused(
+            &asperity(&n.to_string()),
+            &[&format!(
+                "RAYON_NUM_THREADS {n}: at most {cap} worker threads"
+            )],
+        );
+        assert_eq!(e.lines().count(), 1, "{e}");
+    }
+    refused(
+        &asperity("many"),
+        &["RAYON_NUM_THREADS = `many`: not a number"],
+    );
+    let o = asperity(&cap.to_string());
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let o = strata_in(&d)
+        .env("RAYON_NUM_THREADS", "100000")
+        .arg("compliance")
+        .arg(&stack)
+        .args(["--rho-h", "1"])
+        .output()
+        .unwrap();
+    refused(&o, &["RAYON_NUM_THREADS 100000", "at most"]);
+}
+
 /// A scene naming a table that does not exist is refused, naming the field, the path
 /// and what it is relative to; nothing is built or written at that input path.
 #[test]

@@ -33,6 +33,7 @@ mod solve;
 mod solve_bem;
 mod stack_fuzz;
 mod stalls;
+mod stdio;
 mod study;
 mod sweep;
 mod table_fuzz;

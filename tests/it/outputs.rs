@@ -484,3 +484,173 @@ ls -a $M > $R/ls-final
     ));
     assert!(!same_set(&snapshot(&out), &old));
 }
+
+/// The one-line refusal of an output that is also an input (issue 37, item 3): exit 1,
+/// `error: FLAG PATH is also an input of this command (WHAT); choose another path`.
+fn refused_as_input(o: &Output, flag: &str, path: &Path, what: &str) {
+    let e = stderr_of(o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert_eq!(
+        e,
+        format!(
+            "error: {flag} {} is also an input of this command ({what}); choose another path\n",
+            path.display()
+        )
+    );
+}
+
+/// `law`, `surface export`, `solve` and `compare` refuse, even with `--force` and before
+/// any work, an output that is one of their inputs: the scene, a file it names (stack
+/// file, surface file; `table build` and `asperity`: the stack file), spelled with `./` or reached through a symbolic link; the input
+/// is left byte for byte (issue 37: `law d/s.toml --out d/s.toml --force` overwrote the
+/// scene).
+#[test]
+fn an_output_that_is_an_input_is_refused() {
+    let d = dir("inputs");
+    let cache = d.join("cache");
+    let stack = d.join("stack.toml");
+    std::fs::write(
+        &stack,
+        "[base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n",
+    )
+    .unwrap();
+    let generated = scene(&d, "gen.toml", "independent", "separations = [3e-6]", "");
+    let npy = d.join("surf.npy");
+    ok(&run(
+        &cache,
+        &[
+            "surface",
+            "export",
+            generated.to_str().unwrap(),
+            "--out",
+            npy.to_str().unwrap(),
+        ],
+        None,
+    ));
+    let sc = d.join("s.toml");
+    std::fs::write(
+        &sc,
+        "[stack]\nfile = \"stack.toml\"\n[surface]\nfile = \"surf.npy\"\nsize = 1e-3\n\
+         periodic = true\n[model]\nkind = \"independent\"\n[load]\nseparations = [3e-6]\n",
+    )
+    .unwrap();
+    let before = snapshot(&d);
+    let s = sc.to_str().unwrap();
+    let dotted = d.join(".").join("s.toml");
+    let link = d.join("link.csv");
+    std::os::unix::fs::symlink(&sc, &link).unwrap();
+    let cases: Vec<(Vec<&str>, &Path, &str)> = vec![
+        (vec!["law", s, "--format", "csv"], &sc, "the scene"),
+        (vec!["law", s, "--format", "csv"], &dotted, "the scene"),
+        (vec!["law", s], &link, "the scene"),
+        (
+            vec!["law", s, "--format", "csv"],
+            &stack,
+            "the scene's stack file",
+        ),
+        (
+            vec!["surface", "export", s],
+            &npy,
+            "the scene's surface file",
+        ),
+        (vec!["solve", s], &sc, "the scene"),
+        (vec!["compare", s], &sc, "the scene"),
+    ];
+    for (args, out, what) in &cases {
+        let mut all = args.clone();
+        all.extend(["--force", "--out", out.to_str().unwrap()]);
+        refused_as_input(&run(&cache, &all, None), "--out", out, what);
+    }
+    // Commands that read a stack file on the command line.
+    let st = stack.to_str().unwrap();
+    let o = run(
+        &cache,
+        &["table", "build", st, "--force", "--out", st],
+        None,
+    );
+    refused_as_input(&o, "--out", &stack, "the stack file");
+    let args = ["asperity", st, "--radius", "1e-4", "--delta", "1e-7"];
+    let o = run(
+        &cache,
+        &[&args[..], &["--force", "--profile", st]].concat(),
+        None,
+    );
+    refused_as_input(&o, "--profile", &stack, "the stack file");
+    // Nothing written, not even a lock file: every input byte for byte as it was.
+    std::fs::remove_file(&link).unwrap();
+    let files = |s: Set| -> Set {
+        s.into_iter()
+            .filter(|(k, _)| !k.starts_with("cache/"))
+            .collect()
+    };
+    assert_eq!(files(snapshot(&d)), files(before));
+}
+
+/// An output directory may hold the command's inputs that the user put there (kept by
+/// `--force`), not ones the previous set's manifest says strata wrote there (`--force`
+/// would replace or remove them).
+#[test]
+fn inputs_inside_an_output_directory() {
+    let d = dir("inputs-dir");
+    let cache = d.join("cache");
+    let out = d.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    let stack = "[base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n";
+    std::fs::write(out.join("mine.toml"), stack).unwrap();
+    std::fs::write(out.join("theirs.toml"), stack).unwrap();
+    std::fs::write(
+        out.join(".strata-set"),
+        "# strata output set\ntheirs.toml\n",
+    )
+    .unwrap();
+    let scene_with = |name: &str, stack_file: &str| {
+        let p = d.join(name);
+        std::fs::write(
+            &p,
+            format!(
+                "[stack]\nfile = \"{stack_file}\"\n[surface]\nperiodic = true\n\
+                 [surface.generate]\nsize = 1e-3\ngrid = 32\nfractal_dimension = 2.4\n\
+                 k_min = 2\nk_max = 8\nrms = 3.4e-6\nseed = 3\n\
+                 [model]\nkind = \"independent\"\n[load]\nseparations = [3e-6]\n"
+            ),
+        )
+        .unwrap();
+        p
+    };
+    let theirs = scene_with("theirs.toml", "out/theirs.toml");
+    let o = run(
+        &cache,
+        &[
+            "solve",
+            theirs.to_str().unwrap(),
+            "--no-plots",
+            "--force",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    );
+    refused_as_input(&o, "--out", &out, "the scene's stack file");
+    assert_eq!(
+        std::fs::read_to_string(out.join("theirs.toml")).unwrap(),
+        stack
+    );
+    let mine = scene_with("mine.toml", "out/mine.toml");
+    ok(&run(
+        &cache,
+        &[
+            "solve",
+            mine.to_str().unwrap(),
+            "--no-plots",
+            "--force",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        None,
+    ));
+    assert_eq!(
+        std::fs::read_to_string(out.join("mine.toml")).unwrap(),
+        stack
+    );
+    assert!(out.join("curve.csv").is_file());
+}
