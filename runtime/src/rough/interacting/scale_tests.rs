@@ -17,7 +17,14 @@ fn curve(law: &dyn AsperityLaw, s: &Surface, images: Images, prm: Params) -> Vec
 
 /// One comparison: name, law, images, the fast and exact parameters, and the limits on
 /// the load, area and stiffness differences.
-type Run<'l> = (&'l str, &'l dyn AsperityLaw, Images, Params, Params, [f64; 3]);
+type Run<'l> = (
+    &'l str,
+    &'l dyn AsperityLaw,
+    Images,
+    Params,
+    Params,
+    [f64; 3],
+);
 
 /// Accelerated sums (FFT grid far field, sparse near corrections, conjugate-gradient
 /// Newton steps; forced with `dense_pair_limit = 0`) against exact pair-by-pair sums
