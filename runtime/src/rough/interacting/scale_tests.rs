@@ -54,9 +54,11 @@ fn slow_grid_sums_match_exact_sums() {
         ..Params::default()
     };
     // the raw image sums (the grid machinery to 1e-6), then the default zero-mean images
-    // on the half-space (a known gap, measured: load 7.7e-4, area 8.6e-5, stiffness
-    // 1.5e-3 at 420 contacts — the grid path's energy at the solve's far-field bound
-    // differs from the exact one; with the bound at half the cell it agrees to 5e-9)
+    // on the half-space: within 1e-6 while at most 15 pairs of contact circles overlap
+    // (17 of 20 steps, 277 contacts, A/A₀ 5.9 %: measured ≤ 5.8e-7 load, 1.1e-6
+    // stiffness); beyond, 23–38 overlapping pairs at 322–420 contacts, a known gap of
+    // the grid path (load 2e-4…7.7e-4, stiffness 8.5e-4…1.5e-3; the grid energy at the
+    // bound L/2 agrees with the exact one to 5e-9, so it is the solve's far-field bound)
     let raw = |p: &Params| Params {
         zero_mean_images: false,
         ..p.clone()
@@ -95,9 +97,22 @@ fn slow_grid_sums_match_exact_sums() {
                 );
                 assert!(y.diagnostics.far_field.is_none());
                 if y.load > 0.0 {
-                    worst[0] = worst[0].max((x.load / y.load - 1.0).abs());
-                    worst[1] = worst[1].max((x.area_fraction / y.area_fraction - 1.0).abs());
-                    worst[2] = worst[2].max((x.stiffness / y.stiffness - 1.0).abs());
+                    let e = [
+                        (x.load / y.load - 1.0).abs(),
+                        (x.area_fraction / y.area_fraction - 1.0).abs(),
+                        (x.stiffness / y.stiffness - 1.0).abs(),
+                    ];
+                    // the raw sums' limits while few contact circles overlap
+                    if y.validity.overlapping_contacts <= 15 {
+                        assert!(
+                            e[0] <= 1e-6 && e[1] <= 1e-6 && e[2] <= 1e-5,
+                            "{name} {images:?} at δ = {:e}: {e:?}",
+                            y.delta
+                        );
+                    }
+                    for i in 0..3 {
+                        worst[i] = worst[i].max(e[i]);
+                    }
                 }
             }
             let last = a.last().unwrap();
