@@ -173,3 +173,28 @@ pub fn fuzz_config(cases: u32, seed: u64) -> proptest::test_runner::Config {
         ..proptest::test_runner::Config::default()
     }
 }
+
+/// Heights (m, row-major n0 × n1, x along the rows) of a smooth periodic rectangular
+/// cell: five plane waves of wave numbers (p/Lx, q/Ly) with amplitudes 1 µm/(p² + q²) —
+/// a few summits per cell, for the rectangular-cell and periodic-image tests.
+pub fn rectangular_cosines(n0: usize, n1: usize, dx: f64, dy: f64) -> Vec<f64> {
+    let (lx, ly) = (n0 as f64 * dx, n1 as f64 * dy);
+    let tau = std::f64::consts::TAU;
+    let z: Vec<f64> = (0..n0 * n1)
+        .map(|k| {
+            let (x, y) = ((k / n1) as f64 * dx, (k % n1) as f64 * dy);
+            let mut v = 0.0;
+            for (p, q, ph) in [
+                (3.0, 2.0, 0.3),
+                (5.0, 1.0, 1.1),
+                (2.0, 4.0, 2.0),
+                (7.0, 3.0, 0.7),
+                (1.0, 6.0, 2.9),
+            ] {
+                v += (tau * (p * x / lx + q * y / ly) + ph).cos() / (p * p + q * q);
+            }
+            1e-6 * v
+        })
+        .collect();
+    z
+}

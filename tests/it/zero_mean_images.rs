@@ -260,24 +260,7 @@ fn kkt_ewald(rc: &RoughContact, radii: &[f64], delta: f64) -> f64 {
 #[test]
 fn zero_mean_images_meet_the_ewald_kkt_conditions() {
     let (n0, n1, dx, dy) = (96usize, 64usize, 1e-5, 2e-5);
-    let (lx, ly) = (n0 as f64 * dx, n1 as f64 * dy);
-    let tau = std::f64::consts::TAU;
-    let z: Vec<f64> = (0..n0 * n1)
-        .map(|k| {
-            let (x, y) = ((k / n1) as f64 * dx, (k % n1) as f64 * dy);
-            let mut v = 0.0;
-            for (p, q, ph) in [
-                (3.0, 2.0, 0.3),
-                (5.0, 1.0, 1.1),
-                (2.0, 4.0, 2.0),
-                (7.0, 3.0, 0.7),
-                (1.0, 6.0, 2.9),
-            ] {
-                v += (tau * (p * x / lx + q * y / ly) + ph).cos() / (p * p + q * q);
-            }
-            1e-6 * v
-        })
-        .collect();
+    let z = crate::support::rectangular_cosines(n0, n1, dx, dy);
     let s = Surface::with_spacing(
         z,
         n0,
