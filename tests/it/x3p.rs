@@ -219,6 +219,34 @@ fn handmade_int16_with_invalid_points() {
         e.contains("corrupt") && e.contains("bindata/data.bin"),
         "{e}"
     );
+    // Surplus data (issue 37: read with a warning and solved, RMS 1.2e9 m): refused,
+    // checksum valid or not.
+    let mut long = data.clone();
+    long.extend_from_slice(&[7, 0, 9, 0]);
+    let long_link = link.replace(&md5hex(&data), &md5hex(&long));
+    let long_main = main_xml(
+        nx,
+        ny,
+        "2.5e-6",
+        "4.0E-0006",
+        "I",
+        Some("1e-9"),
+        Some("5e-6"),
+        &long_link,
+    );
+    std::fs::write(
+        &f,
+        container(
+            &long_main,
+            &[("bindata/data.bin", &long), ("bindata/valid.bin", &valid)],
+        ),
+    )
+    .expect("write");
+    let e = read(&f, Repair::Median).unwrap_err().to_string();
+    assert!(
+        e.contains("more than the 6×5 values") && e.contains("bindata/data.bin"),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

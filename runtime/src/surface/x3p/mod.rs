@@ -17,7 +17,8 @@
 //!   `ListDimension` is an unordered point list, refused); the points either in the
 //!   binary file, little-endian, x fastest (point (i, j) at index j·SizeX + i), or as
 //!   an XML `DataList` of `Datum` elements in the same order (an empty `Datum` is an
-//!   invalid point). `MD5ChecksumPointData` (and `MD5ChecksumValidPoints`) are checked:
+//!   invalid point). A binary file shorter or longer than SizeX × SizeY values is an
+//!   error (the dimensions or the type do not describe it). `MD5ChecksumPointData` (and `MD5ChecksumValidPoints`) are checked:
 //!   a mismatch is an error (the numbers are corrupt); a missing or malformed one is a
 //!   warning. The main.xml checksum is a warning only, as in the reference library.
 //! - Invalid points: NaN in `F`/`D` data (and ±inf, which some instruments write,
@@ -373,10 +374,14 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
             )));
         }
         if data.len() > need {
-            warnings.push(format!(
-                "{file}: {} bytes beyond the {nx}×{ny} grid ignored",
-                data.len() - need
-            ));
+            // more data than the grid: the dimensions or the type do not describe the
+            // file (issue 37: such a file was read with a warning and solved, RMS 1.2e9 m)
+            return Err(fail(format!(
+                "{file} holds {} bytes, more than the {nx}×{ny} values of type {} need \
+                 ({need}): Record3/MatrixDimension or the data type does not describe it",
+                data.len(),
+                data_type.code()
+            )));
         }
         verify(
             &x,
