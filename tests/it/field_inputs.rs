@@ -344,3 +344,50 @@ fn law_past_full_contact_says_why() {
     assert_eq!(code, Some(0), "{e}");
     assert!(out.exists());
 }
+
+/// Issue 37: an `x y z` triplet file (3 columns, every grid point once) was read as an
+/// N×3 height grid. It is refused by name, with the matrix shape to write instead; a
+/// genuine height matrix three points wide still reads.
+#[test]
+fn xyz_triplet_files_are_named_not_read_as_heights() {
+    use strata_runtime::surface::Surface;
+    let d = dir("triplets");
+    let mut text = String::from("# x y z\n");
+    for i in 0..4 {
+        for j in 0..5 {
+            let (x, y) = (i as f64 * 1e-5, j as f64 * 1e-5);
+            text.push_str(&format!(
+                "{x:e} {y:e} {:e}\n",
+                1e-6 * ((i * 7 + j * 3) % 5) as f64
+            ));
+        }
+    }
+    let f = d.join("scan.xyz.txt");
+    std::fs::write(&f, &text).expect("write");
+    let e = Surface::read_text(&f, 1e-3, false).unwrap_err().to_string();
+    assert!(
+        e.contains("triplets") && e.contains("4×5") && e.contains("scan.xyz.txt"),
+        "{e}"
+    );
+    let (code, err) = run(
+        &d,
+        &["surface", "info", f.to_str().unwrap(), "--size", "1e-3"],
+    );
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("triplets"), "{err}");
+    // 6 rows of 3 heights: a matrix
+    let m: String = (0..6)
+        .map(|r| {
+            format!(
+                "{:e} {:e} {:e}\n",
+                1e-6 * r as f64,
+                2e-6 + 1e-7 * r as f64,
+                -3e-7 * r as f64
+            )
+        })
+        .collect();
+    let g = d.join("narrow.txt");
+    std::fs::write(&g, m).expect("write");
+    let s = Surface::read_text(&g, 1e-3, false).expect("a 6×3 matrix");
+    assert_eq!(s.shape(), (6, 3));
+}

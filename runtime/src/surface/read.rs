@@ -414,5 +414,41 @@ fn read_text_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> 
         }
         n0 += 1;
     }
+    if let Some((a, b)) = triplet_grid(&z, n0, n1) {
+        return Err(SurfaceError::Format {
+            path: p,
+            message: format!(
+                "{n0} lines of 3 values look like `x y z` triplets (x takes {a} values and \
+                 y {b}, every pair once), not a height matrix: strata reads one grid row of \
+                 heights per line; write the heights as a {a}×{b} matrix (NumPy: \
+                 np.savetxt(out, z.reshape({a}, {b})) with the rows sorted by x, then y)"
+            ),
+        });
+    }
     Ok((z, n0, n1))
+}
+
+/// `Some((a, b))` when an n0 × 3 matrix is `x y z` triplets on a full grid: its first two
+/// columns take a ≥ 2 and b ≥ 2 distinct values with a·b = n0, each (x, y) pair once.
+/// A height matrix three points wide has (almost surely) no such repetition.
+fn triplet_grid(z: &[f64], n0: usize, n1: usize) -> Option<(usize, usize)> {
+    if n1 != 3 || n0 < 4 {
+        return None;
+    }
+    let distinct = |c: usize| {
+        let mut v: Vec<f64> = (0..n0).map(|r| z[3 * r + c]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v.len()
+    };
+    let (a, b) = (distinct(0), distinct(1));
+    if a < 2 || b < 2 || a * b != n0 {
+        return None;
+    }
+    let mut pairs: Vec<(u64, u64)> = (0..n0)
+        .map(|r| (z[3 * r].to_bits(), z[3 * r + 1].to_bits()))
+        .collect();
+    pairs.sort_unstable();
+    pairs.dedup();
+    (pairs.len() == n0).then_some((a, b))
 }
