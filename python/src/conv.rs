@@ -109,6 +109,17 @@ pub fn list(obj: &Bound<'_, PyAny>, name: &str, kind: Kind) -> PyResult<Vec<f64>
 /// A height map: a 2-D floating-point array (m), row-major.
 /// Returns the heights and the shape (n0, n1); the first axis is x.
 pub fn heights(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize, usize)> {
+    // A masked array's masked points are missing values (NaN: refused with their row
+    // and column, or repaired on request), never the numbers hidden under the mask.
+    let filled;
+    let obj = if is_masked(obj)? {
+        filled = obj
+            .call_method1("astype", ("float64",))?
+            .call_method1("filled", (f64::NAN,))?;
+        &filled
+    } else {
+        obj
+    };
     if obj.cast::<PyUntypedArray>().is_err() {
         return Err(to_py(
             Kind::Surface,
@@ -140,4 +151,10 @@ pub fn heights(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize, usize)> {
     // Non-finite heights and spikes are the library's to find (Surface::measured_with,
     // with the row and column), as for a file.
     Ok((z, shape[0], shape[1]))
+}
+
+/// True for a `numpy.ma.MaskedArray`.
+fn is_masked(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
+    let ma = obj.py().import("numpy.ma")?;
+    ma.call_method1("isMaskedArray", (obj,))?.is_truthy()
 }

@@ -58,6 +58,21 @@ def test_non_finite_height(bad):
     assert np.isfinite(s.heights).all()
 
 
+def test_masked_points_are_missing_values():
+    # issue 37: the values under a numpy mask were taken as heights
+    z = heights()
+    m = np.ma.masked_array(z.copy(), mask=np.zeros_like(z, dtype=bool))
+    m[6, 2] = np.ma.masked
+    m.data[6, 2] = 1.0  # a wild value under the mask
+    with pytest.raises(strata.SurfaceError, match=r"row 6, column 2"):
+        strata.Surface(m, **GOOD)
+    s = strata.Surface(m, repair="median", **GOOD)
+    assert abs(s.heights[6, 2]) < 1e-4
+    # unmasked: the same as the plain array
+    plain = np.ma.masked_array(z, mask=False)
+    assert np.array_equal(strata.Surface(plain, **GOOD).heights, strata.Surface(z, **GOOD).heights)
+
+
 def test_spike_refused_with_its_index():
     z = heights()
     z[4, 9] = 1.0  # 1 m on a micrometre surface
