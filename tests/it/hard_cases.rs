@@ -856,7 +856,7 @@ mod cli {
     /// A spike (one pixel 100 µm above the highest point of a 3.4 µm RMS surface, like
     /// an instrument glitch) would become the highest summit and shift every separation
     /// by 100 µm: it is refused, naming the file and the index. With `repair =
-    /// "median"` it is replaced by the median of its neighbours, and the load curve at
+    /// "median"` it is replaced by its prediction from its neighbours, and the load curve at
     /// given approaches equals that of the clean surface to 1e-12 (the glitch sits on
     /// the lowest point, away from every summit; only the mean height, hence the gap
     /// column, moves, by < 1e-9 m).
