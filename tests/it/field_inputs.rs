@@ -391,3 +391,41 @@ fn xyz_triplet_files_are_named_not_read_as_heights() {
     let s = Surface::read_text(&g, 1e-3, false).expect("a 6×3 matrix");
     assert_eq!(s.shape(), (6, 3));
 }
+
+/// Issue 37: a surface file that is a link to /dev/zero grew without bound (under a 1 GB
+/// memory limit) and a FIFO would block forever: both are refused at once, by name, for
+/// each reader (.npy, text, .x3p).
+#[test]
+fn surface_files_that_are_streams_are_refused() {
+    use strata_runtime::surface::{ReadOptions, Spacing, Surface};
+    let d = dir("streams");
+    let opts = ReadOptions {
+        spacing: Some(Spacing::Size(1e-3)),
+        ..Default::default()
+    };
+    for ext in ["npy", "txt", "x3p"] {
+        let link = d.join(format!("zero.{ext}"));
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink("/dev/zero", &link).expect("symlink");
+        let o = if ext == "x3p" {
+            ReadOptions::default()
+        } else {
+            opts.clone()
+        };
+        let e = Surface::read(&link, &o).unwrap_err().to_string();
+        assert!(
+            e.contains("not a regular file") && e.contains(&format!("zero.{ext}")),
+            "{e}"
+        );
+    }
+    let fifo = d.join("pipe.txt");
+    let _ = std::fs::remove_file(&fifo);
+    if std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .is_ok_and(|s| s.success())
+    {
+        let e = Surface::read(&fifo, &opts).unwrap_err().to_string();
+        assert!(e.contains("not a regular file"), "{e}");
+    }
+}

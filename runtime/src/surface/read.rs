@@ -297,6 +297,7 @@ type Raw = (Vec<f64>, usize, usize, Spacing, Vec<String>, Vec<String>);
 
 #[cfg(feature = "x3p")]
 fn read_x3p_raw(path: &Path, opts: &ReadOptions) -> Result<Raw, SurfaceError> {
+    regular_file(path)?;
     let refuse = |message: &str| SurfaceError::Format {
         path: path.display().to_string(),
         message: message.into(),
@@ -335,6 +336,7 @@ fn read_x3p_raw(path: &Path, _: &ReadOptions) -> Result<Raw, SurfaceError> {
 /// Heights and shape of a 2-D f64 `.npy` (C order).
 #[cfg(feature = "npy")]
 fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+    regular_file(path)?;
     let p = path.display().to_string();
     let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
         path: p.clone(),
@@ -375,8 +377,24 @@ fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     )))
 }
 
+/// Refuses a surface "file" that is not a regular file (through links): a device, FIFO or
+/// socket can be an endless stream (a link to /dev/zero grew without bound under a 1 GB
+/// memory limit, issue 37). A missing file passes (its reader names it).
+fn regular_file(path: &Path) -> Result<(), SurfaceError> {
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => Err(SurfaceError::Io {
+            path: path.display().to_string(),
+            message:
+                "not a regular file (a device, FIFO or socket): strata reads height maps from files"
+                    .into(),
+        }),
+        _ => Ok(()),
+    }
+}
+
 /// Heights and shape of a plain-text matrix (one grid row per line).
 fn read_text_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+    regular_file(path)?;
     let p = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
         path: p.clone(),
