@@ -410,7 +410,7 @@ fn surface_files_that_are_streams_are_refused() {
         let o = if ext == "x3p" {
             ReadOptions::default()
         } else {
-            opts.clone()
+            opts
         };
         let e = Surface::read(&link, &o).unwrap_err().to_string();
         assert!(
