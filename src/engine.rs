@@ -75,10 +75,6 @@ macro_rules! log {
     ($quiet:expr, $($t:tt)*) => { if !$quiet { progress::log(format!($($t)*)); } };
 }
 
-/// Bytes per grid point that generating a surface holds at its peak: the complex
-/// spectrum and its transform (16 + 16), the heights (8).
-const GENERATE_BYTES_PER_POINT: u64 = 40;
-
 /// Checks the surface's size against the memory limit before it is generated (read
 /// surfaces are checked by the reader, from the file's header).
 fn check_surface_memory(scene: &Scene) -> Result<()> {
@@ -96,7 +92,10 @@ pub fn check_generate_memory(g: &GenerateParams) -> Result<()> {
             "generating the {0}×{0} surface (surface.generate.grid)",
             g.grid
         ),
-        resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
+        resources::bytes_for(
+            n.saturating_mul(n),
+            strata_runtime::surface::GENERATE_BYTES_PER_POINT,
+        ),
     )?;
     Ok(())
 }

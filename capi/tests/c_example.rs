@@ -856,3 +856,45 @@ fn surface_read_through_the_abi() {
         unsafe { strata_surface_info(std::ptr::null(), &mut n, &mut n, &mut v, &mut v, &mut v) };
     assert_eq!(code, STRATA_ERR_NULL);
 }
+
+/// Issue 37: `strata_surface_generate(grid = 16384)` ignored STRATA_MEMORY_LIMIT (8.4 GB,
+/// SIGABRT under a 3 GB ulimit). Under a 64 MiB limit it returns an error code with the
+/// estimate and the limit, and the host goes on (in a child process: the limit is read
+/// from the environment, which this process's other tests share).
+#[test]
+fn surface_generate_honours_the_memory_limit() {
+    let out = Command::new(std::env::current_exe().expect("test binary"))
+        .args(["--ignored", "--exact", "memory_limit_child", "--nocapture"])
+        .env("STRATA_MEMORY_LIMIT", "64M")
+        .env("STRATA_MEMORY_CHILD", "1")
+        .output()
+        .expect("run the child");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("child: refused:") && text.contains("16384×16384"),
+        "{text}"
+    );
+}
+
+/// The child of [`surface_generate_honours_the_memory_limit`] (does nothing unless
+/// STRATA_MEMORY_CHILD is set).
+#[test]
+#[ignore = "run by surface_generate_honours_the_memory_limit in a child process"]
+fn memory_limit_child() {
+    if std::env::var_os("STRATA_MEMORY_CHILD").is_none() {
+        return;
+    }
+    let mut surface: *mut StrataSurface = std::ptr::null_mut();
+    let code =
+        unsafe { strata_surface_generate(1e-3, 16384, 2.4, 2.0, 10.0, 1e-6, 1, &mut surface) };
+    assert_ne!(code, STRATA_OK);
+    assert!(surface.is_null());
+    let msg = last_error();
+    assert!(msg.contains("limit"), "{msg}");
+    println!("child: refused: {msg}");
+}

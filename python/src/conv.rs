@@ -132,6 +132,14 @@ pub fn heights(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize, usize)> {
             ),
         ));
     }
+    // the memory limit before the copy: a huge array (or a broadcast view of one) is
+    // refused by name instead of aborting the interpreter (issue 37)
+    if let Ok(a) = obj.cast::<PyUntypedArray>()
+        && let [n0, n1] = a.shape()
+    {
+        strata_runtime::surface::Surface::check_measured_memory(*n0, *n1)
+            .map_err(|e| to_py(Kind::Surface, anyhow::Error::new(e)))?;
+    }
     let Values::Array(z, shape) = values(obj, "heights", Kind::Surface)? else {
         return Err(to_py(
             Kind::Surface,

@@ -73,6 +73,16 @@ def test_masked_points_are_missing_values():
     assert np.array_equal(strata.Surface(plain, **GOOD).heights, strata.Surface(z, **GOOD).heights)
 
 
+def test_huge_array_refused_under_the_memory_limit(monkeypatch):
+    # issue 37: Surface(array) ignored the limit (a 16384² view aborted the interpreter)
+    monkeypatch.setenv("STRATA_MEMORY_LIMIT", "64M")
+    view = np.broadcast_to(np.float64(1e-6), (16384, 16384))
+    with pytest.raises(strata.SurfaceError, match=r"16384×16384.*limit"):
+        strata.Surface(view, **GOOD)
+    with pytest.raises(strata.SurfaceError, match=r"limit"):
+        strata.Surface.generate(1e-3, 8192, 2.4, 2, 10, 1e-6)
+
+
 def test_spike_refused_with_its_index():
     z = heights()
     z[4, 9] = 1.0  # 1 m on a micrometre surface

@@ -41,6 +41,10 @@ impl GenerateParams {
     }
 }
 
+/// Bytes per grid point that generating a surface holds at its peak: the complex
+/// spectrum and its transform (16 + 16), the heights (8).
+pub const GENERATE_BYTES_PER_POINT: u64 = 40;
+
 impl Surface {
     /// Generates a self-affine surface (physics.md §5). Amplitudes |ẑ(k)| ∝ |k|^(−(1+H))
     /// for k_min ≤ |k|L/(2π) ≤ k_max (k integer multiples of 2π/L), uniform random
@@ -56,6 +60,12 @@ impl Surface {
                 "must be in [4, 16384]",
             ));
         }
+        // before allocating: every entry point (CLI, Python, the C ABI) is bounded
+        let n = p.grid as u64;
+        crate::resources::check_memory(
+            format!("generating the {0}×{0} surface (generate.grid)", p.grid),
+            crate::resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
+        )?;
         if !(2.0..3.0).contains(&p.fractal_dimension) {
             return Err(invalid(
                 "generate.fractal_dimension",

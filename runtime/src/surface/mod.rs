@@ -49,7 +49,7 @@ pub mod x3p;
 
 pub use form::{Detrend, Form};
 #[cfg(feature = "spectral")]
-pub use generate::GenerateParams;
+pub use generate::{GENERATE_BYTES_PER_POINT, GenerateParams};
 pub use read::{FileKind, HeightUnit, ReadOptions};
 pub use stats::{MAX_RMS_HEIGHT_FRACTION, MAX_RMS_SLOPE, MIN_RMS_HEIGHT, SurfaceStats};
 
@@ -106,6 +106,11 @@ impl From<crate::resources::ResourceError> for SurfaceError {
 /// Spike limit in robust standard deviations of the prediction residuals (see the
 /// module documentation).
 pub const SPIKE_LIMIT: f64 = 20.0;
+
+/// Bytes per grid point that checking a measured surface allocates beside its heights
+/// (the spike residuals, their sorted copies, the built surface): an estimate for the
+/// memory limit.
+pub const MEASURED_BYTES_PER_POINT: u64 = 40;
 
 /// What the file readers do with non-finite heights and spikes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -281,6 +286,22 @@ impl Surface {
         Self::measured_with(z, n0, n1, Spacing::Size(size), periodic, repair)
     }
 
+    /// Checks, against the memory limit ([`crate::resources`]), what checking and
+    /// building a measured n0 × n1 surface allocates beside the heights handed in
+    /// ([`MEASURED_BYTES_PER_POINT`]): every entry point (file readers, Python arrays,
+    /// the C ABI) calls it before copying, so a huge array is refused by name instead
+    /// of aborting the host process.
+    pub fn check_measured_memory(n0: usize, n1: usize) -> Result<(), SurfaceError> {
+        crate::resources::check_memory(
+            format!("checking and building a {n0}×{n1} measured surface"),
+            crate::resources::bytes_for(
+                (n0 as u64).saturating_mul(n1 as u64),
+                MEASURED_BYTES_PER_POINT,
+            ),
+        )?;
+        Ok(())
+    }
+
     /// [`Surface::measured`] with any [`Spacing`].
     pub fn measured_with(
         mut z: Vec<f64>,
@@ -293,6 +314,7 @@ impl Surface {
         if z.len() != n0 * n1 || n0 < 3 || n1 < 3 {
             return Surface::with_spacing(z, n0, n1, spacing, periodic);
         }
+        Self::check_measured_memory(n0, n1)?;
         spacing.pixel(n0, n1)?;
         let bad = suspect_points(&z, n0, n1, periodic);
         if repair == Repair::Refuse {
