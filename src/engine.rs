@@ -278,7 +278,7 @@ pub fn solve_surface_with_maps(
     );
     let law = law_for(scene, scene_path, opts)?;
     let t0 = Instant::now();
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
     let effects = model_description(model);
     let layered = if law.is_homogeneous() {
         "homogeneous solid (χ = ζ = 1, g = 0)"
@@ -483,7 +483,8 @@ fn solve_bem(
     };
     let stack = &scene.stack;
     let t0 = Instant::now();
-    let solver = BemSolver::with_geometry(&heights, geometry, stack, opts.bem.unwrap_or_default())
+    let bem_options = scene.solver.bem_options(opts.bem.unwrap_or_default());
+    let solver = BemSolver::with_geometry(&heights, geometry, stack, bem_options)
         .context("model.kind = \"bem\"")?;
     drop(heights);
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
