@@ -17,7 +17,7 @@ use anyhow::{Context, Result, bail};
 use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver, Geometry};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;
-use strata_runtime::rough::{Images, Model, RoughContact, Step};
+use strata_runtime::rough::{Images, Model, RoughContact, RoughError, Step};
 use strata_runtime::summits::find_summits;
 use strata_runtime::surface::{GenerateParams, Surface};
 use strata_runtime::table::Table;
@@ -287,7 +287,20 @@ pub fn solve_surface_with_maps(
     };
     log!(quiet, "simulating: {effects}; {layered}");
     // Any approach δ ≥ 0 is admissible for the asperity models: steps beyond their
-    // validity are solved, logged and flagged in curve.json.
+    // validity are solved, logged and flagged in curve.json, except where the N model's
+    // contact areas sum to more than the nominal area (physically impossible): that step
+    // is refused at once, before any I-model work on it (the N model is cheap), with the
+    // BEM advice.
+    let interacting = matches!(model, Model::Interacting(_));
+    let refuse = |i: usize, what: String, delta: f64, area: f64| {
+        let e = RoughError::AreaAboveNominal {
+            delta,
+            area,
+            interacting,
+        };
+        log!(quiet, "{what} (δ = {delta:e} m): refused: {e}");
+        (i, e)
+    };
     let mut failed = None;
     let steps: Vec<Step> = match scene
         .load
@@ -298,9 +311,18 @@ pub fn solve_surface_with_maps(
             let _spin = (!quiet).then(|| {
                 progress::spinner(format!("{}: {} load steps", model_short(model), d.len()))
             });
-            let (steps, stop) = rc.curve_partial(model, &d);
+            let over = rc.first_area_above_nominal(&d);
+            let solvable = over.map_or(d.len(), |(i, _)| i);
+            let (steps, mut stop) = rc.curve_partial(model, &d[..solvable]);
+            if let (None, Some((i, area))) = (&stop, over) {
+                stop = Some(refuse(i, format!("load step {i}"), d[i], area));
+            }
             if let Some((i, e)) = stop {
                 if !opts.keep_partial || steps.is_empty() {
+                    if matches!(e, RoughError::AreaAboveNominal { .. }) {
+                        let at = format!("load step {i} (δ = {:e} m)", d[i]);
+                        return Err(anyhow::Error::from(e).context(at));
+                    }
                     return Err(e.into());
                 }
                 failed = Some(StepFailure {
@@ -324,9 +346,28 @@ pub fn solve_surface_with_maps(
             let mut out: Vec<Step> = Vec::new();
             let mut warm: Vec<f64> = Vec::new();
             for (i, &p) in ps.iter().enumerate() {
+                // The N model at this pressure first (cheap): past A/A₀ = 1 it is refused,
+                // and so is the I model, which needs a larger approach for the same
+                // pressure (interactions soften the contact).
+                let field = format!("load.mean_pressures[{i}]");
+                let n = rc
+                    .solve_pressure(Model::Independent, p, &[])
+                    .with_context(|| field.clone())?;
+                if n.area_fraction > 1.0 {
+                    let (_, e) = refuse(i, field.clone(), n.delta, n.area_fraction);
+                    return Err(anyhow::Error::from(e).context(field));
+                }
+                if !interacting {
+                    warm = n.radii.clone();
+                    out.push(n);
+                    if let Some(b) = &bar {
+                        b.inc();
+                    }
+                    continue;
+                }
                 let s = rc
                     .solve_pressure(model, p, &warm)
-                    .with_context(|| format!("load.mean_pressures[{i}]"))?;
+                    .with_context(|| field.clone())?;
                 warm = s.radii.clone();
                 out.push(s);
                 if let Some(b) = &bar {
@@ -341,7 +382,7 @@ pub fn solve_surface_with_maps(
         if !s.validity.is_valid() {
             log!(
                 quiet,
-                "warning: load step {i} (δ = {:e} m) is outside the asperity model's validity: {}",
+                "warning: load step {i} (δ = {:e} m) is outside the asperity model's validity: {} (use model.kind = \"bem\" for this load)",
                 s.delta,
                 s.validity.describe()
             );
