@@ -88,9 +88,10 @@ pub enum InterfaceError {
     )]
     BelowSampledRange { gap: f64, min_gap: f64 },
     #[error(
-        "the sampled curve reaches A/A₀ = {area} > 1 at g = {gap:e} m (the summed contact \
+        "the sampled curve reaches A/A₀ = {} > 1 at g = {gap:e} m (the summed contact \
          areas exceed the nominal area: outside the asperity models' validity); end the law at a \
-         larger separation (min_gap, --min-gap), or use model.kind = \"bem\" for this load"
+         larger separation (min_gap, --min-gap), or use model.kind = \"bem\" for this load",
+        if *area < 1e4 { format!("{area}") } else { format!("{area:.3e}") }
     )]
     AreaAboveNominal { gap: f64, area: f64 },
     /// The message includes the solver's; no `source` (a chain would print it twice).

@@ -28,10 +28,11 @@ pub enum RoughError {
     /// sum to more than the nominal area (physically impossible; the I model, whose
     /// interactions shrink contacts, is not started there either).
     #[error(
-        "{}the N model's contact areas sum to A/A₀ = {area:.3} > 1 at δ = {delta:e} m (more than \
+        "{}the N model's contact areas sum to A/A₀ = {} > 1 at δ = {delta:e} m (more than \
          the nominal area: physically impossible, the asperity models do not hold there); use \
          model.kind = \"bem\" for this load",
-        if *interacting { "I model not started: " } else { "N model: " }
+        if *interacting { "I model not started: " } else { "N model: " },
+        if *area < 1e4 { format!("{area:.3}") } else { format!("{area:.3e}") }
     )]
     AreaAboveNominal {
         delta: f64,
