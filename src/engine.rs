@@ -17,7 +17,7 @@ use anyhow::{Context, Result, bail};
 use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver, Geometry};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;
-use strata_runtime::rough::{Images, Model, RoughContact, Step};
+use strata_runtime::rough::{Images, Model, RoughContact, RoughError, Step};
 use strata_runtime::summits::find_summits;
 use strata_runtime::surface::{GenerateParams, Surface};
 use strata_runtime::table::Table;
@@ -277,7 +277,7 @@ pub fn solve_surface_with_maps(
     );
     let law = law_for(scene, scene_path, opts)?;
     let t0 = Instant::now();
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
     let effects = model_description(model);
     let layered = if law.is_homogeneous() {
         "homogeneous solid (χ = ζ = 1, g = 0)"
@@ -286,7 +286,20 @@ pub fn solve_surface_with_maps(
     };
     log!(quiet, "simulating: {effects}; {layered}");
     // Any approach δ ≥ 0 is admissible for the asperity models: steps beyond their
-    // validity are solved, logged and flagged in curve.json.
+    // validity are solved, logged and flagged in curve.json, except where the N model's
+    // contact areas sum to more than the nominal area (physically impossible): that step
+    // is refused at once, before any I-model work on it (the N model is cheap), with the
+    // BEM advice.
+    let interacting = matches!(model, Model::Interacting(_));
+    let refuse = |i: usize, what: String, delta: f64, area: f64| {
+        let e = RoughError::AreaAboveNominal {
+            delta,
+            area,
+            interacting,
+        };
+        log!(quiet, "{what} (δ = {delta:e} m): refused: {e}");
+        (i, e)
+    };
     let mut failed = None;
     let steps: Vec<Step> = match scene
         .load
@@ -297,9 +310,18 @@ pub fn solve_surface_with_maps(
             let _spin = (!quiet).then(|| {
                 progress::spinner(format!("{}: {} load steps", model_short(model), d.len()))
             });
-            let (steps, stop) = rc.curve_partial(model, &d);
+            let over = rc.first_area_above_nominal(&d);
+            let solvable = over.map_or(d.len(), |(i, _)| i);
+            let (steps, mut stop) = rc.curve_partial(model, &d[..solvable]);
+            if let (None, Some((i, area))) = (&stop, over) {
+                stop = Some(refuse(i, format!("load step {i}"), d[i], area));
+            }
             if let Some((i, e)) = stop {
                 if !opts.keep_partial || steps.is_empty() {
+                    if matches!(e, RoughError::AreaAboveNominal { .. }) {
+                        let at = format!("load step {i} (δ = {:e} m)", d[i]);
+                        return Err(anyhow::Error::from(e).context(at));
+                    }
                     return Err(e.into());
                 }
                 failed = Some(StepFailure {
@@ -323,9 +345,28 @@ pub fn solve_surface_with_maps(
             let mut out: Vec<Step> = Vec::new();
             let mut warm: Vec<f64> = Vec::new();
             for (i, &p) in ps.iter().enumerate() {
+                // The N model at this pressure first (cheap): past A/A₀ = 1 it is refused,
+                // and so is the I model, which needs a larger approach for the same
+                // pressure (interactions soften the contact).
+                let field = format!("load.mean_pressures[{i}]");
+                let n = rc
+                    .solve_pressure(Model::Independent, p, &[])
+                    .with_context(|| field.clone())?;
+                if n.area_fraction > 1.0 {
+                    let (_, e) = refuse(i, field.clone(), n.delta, n.area_fraction);
+                    return Err(anyhow::Error::from(e).context(field));
+                }
+                if !interacting {
+                    warm = n.radii.clone();
+                    out.push(n);
+                    if let Some(b) = &bar {
+                        b.inc();
+                    }
+                    continue;
+                }
                 let s = rc
                     .solve_pressure(model, p, &warm)
-                    .with_context(|| format!("load.mean_pressures[{i}]"))?;
+                    .with_context(|| field.clone())?;
                 warm = s.radii.clone();
                 out.push(s);
                 if let Some(b) = &bar {
@@ -340,7 +381,7 @@ pub fn solve_surface_with_maps(
         if !s.validity.is_valid() {
             log!(
                 quiet,
-                "warning: load step {i} (δ = {:e} m) is outside the asperity model's validity: {}",
+                "warning: load step {i} (δ = {:e} m) is outside the asperity model's validity: {} (use model.kind = \"bem\" for this load)",
                 s.delta,
                 s.validity.describe()
             );
@@ -482,7 +523,8 @@ fn solve_bem(
     };
     let stack = &scene.stack;
     let t0 = Instant::now();
-    let solver = BemSolver::with_geometry(&heights, geometry, stack, opts.bem.unwrap_or_default())
+    let bem_options = scene.solver.bem_options(opts.bem.unwrap_or_default());
+    let solver = BemSolver::with_geometry(&heights, geometry, stack, bem_options)
         .context("model.kind = \"bem\"")?;
     drop(heights);
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);

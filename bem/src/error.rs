@@ -47,7 +47,9 @@ pub enum BemError {
     #[error("initial pressure: expected {expected} finite non-negative values, got {got}")]
     Initial { expected: usize, got: usize },
     #[error(
-        "not converged after {iterations} iterations (error {error:e} > tolerance {tolerance:e}); raise max_iterations or the tolerance"
+        "not converged after {iterations} iterations (error {error:e} > tolerance {tolerance:e}); raise \
+         [solver] bem_max_iterations or bem_tolerance in the scene (Python: Scene(..., \
+         solver={{\"bem_max_iterations\": ...}}); Rust: BemOptions::max_iterations, tolerance)"
     )]
     NotConverged {
         iterations: usize,

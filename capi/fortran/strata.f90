@@ -67,13 +67,24 @@ module strata
   public :: c_strata_last_error_message, c_strata_version, c_strata_table_load, &
        c_strata_table_free, c_strata_surface_load, c_strata_surface_read, &
        c_strata_surface_info, c_strata_surface_generate, c_strata_surface_free, c_strata_law_new, c_strata_law_pressure, &
+       c_strata_solver_options_default, c_strata_law_new_with_options, &
        c_strata_law_area_fraction, c_strata_law_dp_dg, c_strata_law_first_contact_gap, &
        c_strata_law_min_gap, c_strata_law_write, c_strata_law_free
   public :: strata_last_error_message, strata_version, strata_table_load, &
        strata_table_free, strata_surface_load, strata_surface_read, strata_surface_info, &
        strata_surface_generate, strata_surface_free, strata_law_new, strata_law_pressure, &
+       strata_solver_options_default, strata_law_new_with_options, &
        strata_law_area_fraction, strata_law_dp_dg, strata_law_first_contact_gap, &
        strata_law_min_gap, strata_law_write, strata_law_free
+
+  !> StrataSolverOptions: budgets and tolerances of strata_law_new_with_options (the
+  !> scene's [solver] keys of the asperity models; fill with strata_solver_options_default).
+  type, bind(C), public :: strata_solver_options
+     integer(c_size_t) :: max_step_newton_steps
+     integer(c_size_t) :: max_step_evaluations
+     real(c_double) :: kkt_tolerance
+     integer(c_size_t) :: max_pressure_iterations
+  end type strata_solver_options
 
   interface
      !> const char *strata_last_error_message(void)
@@ -173,6 +184,32 @@ module strata
        type(c_ptr), value :: out
        integer(c_int32_t) :: code
      end function c_strata_law_new
+
+     !> int32_t strata_solver_options_default(StrataSolverOptions *out)
+     function c_strata_solver_options_default(out) &
+          bind(C, name="strata_solver_options_default") result(code)
+       import :: c_int32_t, c_ptr
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_solver_options_default
+
+     !> int32_t strata_law_new_with_options(const StrataTable *table,
+     !>     const char *stack_path, const StrataSurface *surface, int32_t model,
+     !>     double min_gap, size_t samples, const StrataSolverOptions *options,
+     !>     StrataLaw **out)
+     function c_strata_law_new_with_options(table, stack_path, surface, model, min_gap, &
+          samples, options, out) bind(C, name="strata_law_new_with_options") result(code)
+       import :: c_char, c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: table
+       character(kind=c_char), dimension(*), intent(in) :: stack_path
+       type(c_ptr), value :: surface
+       integer(c_int32_t), value :: model
+       real(c_double), value :: min_gap
+       integer(c_size_t), value :: samples
+       type(c_ptr), value :: options
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_new_with_options
 
      !> int32_t strata_law_pressure(const StrataLaw *law, double gap, double *out)
      function c_strata_law_pressure(law, gap, out) bind(C, name="strata_law_pressure") &
@@ -385,6 +422,29 @@ contains
     code = c_strata_law_new(table, c_path(stack_path), surface, model, min_gap, &
          int(samples, c_size_t), c_loc(law))
   end function strata_law_new
+
+  !> The default solver options (those strata_law_new uses).
+  function strata_solver_options_default(options) result(code)
+    type(strata_solver_options), intent(out), target :: options
+    integer(c_int32_t) :: code
+    code = c_strata_solver_options_default(c_loc(options))
+  end function strata_solver_options_default
+
+  !> strata_law_new with the solver's budgets and tolerances from `options`.
+  function strata_law_new_with_options(table, stack_path, surface, model, min_gap, &
+       samples, options, law) result(code)
+    type(c_ptr), intent(in) :: table, surface
+    character(*), intent(in) :: stack_path
+    integer(c_int32_t), intent(in) :: model
+    real(c_double), intent(in) :: min_gap
+    integer, intent(in) :: samples
+    type(strata_solver_options), intent(in), target :: options
+    type(c_ptr), intent(out), target :: law
+    integer(c_int32_t) :: code
+    law = c_null_ptr
+    code = c_strata_law_new_with_options(table, c_path(stack_path), surface, model, &
+         min_gap, int(samples, c_size_t), c_loc(options), c_loc(law))
+  end function strata_law_new_with_options
 
   !> Mean contact pressure p(g) (Pa) at separation `gap` (m); `p` unchanged on error.
   function strata_law_pressure(law, gap, p) result(code)

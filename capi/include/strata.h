@@ -70,6 +70,23 @@ typedef struct StrataSurface StrataSurface;
 // A surrogate table of χ, ζ, g (opaque).
 typedef struct StrataTable StrataTable;
 
+// Budgets and tolerances of the rough-contact solve of `strata_law_new_with_options`:
+// the `[solver]` keys of a scene that the asperity models use, under the same names
+// (error messages name the field to raise). Fill it with
+// `strata_solver_options_default`, then change what is needed. Every budget counts
+// work, never time: the law does not depend on the machine's load.
+typedef struct StrataSolverOptions {
+  // I model: most Newton steps of one load step (default 20000), ≥ 1.
+  size_t max_step_newton_steps;
+  // I model: most energy evaluations of one load step (default 100000), ≥ 1.
+  size_t max_step_evaluations;
+  // I model: KKT acceptance relative to the largest interference (default 1e-8),
+  // in (0, 1).
+  double kkt_tolerance;
+  // Most solves of a mean-pressure search (default 200), ≥ 1.
+  size_t max_pressure_iterations;
+} StrataSolverOptions;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -154,6 +171,21 @@ int32_t strata_law_new(const struct StrataTable *table,
                        double min_gap,
                        size_t samples,
                        struct StrataLaw **out);
+
+// Writes the default solver options (those `strata_law_new` uses) to `out`.
+int32_t strata_solver_options_default(struct StrataSolverOptions *out);
+
+// `strata_law_new` with the solver's budgets and tolerances from `options` (NULL:
+// the defaults): raise a budget an error message names here. A field out of its
+// range is `STRATA_ERR_INVALID_ARGUMENT`, naming it.
+int32_t strata_law_new_with_options(const struct StrataTable *table,
+                                    const char *stack_path,
+                                    const struct StrataSurface *surface,
+                                    int32_t model,
+                                    double min_gap,
+                                    size_t samples,
+                                    const struct StrataSolverOptions *options,
+                                    struct StrataLaw **out);
 
 // Mean contact pressure p(g) (Pa) at separation `gap` (m); 0 at or above first
 // contact, `STRATA_ERR_OUT_OF_RANGE` below the smallest sampled separation.

@@ -36,7 +36,7 @@ use std::path::PathBuf;
 use strata_runtime::interface::{InterfaceError, InterfaceLaw, SampleOptions};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources::ResourceError;
-use strata_runtime::rough::{Images, Model, RoughContact, RoughError};
+use strata_runtime::rough::{Images, Model, Params, RoughContact, RoughError};
 use strata_runtime::stack::{Stack, StackError};
 use strata_runtime::surface::{
     Detrend, GenerateParams, HeightUnit, ReadOptions, Repair, Spacing, Surface, SurfaceError,
@@ -100,6 +100,73 @@ pub struct StrataSurface {
 /// The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque).
 pub struct StrataLaw {
     law: InterfaceLaw,
+}
+
+/// Budgets and tolerances of the rough-contact solve of `strata_law_new_with_options`:
+/// the `[solver]` keys of a scene that the asperity models use, under the same names
+/// (error messages name the field to raise). Fill it with
+/// `strata_solver_options_default`, then change what is needed. Every budget counts
+/// work, never time: the law does not depend on the machine's load.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrataSolverOptions {
+    /// I model: most Newton steps of one load step (default 20000), ≥ 1.
+    pub max_step_newton_steps: usize,
+    /// I model: most energy evaluations of one load step (default 100000), ≥ 1.
+    pub max_step_evaluations: usize,
+    /// I model: KKT acceptance relative to the largest interference (default 1e-8),
+    /// in (0, 1).
+    pub kkt_tolerance: f64,
+    /// Most solves of a mean-pressure search (default 200), ≥ 1.
+    pub max_pressure_iterations: usize,
+}
+
+impl Default for StrataSolverOptions {
+    fn default() -> Self {
+        let d = Params::default();
+        StrataSolverOptions {
+            max_step_newton_steps: d.max_step_newton_steps,
+            max_step_evaluations: d.max_step_evaluations,
+            kkt_tolerance: d.kkt_tolerance,
+            max_pressure_iterations: d.max_pressure_iterations,
+        }
+    }
+}
+
+impl StrataSolverOptions {
+    /// The solver parameters, after checking every field (the error names it).
+    pub fn params(&self) -> Result<Params, CapiError> {
+        let count = |name: &'static str, v: usize| {
+            if v >= 1 {
+                Ok(v)
+            } else {
+                Err(CapiError::Invalid {
+                    name,
+                    reason: "must be ≥ 1".into(),
+                })
+            }
+        };
+        let tol = self.kkt_tolerance;
+        if !(tol > 0.0 && tol < 1.0) {
+            return Err(CapiError::Invalid {
+                name: "options.kkt_tolerance",
+                reason: format!("{tol} must be in (0, 1)"),
+            });
+        }
+        Ok(Params {
+            max_step_newton_steps: count(
+                "options.max_step_newton_steps",
+                self.max_step_newton_steps,
+            )?,
+            max_step_evaluations: count("options.max_step_evaluations", self.max_step_evaluations)?,
+            kkt_tolerance: tol,
+            max_pressure_iterations: count(
+                "options.max_pressure_iterations",
+                self.max_pressure_iterations,
+            )?,
+            ..Params::default()
+        })
+    }
 }
 
 /// Errors of the C ABI; each maps to one `STRATA_ERR_*` code.
@@ -503,7 +570,28 @@ mod exported {
         samples: usize,
         out: *mut *mut StrataLaw,
     ) -> i32 {
+        let options = StrataSolverOptions::default();
+        unsafe {
+            law_new(
+                table, stack_path, surface, model, min_gap, samples, options, out,
+            )
+        }
+    }
+
+    /// `strata_law_new` and `strata_law_new_with_options`.
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn law_new(
+        table: *const StrataTable,
+        stack_path: *const c_char,
+        surface: *const StrataSurface,
+        model: i32,
+        min_gap: f64,
+        samples: usize,
+        options: StrataSolverOptions,
+        out: *mut *mut StrataLaw,
+    ) -> i32 {
         guard(|| {
+            let params = options.params()?;
             let sp = unsafe { path_arg("stack_path", stack_path) }?;
             let surface = &unsafe { get("surface", surface) }?.surface;
             let table = unsafe { table.as_ref() };
@@ -524,9 +612,46 @@ mod exported {
                 return Err(CapiError::Null("out"));
             }
             let stack = Stack::from_toml_file(&sp)?;
-            let law = build_law(table, &stack, surface, model, min_gap, samples)?;
+            let law = build_law_with(table, &stack, surface, model, min_gap, samples, params)?;
             unsafe { put("out", out, StrataLaw { law }) }
         })
+    }
+
+    /// Writes the default solver options (those `strata_law_new` uses) to `out`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_solver_options_default(out: *mut StrataSolverOptions) -> i32 {
+        guard(|| {
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            // SAFETY: non-NULL, writable per the API contract.
+            unsafe { *out = StrataSolverOptions::default() };
+            Ok(())
+        })
+    }
+
+    /// `strata_law_new` with the solver's budgets and tolerances from `options` (NULL:
+    /// the defaults): raise a budget an error message names here. A field out of its
+    /// range is `STRATA_ERR_INVALID_ARGUMENT`, naming it.
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_law_new_with_options(
+        table: *const StrataTable,
+        stack_path: *const c_char,
+        surface: *const StrataSurface,
+        model: i32,
+        min_gap: f64,
+        samples: usize,
+        options: *const StrataSolverOptions,
+        out: *mut *mut StrataLaw,
+    ) -> i32 {
+        // SAFETY: NULL or a pointer to a valid StrataSolverOptions, per the contract.
+        let options = unsafe { options.as_ref() }.copied().unwrap_or_default();
+        unsafe {
+            law_new(
+                table, stack_path, surface, model, min_gap, samples, options, out,
+            )
+        }
     }
 
     /// Mean contact pressure p(g) (Pa) at separation `gap` (m); 0 at or above first
@@ -637,6 +762,27 @@ pub fn build_law(
     min_gap: f64,
     samples: usize,
 ) -> Result<InterfaceLaw, CapiError> {
+    build_law_with(
+        table,
+        stack,
+        surface,
+        model,
+        min_gap,
+        samples,
+        Params::default(),
+    )
+}
+
+/// [`build_law`] with the solver parameters `params` (`strata_law_new_with_options`).
+pub fn build_law_with(
+    table: Option<&StrataTable>,
+    stack: &Stack,
+    surface: &Surface,
+    model: Model,
+    min_gap: f64,
+    samples: usize,
+    params: Params,
+) -> Result<InterfaceLaw, CapiError> {
     let law: Box<dyn AsperityLaw> = if stack.is_homogeneous() {
         Box::new(Homogeneous {
             e_star: stack.top_plane_strain_modulus(),
@@ -648,7 +794,7 @@ pub fn build_law(
         })?;
         Box::new(t.table.law_for(stack)?)
     };
-    let rc = RoughContact::from_surface(law.as_ref(), surface)?;
+    let rc = RoughContact::from_surface(law.as_ref(), surface)?.with_params(params);
     let opts = SampleOptions { samples, min_gap };
     Ok(InterfaceLaw::sample(&rc, model, &opts)?)
 }

@@ -635,7 +635,7 @@ fn fortran_module_matches_the_header() {
     }
     assert_eq!(
         (constants, functions),
-        (17, 17),
+        (17, 19),
         "header changed: update the count and the module"
     );
 }
@@ -897,4 +897,124 @@ fn memory_limit_child() {
     let msg = last_error();
     assert!(msg.contains("limit"), "{msg}");
     println!("child: refused: {msg}");
+}
+
+/// Issue 37.3: the solver's budgets reach C through `strata_law_new_with_options`: the
+/// defaults give `strata_law_new`'s law bit for bit (NULL options too); a one-step
+/// Newton budget fails the I model with a message naming the option to raise; a field
+/// out of range is refused by name.
+#[test]
+fn solver_options_reach_the_law() {
+    let steel = c(&repo()
+        .join("tables/stacks/half-space-steel.toml")
+        .display()
+        .to_string());
+    let mut surface: *mut StrataSurface = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(
+            strata_surface_generate(1e-3, 64, 2.4, 2.0, 10.0, 1e-6, 1, &mut surface),
+            STRATA_OK
+        );
+        let mut opts = std::mem::MaybeUninit::<StrataSolverOptions>::uninit();
+        assert_eq!(strata_solver_options_default(opts.as_mut_ptr()), STRATA_OK);
+        let mut opts = opts.assume_init();
+        assert_eq!(opts, StrataSolverOptions::default());
+        assert_eq!(
+            strata_solver_options_default(std::ptr::null_mut()),
+            STRATA_ERR_NULL
+        );
+        let gap = |law: *const StrataLaw| {
+            let mut p = 0.0;
+            assert_eq!(strata_law_min_gap(law, &mut p), STRATA_OK);
+            let g = 0.5 * p + 1e-7;
+            assert_eq!(strata_law_pressure(law, g, &mut p), STRATA_OK);
+            p
+        };
+        let mut a: *mut StrataLaw = std::ptr::null_mut();
+        let mut b: *mut StrataLaw = std::ptr::null_mut();
+        let mut n: *mut StrataLaw = std::ptr::null_mut();
+        let model = STRATA_MODEL_INTERACTING_PERIODIC;
+        assert_eq!(
+            strata_law_new(
+                std::ptr::null(),
+                steel.as_ptr(),
+                surface,
+                model,
+                0.0,
+                20,
+                &mut a
+            ),
+            STRATA_OK,
+            "{}",
+            last_error()
+        );
+        assert_eq!(
+            strata_law_new_with_options(
+                std::ptr::null(),
+                steel.as_ptr(),
+                surface,
+                model,
+                0.0,
+                20,
+                &opts,
+                &mut b
+            ),
+            STRATA_OK
+        );
+        assert_eq!(
+            strata_law_new_with_options(
+                std::ptr::null(),
+                steel.as_ptr(),
+                surface,
+                model,
+                0.0,
+                20,
+                std::ptr::null(),
+                &mut n
+            ),
+            STRATA_OK
+        );
+        assert_eq!(gap(a).to_bits(), gap(b).to_bits());
+        assert_eq!(gap(a).to_bits(), gap(n).to_bits());
+        for l in [a, b, n] {
+            strata_law_free(l);
+        }
+        opts.max_step_newton_steps = 1;
+        let mut l: *mut StrataLaw = std::ptr::null_mut();
+        assert_eq!(
+            strata_law_new_with_options(
+                std::ptr::null(),
+                steel.as_ptr(),
+                surface,
+                model,
+                0.0,
+                20,
+                &opts,
+                &mut l
+            ),
+            STRATA_ERR_SOLVE
+        );
+        let m = last_error();
+        assert!(
+            m.contains("StrataSolverOptions.max_step_newton_steps"),
+            "{m}"
+        );
+        opts.max_step_newton_steps = 0;
+        assert_eq!(
+            strata_law_new_with_options(
+                std::ptr::null(),
+                steel.as_ptr(),
+                surface,
+                model,
+                0.0,
+                20,
+                &opts,
+                &mut l
+            ),
+            STRATA_ERR_INVALID_ARGUMENT
+        );
+        assert!(last_error().contains("options.max_step_newton_steps"));
+        assert!(l.is_null());
+        strata_surface_free(surface);
+    }
 }

@@ -24,7 +24,7 @@ use crate::table::table_arg;
 ///
 /// Scene.from_file(path) reads a scene TOML file (as `strata solve` does); or
 ///
-/// Scene(stack, surface, model="interacting", load=..., images=None, image_cells=None, table=None)
+/// Scene(stack, surface, model="interacting", load=..., images=None, image_cells=None, table=None, solver=None)
 ///
 /// builds one from Python objects: stack a strata.Stack (or a stack file), surface a
 /// strata.Surface, model "independent" (N model), "interacting" (I model) or "bem"
@@ -32,7 +32,10 @@ use crate::table::table_arg;
 /// {"separations": [...]} (m), {"approach": {"from": m, "to": m, "steps": n}} or
 /// {"mean_pressures": [...]} (Pa); images "periodic" or "isolated", image_cells m
 /// ((2m+1)² block); table a strata.Table or a `.strata` path for a layered stack
-/// (default: the table cache). Fields are validated as in a scene file, and errors
+/// (default: the table cache); solver a dict as the scene's [solver] table, the budgets
+/// and tolerances an error message may ask to raise ({"max_step_newton_steps": n,
+/// "max_step_evaluations": n, "kkt_tolerance": x, "max_pressure_iterations": n,
+/// "bem_max_iterations": n, "bem_tolerance": x}). Fields are validated as in a scene file, and errors
 /// (strata.SceneError) name them (`load.approach.steps`, `model.images`, ...).
 #[pyclass(name = "Scene", module = "strata", frozen)]
 pub struct PyScene {
@@ -122,7 +125,7 @@ const MEMORY: &str = "<python>";
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None))]
+    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         stack: &Bound<'_, PyAny>,
@@ -132,6 +135,7 @@ impl PyScene {
         images: Option<&str>,
         image_cells: Option<i64>,
         table: Option<&Bound<'_, PyAny>>,
+        solver: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let stack = stack_of(stack, "Scene: stack")?;
         let surface = surface.get().surface.clone();
@@ -157,6 +161,9 @@ impl PyScene {
         top.insert("stack".into(), toml::Value::Table(stack_toml));
         top.insert("model".into(), toml::Value::Table(md));
         top.insert("load".into(), py_to_toml(load, "load")?);
+        if let Some(sv) = solver {
+            top.insert("solver".into(), py_to_toml(sv, "solver")?);
+        }
         let scene = Scene::from_table_in(top, Path::new("."), Some(memory_surface_spec(&surface)))
             .map_err(err(Kind::Scene))?;
         Ok(PyScene {

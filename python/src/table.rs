@@ -47,9 +47,12 @@ impl PyTable {
 
     /// Builds the table of a layered stack by Fredholm solves (strata-tablegen), with
     /// the resolution of `strata table build` unless nx (a/h₁ nodes), nw (r nodes) or
-    /// ns (S nodes) are given; releases the GIL; progress=True shows progress on stderr.
+    /// ns (S nodes) are given; far_max (units of H, the total layer depth; default 2560)
+    /// is the farthest join of the tabulated g and its far field, to raise when the build
+    /// says so; releases the GIL; progress=True shows progress on stderr.
     #[staticmethod]
-    #[pyo3(signature = (stack, progress=false, nx=None, nw=None, ns=None, check_points=200))]
+    #[pyo3(signature = (stack, progress=false, nx=None, nw=None, ns=None, check_points=200, far_max=None))]
+    #[allow(clippy::too_many_arguments)]
     fn build(
         py: Python<'_>,
         stack: &Bound<'_, PyAny>,
@@ -58,6 +61,7 @@ impl PyTable {
         nw: Option<usize>,
         ns: Option<usize>,
         check_points: usize,
+        far_max: Option<f64>,
     ) -> PyResult<Self> {
         let stack = stack_of(stack, "Table.build: stack")?;
         let build_time = strata::cli::table::build_time().map_err(err(Kind::Table))?;
@@ -67,6 +71,18 @@ impl PyTable {
             nw: nw.unwrap_or(d.nw),
             ns: ns.unwrap_or(d.ns),
             check_points,
+            far_max: match far_max {
+                None => d.far_max,
+                Some(f) if f.is_finite() && f >= 20.0 => f,
+                Some(f) => {
+                    return Err(to_py(
+                        Kind::Table,
+                        anyhow::anyhow!(
+                            "far_max must be a finite number ≥ 20 (units of H), got {f}"
+                        ),
+                    ));
+                }
+            },
             build_time,
             progress,
             bars: Some(Bars(strata::progress::raw_bar)),

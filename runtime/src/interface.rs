@@ -88,9 +88,10 @@ pub enum InterfaceError {
     )]
     BelowSampledRange { gap: f64, min_gap: f64 },
     #[error(
-        "the sampled curve reaches A/A₀ = {area} > 1 at g = {gap:e} m (the summed contact \
+        "the sampled curve reaches A/A₀ = {} > 1 at g = {gap:e} m (the summed contact \
          areas exceed the nominal area: outside the asperity models' validity); end the law at a \
-         larger separation (min_gap, --min-gap)"
+         larger separation (min_gap, --min-gap), or use model.kind = \"bem\" for this load",
+        if *area < 1e4 { format!("{area}") } else { format!("{area:.3e}") }
     )]
     AreaAboveNominal { gap: f64, area: f64 },
     /// The message includes the solver's; no `source` (a chain would print it twice).
@@ -216,6 +217,13 @@ impl InterfaceLaw {
         }
         let gaps = sample_gaps(g0, gmin, n);
         let deltas: Vec<f64> = gaps.iter().map(|&g| (g0 - g).max(0.0)).collect();
+        // The I model is not started on a path the N model (cheap) already takes past
+        // A/A₀ = 1 (interactions shrink contacts; the same refusal as `strata solve`).
+        if let Model::Interacting(_) = model
+            && let Some((i, area)) = rc.first_area_above_nominal(&deltas)
+        {
+            return Err(InterfaceError::AreaAboveNominal { gap: gaps[i], area });
+        }
         let steps = rc.curve(model, &deltas)?;
         let p: Vec<f64> = steps.iter().map(|s| s.mean_pressure).collect();
         let k: Vec<f64> = steps.iter().map(|s| s.stiffness / rc.area()).collect();

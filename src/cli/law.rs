@@ -221,7 +221,7 @@ fn solve_asperities(
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
     let law = law_for(scene, path, opts)?;
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
     let g0 = rc.top_to_mean();
     let given = min_gap.is_some();
     let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {

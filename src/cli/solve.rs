@@ -285,6 +285,7 @@ fn steps_json(steps: &[Step]) -> serde_json::Value {
             "delta": s.delta, "gap": s.gap, "load": s.load, "mean_pressure": s.mean_pressure,
             "pressure_ratio": s.pressure_ratio, "area_fraction": s.area_fraction,
             "contacts": s.contacts, "stiffness": s.stiffness, "kkt_residual": s.kkt_residual,
+            "newton_steps": s.diagnostics.newton_steps, "evaluations": s.diagnostics.evaluations,
             "validity": {"valid": s.validity.is_valid(), "below_mean_plane": s.validity.below_mean_plane,
                          "beyond_deepest_valley": s.validity.beyond_deepest_valley,
                          "area_above_nominal": s.validity.area_above_nominal,

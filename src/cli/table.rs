@@ -99,6 +99,11 @@ pub struct BuildArgs {
     /// (4/3)a^3/r, tabulated and far field); the build fails above it.
     #[arg(long, default_value_t = strata_runtime::table::DEFAULT_TOLERANCE)]
     pub tol: f64,
+    /// Farthest join of the tabulated g and its far field, in units of H (the total
+    /// layer depth; the join starts at 20 H and doubles while the far field misses the
+    /// tolerance): raise it when the build says so.
+    #[arg(long, default_value_t = BuildOptions::default().far_max)]
+    pub far_max: f64,
 }
 
 /// A tolerance given on the command line: in (0, 1] (relative errors; above 1 a
@@ -108,6 +113,16 @@ fn check_tol(tol: f64) -> Result<f64> {
         bail!("--tol must be in (0, 1] (a relative error), got {tol:e}");
     }
     Ok(tol)
+}
+
+/// `--far-max`: finite and ≥ 20 (the join starts at 20 H).
+fn check_far_max(far_max: f64) -> Result<f64> {
+    if !(far_max.is_finite() && far_max >= 20.0) {
+        bail!(
+            "--far-max must be a finite number ≥ 20 (units of H, the total layer depth), got {far_max}"
+        );
+    }
+    Ok(far_max)
 }
 
 /// Parses `LAYER:LO:HI:N`.
@@ -187,6 +202,7 @@ pub fn run(a: Args) -> Result<()> {
                 progress: true,
                 bars: Some(Bars(progress::raw_bar)),
                 tolerance: check_tol(b.tol)?,
+                far_max: check_far_max(b.far_max)?,
                 ..BuildOptions::default()
             };
             let t0 = std::time::Instant::now();

@@ -28,6 +28,14 @@
 //! [output]                     # optional
 //! maps = "last"                # "none" (default) | "last" | "all" (or true = "all");
 //!                              # pressure and gap maps, model.kind = "bem" only
+//! [solver]                     # optional: the budgets and tolerances error messages
+//!                              # name (defaults of rough::Params and BemOptions)
+//! max_step_newton_steps = 20000 # I model: Newton steps per load step
+//! max_step_evaluations = 100000 # I model: energy evaluations per load step
+//! kkt_tolerance = 1e-8         # I model: KKT acceptance (relative to max interference)
+//! max_pressure_iterations = 200 # N and I models: solves per mean pressure
+//! bem_max_iterations = 20000   # BEM: iterations per solve
+//! bem_tolerance = 1e-10        # BEM: convergence tolerance
 //! ```
 //!
 //! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
@@ -37,7 +45,8 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 use toml::{Table, Value};
 
-use strata_runtime::rough::Images;
+use strata_bem::BemOptions;
+use strata_runtime::rough::{Images, Params};
 use strata_runtime::stack::{Stack, StackError};
 use strata_runtime::surface::{
     Detrend, FileKind, GenerateParams, ReadOptions, Repair, Spacing, Surface, SurfaceError,
@@ -161,6 +170,103 @@ pub struct OutputSpec {
     pub maps: MapsSpec,
 }
 
+/// The optional `[solver]` table: budgets and tolerances of the solvers (unset: the
+/// defaults of [`Params`] and [`BemOptions`]). Every one of them that an error message
+/// asks to raise is here; the budgets count work (Newton steps, evaluations,
+/// iterations), never time, so a scene's result does not depend on the machine's load.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct SolverSpec {
+    /// [`Params::max_step_newton_steps`].
+    pub max_step_newton_steps: Option<usize>,
+    /// [`Params::max_step_evaluations`].
+    pub max_step_evaluations: Option<usize>,
+    /// [`Params::kkt_tolerance`].
+    pub kkt_tolerance: Option<f64>,
+    /// [`Params::max_pressure_iterations`].
+    pub max_pressure_iterations: Option<usize>,
+    /// [`BemOptions::max_iterations`].
+    pub bem_max_iterations: Option<usize>,
+    /// [`BemOptions::tolerance`].
+    pub bem_tolerance: Option<f64>,
+}
+
+/// The keys of `[solver]`.
+pub const SOLVER_KEYS: &str = "max_step_newton_steps, max_step_evaluations, kkt_tolerance, \
+                               max_pressure_iterations, bem_max_iterations, bem_tolerance";
+
+impl SolverSpec {
+    /// The asperity models' parameters: the defaults with the keys given.
+    pub fn params(&self) -> Params {
+        let d = Params::default();
+        Params {
+            max_step_newton_steps: self
+                .max_step_newton_steps
+                .unwrap_or(d.max_step_newton_steps),
+            max_step_evaluations: self.max_step_evaluations.unwrap_or(d.max_step_evaluations),
+            kkt_tolerance: self.kkt_tolerance.unwrap_or(d.kkt_tolerance),
+            max_pressure_iterations: self
+                .max_pressure_iterations
+                .unwrap_or(d.max_pressure_iterations),
+            ..d
+        }
+    }
+
+    /// The BEM options: `base` (the caller's, or the defaults) with the keys given.
+    pub fn bem_options(&self, base: BemOptions) -> BemOptions {
+        BemOptions {
+            max_iterations: self.bem_max_iterations.unwrap_or(base.max_iterations),
+            tolerance: self.bem_tolerance.unwrap_or(base.tolerance),
+            ..base
+        }
+    }
+
+    /// Parses `[solver]` (absent: all defaults).
+    fn parse(top: &Table) -> Result<SolverSpec, SceneError> {
+        if top.get("solver").is_none() {
+            return Ok(SolverSpec::default());
+        }
+        let t = table(top, "solver", "solver")?;
+        let keys: Vec<&str> = SOLVER_KEYS.split(',').map(str::trim).collect();
+        check_keys(t, "solver.", &keys, SOLVER_KEYS)?;
+        let count = |key: &str| -> Result<Option<usize>, SceneError> {
+            if !t.contains_key(key) {
+                return Ok(None);
+            }
+            let field = format!("solver.{key}");
+            let n = integer(t, key, &field)?;
+            if !(1..=1_000_000_000).contains(&n) {
+                return Err(SceneError::Invalid {
+                    field,
+                    reason: format!("{n} must be in [1, 1000000000]"),
+                });
+            }
+            Ok(Some(n as usize))
+        };
+        let fraction = |key: &str| -> Result<Option<f64>, SceneError> {
+            let Some(v) = t.get(key) else {
+                return Ok(None);
+            };
+            let field = format!("solver.{key}");
+            let x = number(v, &field)?;
+            if !(x > 0.0 && x < 1.0) {
+                return Err(SceneError::Invalid {
+                    field,
+                    reason: format!("{x} must be in (0, 1) (a relative tolerance)"),
+                });
+            }
+            Ok(Some(x))
+        };
+        Ok(SolverSpec {
+            max_step_newton_steps: count("max_step_newton_steps")?,
+            max_step_evaluations: count("max_step_evaluations")?,
+            kkt_tolerance: fraction("kkt_tolerance")?,
+            max_pressure_iterations: count("max_pressure_iterations")?,
+            bem_max_iterations: count("bem_max_iterations")?,
+            bem_tolerance: fraction("bem_tolerance")?,
+        })
+    }
+}
+
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
@@ -173,6 +279,8 @@ pub struct Scene {
     pub model: ModelSpec,
     pub load: LoadSpec,
     pub output: OutputSpec,
+    /// The optional `[solver]` table.
+    pub solver: SolverSpec,
 }
 
 impl SurfaceSpec {
@@ -247,8 +355,8 @@ impl Scene {
         check_keys(
             &top,
             "",
-            &["stack", "surface", "model", "load", "output"],
-            "stack, surface, model, load, output",
+            &["stack", "surface", "model", "load", "output", "solver"],
+            "stack, surface, model, load, output, solver",
         )?;
         // [stack]
         let st = table(&top, "stack", "stack")?;
@@ -468,6 +576,7 @@ impl Scene {
             model: ModelSpec { kind, images },
             load,
             output,
+            solver: SolverSpec::parse(&top)?,
         })
     }
 
@@ -770,6 +879,33 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         assert!(err(&maps("\"some\"")).contains("output.maps"));
         assert!(err(&maps("3")).contains("output.maps"));
         assert!(err(&format!("{bem}\n[output]\ncolour = 1\n")).contains("output.colour"));
+        // [solver]
+        let solver = |body: &str| format!("{GOOD}\n[solver]\n{body}\n");
+        assert_eq!(parse(GOOD).unwrap().solver, SolverSpec::default());
+        assert_eq!(
+            parse(GOOD).unwrap().solver.params(),
+            strata_runtime::rough::Params::default()
+        );
+        let s = parse(&solver(
+            "max_step_newton_steps = 40000\nmax_step_evaluations = 7\nkkt_tolerance = 1e-7\n\
+             max_pressure_iterations = 300\nbem_max_iterations = 50000\nbem_tolerance = 1e-9",
+        ))
+        .unwrap();
+        let p = s.solver.params();
+        assert_eq!(
+            (p.max_step_newton_steps, p.max_step_evaluations),
+            (40000, 7)
+        );
+        assert_eq!((p.kkt_tolerance, p.max_pressure_iterations), (1e-7, 300));
+        let b = s.solver.bem_options(BemOptions::default());
+        assert_eq!((b.max_iterations, b.tolerance), (50000, 1e-9));
+        assert!(err(&solver("colour = 1")).contains("solver.colour"));
+        assert!(err(&solver("colour = 1")).contains("max_step_evaluations"));
+        assert!(err(&solver("max_step_newton_steps = 0")).contains("solver.max_step_newton_steps"));
+        assert!(err(&solver("max_step_newton_steps = 1.5")).contains("an integer"));
+        assert!(err(&solver("kkt_tolerance = 2")).contains("solver.kkt_tolerance"));
+        assert!(err(&solver("bem_tolerance = \"x\"")).contains("solver.bem_tolerance"));
+        assert!(err(&format!("solver = 1\n{GOOD}")).contains("`solver` must be a table"));
         let asperity = format!("{GOOD}\n[output]\nmaps = \"all\"\n");
         assert!(err(&asperity).contains("output.maps") && err(&asperity).contains("bem"));
     }

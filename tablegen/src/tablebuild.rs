@@ -345,7 +345,9 @@ fn far_axis(
             tolerance: opts.tolerance,
             hint: format!(
                 " at r - a = {:.3e} m = {:.0} H (best of 0 … {} correction terms; the stack's \
-                 k_z varies on scales far beyond H: raise far_max or the tolerance)",
+                 k_z varies on scales far beyond H: raise far_max (`strata table build --far-max`, \
+                 Python: Table.build(far_max=...), in units of H, default 2560) or the \
+                 tolerance (--tol), and give the table as stack.table)",
                 far.join,
                 far.join / depth,
                 strata_runtime::table::far::FAR_TERMS

@@ -106,6 +106,8 @@ fn heights_and_pixels_whose_statistics_overflow_are_refused_by_name() {
 /// 1e50 m. With positive interference no equilibrium without contact exists (the most
 /// loaded summit would have F_k(0⁺) = −δ_k < 0): refused by name, nothing written. The
 /// same scenes at ordinary scales solve. Through `law` the message appears once.
+/// (Issue 37.4: both scenes take the N model's contact areas far past the nominal area,
+/// so they are now refused by that check, at once, before the I model is started.)
 #[test]
 fn interacting_model_refuses_a_contactless_equilibrium() {
     let d = dir("contactless");
@@ -127,7 +129,7 @@ fn interacting_model_refuses_a_contactless_equilibrium() {
         let (code, e) = solve(&d, &sc, &out);
         assert_eq!(code, Some(1), "{what}: {e}");
         assert!(
-            e.contains("no asperity in contact") && e.contains("numerical range"),
+            e.contains("I model not started") && e.contains("model.kind = \"bem\""),
             "{what}: {e}"
         );
         assert!(!out.join("curve.csv").exists(), "{what}: nothing written");
@@ -139,11 +141,7 @@ fn interacting_model_refuses_a_contactless_equilibrium() {
             &["law", sc.to_str().unwrap(), "--out", law.to_str().unwrap()],
         );
         assert_eq!(code, Some(1), "{what}: {e}");
-        assert_eq!(
-            e.matches("no asperity in contact").count(),
-            1,
-            "{what}: {e}"
-        );
+        assert_eq!(e.matches("reaches A/A₀").count(), 1, "{what}: {e}");
         assert!(!law.exists(), "{what}: nothing written");
     }
     let sc = scene(

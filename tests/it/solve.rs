@@ -235,3 +235,163 @@ fn separations_below_the_valley_are_solved_and_flagged() {
     assert_eq!(json["steps"].as_array().expect("steps").len(), 1);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The approach (m) at which the N model's contact areas on the reference surface of
+/// these scenes first sum to more than the nominal area (A/A₀ > 1), doubling from
+/// z_M − z_min; and the library's contact (separation = z_M − z̄ − δ).
+fn past_full_area() -> (f64, f64) {
+    let s = Surface::read_npy(&reference_surface(), 1e-3, true).expect("surface");
+    let law = Homogeneous {
+        e_star: 4e9 / (1.0 - 0.15 * 0.15),
+    };
+    let rc = RoughContact::from_surface(&law, &s).expect("rc");
+    let mut delta = rc.max_delta();
+    for _ in 0..40 {
+        let st = rc.solve_independent(delta).expect("N model");
+        if st.area_fraction > 1.0 {
+            assert!(rc.first_area_above_nominal(&[delta]).is_some());
+            return (delta, rc.top_to_mean());
+        }
+        delta *= 2.0;
+    }
+    panic!("no approach with A/A0 > 1");
+}
+
+/// Issue 37.4: a load step whose N-model contact areas sum to more than the nominal
+/// area (A/A₀ > 1, physically impossible) is refused at once by both asperity models,
+/// with the step and the BEM advice; `solve` writes the steps before it (the same as
+/// the library's, Newton steps included). The I model is never started on it: with a
+/// budget of one energy evaluation (which any I-model Newton step exhausts) the refusal
+/// is still the area's, not the budget's; `law` refuses alike.
+#[test]
+fn steps_past_full_area_are_refused_at_once_with_the_bem_advice() {
+    let dir = tmp("full-area");
+    let (delta, top) = past_full_area();
+    let over = top - delta;
+    let three = |t: String| {
+        t.replace(
+            "separations = [9e-6, 7e-6, 5e-6, 3e-6]",
+            &format!("separations = [5e-6, 3e-6, {over:e}]"),
+        )
+    };
+    let s = Surface::read_npy(&reference_surface(), 1e-3, true).expect("surface");
+    let law = Homogeneous {
+        e_star: 4e9 / (1.0 - 0.15 * 0.15),
+    };
+    let rc = RoughContact::from_surface(&law, &s).expect("rc");
+    for (kind, model, name) in [
+        ("independent", Model::Independent, "N model: "),
+        (
+            "interacting",
+            Model::Interacting(Images::Periodic(2)),
+            "I model not started: ",
+        ),
+    ] {
+        let sc = scene(&dir, kind, three);
+        let out = dir.join(format!("out-{kind}"));
+        let o = solve(&sc, &out, &["--no-plots"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{kind}: {err}");
+        assert!(
+            err.contains("load step 2")
+                && err.contains(name)
+                && err.contains("A/A₀ = ")
+                && err.contains("use model.kind = \"bem\"")
+                && err.contains("partial curve"),
+            "{kind}: {err}"
+        );
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(out.join("curve.json")).expect("partial curve.json"),
+        )
+        .expect("json");
+        let steps = json["steps"].as_array().expect("steps");
+        assert_eq!(steps.len(), 2, "{kind}");
+        let deltas: Vec<f64> = [5e-6, 3e-6].iter().map(|g| rc.delta_for_gap(*g)).collect();
+        let lib = rc.curve(model, &deltas).expect("library");
+        for (j, st) in steps.iter().zip(&lib) {
+            let d = &st.diagnostics;
+            assert_eq!(
+                j["newton_steps"].as_u64(),
+                Some(d.newton_steps as u64),
+                "{kind}"
+            );
+            assert_eq!(
+                j["evaluations"].as_u64(),
+                Some(d.evaluations as u64),
+                "{kind}"
+            );
+            assert_eq!(j["load"].as_f64(), Some(st.load), "{kind}");
+        }
+
+        // one step, a budget no I-model step fits in: refused by the area, not the budget
+        let one = |t: String| {
+            format!(
+                "{}\n[solver]\nmax_step_evaluations = 1\nmax_step_newton_steps = 1\n",
+                t.replace(
+                    "separations = [9e-6, 7e-6, 5e-6, 3e-6]",
+                    &format!("separations = [{over:e}]"),
+                )
+            )
+        };
+        let sc = scene(&dir, kind, one);
+        let o = solve(&sc, &dir.join(format!("one-{kind}")), &["--no-plots"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{kind}: {err}");
+        assert!(
+            err.contains(name) && err.contains("model.kind = \"bem\"") && !err.contains("budget"),
+            "{kind}: {err}"
+        );
+        let lo = dir.join(format!("law-{kind}.csv"));
+        let o = Command::new(env!("CARGO_BIN_EXE_strata"))
+            .args(["law", sc.to_str().unwrap(), "--out", lo.to_str().unwrap()])
+            .output()
+            .expect("run strata");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{kind}: {err}");
+        assert!(
+            err.contains("reaches A/A₀ = ")
+                && err.contains("model.kind = \"bem\"")
+                && !err.contains("budget"),
+            "{kind}: {err}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Issue 37.3: the budgets an error asks to raise are `[solver]` keys, and the error
+/// says so: a one-Newton-step budget fails the I model with the key to raise in the
+/// scene, Python and C; a scene with the defaults written out gives the same curve as
+/// one without `[solver]`.
+#[test]
+fn solver_budgets_are_scene_keys_named_by_their_errors() {
+    let dir = tmp("solver-keys");
+    let tight = |t: String| format!("{t}\n[solver]\nmax_step_newton_steps = 1\n");
+    let sc = scene(&dir, "interacting", tight);
+    let o = solve(&sc, &dir.join("tight"), &["--no-plots"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("Newton-step budget exhausted")
+            && err.contains("raise [solver] max_step_newton_steps in the scene")
+            && err.contains("solver={\"max_step_newton_steps\"")
+            && err.contains("StrataSolverOptions.max_step_newton_steps"),
+        "{err}"
+    );
+    let defaults = |t: String| {
+        format!(
+            "{t}\n[solver]\nmax_step_newton_steps = 20000\nmax_step_evaluations = 100000\n\
+             kkt_tolerance = 1e-8\nmax_pressure_iterations = 200\n"
+        )
+    };
+    let a = dir.join("plain");
+    let b = dir.join("defaults");
+    let o = solve(&scene(&dir, "interacting", |t| t), &a, &["--no-plots"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = solve(&scene(&dir, "interacting", defaults), &b, &["--no-plots"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read_to_string(a.join("curve.csv")).unwrap(),
+        std::fs::read_to_string(b.join("curve.csv")).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -63,11 +63,14 @@ class Scene:
     ``Scene.from_file(path)`` reads a scene TOML file as ``strata solve`` does;
     ``Scene(stack, surface, model="interacting", load={...})`` builds one from Python
     objects, where ``surface`` may also be a SurfaceTopography topography.
+    ``solver`` is the scene's ``[solver]`` table as a dict: the budgets and tolerances
+    an error message may ask to raise (``{"max_step_newton_steps": 40000}``, ...).
     """
 
     def __init__(self, stack, surface, model: str = "interacting", load=None, images: Optional[str] = None,
-                 image_cells: Optional[int] = None, table=None):
-        self._native = _strata.Scene(stack, as_surface(surface), model, load, images, image_cells, table)
+                 image_cells: Optional[int] = None, table=None, solver: Optional[Dict[str, Any]] = None):
+        self._native = _strata.Scene(stack, as_surface(surface), model, load, images, image_cells, table,
+                                     solver)
 
     @classmethod
     def _wrap(cls, native) -> "Scene":

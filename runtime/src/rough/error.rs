@@ -2,6 +2,7 @@
 
 use thiserror::Error;
 
+use super::params::raise_advice;
 use crate::resources::ResourceError;
 
 /// Errors of the rough-contact solvers.
@@ -22,6 +23,21 @@ pub enum RoughError {
         field: &'static str,
         expected: usize,
         found: usize,
+    },
+    /// A step refused before it is solved: the N model's contact areas at its approach
+    /// sum to more than the nominal area (physically impossible; the I model, whose
+    /// interactions shrink contacts, is not started there either).
+    #[error(
+        "{}the N model's contact areas sum to A/A₀ = {} > 1 at δ = {delta:e} m (more than \
+         the nominal area: physically impossible, the asperity models do not hold there); use \
+         model.kind = \"bem\" for this load",
+        if *interacting { "I model not started: " } else { "N model: " },
+        if *area < 1e4 { format!("{area:.3}") } else { format!("{area:.3e}") }
+    )]
+    AreaAboveNominal {
+        delta: f64,
+        area: f64,
+        interacting: bool,
     },
     #[error(transparent)]
     Independent(#[from] IndependentError),
@@ -69,7 +85,8 @@ pub enum FarFieldError {
 pub enum NewtonError {
     #[error(
         "I model: did not converge at δ = {delta:e} m: KKT residual {residual:e} (tolerance {tolerance:e}) \
-         after {newton_steps} Newton steps"
+         after {newton_steps} Newton steps; to accept it, raise {advice}",
+        advice = raise_advice("kkt_tolerance", true)
     )]
     NotConverged {
         delta: f64,
@@ -79,7 +96,8 @@ pub enum NewtonError {
     },
     #[error(
         "I model: stalled at δ = {delta:e} m: {what} budget exhausted ({used} of {limit}; KKT residual \
-         {residual:e}); raise Params::{field} or reduce the load step"
+         {residual:e}); raise {advice} or reduce the load step",
+        advice = raise_advice(.field, true)
     )]
     Budget {
         delta: f64,
@@ -119,7 +137,8 @@ pub enum PressureError {
     OutOfRange { target: f64, reason: String },
     #[error(
         "load.mean_pressures: no convergence of the search for {target:e} Pa after \
-         {iterations} solves (last δ = {delta:e} m)"
+         {iterations} solves (last δ = {delta:e} m); raise {advice}",
+        advice = raise_advice("max_pressure_iterations", true)
     )]
     NoConvergence {
         target: f64,

@@ -32,7 +32,7 @@ mod params;
 pub use crate::law::contact_radius;
 pub use error::{FarFieldError, IndependentError, NewtonError, PressureError, RoughError};
 pub use interacting::Interaction;
-pub use params::{Diagnostics, FarFieldInfo, Params};
+pub use params::{Diagnostics, FarFieldInfo, Params, raise_advice};
 
 use crate::law::AsperityLaw;
 use crate::summits::Summit;
@@ -378,6 +378,26 @@ impl<'a> RoughContact<'a> {
             Model::Independent => self.solve_independent(delta),
             Model::Interacting(im) => self.solve_interacting(delta, im, warm),
         }
+    }
+
+    /// The first of `deltas` (m, in their order) at which the N model's contact areas
+    /// sum to more than the nominal area (A/A₀ > 1, physically impossible), with that
+    /// A/A₀. Cheap: single-asperity inversions only, one N-model solve at the largest
+    /// approach when no step exceeds (A grows with δ). Callers refuse such a step before
+    /// spending time on it ([`RoughError::AreaAboveNominal`]); the I model, whose
+    /// interactions shrink contacts, is not started there. Approaches the N model cannot
+    /// solve are skipped (their solve reports them).
+    pub fn first_area_above_nominal(&self, deltas: &[f64]) -> Option<(usize, f64)> {
+        let area = |d: f64| self.solve_independent(d).map_or(0.0, |s| s.area_fraction);
+        let max = deltas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if deltas.is_empty() || area(max) <= 1.0 {
+            return None;
+        }
+        deltas
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| (i, area(d)))
+            .find(|&(_, a)| a > 1.0)
     }
 
     /// A load path: one step per approach (m). The I model prepares the interaction

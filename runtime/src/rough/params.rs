@@ -80,9 +80,15 @@ pub struct Params {
     /// [`Params::max_activation_rounds`] × [`Params::max_newton_steps`] can take; converged
     /// steps take 1–30, a step on overlapping contacts up to a few thousand).
     pub max_step_newton_steps: usize,
-    /// Budget of one I-model step: wall time (s) after which it fails with
-    /// [`crate::rough::NewtonError::Budget`]. Default 60 s; ∞ disables it.
-    pub step_time_budget: f64,
+    /// Budget of one I-model step: most evaluations of the energy state (F, U_E) over
+    /// all rounds, line searches and searches (beyond it the step fails with
+    /// [`crate::rough::NewtonError::Budget`]). Counted work, not time: a solve gives the
+    /// same result, and fails at the same point, on a loaded machine as on an idle one
+    /// (it replaces the wall-clock `step_time_budget` of earlier releases, which failed
+    /// valid steps on loaded machines). Default 100 000 (5 per Newton step of
+    /// [`Params::max_step_newton_steps`]); [`Diagnostics::evaluations`] says what a step
+    /// used.
+    pub max_step_evaluations: usize,
     /// Pressure control of the I model: relative tolerance on the mean pressure.
     /// Default 1e-8: the I-model solve itself is accurate to its KKT acceptance
     /// ([`Params::kkt_tolerance`], 1e-8 of δ_max), which moves p_n by a few 1e-9.
@@ -117,7 +123,7 @@ impl Default for Params {
             g_difference_step: 1e-5,
             jacobian_difference_step: 1e-6,
             max_step_newton_steps: 20_000,
-            step_time_budget: 60.0,
+            max_step_evaluations: 100_000,
             pressure_tolerance: 1e-8,
             independent_pressure_tolerance: 1e-13,
             max_pressure_iterations: 200,
@@ -162,6 +168,18 @@ pub struct Diagnostics {
     pub far_field_builds: usize,
     /// The far-field model of the final solve (None: exact sums).
     pub far_field: Option<FarFieldInfo>,
-    /// Wall time of the step (s).
+    /// Wall time of the step (s): reported only, never a limit (budgets count work).
     pub seconds: f64,
+}
+
+/// How a user raises the solver parameter `key` (a field of [`Params`] or a scene's
+/// `[solver]` key): the scene key, the Python keyword and the C option, for the error
+/// messages of budgets and tolerances. `c` is false where the C ABI has no such option.
+pub fn raise_advice(key: &str, c: bool) -> String {
+    let c = if c {
+        format!("; C: StrataSolverOptions.{key} with strata_law_new_with_options")
+    } else {
+        String::new()
+    };
+    format!("[solver] {key} in the scene (Python: Scene(..., solver={{\"{key}\": ...}}){c})")
 }

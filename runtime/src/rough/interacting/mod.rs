@@ -336,7 +336,7 @@ impl<'r, 'a> Problem<'r, 'a> {
         let mut diag = Diagnostics::default();
         let rebuilds = self.rc.params.far_field_rebuilds;
         for attempt in 0..=rebuilds {
-            match self.solve_on(delta, warm, &mut diag, t0)? {
+            match self.solve_on(delta, warm, &mut diag)? {
                 Ok((mut s, rate)) => {
                     s.diagnostics.far_field_builds = self.builds - builds0;
                     s.diagnostics.seconds = t0.elapsed().as_secs_f64();
@@ -393,7 +393,6 @@ impl<'r, 'a> Problem<'r, 'a> {
         delta: f64,
         warm: &[f64],
         diag: &mut Diagnostics,
-        t0: Instant,
     ) -> Result<Result<(Step, Vec<f64>), f64>, RoughError> {
         let (rc, geo) = (self.rc, &self.geo);
         let prm = &rc.params;
@@ -422,7 +421,6 @@ impl<'r, 'a> Problem<'r, 'a> {
             scale,
             diag,
             delta,
-            start: t0,
         };
         let first = newton.search(a, true)?;
         let search = if first.kkt < prm.kkt_tolerance || first.exceeded > 0.0 {

@@ -25,14 +25,14 @@ pub(crate) struct Newton<'e, 'p> {
     pub params: &'e Params,
     pub scale: f64,
     pub diag: &'e mut Diagnostics,
-    /// The approach (m) and the start of the step, for the budget.
+    /// The approach (m), for the budget's error.
     pub delta: f64,
-    pub start: std::time::Instant,
 }
 
 impl Newton<'_, '_> {
     /// Fails when the step's budget ([`Params::max_step_newton_steps`],
-    /// [`Params::step_time_budget`]) is exhausted: a stall becomes a clear error.
+    /// [`Params::max_step_evaluations`]) is exhausted: a stall becomes a clear error.
+    /// Both count work, so the outcome does not depend on the machine's load.
     fn budget(&self, kkt: f64) -> Result<(), NewtonError> {
         let prm = self.params;
         if self.diag.newton_steps > prm.max_step_newton_steps {
@@ -45,14 +45,13 @@ impl Newton<'_, '_> {
                 residual: kkt,
             });
         }
-        let t = self.start.elapsed().as_secs_f64();
-        if t > prm.step_time_budget {
+        if self.diag.evaluations > prm.max_step_evaluations {
             return Err(NewtonError::Budget {
                 delta: self.delta,
-                what: "time",
-                field: "step_time_budget",
-                used: format!("{t:.1} s"),
-                limit: format!("{:.1} s", prm.step_time_budget),
+                what: "energy-evaluation",
+                field: "max_step_evaluations",
+                used: self.diag.evaluations.to_string(),
+                limit: prm.max_step_evaluations.to_string(),
                 residual: kkt,
             });
         }
