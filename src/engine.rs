@@ -165,9 +165,32 @@ pub fn surface_json(surface: &Surface) -> serde_json::Value {
     let mut json = serde_json::to_value(surface.stats()).unwrap_or_default();
     json["repaired_points"] = serde_json::json!(surface.repaired());
     json["read"] = serde_json::json!(surface.log());
+    json["form"] = surface.form().map_or(serde_json::Value::Null, form_json);
     json["units"] = serde_json::json!({"shape": "points (x, y)", "pixel_size": "m", "size": "m",
-        "mean_height": "m", "rms_height": "m", "rms_slope": "1", "peak_to_valley": "m"});
+        "mean_height": "m", "rms_height": "m", "rms_slope": "1", "peak_to_valley": "m",
+        "form": {"slope_x": "1", "slope_y": "1", "curvature_xx": "1/m", "curvature_xy": "1/m",
+                 "curvature_yy": "1/m", "form_rms": "m", "roughness_rms": "m"}});
     json
+}
+
+/// The removed form (curve.json `surface.form`): the kind, the tilt as slopes z_x, z_y,
+/// the second derivatives for `"curvature"`, the RMS of the removed form and of the
+/// remaining roughness (m). The statistics beside it are those of the remaining
+/// roughness.
+fn form_json(f: &strata_runtime::surface::Form) -> serde_json::Value {
+    let mut j = serde_json::json!({
+        "detrend": f.kind.name(),
+        "slope_x": f.slope.0,
+        "slope_y": f.slope.1,
+        "form_rms": f.rms,
+        "roughness_rms": f.residual_rms,
+    });
+    if f.kind == strata_runtime::surface::Detrend::Curvature {
+        j["curvature_xx"] = serde_json::json!(f.curvature.0);
+        j["curvature_xy"] = serde_json::json!(f.curvature.1);
+        j["curvature_yy"] = serde_json::json!(f.curvature.2);
+    }
+    j
 }
 
 /// Logs what the reader did (units, repairs, form removal, file metadata) and the

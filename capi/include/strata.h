@@ -55,7 +55,7 @@
 // I model: interacting asperities, the sample repeated periodically (5×5 cells).
 #define STRATA_MODEL_INTERACTING_PERIODIC 2
 
-// `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg`.
+// `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg,valid`.
 #define STRATA_FORMAT_CSV 0
 
 // `strata_law_write`: Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block.

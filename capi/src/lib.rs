@@ -82,7 +82,7 @@ pub const STRATA_MODEL_INTERACTING_ISOLATED: i32 = 1;
 /// I model: interacting asperities, the sample repeated periodically (5×5 cells).
 pub const STRATA_MODEL_INTERACTING_PERIODIC: i32 = 2;
 
-/// `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg`.
+/// `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg,valid`.
 pub const STRATA_FORMAT_CSV: i32 = 0;
 /// `strata_law_write`: Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block.
 pub const STRATA_FORMAT_ABAQUS: i32 = 1;

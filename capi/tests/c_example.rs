@@ -439,7 +439,7 @@ fn abi_rejects_bad_input_with_codes_and_messages() {
             STRATA_OK
         );
         let text = std::fs::read_to_string(dir.join("law.csv")).expect("csv");
-        assert!(text.starts_with("gap,overclosure,mean_pressure,area_fraction,dp_dg\n"));
+        assert!(text.starts_with("gap,overclosure,mean_pressure,area_fraction,dp_dg,valid\n"));
         assert_eq!(text.lines().count(), 51);
         let inp_text = std::fs::read_to_string(dir.join("law.inp")).expect("inp");
         assert!(inp_text.contains("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR\n0., 0.\n"));

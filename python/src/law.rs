@@ -54,7 +54,8 @@ impl PyContactLaw {
     }
 
     /// The samples as arrays: gap (m), overclosure g₀ − g (m), mean_pressure (Pa),
-    /// area_fraction, dp_dg (Pa/m), in loading order.
+    /// area_fraction, dp_dg (Pa/m), valid (bool: inside the model's validity), in
+    /// loading order.
     #[getter]
     fn samples<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let l = &self.sampled.law;
@@ -73,6 +74,8 @@ impl PyContactLaw {
         out.set_item("mean_pressure", p.into_pyarray(py))?;
         out.set_item("area_fraction", a.into_pyarray(py))?;
         out.set_item("dp_dg", d.into_pyarray(py))?;
+        let valid: Vec<bool> = l.validity().map(|v| v.is_valid()).collect();
+        out.set_item("valid", valid.into_pyarray(py))?;
         Ok(out)
     }
 

@@ -49,14 +49,14 @@ def cli():
 
 
 def read_curve_csv(path):
-    """curve.csv as a dict of float arrays (contacts as integers)."""
+    """curve.csv as a dict of float arrays (contacts and valid as integers)."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     header, body = rows[0], rows[1:]
     cols = {}
     for j, name in enumerate(header):
         vals = [r[j] for r in body]
-        if name == "contacts":
+        if name in ("contacts", "valid"):
             cols[name] = np.array([int(v) for v in vals])
         else:
             cols[name] = np.array([float(v) if v != "" else np.nan for v in vals])

@@ -35,13 +35,20 @@
 //! an extrapolation: rebuild the law with a smaller g_min. The samples are reproduced
 //! exactly at the nodes.
 //!
+//! Validity: every sample keeps the solved step's [`Validity`] (the N and I models
+//! leave theirs below the mean plane, past the deepest valley, with overlapping
+//! contact circles; built from samples or BEM steps, every sample is valid). The CSV
+//! has a `valid` column, and [`InterfaceLaw::invalid_ranges`] gives the separations
+//! where the model is outside its validity, which the Abaqus block states in its
+//! comments (the law there is an extrapolation of the model).
+//!
 //! Output: [`InterfaceLaw::csv`] (full precision) and the Abaqus/CalculiX block of the
 //! submodule [`abaqus`] (20-character fields, and what each FE code does with the table).
 
 use thiserror::Error;
 
 use crate::resources::{ResourceError, bytes_for, check_memory};
-use crate::rough::{Model, RoughContact, RoughError, Step};
+use crate::rough::{Model, RoughContact, RoughError, Step, Validity};
 
 pub mod abaqus;
 pub use abaqus::abaqus_real;
@@ -127,6 +134,24 @@ pub struct LinearDeviation {
     pub local: f64,
 }
 
+/// A run of consecutive samples outside the model's validity
+/// ([`InterfaceLaw::invalid_ranges`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct InvalidRange {
+    /// Largest separation of the run (m): its first sample in loading order.
+    pub from_gap: f64,
+    /// Smallest separation of the run (m).
+    pub to_gap: f64,
+    /// Whether the run reaches the smallest sampled separation (the model stays
+    /// invalid down to g_min).
+    pub to_end: bool,
+    /// Number of samples in the run.
+    pub samples: usize,
+    /// Every check that fails somewhere in the run (flags or-ed, the largest number of
+    /// overlapping pairs).
+    pub validity: Validity,
+}
+
 /// One evaluation of the law at a separation g.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LawPoint {
@@ -153,6 +178,11 @@ pub struct InterfaceLaw {
     /// PCHIP slopes of A/A₀ (1/m).
     darea: Vec<f64>,
     limited: usize,
+    /// The model's validity at the separations (ascending, as `x`).
+    validity: Vec<Validity>,
+    /// The model's short name for the validity warnings ("N model", "I model", or
+    /// "model" when built from samples).
+    model: &'static str,
 }
 
 /// The `n` separations (m) evenly spaced from `first_contact` down to `min_gap`, both
@@ -231,11 +261,18 @@ impl InterfaceLaw {
         if let Some((i, &area)) = a.iter().enumerate().find(|(_, a)| **a > 1.0) {
             return Err(InterfaceError::AreaAboveNominal { gap: gaps[i], area });
         }
-        Self::from_samples(&gaps, &p, &k, &a)
+        let mut law = Self::from_samples(&gaps, &p, &k, &a)?;
+        law.validity = steps.iter().rev().map(|s| s.validity).collect();
+        law.model = match model {
+            Model::Independent => "N model",
+            Model::Interacting(_) => "I model",
+        };
+        Ok(law)
     }
 
     /// From solved steps (first step at first contact, δ = 0) and the nominal area A₀
-    /// (m²): uses each step's `gap`, `mean_pressure`, `stiffness`/A₀ and `area_fraction`.
+    /// (m²): uses each step's `gap`, `mean_pressure`, `stiffness`/A₀, `area_fraction`
+    /// and `validity`.
     pub fn from_steps(steps: &[Step], nominal_area: f64) -> Result<Self, InterfaceError> {
         if !(nominal_area.is_finite() && nominal_area > 0.0) {
             return Err(InterfaceError::Invalid {
@@ -249,13 +286,15 @@ impl InterfaceLaw {
         let p: Vec<f64> = steps.iter().map(|s| s.mean_pressure).collect();
         let k: Vec<f64> = steps.iter().map(|s| s.stiffness / nominal_area).collect();
         let a: Vec<f64> = steps.iter().map(|s| s.area_fraction).collect();
-        Self::from_samples(&g, &p, &k, &a)
+        let mut law = Self::from_samples(&g, &p, &k, &a)?;
+        law.validity = steps.iter().rev().map(|s| s.validity).collect();
+        Ok(law)
     }
 
     /// From samples in loading order: separations `gaps` (m) strictly decreasing, the
     /// first at first contact; mean pressures `pressure` (Pa) starting at exactly 0 and
     /// non-decreasing; `stiffness` = dp/dδ = −dp/dg (Pa/m) ≥ 0; area fractions in
-    /// [0, 1]. Every value must be finite.
+    /// [0, 1]. Every value must be finite; every sample is taken as valid.
     pub fn from_samples(
         gaps: &[f64],
         pressure: &[f64],
@@ -349,6 +388,8 @@ impl InterfaceLaw {
             area,
             darea,
             limited,
+            validity: vec![Validity::default(); n],
+            model: "model",
         })
     }
 
@@ -384,6 +425,51 @@ impl InterfaceLaw {
         (0..self.x.len())
             .rev()
             .map(|i| (self.x[i], self.p[i], self.dp[i], self.area[i]))
+    }
+
+    /// The model's validity at each sample, in loading order (as [`Self::samples`]).
+    pub fn validity(&self) -> impl Iterator<Item = &Validity> + '_ {
+        self.validity.iter().rev()
+    }
+
+    /// The model's short name: `"N model"`, `"I model"` (sampled by
+    /// [`InterfaceLaw::sample`]) or `"model"`.
+    pub fn model_name(&self) -> &'static str {
+        self.model
+    }
+
+    /// The runs of consecutive samples outside the model's validity, in loading order
+    /// (g decreasing); empty when every sample is valid.
+    pub fn invalid_ranges(&self) -> Vec<InvalidRange> {
+        let mut out: Vec<InvalidRange> = Vec::new();
+        let mut open = false;
+        for i in (0..self.x.len()).rev() {
+            let v = self.validity[i];
+            if v.is_valid() {
+                open = false;
+                continue;
+            }
+            if open && let Some(r) = out.last_mut() {
+                r.to_gap = self.x[i];
+                r.to_end = i == 0;
+                r.samples += 1;
+                let w = &mut r.validity;
+                w.below_mean_plane |= v.below_mean_plane;
+                w.beyond_deepest_valley |= v.beyond_deepest_valley;
+                w.area_above_nominal |= v.area_above_nominal;
+                w.overlapping_contacts = w.overlapping_contacts.max(v.overlapping_contacts);
+            } else {
+                out.push(InvalidRange {
+                    from_gap: self.x[i],
+                    to_gap: self.x[i],
+                    to_end: i == 0,
+                    samples: 1,
+                    validity: v,
+                });
+                open = true;
+            }
+        }
+        out
     }
 
     /// p, A/A₀ and dp/dg at separation `gap` (m).
@@ -585,13 +671,18 @@ fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
 }
 
 impl InterfaceLaw {
-    /// The samples as CSV, header `gap,overclosure,mean_pressure,area_fraction,dp_dg`
-    /// (m, m, Pa, -, Pa/m), in loading order, full precision.
+    /// The samples as CSV, header `gap,overclosure,mean_pressure,area_fraction,dp_dg,valid`
+    /// (m, m, Pa, -, Pa/m, 1/0), in loading order, full precision; `valid` is 1 where
+    /// the model is inside its validity ([`InterfaceLaw::validity`]), else 0.
     pub fn csv(&self) -> String {
         let g0 = self.first_contact_gap();
-        let mut s = String::from("gap,overclosure,mean_pressure,area_fraction,dp_dg\n");
-        for (g, p, d, a) in self.samples() {
-            s.push_str(&format!("{g:e},{:e},{p:e},{a:e},{d:e}\n", g0 - g));
+        let mut s = String::from("gap,overclosure,mean_pressure,area_fraction,dp_dg,valid\n");
+        for ((g, p, d, a), v) in self.samples().zip(self.validity()) {
+            s.push_str(&format!(
+                "{g:e},{:e},{p:e},{a:e},{d:e},{}\n",
+                g0 - g,
+                u8::from(v.is_valid())
+            ));
         }
         s
     }
@@ -774,6 +865,52 @@ mod tests {
         let e = crate::resources::check_against("law", b, limit).unwrap_err();
         assert!(e.to_string().contains("memory limit"), "{e}");
         assert!(crate::resources::check_against("law", sample_bytes(200, 5000), limit).is_ok());
+    }
+
+    /// Sampled past the deepest valley (−4e-6 m) and below the mean plane (the summit
+    /// at 1e-6 m above it): the samples at g < 0 are invalid, one run to the end, and
+    /// the Abaqus block says so in ASCII `** WARNING:` lines; a law from samples is
+    /// valid everywhere.
+    #[test]
+    fn invalid_samples_form_ranges() {
+        let law = Homogeneous { e_star: 2e11 };
+        let rc = hertz_rc(&law);
+        let o = SampleOptions {
+            samples: 11,
+            min_gap: -4.5e-6,
+        };
+        let il = InterfaceLaw::sample(&rc, Model::Independent, &o).expect("law");
+        let valid: Vec<bool> = il.validity().map(|v| v.is_valid()).collect();
+        let gaps: Vec<f64> = il.samples().map(|s| s.0).collect();
+        for (g, v) in gaps.iter().zip(&valid) {
+            assert_eq!(*v, *g >= 0.0, "g = {g:e}");
+        }
+        let r = il.invalid_ranges();
+        assert_eq!(r.len(), 1, "{r:?}");
+        let first = gaps.iter().position(|g| *g < 0.0).expect("g < 0");
+        assert_eq!(r[0].from_gap, gaps[first]);
+        assert_eq!(r[0].to_gap, -4.5e-6);
+        assert!(r[0].to_end && r[0].samples == gaps.len() - first);
+        assert!(r[0].validity.below_mean_plane && r[0].validity.beyond_deepest_valley);
+        let w = il.validity_warnings();
+        assert!(
+            w[0].starts_with("the N model is outside its validity for g <="),
+            "{w:?}"
+        );
+        let block = il.abaqus_block(&[]);
+        assert!(
+            block.contains("** WARNING: the N model is outside"),
+            "{block}"
+        );
+        assert!(block.contains("z_M - z_min"), "{block}");
+        for line in block.lines() {
+            assert!(line.is_ascii() && line.len() <= 256, "{line}");
+        }
+        assert!(il.csv().lines().nth(1).expect("row").ends_with(",1"));
+        assert!(il.csv().lines().last().expect("row").ends_with(",0"));
+        let fs = InterfaceLaw::from_samples(&[2.0, 1.0], &[0.0, 1.0], &[1.0, 1.0], &[0.0, 0.1])
+            .expect("law");
+        assert!(fs.invalid_ranges().is_empty() && fs.validity_warnings().is_empty());
     }
 
     /// Overshooting slopes are limited and the interpolant stays monotone.

@@ -3,14 +3,18 @@
 //! contact down to a smallest separation, for FE contact definitions.
 //!
 //! Formats (by `--format`, else by the extension of FILE):
-//! - `csv` (`.csv`): header `gap,overclosure,mean_pressure,area_fraction,dp_dg`
-//!   (m, m, Pa, -, Pa/m), one line per sample in loading order;
-//! - `json` (`.json`): the same samples plus the scene summary and the convention;
+//! - `csv` (`.csv`): header `gap,overclosure,mean_pressure,area_fraction,dp_dg,valid`
+//!   (m, m, Pa, -, Pa/m, 1/0), one line per sample in loading order; `valid` = 0 where
+//!   the N or I model is outside its validity (BEM laws: always 1);
+//! - `json` (`.json`): the same samples (`valid` and the `validity` reason), the
+//!   ranges where the model is invalid (`validity_warnings`), the surface as solved
+//!   (`surface`, `warnings`), the scene summary and the convention;
 //! - `abaqus` (`.inp`): a `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block, data
 //!   lines `pressure, overclosure`, overclosure h = g₀ − g ≥ 0 relative to first contact
 //!   (g₀ = z_M − z̄), first line `0., 0.`, h strictly increasing, p non-decreasing;
 //!   the convention and units are in its `**` comment lines, every number in at most
-//!   20 characters (what Abaqus and CalculiX read);
+//!   20 characters (what Abaqus and CalculiX read); `** WARNING:` lines give the
+//!   separations where the model is outside its validity;
 //! - `all`: FILE's stem with `.csv`, `.json` and `.inp`.
 //!
 //! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
@@ -86,6 +90,11 @@ pub struct SampledLaw {
     pub e_star: f64,
     /// Nominal area A₀ (m²).
     pub nominal_area: f64,
+    /// The surface as solved (curve.json's `surface`: statistics, reader log, removed
+    /// form).
+    pub surface: serde_json::Value,
+    /// The surface's warnings (plausibility, a form that dominates the heights).
+    pub warnings: Vec<String>,
 }
 
 impl SampledLaw {
@@ -114,10 +123,14 @@ pub fn sample_law(
 ) -> Result<SampledLaw> {
     check_samples(samples)?;
     check_min_gap(min_gap)?;
-    match model_of(scene) {
+    let sampled = match model_of(scene) {
         Some(m) => solve_asperities(scene, path, surface, opts, m, samples, min_gap),
         None => solve_bem(scene, path, surface, opts, samples, min_gap),
+    }?;
+    for w in sampled.law.validity_warnings() {
+        crate::stdio::eprint_line(format_args!("warning: law: {w}"));
     }
+    Ok(sampled)
 }
 
 fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
@@ -220,6 +233,7 @@ fn solve_asperities(
     samples: usize,
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
+    let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
     let law = law_for(scene, path, opts)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
     let g0 = rc.top_to_mean();
@@ -250,6 +264,8 @@ fn solve_asperities(
         solid: solid(scene),
         e_star: law.e_star(),
         nominal_area: rc.area(),
+        surface: surface_json,
+        warnings,
     })
 }
 
@@ -317,12 +333,22 @@ fn solve_bem(
         s.area_fraction = 0.0;
     }
     let il = InterfaceLaw::from_steps(&steps, area).context("BEM load curve")?;
+    let warnings = sol.meta["warnings"]
+        .as_array()
+        .map(|w| {
+            w.iter()
+                .filter_map(|s| s.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
     Ok(SampledLaw {
         law: il,
         model: describe(None),
         solid: solid(scene),
         e_star: scene.stack.top_plane_strain_modulus(),
         nominal_area: area,
+        surface: sol.meta["surface"].clone(),
+        warnings,
     })
 }
 
@@ -333,9 +359,11 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
     let law: Vec<serde_json::Value> = s
         .law
         .samples()
-        .map(|(g, p, d, a)| {
+        .zip(s.law.validity())
+        .map(|((g, p, d, a), v)| {
             serde_json::json!({"gap": g, "overclosure": g0 - g, "mean_pressure": p,
-                               "area_fraction": a, "dp_dg": d})
+                               "area_fraction": a, "dp_dg": d, "valid": v.is_valid(),
+                               "validity": v.describe()})
         })
         .collect();
     let v = serde_json::json!({
@@ -352,8 +380,12 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
             "of_max_pressure": s.law.linear_table_deviation().of_max,
             "local_where_p_above_1pc_of_max": s.law.linear_table_deviation().local,
         },
+        "validity_warnings": s.law.validity_warnings(),
+        "surface": s.surface,
+        "warnings": s.warnings,
         "convention": CONVENTION,
-        "units": {"gap": "m", "overclosure": "m", "mean_pressure": "Pa",
+        "units": {"valid": "inside the model's validity (validity: why not)",
+                  "gap": "m", "overclosure": "m", "mean_pressure": "Pa",
                   "area_fraction": "1", "dp_dg": "Pa/m", "nominal_area": "m^2", "e_star_1": "Pa"},
         "law": law,
     });

@@ -3,11 +3,11 @@
 //! Writes one output set, replaced as a whole ([`crate::output_set`]: staged beside
 //! DIR, swapped in at the end, under a lock; files you put in DIR yourself are kept):
 //! - `DIR/curve.csv`, header exactly
-//!   `delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness`
+//!   `delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid`
 //!   (SI: δ and g_n in m, p_n in Pa, p_n/E*₁ and A/A₀ dimensionless, stiffness dP/dδ
-//!   of the whole sample in N/m);
-//! - `DIR/curve.json`: the same per step plus the KKT residual, the scene summary and
-//!   which effects were simulated;
+//!   of the whole sample in N/m; valid 1/0: inside the model's validity);
+//! - `DIR/curve.json`: the same per step plus the KKT residual, the validity and its
+//!   reasons, the scene summary and which effects were simulated;
 //! - `DIR/pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `DIR/area_pressure.svg`
 //!   (A/A₀ against p_n/E*₁), like the paper's Figs. 15–22;
 //! - with `[output] maps = "last"` or `"all"` (`model.kind = "bem"` only; the scene
@@ -62,7 +62,7 @@ pub struct Args {
 }
 
 /// The header of curve.csv.
-pub const CURVE_HEADER: [&str; 7] = [
+pub const CURVE_HEADER: [&str; 8] = [
     "delta",
     "gap",
     "mean_pressure",
@@ -70,9 +70,11 @@ pub const CURVE_HEADER: [&str; 7] = [
     "area_fraction",
     "contacts",
     "stiffness",
+    "valid",
 ];
 
-/// curve.csv text: the fixed header, full precision.
+/// curve.csv text: the fixed header, full precision; `valid` is 1 where the step is
+/// inside the model's validity (curve.json's `validity` says why not), else 0.
 pub fn curve_csv(steps: &[Step]) -> Result<String> {
     Ok(csv_out::text(
         &CURVE_HEADER,
@@ -85,6 +87,7 @@ pub fn curve_csv(steps: &[Step]) -> Result<String> {
                 csv_out::num(st.area_fraction),
                 st.contacts.to_string(),
                 csv_out::num(st.stiffness),
+                u8::from(st.validity.is_valid()).to_string(),
             ]
         }),
     )?)
@@ -286,7 +289,8 @@ fn steps_json(steps: &[Step]) -> serde_json::Value {
             "pressure_ratio": s.pressure_ratio, "area_fraction": s.area_fraction,
             "contacts": s.contacts, "stiffness": s.stiffness, "kkt_residual": s.kkt_residual,
             "newton_steps": s.diagnostics.newton_steps, "evaluations": s.diagnostics.evaluations,
-            "validity": {"valid": s.validity.is_valid(), "below_mean_plane": s.validity.below_mean_plane,
+            "validity": {"valid": s.validity.is_valid(), "reason": s.validity.describe(),
+                         "below_mean_plane": s.validity.below_mean_plane,
                          "beyond_deepest_valley": s.validity.beyond_deepest_valley,
                          "area_above_nominal": s.validity.area_above_nominal,
                          "overlapping_contacts": s.validity.overlapping_contacts},

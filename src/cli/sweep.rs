@@ -5,10 +5,11 @@
 //! Outputs of an unsharded run (one output set, replaced as a whole under a lock,
 //! [`crate::output_set`]):
 //! - `DIR/sweep.csv`: one row per case and load step, header
-//!   `case,<swept columns…>,model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness`
+//!   `case,<swept columns…>,model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid`
 //!   where the swept columns are the axes in case order except `model.kind` (that is
 //!   the `model` column); `case` and `step` count from 0; results are SI and full
-//!   precision (`{:e}`), as in `strata solve`'s curve.csv;
+//!   precision (`{:e}`), as in `strata solve`'s curve.csv; `valid` 1/0 (inside the
+//!   model's validity);
 //! - `DIR/sweep.json`: the sidecar (strata version, sweep fingerprint, case count,
 //!   shard, columns, axes, per-case wall times, the CSV's row count and FNV-1a
 //!   checksum, the input files and their checksums);
@@ -51,7 +52,7 @@ use spec::{Case, Sweep};
 
 /// Result columns after the swept ones (the same as `strata solve`'s curve.csv).
 const RESULT_COLUMNS: &str =
-    "model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness";
+    "model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid";
 
 #[derive(Debug, clap::Args)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
@@ -159,6 +160,7 @@ fn case_rows(sweep: &Sweep, case: &Case, steps: &[Step], out: &mut Vec<Vec<Strin
             num(st.area_fraction),
             st.contacts.to_string(),
             num(st.stiffness),
+            u8::from(st.validity.is_valid()).to_string(),
         ]);
         out.push(r);
     }

@@ -12,8 +12,9 @@
 //!                              # or size = [Lx, Ly] (m), or pixel_size = [dx, dy] (m);
 //!                              # an .x3p gives its own pixel sizes (no size/pixel_size)
 //! height_unit = "um"           # .npy/text: "m" (default) | "mm" | "um" | "nm"; .x3p is in m
-//! detrend = "plane"            # files: "none" (default) | "plane" | "curvature"
-//!                              # (least-squares form removed after reading)
+//! detrend = "plane"            # files: "plane" (default) | "none" | "curvature"
+//!                              # (least-squares form removed after reading; periodic
+//!                              # files: "none", the only choice: a tilt is not periodic)
 //! periodic = true              # default: true for generated surfaces, false for files
 //! repair = "median"            # files only: replace NaN/inf heights, invalid points and
 //!                              # spikes by the median of their neighbours (default: refuse)
@@ -643,18 +644,33 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
             let f = string(sf, "file", "surface.file")?.unwrap_or_default();
             let p = existing_file(dir, "surface.file", f, "")?;
             let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
+            let periodic = periodic.unwrap_or(false);
+            // Measured files: the least-squares plane is removed unless asked otherwise;
+            // a periodic sample has no tilt to remove (a plane is not periodic).
             let detrend = match string(sf, "detrend", "surface.detrend")? {
-                None => Detrend::None,
+                None if periodic => Detrend::None,
+                None => Detrend::Plane,
                 Some(d) => Detrend::parse(d).ok_or_else(|| SceneError::Invalid {
                     field: "surface.detrend".into(),
                     reason: format!("`{d}` is not one of \"none\", \"plane\", \"curvature\""),
                 })?,
             };
+            if periodic && detrend != Detrend::None {
+                return Err(SceneError::Invalid {
+                    field: "surface.detrend".into(),
+                    reason: format!(
+                        "\"{}\" on a periodic surface (surface.periodic = true): a tilt or a \
+                         curvature is not periodic (the sample's edges would no longer meet); \
+                         remove the key (a periodic sample keeps its heights) or set periodic = false",
+                        detrend.name()
+                    ),
+                });
+            }
             SurfaceSpec {
                 source: SurfaceSource::File(p),
                 read: ReadOptions {
                     spacing,
-                    periodic: periodic.unwrap_or(false),
+                    periodic,
                     repair,
                     height_unit,
                     detrend,

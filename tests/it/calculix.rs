@@ -193,7 +193,13 @@ fn solve(
 ) -> (Vec<Increment>, Vec<(f64, f64)>) {
     let dir = tmp(tag);
     let log = strata_law(scene, &dir, law_args);
-    assert!(!log.contains("warning"), "{log}");
+    // (the samples below the mean plane are outside the N and I models' validity:
+    // `warning: law: …`, expected; no CalculiX warning)
+    assert!(
+        !log.lines()
+            .any(|l| l.contains("warning") && !l.starts_with("warning: law: the")),
+        "{log}"
+    );
     deck(&dir, "rough_block", &[("TOP, 3, 3, -1.5E-5", u)]);
     let out = run_ccx(ccx, &dir, "rough_block");
     let stdout = String::from_utf8_lossy(&out.stdout);

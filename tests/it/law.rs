@@ -53,7 +53,7 @@ pub fn read_csv(p: &Path) -> Vec<[f64; 5]> {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("gap,overclosure,mean_pressure,area_fraction,dp_dg")
+        Some("gap,overclosure,mean_pressure,area_fraction,dp_dg,valid")
     );
     lines
         .map(|l| {

@@ -22,6 +22,7 @@ mod hard_cases;
 mod law;
 mod limits;
 mod maps;
+mod measured_law;
 mod outputs;
 mod progress;
 mod rectangular;

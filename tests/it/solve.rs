@@ -76,7 +76,7 @@ fn solve_writes_curve_and_refuses_overwrite() {
         let mut lines = csv.lines();
         assert_eq!(
             lines.next(),
-            Some("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness")
+            Some("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid")
         );
         let rows: Vec<Vec<f64>> = lines
             .map(|l| l.split(',').map(|x| x.parse().expect("number")).collect())
@@ -210,6 +210,18 @@ fn separations_below_the_valley_are_solved_and_flagged() {
     assert_eq!(steps[0]["validity"]["below_mean_plane"], false);
     assert_eq!(steps[1]["validity"]["beyond_deepest_valley"], true);
     assert_eq!(steps[1]["validity"]["below_mean_plane"], true);
+    // curve.csv's `valid` column is curve.json's verdict, each with its reason
+    let csv = std::fs::read_to_string(out.join("curve.csv")).expect("csv");
+    for (line, st) in csv.lines().skip(1).zip(steps) {
+        let valid = st["validity"]["valid"].as_bool().expect("valid");
+        assert!(
+            line.ends_with(if valid { ",1" } else { ",0" }),
+            "{line} {st}"
+        );
+        let reason = st["validity"]["reason"].as_str().expect("reason");
+        assert_eq!(reason.is_empty(), valid, "{st}");
+    }
+    assert!(csv.lines().nth(2).expect("step 1").ends_with(",0"));
     assert!(steps[1]["kkt_residual"].as_f64().expect("kkt") < 1e-8);
     assert!(steps[1]["load"].as_f64().expect("load") > steps[0]["load"].as_f64().expect("load"));
     assert!(json.get("partial").is_none());

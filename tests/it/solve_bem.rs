@@ -61,7 +61,7 @@ fn bem_scene_matches_reference_bem_column() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness")
+        Some("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid")
     );
     let got: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())

@@ -81,7 +81,7 @@ fn write_sweep(dir: &Path, name: &str, text: &str) -> PathBuf {
     p
 }
 
-const HEADER: &str = "case,surface.k_max,surface.seed,model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness";
+const HEADER: &str = "case,surface.k_max,surface.seed,model,step,delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid";
 
 /// The CSV has one row per case and step with the documented columns and order; every
 /// case equals `strata solve` of the same scene (field for field, all 3 steps); the
@@ -107,7 +107,7 @@ fn small_sweep_rows_columns_and_single_solves() {
     ] {
         for step in 0..3 {
             let f: Vec<&str> = lines[1 + 3 * case + step].split(',').collect();
-            assert_eq!(f.len(), 12);
+            assert_eq!(f.len(), 13);
             assert_eq!(
                 &f[..5],
                 &[&case.to_string(), k, seed, model, &step.to_string()]
@@ -588,13 +588,19 @@ fn merge_refuses_truncated_cut_and_physics_changed_shards() {
     let good = dir.join("good");
     shards(&good);
     ok(&merge(&good));
-    // The last row cut to a prefix of its last number (`3.102e-3` → `3.102`).
+    // The last row's last number cut to a prefix (`3.102e-3,1` → `3.102,1`, the
+    // `valid` column kept: the row still parses).
     let cut = dir.join("cut");
     shards(&cut);
     let f = cut.join("shard-1-of-2.csv");
     let text = std::fs::read_to_string(&f).unwrap();
     let e_pos = text.trim_end().rfind('e').unwrap();
-    std::fs::write(&f, &text[..e_pos]).unwrap();
+    let comma = e_pos + text[e_pos..].find(',').unwrap();
+    std::fs::write(
+        &f,
+        format!("{}{}", &text[..e_pos], text[comma..].trim_end()),
+    )
+    .unwrap();
     let e = fails(&merge(&cut));
     assert!(
         e.contains("shard-1-of-2.csv") && e.contains("checksum"),

@@ -19,12 +19,12 @@ CURVE_COLUMNS = tuple(_strata.CURVE_COLUMNS)
 class Curve:
     """A solved load curve: one entry per load step, in the scene's order.
 
-    The first seven fields are the columns of ``curve.csv``: approach ``delta`` (m),
+    The columns of ``curve.csv`` (the first seven fields and ``valid``): approach ``delta`` (m),
     separation of the mean planes ``gap`` (m, paper eq. 26), ``mean_pressure`` p = P/A0
     (Pa), ``pressure_ratio`` p/E*1, ``area_fraction`` A/A0, ``contacts`` (asperities in
-    contact, or contact patches for the BEM) and ``stiffness`` dP/d(delta) of the
-    sample (N/m). Then ``load`` P (N), ``kkt_residual`` (I model; NaN otherwise),
-    ``valid`` (inside the asperity model's validity), ``meta`` (curve.json's summary)
+    contact, or contact patches for the BEM), ``stiffness`` dP/d(delta) of the
+    sample (N/m) and ``valid`` (inside the asperity model's validity; 1/0 in the
+    file). Then ``load`` P (N), ``kkt_residual`` (I model; NaN otherwise), ``meta`` (curve.json's summary)
     and ``maps`` (BEM pressure/gap maps when asked).
     """
 
@@ -54,7 +54,8 @@ class Curve:
         with open(path, "w", encoding="utf-8") as f:
             f.write(",".join(CURVE_COLUMNS) + "\n")
             for i in range(len(self)):
-                f.write(",".join(repr(float(cols[c][i])) if c != "contacts" else str(int(cols[c][i])) for c in CURVE_COLUMNS) + "\n")
+                f.write(",".join(str(int(cols[c][i])) if c in ("contacts", "valid") else repr(float(cols[c][i]))
+                                 for c in CURVE_COLUMNS) + "\n")
 
 
 class Scene:

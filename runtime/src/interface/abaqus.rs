@@ -20,7 +20,7 @@
 //! | overclosure steps < 1e-10 (model length unit) | – | moves the points [`CALCULIX_MIN_OVERCLOSURE_STEP`] apart (stretches the law) |
 //! | contact formulation | any | `NODE TO SURFACE`; `SURFACE TO SURFACE` with a TABULAR law crashes (segmentation fault) |
 
-use super::InterfaceLaw;
+use super::{InterfaceLaw, InvalidRange};
 
 /// Characters Abaqus and CalculiX read for one number of a data line.
 pub const FIELD_WIDTH: usize = 20;
@@ -121,7 +121,77 @@ pub fn read_f20(field: &str) -> Option<f64> {
     out.parse().ok()
 }
 
+/// `text` as `** `-comment lines of at most `width` characters after the prefix,
+/// continuation lines indented; non-ASCII characters replaced (`−` by `-`), since the
+/// FE readers expect ASCII.
+fn comment_lines(first: &str, text: &str, width: usize) -> String {
+    let ascii: String = text
+        .chars()
+        .map(|c| match c {
+            '−' => '-',
+            c if c.is_ascii() => c,
+            _ => '?',
+        })
+        .collect();
+    let mut out = String::new();
+    let mut line = String::from(first);
+    // Whether `line` holds only its prefix.
+    let mut fresh = true;
+    for word in ascii.split_whitespace() {
+        if !fresh && line.len() + 1 + word.len() > width {
+            out.push_str(&line);
+            out.push('\n');
+            line = String::from("**  ");
+        }
+        line.push(' ');
+        line.push_str(word);
+        fresh = false;
+    }
+    out.push_str(&line);
+    out.push('\n');
+    out
+}
+
+impl InvalidRange {
+    /// One sentence: where (g and overclosure h = g₀ − g, m) the model `model` is
+    /// outside its validity and why; `g0` the first-contact separation (m).
+    pub fn describe(&self, model: &str, g0: f64) -> String {
+        let range = if self.to_end {
+            format!(
+                "for g <= {:.6e} m (overclosure h >= {:.6e} m; the last {} samples)",
+                self.from_gap,
+                g0 - self.from_gap,
+                self.samples
+            )
+        } else {
+            format!(
+                "for {:.6e} m >= g >= {:.6e} m (overclosure {:.6e} m <= h <= {:.6e} m; {} samples)",
+                self.from_gap,
+                self.to_gap,
+                g0 - self.from_gap,
+                g0 - self.to_gap,
+                self.samples
+            )
+        };
+        format!(
+            "the {model} is outside its validity {range} ({}); the law there is an extrapolation of the model",
+            self.validity.describe()
+        )
+    }
+}
+
 impl InterfaceLaw {
+    /// Where the model is outside its validity ([`InterfaceLaw::invalid_ranges`]), one
+    /// sentence per run of samples; empty when the whole law is valid. The Abaqus block
+    /// carries them as `** WARNING:` comments.
+    pub fn validity_warnings(&self) -> Vec<String> {
+        let g0 = self.first_contact_gap();
+        self.invalid_ranges()
+            .iter()
+            .map(|r| r.describe(self.model_name(), g0))
+            .collect()
+    }
+
     /// What CalculiX 2.20 would change in this law's table: more than
     /// [`CALCULIX_MAX_LINES`] lines, or overclosure steps below
     /// [`CALCULIX_MIN_OVERCLOSURE_STEP`] m (SI: the table's unit). One sentence each;
@@ -159,7 +229,9 @@ impl InterfaceLaw {
     /// (m), first line `0., 0.` (first contact), h strictly increasing, p
     /// non-decreasing ≥ 0 (Pa), every number in at most 20 characters
     /// ([`abaqus_real`]). The comments state what Abaqus and CalculiX do beyond the
-    /// last line and with long tables, and [`InterfaceLaw::calculix_warnings`].
+    /// last line and with long tables, [`InterfaceLaw::calculix_warnings`] and, as
+    /// `** WARNING:` lines right after `comments`, where the model is outside its
+    /// validity ([`InterfaceLaw::validity_warnings`]). Every line is ASCII.
     pub fn abaqus_block(&self, comments: &[String]) -> String {
         let g0 = self.first_contact_gap();
         let dev = self.linear_table_deviation();
@@ -170,6 +242,9 @@ impl InterfaceLaw {
                 s.push_str(line);
                 s.push('\n');
             }
+        }
+        for w in self.validity_warnings() {
+            s.push_str(&comment_lines("** WARNING:", &w, 90));
         }
         s.push_str(&format!(
             "** Convention: overclosure h = g0 - g (m), g = separation of the mean planes (P26),\n\

@@ -15,8 +15,25 @@
 //! ⟨z, φ⟩/⟨φ, φ⟩: no linear system, no conditioning issue for any dx, dy, n. The
 //! slopes a_x, a_y are dimensionless, the second derivatives h (1/m). The span is that
 //! of {1, x, y, x², xy, y²}, so this is the ordinary least-squares fit.
+//!
+//! Measured files default to `"plane"` in a scene (a scan's tilt is the stage, not the
+//! part); a periodic sample has no tilt or curvature to remove (a plane is not
+//! periodic: its edges would no longer meet), so [`Surface::read`] refuses form removal
+//! on a periodic sample. Two warnings ([`Surface::warnings`]) catch a form that
+//! dominates the heights: with `"none"` on a non-periodic sample, a least-squares plane
+//! that would remove more than [`KEPT_FORM_FRACTION`] of the RMS height; with form
+//! removal, a removed form whose RMS exceeds [`REMOVED_FORM_RATIO`] × the remaining
+//! roughness RMS.
 
 use super::Surface;
+
+/// With `detrend = "none"`: warn when a least-squares plane would remove more than this
+/// fraction of the RMS height (RMS after removal < (1 − fraction) × RMS before).
+pub const KEPT_FORM_FRACTION: f64 = 0.5;
+
+/// With form removal: warn when the removed form's RMS exceeds this multiple of the
+/// remaining roughness RMS.
+pub const REMOVED_FORM_RATIO: f64 = 10.0;
 
 /// Which form is removed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -62,6 +79,8 @@ pub struct Form {
     pub curvature: (f64, f64, f64),
     /// RMS of the removed form about its mean (m).
     pub rms: f64,
+    /// RMS of the heights after removal, the remaining roughness (m).
+    pub residual_rms: f64,
 }
 
 impl Form {
@@ -79,8 +98,29 @@ impl Form {
                 ", second derivatives z_xx = {a:.4e}, z_xy = {b:.4e}, z_yy = {c:.4e} 1/m"
             ));
         }
-        s.push_str(&format!(" (RMS of the removed form {:.4e} m)", self.rms));
+        s.push_str(&format!(
+            " (RMS of the removed form {:.4e} m, of the remaining roughness {:.4e} m; detrend = \"none\" keeps the form)",
+            self.rms, self.residual_rms
+        ));
         s
+    }
+
+    /// The warning when the removed form's RMS exceeds [`REMOVED_FORM_RATIO`] × the
+    /// remaining roughness RMS (a tilted stage, a curved part), else `None`.
+    pub fn dominance_warning(&self) -> Option<String> {
+        (self.rms > REMOVED_FORM_RATIO * self.residual_rms).then(|| {
+            format!(
+                "the removed form (detrend = \"{}\", slopes z_x = {:.3e}, z_y = {:.3e}) has an RMS \
+                 of {:.3e} m, {:.0} × the remaining roughness ({:.3e} m; warning above {REMOVED_FORM_RATIO} ×): \
+                 often a tilted stage or a curved part; the contact is solved on the remaining roughness",
+                self.kind.name(),
+                self.slope.0,
+                self.slope.1,
+                self.rms,
+                self.rms / self.residual_rms.max(f64::MIN_POSITIVE),
+                self.residual_rms
+            )
+        })
     }
 }
 
@@ -106,6 +146,7 @@ impl Surface {
             slope: (0.0, 0.0),
             curvature: (0.0, 0.0, 0.0),
             rms: 0.0,
+            residual_rms: self.rms(),
         };
         if kind == Detrend::None {
             return none;
@@ -153,9 +194,41 @@ impl Surface {
                 (0.0, 0.0, 0.0)
             },
             rms: (form_sq / (n0 * n1) as f64).sqrt(),
+            residual_rms: self.rms(),
         };
         self.note(form.describe());
+        self.form = Some(form);
         form
+    }
+
+    /// The form removed when the surface was read (`None` when none was).
+    pub fn form(&self) -> Option<&Form> {
+        self.form.as_ref()
+    }
+
+    /// With `detrend = "none"` on a non-periodic sample: the warning when a
+    /// least-squares plane would remove more than [`KEPT_FORM_FRACTION`] of the RMS
+    /// height, else `None` (the heights are not changed).
+    pub fn kept_form_warning(&self) -> Option<String> {
+        if self.is_periodic() {
+            return None;
+        }
+        let rms = self.rms();
+        let mut plane = self.clone();
+        let f = plane.detrend(Detrend::Plane);
+        (f.residual_rms < (1.0 - KEPT_FORM_FRACTION) * rms).then(|| {
+            format!(
+                "detrend = \"none\" keeps a tilt that dominates the heights: the least-squares plane \
+                 (slopes z_x = {:.3e}, z_y = {:.3e}) carries {:.0} % of the RMS height ({:.3e} m; \
+                 {:.3e} m without it); a tilted scan is mostly form, not roughness: set [surface] \
+                 detrend = \"plane\" (the default for measured files) unless the tilt is part of the contact",
+                f.slope.0,
+                f.slope.1,
+                100.0 * (1.0 - f.residual_rms / rms),
+                rms,
+                f.residual_rms
+            )
+        })
     }
 }
 
@@ -169,6 +242,35 @@ mod tests {
             .map(|k| f((k / n1) as f64 * dx, (k % n1) as f64 * dy))
             .collect();
         Surface::with_spacing(z, n0, n1, Spacing::Pixel(dx, dy), false).unwrap()
+    }
+
+    /// The two warnings of a dominating form: with form removal, a removed RMS above
+    /// 10× the remaining roughness; with "none", a plane carrying more than half of the
+    /// RMS height. Neither for a rough sample with a small tilt, nor "none" on a
+    /// periodic sample.
+    #[test]
+    fn dominating_form_warnings() {
+        let (n0, n1, d) = (40, 30, 1e-6);
+        let rough = |x: f64, y: f64| 1e-8 * ((x * 3e6).sin() * (y * 1.7e6).cos());
+        let tilted = |t: f64| grid(n0, n1, d, d, move |x, y| rough(x, y) + t * x);
+        // slope 1e-2 over 40 µm: form RMS ~1.2e-7 m against ~5e-9 m of roughness
+        let mut s = tilted(1e-2);
+        assert!(
+            s.kept_form_warning()
+                .is_some_and(|w| w.contains("detrend = \"plane\""))
+        );
+        let f = s.detrend(Detrend::Plane);
+        assert!((f.slope.0 - 1e-2).abs() < 1e-6, "{f:?}");
+        let w = f.dominance_warning().expect("dominance warning");
+        assert!(w.contains("tilted stage"), "{w}");
+        assert_eq!(s.form(), Some(&f));
+        assert!(s.log()[0].contains("remaining roughness"), "{:?}", s.log());
+        let mut s = tilted(1e-5);
+        assert!(s.kept_form_warning().is_none());
+        assert!(s.detrend(Detrend::Plane).dominance_warning().is_none());
+        let z = tilted(1e-2).heights().to_vec();
+        let p = Surface::with_spacing(z, n0, n1, Spacing::Pixel(d, d), true).unwrap();
+        assert!(p.kept_form_warning().is_none());
     }
 
     /// An exact plane (quadric) is removed to round-off and its coefficients come

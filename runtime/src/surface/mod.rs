@@ -47,7 +47,7 @@ mod stats;
 #[cfg(feature = "x3p")]
 pub mod x3p;
 
-pub use form::{Detrend, Form};
+pub use form::{Detrend, Form, KEPT_FORM_FRACTION, REMOVED_FORM_RATIO};
 #[cfg(feature = "spectral")]
 pub use generate::{GENERATE_BYTES_PER_POINT, GenerateParams};
 pub use read::{FileKind, HeightUnit, ReadOptions};
@@ -180,6 +180,8 @@ pub struct Surface {
     log: Vec<String>,
     /// Non-fatal problems found while reading.
     warnings: Vec<String>,
+    /// The form removed when read ([`Surface::detrend`]).
+    form: Option<Form>,
 }
 
 /// A value as a person reads it: plain between 1e−4 and 1e15, else in exponent form
@@ -250,6 +252,7 @@ impl Surface {
             repaired: 0,
             log: Vec::new(),
             warnings: Vec::new(),
+            form: None,
         };
         // Finite heights whose statistics overflow (|z| ~ 1e300 m, or a pixel of 1e−300 m)
         // would reach the models as RMS = inf and give contradictory curves: refused here,

@@ -67,7 +67,9 @@ pub struct ReadOptions {
     pub repair: Repair,
     /// Unit of the heights in `.npy`/text (default metres); `.x3p` accepts only metres.
     pub height_unit: Option<HeightUnit>,
-    /// Form removed after reading (and repairing).
+    /// Form removed after reading (and repairing); refused on a periodic sample (a
+    /// plane is not periodic). Scenes default to [`Detrend::Plane`] for non-periodic
+    /// files; this struct's default is [`Detrend::None`].
     pub detrend: Detrend,
 }
 
@@ -107,9 +109,18 @@ impl Surface {
     /// Reads a height map by extension: `.x3p` (feature `x3p`; pixel sizes, offsets
     /// and metres from the file), `.npy` (feature `npy`) or a text matrix, both in
     /// `height_unit` with the given spacing. Then checks (or repairs) invalid points
-    /// and spikes, and removes the form `detrend`. What was done is in
-    /// [`Surface::log`]; errors name the file (and the grid index or field).
+    /// and spikes, and removes the form `detrend` (refused on a periodic sample). What
+    /// was done is in [`Surface::log`] and [`Surface::form`], a form that dominates the
+    /// heights is in [`Surface::warnings`] (module `form`); errors name the file (and
+    /// the grid index or field).
     pub fn read(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
+        if opts.periodic && opts.detrend != Detrend::None {
+            return Err(SurfaceError::Unsupported(format!(
+                "detrend = \"{}\" on a periodic sample: a tilt or a curvature is not periodic \
+                 (the sample's edges would no longer meet); set detrend = \"none\" or periodic = false",
+                opts.detrend.name()
+            )));
+        }
         let kind = FileKind::of(path);
         let (z, n0, n1, spacing, mut log, warnings) = match kind {
             FileKind::X3p => read_x3p_raw(path, opts)?,
@@ -152,7 +163,13 @@ impl Surface {
         }
         s.log = log;
         s.warnings = warnings;
-        s.detrend(opts.detrend);
+        match opts.detrend {
+            Detrend::None => s.warnings.extend(s.kept_form_warning()),
+            kind => {
+                let form = s.detrend(kind);
+                s.warnings.extend(form.dominance_warning());
+            }
+        }
         Ok(s)
     }
 
