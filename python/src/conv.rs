@@ -166,3 +166,27 @@ fn is_masked(obj: &Bound<'_, PyAny>) -> PyResult<bool> {
     let ma = obj.py().import("numpy.ma")?;
     ma.call_method1("isMaskedArray", (obj,))?.is_truthy()
 }
+
+/// A non-negative integer argument `name` (a count, a grid size, a seed): a Python
+/// `bool` or a negative or non-integer value is refused naming the parameter (PyO3's
+/// own conversion raised `OverflowError` without it, and took `True` as 1).
+pub fn count(obj: &Bound<'_, PyAny>, name: &str, kind: Kind) -> PyResult<u64> {
+    if obj.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(to_py(
+            kind,
+            anyhow::anyhow!("{name}: expected a non-negative integer, got a bool"),
+        ));
+    }
+    let v: i128 = obj.extract().map_err(|_| {
+        to_py(
+            kind,
+            anyhow::anyhow!("{name}: expected a non-negative integer, got {obj}"),
+        )
+    })?;
+    u64::try_from(v).map_err(|_| {
+        to_py(
+            kind,
+            anyhow::anyhow!("{name} = {v}: must be a non-negative integer below 2^64"),
+        )
+    })
+}

@@ -36,6 +36,13 @@ fn spacing(
         )),
         (None, Some((dx, dy))) => Ok(Some(Spacing::Pixel(dx, dy))),
         (Some(s), None) => {
+            if s.is_instance_of::<pyo3::types::PyBool>() {
+                // True would be taken as 1 m
+                return Err(to_py(
+                    Kind::Surface,
+                    anyhow::anyhow!("size: expected a length L (m) or (Lx, Ly), got a bool"),
+                ));
+            }
             if let Ok(l) = s.extract::<f64>() {
                 Ok(Some(Spacing::Size(l)))
             } else if let Ok((lx, ly)) = s.extract::<(f64, f64)>() {
@@ -87,20 +94,27 @@ impl PySurface {
 
     /// A self-affine random surface (physics.md §5; the paper's §5): side `size` (m),
     /// `grid` points per side, fractal dimension D_f in [2, 3), wavenumbers k_min…k_max
-    /// in units of 2π/L, RMS height `rms` (m), seed of the generator. Periodic.
+    /// in units of 2π/L, RMS height `rms` (m), `seed` of the generator (default 1). Periodic.
+    /// A bool or a negative `grid` or `seed` is refused naming it.
     #[staticmethod]
-    #[pyo3(signature = (size, grid, fractal_dimension, k_min, k_max, rms, seed=1))]
+    #[pyo3(signature = (size, grid, fractal_dimension, k_min, k_max, rms, seed=None))]
     #[allow(clippy::too_many_arguments)]
     fn generate(
         py: Python<'_>,
         size: f64,
-        grid: usize,
+        grid: &Bound<'_, PyAny>,
         fractal_dimension: f64,
         k_min: f64,
         k_max: f64,
         rms: f64,
-        seed: u64,
+        seed: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
+        let grid =
+            usize::try_from(crate::conv::count(grid, "grid", Kind::Surface)?).unwrap_or(usize::MAX);
+        let seed = match seed {
+            Some(s) => crate::conv::count(s, "seed", Kind::Surface)?,
+            None => 1,
+        };
         let p = GenerateParams {
             size,
             grid,

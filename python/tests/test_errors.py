@@ -83,6 +83,35 @@ def test_huge_array_refused_under_the_memory_limit(monkeypatch):
         strata.Surface.generate(1e-3, 8192, 2.4, 2, 10, 1e-6)
 
 
+def test_counts_and_lengths_are_named():
+    # issue 37: negative ints raised OverflowError without the parameter's name, and
+    # bools were taken as numbers (size=True gave a 1 m sample)
+    with pytest.raises(strata.SurfaceError, match=r"grid = -5"):
+        strata.Surface.generate(1e-3, -5, 2.4, 2, 10, 1e-6)
+    with pytest.raises(strata.SurfaceError, match=r"seed = -1"):
+        strata.Surface.generate(1e-3, 64, 2.4, 2, 10, 1e-6, seed=-1)
+    with pytest.raises(strata.SurfaceError, match=r"grid: .*bool"):
+        strata.Surface.generate(1e-3, True, 2.4, 2, 10, 1e-6)
+    with pytest.raises(strata.SurfaceError, match=r"size: .*bool"):
+        strata.Surface(heights(), size=True)
+    assert isinstance(strata.SurfaceError("x"), ValueError)
+    # the default seed is 1, as before
+    a = strata.Surface.generate(1e-3, 32, 2.4, 2, 10, 1e-6)
+    b = strata.Surface.generate(1e-3, 32, 2.4, 2, 10, 1e-6, seed=1)
+    assert np.array_equal(a.heights, b.heights)
+
+
+def test_table_g_names_r_and_a():
+    # issue 37: Table.g(1e-4, 1e-5) said "r ... must be >= a = 0.00001" (a and r swapped)
+    import pathlib
+    root = pathlib.Path(__file__).resolve().parents[2]
+    t = strata.Table.load(str(root / "tables" / "paper-two-layer.strata"))
+    with pytest.raises(strata.TableError) as e:
+        t.g(1e-4, 1e-5)
+    m = str(e.value)
+    assert "at least the contact radius a" in m and "= 0.00001 is outside the table range [0.0001" in m, m
+
+
 def test_spike_refused_with_its_index():
     z = heights()
     z[4, 9] = 1.0  # 1 m on a micrometre surface

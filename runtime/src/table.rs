@@ -686,7 +686,7 @@ impl TableLaw {
         self.try_chi_zeta(a)?;
         if r.is_nan() || r < a {
             return Err(TableError::OutOfRange {
-                what: "distance r (m), which must be >= a",
+                what: "distance r (m; at least the contact radius a, the range's lower end)",
                 value: r,
                 lo: a,
                 hi: f64::INFINITY,
