@@ -21,9 +21,8 @@ pub trait AsperityLaw: Send + Sync {
     fn zeta(&self, a: f64) -> f64;
     /// g(a, r) (m²) for r > a (physics.md §4).
     fn g(&self, a: f64, r: f64) -> f64;
-    /// The small-ρ expansion of the solid's compliance S(ρ) (the far field of a point
-    /// force and the plane integral of the rest): fixes the uniform mode of periodic
-    /// loads (physics.md §5).
+    /// The far field of a point force on the solid, S(0): fixes the uniform mode of
+    /// periodic loads (physics.md §5).
     fn point_force(&self) -> PointForce;
     /// True when χ ≡ ζ ≡ 1 and g ≡ 0, so callers may skip lookups.
     fn is_homogeneous(&self) -> bool {
@@ -43,48 +42,25 @@ pub trait AsperityLaw: Send + Sync {
     }
 }
 
-/// The small-ρ expansion S(ρ) = S(0) + S′(0)ρ + k₂ρ² + O(ρ³) of a solid's normalised
-/// compliance (physics.md §2). The surface displacement of a unit point force is
-/// w(r)/(πE*₁) with w(r) = ∫₀^∞ S(ρ) J₀(ρr) dρ (1/m): far away w → S(0)/r − k₂/r³, and
-/// the rest w − S(0)/r integrates over the plane to 2π S′(0) (its 2-D Fourier
-/// transform 2π(S(k) − S(0))/k at k = 0). An elastic base has S(0) > 0 (the uniform
-/// mode of a periodic load is unbounded); a rigid base S(0) = 0.
+/// The far field of a point force on a solid: the surface displacement of a unit force is
+/// w(r)/(πE*₁) with w(r) = ∫₀^∞ S(ρ) J₀(ρr) dρ (1/m), and far away w → S(0)/r
+/// (physics.md §2). An elastic base has S(0) > 0 (the uniform mode of a periodic load is
+/// unbounded, physics.md §5); a rigid base S(0) = 0. The rest of w, w − S(0)/r, is what
+/// the law's g gives as a → 0 (`rough::interacting::uniform` integrates it).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PointForce {
     /// S(0) (-).
     pub s0: f64,
-    /// S′(0) (m).
-    pub s1: f64,
-    /// k₂ = S″(0)/2 (m²).
-    pub k2: f64,
 }
 
 impl PointForce {
     /// The homogeneous half-space: S ≡ 1.
-    pub const HALF_SPACE: PointForce = PointForce {
-        s0: 1.0,
-        s1: 0.0,
-        k2: 0.0,
-    };
+    pub const HALF_SPACE: PointForce = PointForce { s0: 1.0 };
 
-    /// The expansion of `stack`: S(0) exact, S′(0) and k₂ from S at ρH = 1e-3 and
-    /// 2e-3 (H the total layer depth; Richardson, relative error ~1e-6 and ~1e-3).
+    /// The point force on `stack`: S(0) of its compliance.
     pub fn of_stack(stack: &crate::Stack) -> PointForce {
-        let s0 = stack.compliance(0.0);
-        let depth = stack.total_thickness();
-        if depth <= 0.0 {
-            return PointForce {
-                s0,
-                ..Self::HALF_SPACE
-            };
-        }
-        let r1 = 1e-3 / depth;
-        let f = |r: f64| (stack.compliance(r) - s0) / r;
-        let (f1, f2) = (f(r1), f(2.0 * r1));
         PointForce {
-            s0,
-            s1: 2.0 * f1 - f2,
-            k2: (f2 - f1) / r1,
+            s0: stack.compliance(0.0),
         }
     }
 }

@@ -24,7 +24,7 @@
 //! g/a³ → (4/3)∫k_z J₀ dρ), the function the image sums add up, so the two agree; it is
 //! not small beyond the cell on a soft base (a stiff 100 µm layer on a base 10× softer:
 //! w₁ is −2.6 % of S(0)/r at 3 mm, and its asymptotic form −k₂/r³ holds only beyond
-//! ~1 cm), and Φ(∞) = 2πS′(0)/(2π) = S′(0) checks it against the compliance.
+//! ~1 cm; over the plane it integrates to 2πS′(0), so Φ(∞) = S′(0)).
 //! So the existing image sums get, per source l of the field G_l = (4/3)(Q_l/π) w, the
 //! addition Q_l V(d) with
 //!
@@ -526,10 +526,7 @@ mod tests {
             0.0
         }
         fn point_force(&self) -> PointForce {
-            PointForce {
-                s0: self.0,
-                ..PointForce::HALF_SPACE
-            }
+            PointForce { s0: self.0 }
         }
         fn is_homogeneous(&self) -> bool {
             true
