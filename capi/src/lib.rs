@@ -282,6 +282,18 @@ fn finite(name: &'static str, v: f64) -> Result<f64, CapiError> {
     }
 }
 
+/// A C boolean argument that must be 0 or 1 (`periodic = 7` was taken as true).
+fn flag(name: &'static str, v: i32) -> Result<bool, CapiError> {
+    match v {
+        0 => Ok(false),
+        1 => Ok(true),
+        _ => Err(CapiError::Invalid {
+            name,
+            reason: format!("{v} is not 0 or 1"),
+        }),
+    }
+}
+
 /// Writes a boxed handle to `out`.
 unsafe fn put<T>(name: &'static str, out: *mut *mut T, v: T) -> Result<(), CapiError> {
     if out.is_null() {
@@ -398,14 +410,15 @@ mod exported {
         guard(|| {
             let p = unsafe { path_arg("path", path) }?;
             let size = finite("size", size)?;
+            let periodic = flag("periodic", periodic)?;
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
             let npy = p.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
             let surface = if npy {
-                Surface::read_npy(&p, size, periodic != 0)?
+                Surface::read_npy(&p, size, periodic)?
             } else {
-                Surface::read_text(&p, size, periodic != 0)?
+                Surface::read_text(&p, size, periodic)?
             };
             unsafe { put("out", out, StrataSurface { surface }) }
         })
@@ -459,7 +472,7 @@ mod exported {
             };
             let opts = ReadOptions {
                 spacing,
-                periodic: periodic != 0,
+                periodic: flag("periodic", periodic)?,
                 repair: Repair::Refuse,
                 height_unit: unit,
                 detrend,

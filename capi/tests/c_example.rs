@@ -283,6 +283,16 @@ fn abi_rejects_bad_input_with_codes_and_messages() {
             STRATA_ERR_NULL
         );
         assert!(last_error().contains("path"), "{}", last_error());
+        // a C boolean other than 0/1 (issue 37: `periodic = 7` was taken as true)
+        assert_eq!(
+            strata_surface_load(c("no/such.npy").as_ptr(), 1e-3, 7, &mut s2),
+            STRATA_ERR_INVALID_ARGUMENT
+        );
+        assert!(
+            last_error().contains("periodic") && last_error().contains("not 0 or 1"),
+            "{}",
+            last_error()
+        );
         let bad_utf8 = [0xffu8, 0xfe, 0];
         assert_eq!(
             strata_surface_load(bad_utf8.as_ptr() as *const c_char, 1e-3, 1, &mut s2),
