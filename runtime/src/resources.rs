@@ -41,6 +41,10 @@ pub enum ResourceError {
         "memory limit `{0}` is invalid: expected bytes, optionally with k, M, G or T (powers of 1024), e.g. 512M"
     )]
     BadLimit(String),
+    #[error(
+        "STRATA_MEMORY_LIMIT = `{0}` is invalid: expected bytes, optionally with k, M, G or T (powers of 1024), e.g. 512M"
+    )]
+    BadEnvLimit(String),
 }
 
 /// Bytes in a readable unit (powers of 1024), e.g. `28.75 GiB`.
@@ -108,7 +112,8 @@ pub fn memory_limit() -> Result<(u64, &'static str), ResourceError> {
         return Ok((set, "set by the caller"));
     }
     if let Ok(v) = std::env::var("STRATA_MEMORY_LIMIT") {
-        return Ok((parse_bytes(&v)?, "STRATA_MEMORY_LIMIT"));
+        let limit = parse_bytes(&v).map_err(|_| ResourceError::BadEnvLimit(v.clone()))?;
+        return Ok((limit, "STRATA_MEMORY_LIMIT"));
     }
     Ok(match machine_memory() {
         Some(m) => (

@@ -427,3 +427,21 @@ fn surface_files_that_are_streams_are_refused() {
         assert!(e.contains("not a regular file"), "{e}");
     }
 }
+
+/// Issue 37: `STRATA_MEMORY_LIMIT=garbage` was refused without naming the variable.
+#[test]
+fn a_bad_memory_limit_variable_is_named() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["compliance"])
+        .arg(repo().join("tables/stacks/paper-two-layer.toml"))
+        .args(["--rho-h", "1"])
+        .env("STRATA_MEMORY_LIMIT", "garbage")
+        .output()
+        .expect("run strata");
+    let err = stderr_of(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("STRATA_MEMORY_LIMIT = `garbage` is invalid"),
+        "{err}"
+    );
+}
