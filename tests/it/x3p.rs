@@ -173,14 +173,18 @@ fn handmade_int16_with_invalid_points() {
         &link,
     );
     let f = dir.join("scan.x3p");
-    std::fs::write(
-        &f,
-        container(
-            &main,
-            &[("bindata/data.bin", &data), ("bindata/valid.bin", &valid)],
-        ),
-    )
-    .expect("write");
+    // the container with main.xml `main` and point data `bin` (valid.bin as above)
+    let write = |main: &str, bin: &[u8]| {
+        std::fs::write(
+            &f,
+            container(
+                main,
+                &[("bindata/data.bin", bin), ("bindata/valid.bin", &valid)],
+            ),
+        )
+        .expect("write")
+    };
+    write(&main, &data);
     let e = read(&f, Repair::Refuse).unwrap_err().to_string();
     assert!(
         e.contains("scan.x3p") && e.contains("row 2, column 1"),
@@ -211,14 +215,7 @@ fn handmade_int16_with_invalid_points() {
     // A flipped bit in data.bin: the checksum refuses it.
     let mut bad = data.clone();
     bad[3] ^= 1;
-    std::fs::write(
-        &f,
-        container(
-            &main,
-            &[("bindata/data.bin", &bad), ("bindata/valid.bin", &valid)],
-        ),
-    )
-    .expect("write");
+    write(&main, &bad);
     let e = read(&f, Repair::Median).unwrap_err().to_string();
     assert!(
         e.contains("corrupt") && e.contains("bindata/data.bin"),
@@ -239,14 +236,7 @@ fn handmade_int16_with_invalid_points() {
         Some("5e-6"),
         &long_link,
     );
-    std::fs::write(
-        &f,
-        container(
-            &long_main,
-            &[("bindata/data.bin", &long), ("bindata/valid.bin", &valid)],
-        ),
-    )
-    .expect("write");
+    write(&long_main, &long);
     let e = read(&f, Repair::Median).unwrap_err().to_string();
     assert!(
         e.contains("more than the 6×5 values") && e.contains("bindata/data.bin"),
