@@ -222,10 +222,10 @@ pub fn law_for(
         log!(
             quiet,
             "stack: homogeneous (E* = {:e} Pa): Hertz asperities, no table loaded",
-            stack.top_plane_strain_modulus()
+            stack.contact_modulus()
         );
         return Ok(Box::new(Homogeneous {
-            e_star: stack.top_plane_strain_modulus(),
+            e_star: stack.contact_modulus(),
         }));
     }
     let table = match (&opts.table, &scene.table) {
@@ -503,6 +503,13 @@ pub fn stack_description(stack: &strata_runtime::Stack) -> String {
     if let Some(n) = &stack.name {
         return n.clone();
     }
+    if let Some(c) = stack.counterface() {
+        return format!(
+            "{} against {}",
+            stack_description(&stack.body()),
+            stack_description(c)
+        );
+    }
     if stack.is_homogeneous() {
         return format!("half-space, E = {}", modulus(stack.top_material().0));
     }
@@ -642,7 +649,7 @@ fn solve_bem(
         "model_short": "BEM",
         "stack": stack_description(stack),
         "solid": solid,
-        "e_star_1": stack.top_plane_strain_modulus(),
+        "e_star_1": stack.contact_modulus(),
         "nominal_area": area,
         "z_max_minus_mean": top_to_mean,
         "surface": surface_json,

@@ -798,7 +798,7 @@ pub fn build_law_with(
 ) -> Result<InterfaceLaw, CapiError> {
     let law: Box<dyn AsperityLaw> = if stack.is_homogeneous() {
         Box::new(Homogeneous {
-            e_star: stack.top_plane_strain_modulus(),
+            e_star: stack.contact_modulus(),
         })
     } else {
         let t = table.ok_or_else(|| CapiError::Invalid {

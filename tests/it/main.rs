@@ -12,6 +12,7 @@ mod bem_reference;
 mod calculix;
 mod compare;
 mod compliance_cli;
+mod counterface;
 mod compliance_hard_cases;
 mod compliance_second_method;
 mod docs;
