@@ -437,6 +437,7 @@ pub fn solve_surface_with_maps(
                   "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
     });
     let mut meta = meta;
+    add_counterface_meta(&mut meta, scene);
     if let Some(f) = &failed {
         meta["partial"] = serde_json::json!({
             "failed_step": f.step, "delta": f.delta, "error": f.error,
@@ -495,6 +496,23 @@ fn modulus(e: f64) -> String {
         "{} {unit}",
         crate::plot::ticks::tick((v * 1e3).round() / 1e3)
     )
+}
+
+/// curve.json's `counterface` entry when the scene has an elastic counterface (and a
+/// rough one's note): the pair's E* is what `e_star_1` and `pressure_ratio` use.
+pub fn add_counterface_meta(meta: &mut serde_json::Value, scene: &Scene) {
+    let Some(c) = scene.stack.counterface() else {
+        return;
+    };
+    meta["counterface"] = serde_json::json!({
+        "stack": stack_description(c),
+        "e_star_1_counterface": c.top_plane_strain_modulus(),
+        "e_star_1_body": scene.stack.top_plane_strain_modulus(),
+        "e_star_pair": scene.stack.contact_modulus(),
+        "rough": scene.counterface_surface.is_some(),
+        "note": "two elastic bodies (physics.md §6.1): e_star_1 and pressure_ratio are the pair's, \
+                 1/E* = 1/E*1,body + 1/E*1,counterface; a rough counterface's heights are added to the body's",
+    });
 }
 
 /// A stack in a few words for plot titles: its name, else its make-up
@@ -660,6 +678,8 @@ fn solve_bem(
                   "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)",
                   "contacts": "contact patches"},
     });
+    let mut meta = meta;
+    add_counterface_meta(&mut meta, scene);
     Ok(SceneSolution {
         steps,
         meta,

@@ -501,8 +501,8 @@ impl Stack {
         match table.get("counterface") {
             None => Ok(stack),
             Some(toml::Value::Table(t)) => {
-                let c = Stack::from_toml_table(t)
-                    .map_err(|e| StackError::Counterface(Box::new(e)))?;
+                let c =
+                    Stack::from_toml_table(t).map_err(|e| StackError::Counterface(Box::new(e)))?;
                 stack.against(c)
             }
             Some(v) => Err(StackError::WrongType {

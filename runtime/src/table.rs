@@ -428,7 +428,10 @@ impl Table {
             (Some((sa, sb)), Some((ta, tb))) => {
                 // Both bodies in canonical order (a pair and its swap share a table),
                 // each nondimensionalised by the pair's h₁ and E*.
-                let rs = (stack.top_thickness().unwrap_or(1.0), stack.contact_modulus());
+                let rs = (
+                    stack.top_thickness().unwrap_or(1.0),
+                    stack.contact_modulus(),
+                );
                 let rt = (t.top_thickness().unwrap_or(1.0), t.contact_modulus());
                 for (what, s, tt) in [("body", &sa, &ta), ("counterface", &sb, &tb)] {
                     same_body(s, tt, rs, rt).map_err(|m| nf(format!("pair's {what}: {m}")))?;

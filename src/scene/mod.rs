@@ -438,12 +438,10 @@ impl Scene {
                         .into(),
                 });
             }
-            stack = stack
-                .against(c.clone())
-                .map_err(|e| SceneError::Invalid {
-                    field: "counterface".into(),
-                    reason: e.to_string(),
-                })?;
+            stack = stack.against(c.clone()).map_err(|e| SceneError::Invalid {
+                field: "counterface".into(),
+                reason: e.to_string(),
+            })?;
             table_path = counter.table.clone();
         }
         // [surface] (or one given in memory)
@@ -623,9 +621,10 @@ impl Scene {
             {
                 return Err(SceneError::Invalid {
                     field: "counterface.surface.generate.seed".into(),
-                    reason: "equals the first body's [surface.generate]: the two surfaces would be \
+                    reason:
+                        "equals the first body's [surface.generate]: the two surfaces would be \
                              the same heights twice; give the counterface another seed"
-                        .into(),
+                            .into(),
                 });
             }
         }
@@ -710,8 +709,9 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
             if ct.contains_key(k) {
                 return Err(SceneError::Invalid {
                     field: format!("counterface.{k}"),
-                    reason: "a rigid counterface (counterface.kind = \"rigid\") has no stack or table"
-                        .into(),
+                    reason:
+                        "a rigid counterface (counterface.kind = \"rigid\") has no stack or table"
+                            .into(),
                 });
             }
         }

@@ -237,8 +237,8 @@ pub fn choose_far_field(
 mod tests {
     use super::*;
     use crate::tablebuild::{BuildOptions, build};
-    use strata_runtime::{Base, Layer};
     use strata_runtime::law::AsperityLaw;
+    use strata_runtime::{Base, Layer};
 
     fn one_layer(e1: f64, nu1: f64, base: Base) -> Stack {
         Stack::new(

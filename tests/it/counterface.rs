@@ -10,10 +10,11 @@
 //! * a rough counterface is the summed heights on one body (bit for bit);
 //! * a pair table is built within its tolerance and refused for anything else.
 //!
-//! Measured (this file's tolerances are ~10× these, docs/validation.md):
-//! pair S vs the sum of both S: 2.2e-16; homogeneous pair vs composite half-space:
-//! BEM ≤ 3.3e-16, asperity ≤ 2.2e-16, N and I models ≤ 4.4e-16; pair BEM vs the summed
-//! kernel through `BemSolver::with_compliance`: ≤ 1.1e-15.
+//! Measured (tolerances ~10× these, docs/validation.md): pair S vs the sum of both S
+//! 4.9e-16 (of max(S, 1)); identical layered bodies 4.0e-16; pair BEM vs the summed
+//! kernel through `BemSolver::with_compliance` 6.7e-16; homogeneous pair vs composite
+//! half-space 0 (the same operations: the issue's bounds 1e-12 BEM, 1e-10 the rest are
+//! asserted).
 
 use std::path::{Path, PathBuf};
 
@@ -81,7 +82,11 @@ fn pair_kernel_is_the_sum_of_both_bodies() {
             sb.top_plane_strain_modulus(),
             pair.contact_modulus(),
         );
-        assert!(rel(1.0 / ep, 1.0 / ea + 1.0 / eb) < 1e-15, "{a} + {b}: E* {:e}", rel(1.0 / ep, 1.0 / ea + 1.0 / eb));
+        assert!(
+            rel(1.0 / ep, 1.0 / ea + 1.0 / eb) < 1e-15,
+            "{a} + {b}: E* {:e}",
+            rel(1.0 / ep, 1.0 / ea + 1.0 / eb)
+        );
         for i in 0..=80 {
             let rho = 10f64.powf(-1.0 + 0.1 * i as f64) / 1e-4; // ρh₁ 0.1 … 1e7
             // S = E*(S_A/E*_A + S_B/E*_B), error in units of max(S, 1): a small S
@@ -93,11 +98,15 @@ fn pair_kernel_is_the_sum_of_both_bodies() {
         assert_eq!(cp.s(f64::INFINITY), 1.0, "{a} + {b}: S(∞)");
         let s0 = ep * (ca.s_at_zero() / ea + cb.s_at_zero() / eb);
         let e0 = (cp.s_at_zero() - s0).abs() / s0.max(1.0);
-        assert!(e0 < 1e-15, "{a} + {b}: S(0) {} vs {s0} ({e0:e})", cp.s_at_zero());
+        assert!(
+            e0 < 1e-15,
+            "{a} + {b}: S(0) {} vs {s0} ({e0:e})",
+            cp.s_at_zero()
+        );
         worst = worst.max(e0);
     }
     eprintln!("pair S vs the sum of both: worst {worst:.1e}");
-    assert!(worst < 2e-15, "worst {worst:e}");
+    assert!(worst < 5e-15, "worst {worst:e}");
 }
 
 /// The periodic BEM of a layered pair (both on rigid bases: the uniform modes add)
@@ -114,7 +123,8 @@ fn layered_pair_bem_equals_the_summed_kernel() {
     let h = heights(&s);
     let (ca, cb) = (Compliance::new(&sa), Compliance::new(&sb));
     let (ea, eb) = (sa.top_plane_strain_modulus(), sb.top_plane_strain_modulus());
-    let c0 = strata_bem::uniform_compliance(&sa).unwrap() + strata_bem::uniform_compliance(&sb).unwrap();
+    let c0 =
+        strata_bem::uniform_compliance(&sa).unwrap() + strata_bem::uniform_compliance(&sb).unwrap();
     let direct = BemSolver::with_compliance(
         &h,
         1e-3,
@@ -125,8 +135,7 @@ fn layered_pair_bem_equals_the_summed_kernel() {
     )
     .unwrap();
     let solver =
-        BemSolver::with_geometry(&h, Geometry::square(1e-3), &pair, BemOptions::default())
-            .unwrap();
+        BemSolver::with_geometry(&h, Geometry::square(1e-3), &pair, BemOptions::default()).unwrap();
     let mut worst: f64 = 0.0;
     for d in [1e-6, 3e-6, 6e-6, 9e-6] {
         let (x, y) = (
@@ -137,7 +146,7 @@ fn layered_pair_bem_equals_the_summed_kernel() {
         assert_eq!(x.area_fraction, y.area_fraction, "δ = {d}");
     }
     eprintln!("pair BEM vs summed kernel: worst {worst:.1e}");
-    assert!(worst < 1e-10, "worst {worst:e}");
+    assert!(worst < 1e-14, "worst {worst:e}");
 }
 
 /// Two homogeneous half-spaces (steel on aluminium) against one half-space of the
@@ -179,7 +188,12 @@ fn homogeneous_pair_is_the_composite_half_space_bem_and_asperity() {
             ap.paraboloid_at_delta(d, 1e-4).unwrap(),
             ac.paraboloid_at_delta(d, 1e-4).unwrap(),
         );
-        assert!(rel(x.force, y.force) < 1e-10, "δ {d}: {} vs {}", x.force, y.force);
+        assert!(
+            rel(x.force, y.force) < 1e-10,
+            "δ {d}: {} vs {}",
+            x.force,
+            y.force
+        );
         assert!(rel(x.a, y.a) < 1e-10, "δ {d}: a");
     }
 }
@@ -203,7 +217,7 @@ fn identical_layered_bodies_halve_the_asperity_force() {
         worst = worst.max(rel(x.a, y.a)).max(rel(x.force, 2.0 * y.force));
     }
     eprintln!("identical pair asperity: worst {worst:.1e}");
-    assert!(worst < 1e-12, "worst {worst:e}");
+    assert!(worst < 5e-15, "worst {worst:e}");
 }
 
 fn write(path: &Path, text: &str) {
@@ -250,7 +264,11 @@ fn homogeneous_pair_scenes_equal_the_composite_half_space() {
     for (model, load, tol) in [
         ("independent", "mean_pressures = [1e6, 1e7, 1e8]", 1e-10),
         ("interacting", "mean_pressures = [1e6, 1e7, 1e8]", 1e-10),
-        ("bem", "approach = { from = 1e-6, to = 8e-6, steps = 3 }", 1e-12),
+        (
+            "bem",
+            "approach = { from = 1e-6, to = 8e-6, steps = 3 }",
+            1e-12,
+        ),
     ] {
         let a = d.join(format!("{model}-pair.toml"));
         let b = d.join(format!("{model}-composite.toml"));
@@ -317,7 +335,11 @@ fn swapping_the_bodies_changes_nothing() {
             .filter_map(|e| e.ok())
             .filter(|e| e.file_name().to_string_lossy().ends_with(".strata"))
             .collect();
-        assert!(tables.len() <= 1, "one table for both orders: {}", tables.len());
+        assert!(
+            tables.len() <= 1,
+            "one table for both orders: {}",
+            tables.len()
+        );
     }
 }
 
@@ -327,7 +349,12 @@ fn swapping_the_bodies_changes_nothing() {
 fn rough_counterface_is_the_summed_heights() {
     let d = fresh_dir("counterface", "rough");
     let (a, b) = (surface(64, 5), surface(64, 6));
-    let sum: Vec<f64> = a.heights().iter().zip(b.heights()).map(|(x, y)| x + y).collect();
+    let sum: Vec<f64> = a
+        .heights()
+        .iter()
+        .zip(b.heights())
+        .map(|(x, y)| x + y)
+        .collect();
     let npy = d.join("sum.npy");
     Surface::new(sum, 64, 64, 1e-3, true)
         .unwrap()
@@ -384,14 +411,28 @@ fn pair_table_serves_the_pair_only() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = strata_in(&d).args(["table", "check"]).arg(&out).output().unwrap();
+    let o = strata_in(&d)
+        .args(["table", "check"])
+        .arg(&out)
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let o = strata_in(&d).args(["table", "info"]).arg(&out).output().unwrap();
+    let o = strata_in(&d)
+        .args(["table", "info"])
+        .arg(&out)
+        .output()
+        .unwrap();
     let info = String::from_utf8_lossy(&o.stdout);
-    assert!(info.contains("counterface: paper two-layer, E2/E1 = 0.2"), "{info}");
+    assert!(
+        info.contains("counterface: paper two-layer, E2/E1 = 0.2"),
+        "{info}"
+    );
     assert!(info.contains("[[counterface.layer]]"), "{info}");
     let t = strata_runtime::table::Table::load(&out).unwrap();
-    let (sp, ss) = (stack("paper-two-layer.toml"), stack("paper-two-layer-E2E1-0.2.toml"));
+    let (sp, ss) = (
+        stack("paper-two-layer.toml"),
+        stack("paper-two-layer-E2E1-0.2.toml"),
+    );
     assert!(t.law_for(&sp.clone().against(ss.clone()).unwrap()).is_ok());
     assert!(t.law_for(&ss.clone().against(sp.clone()).unwrap()).is_ok());
     let alone = t.law_for(&sp).unwrap_err().to_string();
@@ -402,8 +443,12 @@ fn pair_table_serves_the_pair_only() {
         .to_string();
     assert!(other.contains("pair's"), "{other}");
     // The single-stack family table refuses the pair.
-    let fam = strata_runtime::table::Table::load(&repo().join("tables/paper-two-layer.strata")).unwrap();
-    let e = fam.law_for(&sp.against(ss).unwrap()).unwrap_err().to_string();
+    let fam =
+        strata_runtime::table::Table::load(&repo().join("tables/paper-two-layer.strata")).unwrap();
+    let e = fam
+        .law_for(&sp.against(ss).unwrap())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("build a table for the pair"), "{e}");
 }
 
@@ -444,14 +489,29 @@ fn counterface_scene_errors_name_the_field() {
     let head = format!("[stack]\nfile = \"{}\"\n", steel.display());
     let tail = format!("{GEN}[model]\nkind = \"bem\"\n[load]\nmean_pressures = [1e6]\n");
     let cases = [
-        ("[counterface]\nkind = \"soft\"\n".to_string(), "counterface.kind"),
         (
-            format!("[counterface]\nkind = \"rigid\"\nfile = \"{}\"\n", steel.display()),
+            "[counterface]\nkind = \"soft\"\n".to_string(),
+            "counterface.kind",
+        ),
+        (
+            format!(
+                "[counterface]\nkind = \"rigid\"\nfile = \"{}\"\n",
+                steel.display()
+            ),
             "counterface.file",
         ),
-        ("[counterface]\nkind = \"elastic\"\n".to_string(), "counterface.file"),
-        ("[counterface]\nfile = \"nope.toml\"\n".to_string(), "counterface.file"),
-        ("[counterface]\nbogus = 1\n".to_string(), "counterface.bogus"),
+        (
+            "[counterface]\nkind = \"elastic\"\n".to_string(),
+            "counterface.file",
+        ),
+        (
+            "[counterface]\nfile = \"nope.toml\"\n".to_string(),
+            "counterface.file",
+        ),
+        (
+            "[counterface]\nbogus = 1\n".to_string(),
+            "counterface.bogus",
+        ),
         (
             "[counterface]\n[counterface.base]\nkind = \"elastic\"\nyoung = -1\npoisson = 0.3\n"
                 .to_string(),
@@ -505,5 +565,91 @@ fn counterface_scene_errors_name_the_field() {
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("stack.table") && err.contains("counterface.table"), "{err}");
+    assert!(
+        err.contains("stack.table") && err.contains("counterface.table"),
+        "{err}"
+    );
+}
+
+/// `counterface.*` sweep axes: each case equals `strata solve` of the scene with that
+/// counterface (here the counterface's base modulus, 70 and 210 GPa), and a counterface
+/// axis on a scene without an elastic counterface is refused by name.
+#[test]
+fn sweep_counterface_axes() {
+    let d = fresh_dir("counterface", "sweep");
+    let scene = |young: &str| {
+        format!(
+            "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 210e9\npoisson = 0.3\n\
+             [counterface]\n[counterface.base]\nkind = \"elastic\"\nyoung = {young}\npoisson = 0.33\n\
+             {GEN}[model]\nkind = \"independent\"\n[load]\nmean_pressures = [1e6, 1e7]\n"
+        )
+    };
+    let prefixed = |text: &str| {
+        text.replace("[stack", "[scene.stack")
+            .replace("[counterface", "[scene.counterface")
+            .replace("[surface", "[scene.surface")
+            .replace("[model", "[scene.model")
+            .replace("[load", "[scene.load")
+    };
+    let sweep = d.join("sweep.toml");
+    write(
+        &sweep,
+        &format!(
+            "{}[sweep]\ncounterface.base.young = [70e9, 210e9]\n",
+            prefixed(&scene("1e9"))
+        ),
+    );
+    let out = d.join("out");
+    let o = strata_in(&d)
+        .args(["sweep", "-q", "--no-plots"])
+        .arg(&sweep)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    for (case, young) in [(0, "70e9"), (1, "210e9")] {
+        let one = d.join(format!("case{case}.toml"));
+        write(&one, &scene(young));
+        let single = solve(&d, &one, &d.join(format!("case{case}")));
+        let singles: Vec<&str> = single.lines().skip(1).collect();
+        for (k, line) in singles.iter().enumerate() {
+            let row = &rows[case * 2 + k];
+            // case, counterface.base.young, model, step, then the curve.csv columns
+            assert_eq!(row[4..].join(","), *line, "case {case} step {k}");
+        }
+    }
+    let bad = d.join("bad.toml");
+    write(
+        &bad,
+        &format!(
+            "{}[sweep]\ncounterface.base.young = [70e9]\n",
+            prefixed(&homogeneous_scene_text())
+        ),
+    );
+    let o = strata_in(&d)
+        .args(["sweep", "-q", "--no-plots"])
+        .arg(&bad)
+        .arg("--out")
+        .arg(d.join("bad-out"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        err.contains("sweep.counterface.base.young") && err.contains("no elastic counterface"),
+        "{err}"
+    );
+}
+
+fn homogeneous_scene_text() -> String {
+    format!(
+        "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 210e9\npoisson = 0.3\n{GEN}[model]\nkind = \"independent\"\n[load]\nmean_pressures = [1e6]\n"
+    )
 }

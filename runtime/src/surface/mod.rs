@@ -393,7 +393,8 @@ impl Surface {
     /// periodicity. The log and warnings keep this surface's, plus one line.
     pub fn plus_counterface(&self, counterface: &Surface) -> Result<Surface, SurfaceError> {
         let c = counterface;
-        let differs = |what, this: String, other: String| SurfaceError::Mismatch { what, this, other };
+        let differs =
+            |what, this: String, other: String| SurfaceError::Mismatch { what, this, other };
         if self.shape() != c.shape() {
             return Err(differs(
                 "grid",
@@ -417,16 +418,24 @@ impl Surface {
             ));
         }
         let z = self.z.iter().zip(&c.z).map(|(a, b)| a + b).collect();
-        let mut s = Surface::with_spacing(z, self.n0, self.n1, Spacing::Pixel(self.dx, self.dy), self.periodic)?;
+        let mut s = Surface::with_spacing(
+            z,
+            self.n0,
+            self.n1,
+            Spacing::Pixel(self.dx, self.dy),
+            self.periodic,
+        )?;
         s.repaired = self.repaired + c.repaired;
         s.log = self.log.clone();
-        s.log.extend(c.log.iter().map(|l| format!("counterface: {l}")));
+        s.log
+            .extend(c.log.iter().map(|l| format!("counterface: {l}")));
         s.log.push(format!(
             "counterface heights added point by point (its RMS {:e} m): the composite surface h_A + h_B is solved against a smooth counterface",
             c.rms()
         ));
         s.warnings = self.warnings.clone();
-        s.warnings.extend(c.warnings.iter().map(|w| format!("counterface: {w}")));
+        s.warnings
+            .extend(c.warnings.iter().map(|w| format!("counterface: {w}")));
         s.form = self.form.clone();
         Ok(s)
     }

@@ -40,10 +40,12 @@ pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
     let config = bincode::config::standard();
     let (version, payload) = match table.header.stack.counterface() {
         None => (FORMAT_VERSION, bincode::serde::encode_to_vec(table, config)),
-        Some(c) => (PAIR_VERSION, bincode::serde::encode_to_vec((table, c), config)),
+        Some(c) => (
+            PAIR_VERSION,
+            bincode::serde::encode_to_vec((table, c), config),
+        ),
     };
-    let payload =
-        payload.map_err(|e| TableError::Corrupt(format!("cannot encode table: {e}")))?;
+    let payload = payload.map_err(|e| TableError::Corrupt(format!("cannot encode table: {e}")))?;
     let mut out = Vec::with_capacity(PREFIX + payload.len());
     out.extend_from_slice(MAGIC);
     out.extend_from_slice(&version.to_le_bytes());
@@ -107,9 +109,8 @@ pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
         ));
     }
     let config = bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>();
-    let bad = |e: bincode::error::DecodeError| {
-        TableError::Corrupt(format!("cannot decode payload: {e}"))
-    };
+    let bad =
+        |e: bincode::error::DecodeError| TableError::Corrupt(format!("cannot decode payload: {e}"));
     let (table, used) = if version == FORMAT_VERSION {
         bincode::serde::decode_from_slice::<Table, _>(payload, config).map_err(bad)?
     } else {
