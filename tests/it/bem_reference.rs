@@ -259,7 +259,7 @@ fn python_tamaas_homogeneous() {
 
 /// Steel on steel (two elastic bodies, strata's counterface, physics.md §6.1) against
 /// Tamaas 2.9 given the composite E* = E*_steel/2 (one deformable body) at equal mean
-/// gap: mean pressure within 1e-6 (issue 33; measured in docs/validation.md), the
+/// gap: mean pressure within 1e-9 (issue 33 requires 1e-6; measured 9.3e-11), the
 /// contact points the same (area within 0.5 %), loads spanning A/A₀ 1 %…20 %.
 #[test]
 #[ignore = "needs target/python-reference/{surface.npy,tamaas_pair.csv}: run tests/python/run.sh"]
@@ -281,7 +281,8 @@ fn python_tamaas_steel_pair() {
         worst = worst.max((s.mean_pressure / r[ip] - 1.0).abs());
     }
     eprintln!("tamaas steel/steel pair: worst rel. mean pressure {worst:.2e}");
-    assert!(worst <= 1e-6, "pressure off by {worst:e}");
+    // required 1e-6 (issue 33); measured 9.3e-11 (CI mode, 256², A/A₀ 0.58 %…24 %)
+    assert!(worst <= 1e-9, "pressure off by {worst:e}");
     // Areas and the A/A₀ span, as for the other references (pressure_ratio column
     // replaced by p/E*_pair on both sides).
     let e = pair.contact_modulus();
