@@ -90,7 +90,7 @@ pub enum SceneError {
         "{field} = \"{value}\": {what} {resolved} (paths in a scene are relative to the scene's directory, {dir}){hint}"
     )]
     MissingFile {
-        field: String,
+        field: &'static str,
         /// "no such file", or "a directory, not a file:".
         what: &'static str,
         value: String,
@@ -614,19 +614,16 @@ impl Scene {
                 OutputSpec { maps }
             }
         };
-        if let Some(cs) = &counter.surface {
-            if matches!(cs.source, SurfaceSource::Generate(_))
-                && matches!(surface.source, SurfaceSource::Generate(_))
-                && cs.source == surface.source
-            {
-                return Err(SceneError::Invalid {
-                    field: "counterface.surface.generate.seed".into(),
-                    reason:
-                        "equals the first body's [surface.generate]: the two surfaces would be \
-                             the same heights twice; give the counterface another seed"
-                            .into(),
-                });
-            }
+        if let Some(cs) = &counter.surface
+            && matches!(cs.source, SurfaceSource::Generate(_))
+            && cs.source == surface.source
+        {
+            return Err(SceneError::Invalid {
+                field: "counterface.surface.generate.seed".into(),
+                reason: "equals the first body's [surface.generate]: the two surfaces would be \
+                         the same heights twice; give the counterface another seed"
+                    .into(),
+            });
         }
         Ok(Scene {
             stack,
@@ -796,7 +793,12 @@ fn in_counterface(e: SceneError) -> SceneError {
             dir,
             hint,
         } => SceneError::MissingFile {
-            field: f(field),
+            // the one file key of [surface]
+            field: if field == "surface.file" {
+                "counterface.surface.file"
+            } else {
+                field
+            },
             what,
             value,
             resolved,

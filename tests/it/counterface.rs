@@ -653,3 +653,39 @@ fn homogeneous_scene_text() -> String {
         "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 210e9\npoisson = 0.3\n{GEN}[model]\nkind = \"independent\"\n[load]\nmean_pressures = [1e6]\n"
     )
 }
+
+/// The approximate asperity (χ, ζ, g of the second-order approximation) of two
+/// homogeneous half-spaces is the composite half-space's: χ = ζ = 1, g = 0.
+#[test]
+fn homogeneous_pair_approximate_asperity_is_hertz() {
+    let pair = Stack::half_space(210e9, 0.3)
+        .unwrap()
+        .against(Stack::half_space(70e9, 0.33).unwrap())
+        .unwrap();
+    let ap = strata_tablegen::approx::Approx::new(&pair);
+    for a in [1e-7, 1e-5, 1e-3] {
+        let (chi, zeta) = ap.chi_zeta(a).unwrap();
+        assert!(
+            (chi - 1.0).abs() < 1e-10 && (zeta - 1.0).abs() < 1e-10,
+            "a {a}: {chi} {zeta}"
+        );
+        assert!(ap.g(a, 3.0 * a).unwrap().abs() < 1e-10 * a * a, "a {a}: g");
+    }
+}
+
+/// `[counterface] kind = "rigid"` names the default: the same curve as no counterface.
+#[test]
+fn rigid_counterface_is_the_default() {
+    let d = fresh_dir("counterface", "rigid");
+    let body = format!(
+        "[stack]\nfile = \"{}\"\n{GEN}[model]\nkind = \"bem\"\n[load]\nmean_pressures = [1e6, 1e7]\n",
+        stack_file("paper-two-layer.toml").display()
+    );
+    let (a, b) = (d.join("none.toml"), d.join("rigid.toml"));
+    write(&a, &body);
+    write(&b, &format!("{body}[counterface]\nkind = \"rigid\"\n"));
+    assert_eq!(
+        solve(&d, &a, &d.join("none")),
+        solve(&d, &b, &d.join("rigid"))
+    );
+}

@@ -436,7 +436,7 @@ impl Surface {
         s.warnings = self.warnings.clone();
         s.warnings
             .extend(c.warnings.iter().map(|w| format!("counterface: {w}")));
-        s.form = self.form.clone();
+        s.form = self.form;
         Ok(s)
     }
     /// What the reader did, one line each (units, repairs, form removal, metadata).
