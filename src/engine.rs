@@ -289,6 +289,12 @@ pub fn solve_surface_with_maps(
         ModelKind::Interacting => Model::Interacting(scene.model.images),
         ModelKind::Bem => return solve_bem(scene, scene_path, surface, opts, maps),
     };
+    if scene.plasticity.is_some() || scene.unload {
+        bail!(
+            "[plasticity] and load.unload are solved by the BEM in this version (model.kind = \"bem\"); \
+             the N and I models are elastic"
+        );
+    }
     let quiet = opts.quiet;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
@@ -622,21 +628,66 @@ fn solve_bem(
                 .collect()
         }
     };
+    let mut loads = loads;
+    if scene.unload {
+        // the return path: the loading steps back, the last one not repeated
+        let back: Vec<(String, BemLoad)> = loads
+            .iter()
+            .rev()
+            .skip(1)
+            .map(|(name, l)| (format!("{name} (unloading)"), *l))
+            .collect();
+        loads.extend(back);
+    }
     let area = solver.area();
     let total = loads.len();
     let bar = (!quiet).then(|| progress::bar(total as u64, format!("BEM {n0}×{n1}: load steps")));
     let mut steps = Vec::with_capacity(total);
     let mut warm: Option<Vec<f64>> = None;
     let mut worst_error = 0.0f64;
+    let mut plastic = match scene.plasticity {
+        Some(pl) => {
+            log!(
+                quiet,
+                "plasticity: pressure capped by the hardness H = {:e} Pa (MPRGP bounded solver; the plastic depth is kept along the path)",
+                pl.hardness
+            );
+            Some(strata_bem::PlasticPath::new(&solver, pl.hardness).context("plasticity")?)
+        }
+        None => None,
+    };
+    let mut plastic_steps = Vec::new();
     for (k, (name, load)) in loads.into_iter().enumerate() {
-        let sol = solver
-            .solve_from(load, warm.as_deref())
-            .with_context(|| name.clone())?;
+        let (sol, next, dd) = if let Some(path) = plastic.as_mut() {
+            // the tangent from a copy of the path: the state is advanced by `step` only
+            let mut probe = path.clone();
+            let (sol, info) = path.step(load).with_context(|| name.clone())?;
+            let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
+            let (next, _) = probe
+                .step(BemLoad::Approach(sol.approach + dd))
+                .with_context(|| format!("{name}: stiffness"))?;
+            plastic_steps.push(serde_json::json!({
+                "plastic_area_fraction": info.plastic_area_fraction,
+                "plastic_points": info.plastic_points,
+                "plastic_depth_max": info.plastic_depth_max,
+                "plastic_depth_mean": info.plastic_depth_mean,
+                "kkt_bounded": sol.error,
+                "bounded_iterations": sol.iterations,
+                "offset_iterations": info.offset_iterations,
+            }));
+            (sol, next, dd)
+        } else {
+            let sol = solver
+                .solve_from(load, warm.as_deref())
+                .with_context(|| name.clone())?;
+            let flat: Vec<f64> = sol.pressure.iter().copied().collect();
+            let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
+            let next = solver
+                .solve_from(BemLoad::Approach(sol.approach + dd), Some(&flat))
+                .with_context(|| format!("{name}: stiffness"))?;
+            (sol, next, dd)
+        };
         let flat: Vec<f64> = sol.pressure.iter().copied().collect();
-        let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
-        let next = solver
-            .solve_from(BemLoad::Approach(sol.approach + dd), Some(&flat))
-            .with_context(|| format!("{name}: stiffness"))?;
         worst_error = worst_error.max(sol.error).max(next.error);
         steps.push(Step {
             delta: sol.approach,
@@ -680,6 +731,17 @@ fn solve_bem(
     });
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
+    if let Some(pl) = scene.plasticity {
+        meta["plasticity"] = serde_json::json!({
+            "hardness": pl.hardness,
+            "note": "elastic–perfectly plastic surface (physics.md §6.3): 0 ≤ p ≤ H; points at p = H flow, \
+                     their overlap kept as plastic depth for the rest of the path; stiffness = dP/dδ for an \
+                     increase of δ from each step's state",
+            "units": {"plastic_area_fraction": "1", "plastic_depth_max": "m", "plastic_depth_mean": "m (flattened volume / A0)",
+                      "kkt_bounded": "largest KKT violation of the bounded problem / RMS height"},
+        });
+        meta["plastic_steps"] = serde_json::Value::Array(plastic_steps);
+    }
     Ok(SceneSolution {
         steps,
         meta,

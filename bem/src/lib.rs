@@ -98,6 +98,7 @@ pub mod influence;
 mod maps;
 mod operator;
 mod pcg;
+pub mod plastic;
 mod reference;
 #[cfg(target_arch = "x86_64")]
 mod simd;
@@ -131,6 +132,7 @@ mod update;
 pub use error::BemError;
 pub use maps::{BemSolution, count_patches, read_heights_npy, resample_rect, resample_spectral};
 pub use ndarray::Array2;
+pub use plastic::{PlasticInfo, PlasticPath};
 pub use solver::{BemSolver, Geometry, uniform_compliance};
 pub use strata_runtime::stack::Stack;
 

@@ -582,6 +582,30 @@ impl BemSolver {
         })
     }
 
+    /// What the plastic solver (module `plastic`) reads: the operator, the heights,
+    /// their statistics and the control of a load.
+    pub(crate) fn plastic_parts(&self) -> crate::plastic::Parts<'_> {
+        crate::plastic::Parts {
+            op: &self.op,
+            z: &self.z,
+            ny: self.ny,
+            nx: self.nx,
+            periodic: self.geometry.periodic,
+            z_max: self.z_max,
+            z_mean: self.z_mean,
+            z_rms: self.z_rms,
+            c0: self.c0,
+            e_star1: self.e_star1,
+            area: self.area(),
+            options: self.options,
+        }
+    }
+
+    /// The control of `load` (module `plastic`).
+    pub(crate) fn control_of(&self, load: BemLoad) -> Result<Control, BemError> {
+        self.control(load)
+    }
+
     /// Coarse-to-fine start: the same load solved on the half grid (loosely), its
     /// pressure injected on 2×2 blocks. Only on large even grids.
     fn coarse_start(&self, control: Control, p: &mut [f64]) {

@@ -608,6 +608,13 @@ pub fn run(a: Args) -> Result<()> {
     }
     for p in &a.scenes {
         let scene = Scene::from_file(p)?;
+        if scene.plasticity.is_some() {
+            bail!(
+                "scene {}: [plasticity] is solved by the BEM only in this version, so the N and I models \
+                 have nothing to be compared on; `strata solve` gives the plastic BEM curve",
+                p.display()
+            );
+        }
         refuse_inputs("--out", &a.out, &scene.inputs(p))?;
     }
     let set = OutputSet::dir("--out", &a.out, a.force)?;

@@ -410,6 +410,13 @@ pub fn run(a: Args) -> Result<()> {
     check_min_gap(a.min_gap)?;
     let outs = outputs(&a)?;
     let scene = Scene::from_file(&a.scene)?;
+    if scene.plasticity.is_some() || scene.unload {
+        bail!(
+            "scene {}: the law of a plastic interface (a loading and an unloading curve) is not \
+             written yet; `strata solve` gives the plastic BEM curve, loading and unloading",
+            a.scene.display()
+        );
+    }
     let paths: Vec<PathBuf> = outs.iter().map(|(_, p)| p.clone()).collect();
     let inputs = scene.inputs(&a.scene);
     for p in &paths {

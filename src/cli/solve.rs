@@ -93,6 +93,29 @@ pub fn curve_csv(steps: &[Step]) -> Result<String> {
     )?)
 }
 
+/// curve.csv with the `plastic_area_fraction` column after `valid` (scenes with
+/// `[plasticity]`).
+pub fn curve_csv_plastic(steps: &[Step], plastic: &[f64]) -> Result<String> {
+    let mut header: Vec<&str> = CURVE_HEADER.to_vec();
+    header.push("plastic_area_fraction");
+    Ok(csv_out::text(
+        &header,
+        steps.iter().zip(plastic).map(|(st, pl)| {
+            vec![
+                csv_out::num(st.delta),
+                csv_out::num(st.gap),
+                csv_out::num(st.mean_pressure),
+                csv_out::num(st.pressure_ratio),
+                csv_out::num(st.area_fraction),
+                st.contacts.to_string(),
+                csv_out::num(st.stiffness),
+                u8::from(st.validity.is_valid()).to_string(),
+                csv_out::num(*pl),
+            ]
+        }),
+    )?)
+}
+
 pub fn run(a: Args) -> Result<()> {
     let t0 = Instant::now();
     let scene = Scene::from_file(&a.scene)?;
@@ -305,7 +328,31 @@ pub fn write_outputs(
     mut meta: serde_json::Value,
 ) -> Result<()> {
     meta["steps"] = steps_json(steps);
-    set.write("curve.csv", curve_csv(steps)?.as_bytes())?;
+    // With [plasticity]: each step's plastic quantities in curve.json and the
+    // plastic_area_fraction column in curve.csv (only then: a scene's outputs carry only
+    // the effects it asked for).
+    let plastic = meta
+        .as_object_mut()
+        .and_then(|m| m.remove("plastic_steps"))
+        .and_then(|v| v.as_array().cloned());
+    let csv = match &plastic {
+        None => curve_csv(steps)?,
+        Some(ps) => {
+            if let Some(arr) = meta["steps"].as_array_mut() {
+                for (s, p) in arr.iter_mut().zip(ps) {
+                    if let (Some(s), Some(p)) = (s.as_object_mut(), p.as_object()) {
+                        s.extend(p.clone());
+                    }
+                }
+            }
+            let fractions: Vec<f64> = ps
+                .iter()
+                .map(|p| p["plastic_area_fraction"].as_f64().unwrap_or(f64::NAN))
+                .collect();
+            curve_csv_plastic(steps, &fractions)?
+        }
+    };
+    set.write("curve.csv", csv.as_bytes())?;
     set.write(
         "curve.json",
         serde_json::to_string_pretty(&meta)?.as_bytes(),

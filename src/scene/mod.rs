@@ -289,6 +289,19 @@ pub struct Scene {
     pub output: OutputSpec,
     /// The optional `[solver]` table.
     pub solver: SolverSpec,
+    /// The optional `[plasticity]` table: the hardness cap (physics.md §6.3).
+    pub plasticity: Option<PlasticitySpec>,
+    /// `[load] unload = true`: after the loading steps, the same steps back in reverse
+    /// (a return path; with plasticity it follows the flattened surface).
+    pub unload: bool,
+}
+
+/// `[plasticity]`: elastic–perfectly plastic asperity tips, the contact pressure capped
+/// by the hardness (physics.md §6.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlasticitySpec {
+    /// The hardness H (Pa) of the top material.
+    pub hardness: f64,
 }
 
 impl SurfaceSpec {
@@ -381,8 +394,9 @@ impl Scene {
                 "output",
                 "solver",
                 "counterface",
+                "plasticity",
             ],
-            "stack, surface, model, load, output, solver, counterface",
+            "stack, surface, model, load, output, solver, counterface, plasticity",
         )?;
         // [stack]
         let st = table(&top, "stack", "stack")?;
@@ -510,10 +524,11 @@ impl Scene {
         check_keys(
             ld,
             "load.",
-            &["separations", "approach", "mean_pressures"],
-            "separations, approach, mean_pressures",
+            &["separations", "approach", "mean_pressures", "unload"],
+            "separations, approach, mean_pressures, unload",
         )?;
-        if ld.len() != 1 {
+        let unload = boolean(ld, "unload", "load.unload")?.unwrap_or(false);
+        if ld.len() - usize::from(ld.contains_key("unload")) != 1 {
             return Err(SceneError::Invalid {
                 field: "load".into(),
                 reason: "give exactly one of `separations`, `approach`, `mean_pressures`".into(),
@@ -625,7 +640,33 @@ impl Scene {
                     .into(),
             });
         }
+        let plasticity = if top.contains_key("plasticity") {
+            let pt = table(&top, "plasticity", "plasticity")?;
+            check_keys(pt, "plasticity.", &["hardness"], "hardness")?;
+            let hardness = positive(pt, "hardness", "plasticity.hardness")?;
+            if kind != ModelKind::Bem {
+                return Err(SceneError::Invalid {
+                    field: "plasticity".into(),
+                    reason: "the hardness cap is solved by the BEM in this version (model.kind = \"bem\"); \
+                             the N and I models are elastic"
+                        .into(),
+                });
+            }
+            Some(PlasticitySpec { hardness })
+        } else {
+            None
+        };
+        if unload && kind != ModelKind::Bem {
+            return Err(SceneError::Invalid {
+                field: "load.unload".into(),
+                reason: "a return path is solved by the BEM (model.kind = \"bem\"); the N and I \
+                         models are elastic, their unloading retraces the loading"
+                    .into(),
+            });
+        }
         Ok(Scene {
+            plasticity,
+            unload,
             stack,
             stack_file,
             counterface_file: counter.file,

@@ -25,6 +25,7 @@ mod limits;
 mod maps;
 mod measured_law;
 mod outputs;
+mod plastic;
 mod progress;
 mod rectangular;
 mod rough_reference;

@@ -1,0 +1,564 @@
+//! Elastic–perfectly plastic contact: the contact pressure capped by a hardness H
+//! (physics.md §6.3). The pressure p (Pa) minimises
+//!
+//! ```text
+//!   f(p) = ½ pᵀ K p + pᵀ (c − z_e)      over the box 0 ≤ p ≤ H,
+//! ```
+//!
+//! (K the influence operator, c the flat's offset, z_e = z − u_pl the heights lowered by
+//! the plastic depth kept from earlier steps), whose gradient is the elastic gap
+//! g = K p − z_e + c. The optimality (KKT) conditions are the contact conditions of the
+//! capped surface: g ≥ 0 where p = 0, g = 0 where 0 < p < H, g ≤ 0 where p = H — there
+//! the elastic overlap −g is taken by plastic flattening, added to u_pl after the step
+//! (ContactMechanics' plastic system and Tamaas' saturated solver solve the same
+//! problem).
+//!
+//! # Method: MPRGP
+//! Dostál's modified proportioning with reduced gradient projections (Dostál & Schöberl,
+//! Comput. Optim. Appl. 30, 2005; Dostál, *Optimal Quadratic Programming Algorithms*,
+//! 2009, ch. 7–8) for box constraints: conjugate-gradient steps on the free set
+//! (0 < p < H) while the chopped gradient β (the gradient components that would move a
+//! bound point inside) is small against the free gradient φ, ‖β‖² ≤ Γ² φ̃ᵀφ; an
+//! expansion step (the feasible CG step, then a projected gradient step of length ᾱ)
+//! when the CG step would leave the box; a proportioning step along −β otherwise. For a
+//! strictly convex quadratic and ᾱ ∈ (0, 2/‖K‖] the iterates converge R-linearly to the
+//! unique minimiser, whatever fraction of the contact is plastic — no rescaling of p is
+//! involved, so the iteration does not stall with the whole set just below H (the
+//! failure of a projected Polonsky–Keer rescaling, physics.md §6.3). ‖K‖ is estimated by
+//! power iteration, with a 25 % margin. Γ = 1.
+//!
+//! Stopping: the largest violation of the KKT conditions (the projected gradient, in
+//! metres) below `tolerance × σ_z`, evaluated on the exact g = K p − z_e + c (recomputed
+//! from p every [`REFRESH`] iterations and before acceptance). Force control: the
+//! offset c is found by a safeguarded secant on the mean pressure (monotone in c),
+//! each evaluation warm-started from the last.
+
+use strata_runtime::fft::Fft2Work;
+
+use crate::BemError;
+use crate::maps::count_patches;
+use crate::operator::Operator;
+
+/// Exact gap recomputations from p, at least every this many iterations.
+const REFRESH: usize = 50;
+/// MPRGP's proportioning constant Γ.
+const GAMMA: f64 = 1.0;
+
+/// The bounded problem on one operator.
+pub(crate) struct Bounded<'a> {
+    pub op: &'a Operator,
+    /// Include the periodic uniform mode (a rigid base's C₀).
+    pub uniform: bool,
+    /// Effective heights z_e = z − u_pl (m).
+    pub z: &'a [f64],
+    /// The hardness H (Pa).
+    pub hardness: f64,
+    /// Step length ᾱ of the projected gradient steps (Pa/m), ≤ 2/‖K‖.
+    pub alpha: f64,
+    /// Acceptance: largest KKT violation (m).
+    pub tol: f64,
+    pub max_iterations: usize,
+}
+
+/// What one bounded solve did.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Outcome {
+    pub iterations: usize,
+    pub products: usize,
+    /// Largest KKT violation at acceptance (m).
+    pub violation: f64,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+impl Bounded<'_> {
+    /// g = K p − z + c.
+    fn gap(&self, p: &[f64], c: f64, g: &mut [f64], work: &mut Fft2Work) -> Result<(), BemError> {
+        self.op.apply(p, g, self.uniform, work)?;
+        for (gi, zi) in g.iter_mut().zip(self.z) {
+            *gi += c - zi;
+        }
+        Ok(())
+    }
+
+    /// Free gradient φ (g on 0 < p < H, else 0), chopped gradient β, the reduced free
+    /// gradient's φ̃ᵀφ, ‖β‖² and the largest KKT violation.
+    fn split(&self, p: &[f64], g: &[f64], phi: &mut [f64], beta: &mut [f64]) -> (f64, f64, f64) {
+        let h = self.hardness;
+        let a = self.alpha;
+        let (mut pt, mut bb, mut worst) = (0.0, 0.0, 0.0_f64);
+        for i in 0..p.len() {
+            let (x, gi) = (p[i], g[i]);
+            if x <= 0.0 {
+                phi[i] = 0.0;
+                beta[i] = gi.min(0.0);
+            } else if x >= h {
+                phi[i] = 0.0;
+                beta[i] = gi.max(0.0);
+            } else {
+                phi[i] = gi;
+                beta[i] = 0.0;
+                let reduced = if gi > 0.0 {
+                    (x / a).min(gi)
+                } else {
+                    ((x - h) / a).max(gi)
+                };
+                pt += reduced * gi;
+            }
+            bb += beta[i] * beta[i];
+            worst = worst.max(phi[i].abs()).max(beta[i].abs());
+        }
+        (pt, bb, worst)
+    }
+
+    /// Solves the bounded problem at offset `c`, from `p` (projected into the box);
+    /// `g` receives the exact elastic gap K p − z_e + c of the solution.
+    pub fn solve(&self, c: f64, p: &mut [f64], g: &mut [f64]) -> Result<Outcome, BemError> {
+        let n = p.len();
+        let h = self.hardness;
+        for v in p.iter_mut() {
+            *v = v.clamp(0.0, h);
+        }
+        let mut work = self.op.work();
+        let (mut phi, mut beta) = (vec![0.0; n], vec![0.0; n]);
+        let (mut dir, mut kd) = (vec![0.0; n], vec![0.0; n]);
+        self.gap(p, c, g, &mut work)?;
+        let mut products = 1;
+        let mut since_exact = 0;
+        let mut fresh_direction = true;
+        let mut last = f64::NAN;
+        for it in 0..=self.max_iterations {
+            let (pt, bb, mut worst) = self.split(p, g, &mut phi, &mut beta);
+            if worst <= self.tol && since_exact > 0 {
+                // Accept only on the exact gap.
+                self.gap(p, c, g, &mut work)?;
+                products += 1;
+                since_exact = 0;
+                let (_, _, w) = self.split(p, g, &mut phi, &mut beta);
+                worst = w;
+            }
+            if !worst.is_finite() {
+                return Err(BemError::NonFinite(it));
+            }
+            last = worst;
+            if worst <= self.tol {
+                return Ok(Outcome {
+                    iterations: it,
+                    products,
+                    violation: worst,
+                });
+            }
+            if it == self.max_iterations {
+                break;
+            }
+            if since_exact >= REFRESH {
+                self.gap(p, c, g, &mut work)?;
+                products += 1;
+                since_exact = 0;
+                fresh_direction = true;
+                continue;
+            }
+            since_exact += 1;
+            if bb <= GAMMA * GAMMA * pt {
+                // Proportional: a conjugate-gradient step on the free set.
+                if fresh_direction {
+                    dir.copy_from_slice(&phi);
+                    fresh_direction = false;
+                }
+                self.op.apply(&dir, &mut kd, self.uniform, &mut work)?;
+                products += 1;
+                let dkd = dot(&dir, &kd);
+                if !(dkd > 0.0) {
+                    // A direction in the operator's null space (the zero-mean mode):
+                    // fall back to a projected gradient step.
+                    self.projected_step(p, &phi);
+                    self.gap(p, c, g, &mut work)?;
+                    products += 1;
+                    since_exact = 0;
+                    fresh_direction = true;
+                    continue;
+                }
+                let a_cg = dot(g, &dir) / dkd;
+                let mut a_f = f64::INFINITY;
+                for i in 0..n {
+                    let d = dir[i];
+                    if d > 0.0 {
+                        a_f = a_f.min(p[i] / d);
+                    } else if d < 0.0 {
+                        a_f = a_f.min((p[i] - h) / d);
+                    }
+                }
+                if a_cg <= a_f {
+                    for i in 0..n {
+                        p[i] -= a_cg * dir[i];
+                        g[i] -= a_cg * kd[i];
+                    }
+                    // The new free gradient and the conjugate direction.
+                    self.split(p, g, &mut phi, &mut beta);
+                    let gam = dot(&phi, &kd) / dkd;
+                    for i in 0..n {
+                        dir[i] = phi[i] - gam * dir[i];
+                    }
+                } else {
+                    // Expansion: the feasible step, then a projected gradient step.
+                    for i in 0..n {
+                        p[i] = (p[i] - a_f * dir[i]).clamp(0.0, h);
+                        g[i] -= a_f * kd[i];
+                    }
+                    self.split(p, g, &mut phi, &mut beta);
+                    self.projected_step(p, &phi);
+                    self.gap(p, c, g, &mut work)?;
+                    products += 1;
+                    since_exact = 0;
+                    fresh_direction = true;
+                }
+            } else {
+                // Proportioning: release bound points along −β.
+                self.op.apply(&beta, &mut kd, self.uniform, &mut work)?;
+                products += 1;
+                let bkb = dot(&beta, &kd);
+                let a = if bkb > 0.0 { bb / bkb } else { self.alpha };
+                // The step may not cross the opposite bound (β moves a point off its
+                // own bound only).
+                let mut a_max = f64::INFINITY;
+                for i in 0..n {
+                    let d = beta[i];
+                    if d > 0.0 {
+                        a_max = a_max.min(p[i] / d);
+                    } else if d < 0.0 {
+                        a_max = a_max.min((p[i] - h) / d);
+                    }
+                }
+                let a = a.min(a_max);
+                for i in 0..n {
+                    p[i] = (p[i] - a * beta[i]).clamp(0.0, h);
+                    g[i] -= a * kd[i];
+                }
+                fresh_direction = true;
+            }
+        }
+        Err(BemError::NotConverged {
+            iterations: self.max_iterations,
+            error: last,
+            tolerance: self.tol,
+        })
+    }
+
+    /// p ← P(p − ᾱ φ).
+    fn projected_step(&self, p: &mut [f64], phi: &[f64]) {
+        for (x, f) in p.iter_mut().zip(phi) {
+            *x = (*x - self.alpha * f).clamp(0.0, self.hardness);
+        }
+    }
+}
+
+/// ‖K‖ by power iteration (40 products from a smooth positive start), with a 25 %
+/// margin: an upper estimate of the largest eigenvalue (m/Pa).
+pub(crate) fn norm_estimate(op: &Operator, n: usize, uniform: bool) -> Result<f64, BemError> {
+    let mut work = op.work();
+    let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.5 * ((i * 7919) % 1013) as f64 / 1013.0).collect();
+    let mut kv = vec![0.0; n];
+    let mut lambda = 0.0;
+    for _ in 0..40 {
+        let norm = dot(&v, &v).sqrt();
+        if !(norm > 0.0) {
+            break;
+        }
+        v.iter_mut().for_each(|x| *x /= norm);
+        op.apply(&v, &mut kv, uniform, &mut work)?;
+        lambda = dot(&v, &kv);
+        std::mem::swap(&mut v, &mut kv);
+    }
+    if !(lambda.is_finite() && lambda > 0.0) {
+        return Err(BemError::NonFinite(0));
+    }
+    Ok(1.25 * lambda)
+}
+
+/// Per-step plastic quantities of a solution (see [`crate::BemSolver::plastic_path`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlasticInfo {
+    /// Fraction of the grid at p = H (the plastic area over A₀).
+    pub plastic_area_fraction: f64,
+    /// Grid points at p = H.
+    pub plastic_points: usize,
+    /// Largest accumulated plastic depth u_pl after the step (m).
+    pub plastic_depth_max: f64,
+    /// Mean accumulated plastic depth over the cell (m): the flattened volume over A₀.
+    pub plastic_depth_mean: f64,
+    /// Outer secant steps of a force-controlled step (0 under displacement control).
+    pub offset_iterations: usize,
+}
+
+/// Contact patches and area of a pressure field.
+pub(crate) fn contact_stats(p: &[f64], ny: usize, nx: usize, periodic: bool) -> (usize, usize) {
+    let contact: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
+    let points = contact.iter().filter(|&&c| c).count();
+    (points, count_patches(&contact, ny, nx, periodic))
+}
+
+/// What the path reads of its [`crate::BemSolver`].
+pub(crate) struct Parts<'a> {
+    pub op: &'a Operator,
+    pub z: &'a [f64],
+    pub ny: usize,
+    pub nx: usize,
+    pub periodic: bool,
+    pub z_max: f64,
+    pub z_mean: f64,
+    pub z_rms: f64,
+    pub c0: Option<f64>,
+    pub e_star1: f64,
+    pub area: f64,
+    pub options: crate::BemOptions,
+}
+
+/// A load path of elastic–perfectly plastic contact on one [`crate::BemSolver`]: the
+/// plastic depth u_pl accumulates from step to step, so a path may load and unload in
+/// any order and unloading follows the flattened surface (physics.md §6.3).
+#[derive(Clone)]
+pub struct PlasticPath<'s> {
+    solver: &'s crate::BemSolver,
+    hardness: f64,
+    alpha: f64,
+    /// Accumulated plastic depth u_pl per grid point (m).
+    depth: Vec<f64>,
+    /// The last pressure (warm start), Pa.
+    p: Vec<f64>,
+    /// The last offset c (force control's first guess).
+    c: Option<f64>,
+}
+
+impl<'s> PlasticPath<'s> {
+    /// A path with hardness `hardness` (Pa, > 0; `f64::INFINITY` is elastic) from the
+    /// undeformed surface.
+    pub fn new(solver: &'s crate::BemSolver, hardness: f64) -> Result<Self, BemError> {
+        if hardness.is_nan() || hardness <= 0.0 {
+            return Err(BemError::Load {
+                what: "hardness",
+                value: hardness,
+                reason: "must be > 0 Pa".into(),
+            });
+        }
+        let parts = solver.plastic_parts();
+        let n = parts.ny * parts.nx;
+        // ‖K‖ of the operator with the uniform mode where a rigid base has one.
+        let norm = norm_estimate(parts.op, n, parts.periodic && parts.c0.is_some())?;
+        Ok(PlasticPath {
+            solver,
+            hardness,
+            alpha: 1.0 / norm,
+            depth: vec![0.0; n],
+            p: vec![0.0; n],
+            c: None,
+        })
+    }
+
+    /// The accumulated plastic depth u_pl (m), row-major like the heights.
+    pub fn depth(&self) -> &[f64] {
+        &self.depth
+    }
+
+    /// Solves one load on the current (flattened) surface and keeps its plastic depth.
+    pub fn step(&mut self, load: crate::BemLoad) -> Result<(crate::BemSolution, PlasticInfo), BemError> {
+        use crate::cg::Control;
+        let parts = self.solver.plastic_parts();
+        let control = self.solver.control_of(load)?;
+        let n = parts.ny * parts.nx;
+        let z_e: Vec<f64> = parts.z.iter().zip(&self.depth).map(|(z, d)| z - d).collect();
+        let mut bounded = Bounded {
+            op: parts.op,
+            uniform: false,
+            z: &z_e,
+            hardness: self.hardness,
+            alpha: self.alpha,
+            tol: parts.options.tolerance * parts.z_rms,
+            max_iterations: parts.options.max_iterations,
+        };
+        let mut g = vec![0.0; n];
+        let mut p = self.p.clone();
+        let (c, out, offset_iterations) = match control {
+            Control::Offset { c, uniform } => {
+                bounded.uniform = uniform;
+                let out = bounded.solve(c, &mut p, &mut g)?;
+                (c, out, 0)
+            }
+            Control::Pressure(target) => {
+                if target >= self.hardness {
+                    return Err(BemError::Load {
+                        what: "mean pressure",
+                        value: target,
+                        reason: format!(
+                            "is at or above the hardness {:e} Pa: a capped pressure cannot carry it",
+                            self.hardness
+                        ),
+                    });
+                }
+                self.force_control(&bounded, target, &mut p, &mut g)?
+            }
+        };
+        let h = self.hardness;
+        let mut plastic_points = 0;
+        let mut gap_sum = 0.0;
+        for i in 0..n {
+            if p[i] >= h {
+                plastic_points += 1;
+                // the elastic overlap is taken by flattening: the actual gap is 0
+                self.depth[i] += (-g[i]).max(0.0);
+            } else {
+                gap_sum += g[i].max(0.0);
+            }
+        }
+        let n2 = n as f64;
+        let mean_pressure = p.iter().sum::<f64>() / n2;
+        let (contact_points, patches) = contact_stats(&p, parts.ny, parts.nx, parts.periodic);
+        let rigid_periodic = parts.periodic && parts.c0.is_some();
+        let w = if rigid_periodic {
+            parts.c0.unwrap_or(0.0) * mean_pressure
+        } else {
+            0.0
+        };
+        // δ = z_M − c in the frame of the undeformed surface (plus the uniform mode a
+        // force-controlled solve leaves out on a rigid base).
+        let approach = parts.z_max - c + if bounded.uniform { 0.0 } else { w };
+        let mean_gap = gap_sum / n2;
+        let solution = crate::BemSolution {
+            load,
+            mean_pressure,
+            pressure_ratio: mean_pressure / parts.e_star1,
+            area_fraction: contact_points as f64 / n2,
+            contact_points,
+            patches,
+            mean_gap,
+            approach,
+            separation: parts.z_max - parts.z_mean - approach,
+            total_load: mean_pressure * parts.area,
+            mean_deflection: if parts.periodic { w } else { f64::NAN },
+            iterations: out.iterations,
+            products: out.products,
+            error: out.violation / parts.z_rms,
+            pressure: ndarray::Array2::from_shape_vec((parts.ny, parts.nx), p.clone())
+                .unwrap_or_default(),
+            gap: ndarray::Array2::from_shape_vec(
+                (parts.ny, parts.nx),
+                g.iter().map(|v| v.max(0.0)).collect(),
+            )
+            .unwrap_or_default(),
+        };
+        let info = PlasticInfo {
+            plastic_area_fraction: plastic_points as f64 / n2,
+            plastic_points,
+            plastic_depth_max: self.depth.iter().fold(0.0, |m: f64, d| m.max(*d)),
+            plastic_depth_mean: self.depth.iter().sum::<f64>() / n2,
+            offset_iterations,
+        };
+        self.p = p;
+        self.c = Some(c);
+        Ok((solution, info))
+    }
+
+    /// Force control: the offset c with mean p(c) = `target` (mean p falls as c grows),
+    /// bracketed from the last offset by doubling steps of σ_z, then regula falsi
+    /// (Illinois) to 1e-12 relative.
+    fn force_control(
+        &self,
+        bounded: &Bounded,
+        target: f64,
+        p: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<(f64, Outcome, usize), BemError> {
+        let parts = self.solver.plastic_parts();
+        let n2 = (parts.ny * parts.nx) as f64;
+        let mut total = Outcome {
+            iterations: 0,
+            products: 0,
+            violation: 0.0,
+        };
+        let evals = std::cell::Cell::new(0usize);
+        let mut eval = |c: f64, p: &mut [f64], g: &mut [f64]| -> Result<f64, BemError> {
+            let o = bounded.solve(c, p, g)?;
+            total.iterations += o.iterations;
+            total.products += o.products;
+            total.violation = o.violation;
+            evals.set(evals.get() + 1);
+            Ok(p.iter().sum::<f64>() / n2 - target)
+        };
+        let zmax = bounded.z.iter().fold(f64::MIN, |m, z| m.max(*z));
+        let mut c = self.c.unwrap_or(zmax);
+        let mut f = eval(c, p, g)?;
+        let step0 = parts.z_rms.max(1e-12);
+        // Bracket: (lo, f_lo > 0 side: too much pressure) and (hi, f_hi < 0).
+        let (mut lo, mut flo, mut hi, mut fhi);
+        if f > 0.0 {
+            (lo, flo) = (c, f);
+            let mut s = step0;
+            loop {
+                c += s;
+                f = eval(c, p, g)?;
+                if f <= 0.0 {
+                    (hi, fhi) = (c, f);
+                    break;
+                }
+                (lo, flo) = (c, f);
+                s *= 2.0;
+                if evals.get() > 200 {
+                    return Err(BemError::NonFinite(total.iterations));
+                }
+            }
+        } else {
+            (hi, fhi) = (c, f);
+            let mut s = step0;
+            loop {
+                c -= s;
+                f = eval(c, p, g)?;
+                if f >= 0.0 {
+                    (lo, flo) = (c, f);
+                    break;
+                }
+                (hi, fhi) = (c, f);
+                s *= 2.0;
+                if evals.get() > 200 {
+                    return Err(BemError::NonFinite(total.iterations));
+                }
+            }
+        }
+        let mut side = 0;
+        for _ in 0..200 {
+            if f.abs() <= 1e-12 * target || (hi - lo).abs() <= 1e-15 * (1.0 + c.abs()) {
+                break;
+            }
+            c = (lo * fhi - hi * flo) / (fhi - flo);
+            f = eval(c, p, g)?;
+            if f > 0.0 {
+                (lo, flo) = (c, f);
+                if side == 1 {
+                    fhi *= 0.5;
+                }
+                side = 1;
+            } else {
+                (hi, fhi) = (c, f);
+                if side == -1 {
+                    flo *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        Ok((c, total, evals.get()))
+    }
+}
+
+impl crate::BemSolver {
+    /// Elastic–perfectly plastic contact along `loads` (in any order: loading and
+    /// unloading), hardness `hardness` (Pa): each step's solution and its plastic
+    /// quantities ([`PlasticPath`]).
+    pub fn solve_plastic_curve(
+        &self,
+        loads: &[crate::BemLoad],
+        hardness: f64,
+    ) -> Result<Vec<(crate::BemSolution, PlasticInfo)>, BemError> {
+        let mut path = PlasticPath::new(self, hardness)?;
+        loads.iter().map(|&l| path.step(l)).collect()
+    }
+}

@@ -1,0 +1,245 @@
+//! Elastic–perfectly plastic contact in the BEM (issue 35, physics.md §6.3): the pressure
+//! capped by a hardness H, solved by MPRGP (`strata_bem::plastic`), with the plastic
+//! depth kept along a load path.
+//!
+//! Checks: H → ∞ is the elastic solution (a second method: the elastic solver's
+//! preconditioned Polonsky–Keer iteration); at full plastic contact P = H·A; a soft
+//! coating converges with most of the contact plastic; force control hits its load and
+//! equals displacement control at the approach it found; unloading follows the
+//! flattened surface (reloading retraces it, the plastic depth is kept).
+
+use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, Geometry, PlasticPath};
+use strata_runtime::Stack;
+use strata_runtime::surface::{GenerateParams, Surface};
+
+fn heights(grid: usize, seed: u64) -> Array2<f64> {
+    let s = Surface::generate(&GenerateParams {
+        size: 1e-3,
+        grid,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed,
+    })
+    .unwrap();
+    Array2::from_shape_vec((grid, grid), s.heights().to_vec()).unwrap()
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / a.abs().max(b.abs()).max(f64::MIN_POSITIVE)
+}
+
+/// H = ∞ against the elastic solver, periodic (rigid base and half-space) and not.
+#[test]
+fn infinite_hardness_is_elastic() {
+    let h = heights(64, 3);
+    let mut worst: f64 = 0.0;
+    for (stack, periodic) in [
+        (Stack::paper_two_layer(5.0).unwrap(), true),
+        (Stack::half_space(4e9, 0.15).unwrap(), true),
+        (Stack::paper_two_layer(5.0).unwrap(), false),
+    ] {
+        let g = Geometry {
+            lx: 1e-3,
+            ly: 1e-3,
+            periodic,
+        };
+        let solver = BemSolver::with_geometry(&h, g, &stack, BemOptions::default()).unwrap();
+        let loads = [
+            BemLoad::Approach(1e-6),
+            BemLoad::Approach(4e-6),
+            BemLoad::MeanPressure(5e6),
+        ];
+        let elastic = solver.solve_curve(&loads).unwrap();
+        let plastic = solver.solve_plastic_curve(&loads, f64::INFINITY).unwrap();
+        for (e, (p, info)) in elastic.iter().zip(&plastic) {
+            assert_eq!(info.plastic_points, 0);
+            assert_eq!(e.contact_points, p.contact_points, "{stack:?}");
+            worst = worst.max(rel(e.mean_pressure, p.mean_pressure));
+            worst = worst.max(rel(e.approach, p.approach));
+        }
+    }
+    eprintln!("H = ∞ vs elastic: worst {worst:.1e}");
+    assert!(worst < 1e-8, "worst {worst:e}");
+}
+
+/// A hardness far below the elastic pressures: every contact point flows, and the mean
+/// pressure is H times the contact fraction to round-off.
+#[test]
+fn full_plastic_contact_carries_h_times_a() {
+    let h = heights(64, 5);
+    let solver = BemSolver::new(&h, 1e-3, &Stack::half_space(210e9, 0.3).unwrap(), BemOptions::default()).unwrap();
+    let hardness = 1e6;
+    for (sol, info) in solver
+        .solve_plastic_curve(&[BemLoad::Approach(2e-6), BemLoad::Approach(5e-6)], hardness)
+        .unwrap()
+    {
+        assert_eq!(info.plastic_points, sol.contact_points);
+        assert!(rel(sol.mean_pressure, hardness * sol.area_fraction) < 1e-14);
+        assert!(info.plastic_depth_max > 0.0);
+    }
+}
+
+/// A soft coating (the paper's 4 GPa layer on E₂/E₁ = 5, rigid base), H = 0.2 GPa:
+/// converges with most of the contact plastic; the iteration counts are printed.
+#[test]
+fn soft_coating_converges_mostly_plastic() {
+    let h = heights(128, 7);
+    let solver = BemSolver::new(&h, 1e-3, &Stack::paper_two_layer(5.0).unwrap(), BemOptions::default()).unwrap();
+    let loads: Vec<BemLoad> = [2e-6, 5e-6, 8e-6, 1.2e-5].into_iter().map(BemLoad::Approach).collect();
+    let curve = solver.solve_plastic_curve(&loads, 0.2e9).unwrap();
+    let mut most = 0.0_f64;
+    for (sol, info) in &curve {
+        let share = info.plastic_points as f64 / sol.contact_points.max(1) as f64;
+        eprintln!(
+            "δ {:.1e}: p {:.3e} Pa, A/A0 {:.4}, plastic {:.1} % of the contact, {} iterations, {} products, KKT {:.1e}",
+            sol.approach,
+            sol.mean_pressure,
+            sol.area_fraction,
+            100.0 * share,
+            sol.iterations,
+            sol.products,
+            sol.error
+        );
+        assert!(sol.error <= 1e-10);
+        most = most.max(share);
+    }
+    assert!(most >= 0.5, "largest plastic share {most}");
+}
+
+/// Force control reaches its mean pressure and equals displacement control at the
+/// approach it found.
+#[test]
+fn force_control_equals_displacement_control() {
+    let h = heights(64, 9);
+    let solver = BemSolver::new(&h, 1e-3, &Stack::paper_two_layer(1.0).unwrap(), BemOptions::default()).unwrap();
+    let hardness = 0.5e9;
+    let (f, fi) = solver
+        .solve_plastic_curve(&[BemLoad::MeanPressure(2e7)], hardness)
+        .unwrap()
+        .remove(0);
+    assert!(rel(f.mean_pressure, 2e7) < 1e-10, "{}", f.mean_pressure);
+    let (d, di) = solver
+        .solve_plastic_curve(&[BemLoad::Approach(f.approach)], hardness)
+        .unwrap()
+        .remove(0);
+    eprintln!(
+        "force control: {} secant steps; δ {:e}; p {:e} vs {:e}",
+        fi.offset_iterations, f.approach, f.mean_pressure, d.mean_pressure
+    );
+    assert!(rel(f.mean_pressure, d.mean_pressure) < 1e-8);
+    assert_eq!(fi.plastic_points, di.plastic_points);
+}
+
+/// Loading to δ₁, unloading to δ₀ and reloading to δ₁: the unloading pressure is below
+/// the loading one (the tips were flattened), reloading retraces the unloading branch
+/// (elastic shakedown) and returns to the loaded state, and the plastic depth is kept.
+#[test]
+fn unloading_follows_the_flattened_surface() {
+    let h = heights(64, 11);
+    let solver = BemSolver::new(&h, 1e-3, &Stack::half_space(4e9, 0.15).unwrap(), BemOptions::default()).unwrap();
+    let mut path = PlasticPath::new(&solver, 0.4e9).unwrap();
+    let (d0, d1) = (5e-6, 6e-6);
+    let (load0, _) = path.step(BemLoad::Approach(d0)).unwrap();
+    let (load1, i1) = path.step(BemLoad::Approach(d1)).unwrap();
+    assert!(i1.plastic_points > 0);
+    let depth = path.depth().to_vec();
+    let (un0, iu) = path.step(BemLoad::Approach(d0)).unwrap();
+    assert_eq!(iu.plastic_points, 0, "unloading is elastic");
+    assert_eq!(path.depth(), &depth[..], "the plastic depth is kept");
+    assert!(un0.mean_pressure > 0.0 && un0.mean_pressure < load0.mean_pressure);
+    let (re1, ir) = path.step(BemLoad::Approach(d1)).unwrap();
+    eprintln!(
+        "δ₀ load {:.4e} unload {:.4e}; δ₁ load {:.4e} reload {:.4e} Pa",
+        load0.mean_pressure, un0.mean_pressure, load1.mean_pressure, re1.mean_pressure
+    );
+    assert!(rel(re1.mean_pressure, load1.mean_pressure) < 1e-8);
+    assert!(ir.plastic_depth_max <= i1.plastic_depth_max * (1.0 + 1e-9));
+}
+
+const SCENE: &str = "[stack]\nfile = \"STACK\"\n[surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                     fractal_dimension = 2.4\nk_min = 2\nk_max = 10\nrms = 3.4e-6\nseed = 5\n[model]\nkind = \"bem\"\n";
+
+fn scene_text(extra: &str) -> String {
+    let stack = crate::support::repo().join("tables/stacks/paper-two-layer.toml");
+    format!("{}{extra}", SCENE.replace("STACK", &stack.display().to_string()))
+}
+
+fn solve(dir: &std::path::Path, name: &str, text: &str) -> (std::process::Output, std::path::PathBuf) {
+    let scene = dir.join(format!("{name}.toml"));
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join(name);
+    let o = crate::support::strata_in(dir)
+        .args(["solve", "-q", "--no-plots", "--force"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    (o, out)
+}
+
+fn rows(csv: &str) -> Vec<Vec<f64>> {
+    csv.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
+
+/// `[plasticity] hardness` and `[load] unload = true` through `strata solve`: the
+/// plastic_area_fraction column, the return path (2n − 1 steps, unloading below
+/// loading at equal δ), curve.json's per-step plastic depth; a huge hardness is the
+/// elastic scene; the asperity models, `compare` and `law` refuse by name.
+#[test]
+fn plastic_scenes_through_solve() {
+    let d = crate::support::fresh_dir("plastic", "scene");
+    let load = "[load]\napproach = { from = 2e-6, to = 8e-6, steps = 4 }\n";
+    let (o, out) = solve(&d, "plastic", &scene_text(&format!("{load}unload = true\n[plasticity]\nhardness = 0.2e9\n")));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
+    assert!(csv.starts_with("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid,plastic_area_fraction\n"));
+    let r = rows(&csv);
+    assert_eq!(r.len(), 7);
+    for k in 0..3 {
+        assert_eq!(r[k][0], r[6 - k][0], "same δ on the way back");
+        assert!(r[6 - k][2] < r[k][2], "step {k}: unloading {} ≥ loading {}", r[6 - k][2], r[k][2]);
+    }
+    assert!(r[3][8] > 0.0 && r[4][8] == 0.0, "plastic at the top, elastic unloading");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap()).unwrap();
+    assert_eq!(json["plasticity"]["hardness"], 0.2e9);
+    let depth = json["steps"][6]["plastic_depth_max"].as_f64().unwrap();
+    assert!(depth > 0.0 && depth == json["steps"][3]["plastic_depth_max"].as_f64().unwrap());
+    // H huge: the elastic scene (another solver: the preconditioned Polonsky–Keer CG).
+    let (o1, e1) = solve(&d, "hard", &scene_text(&format!("{load}[plasticity]\nhardness = 1e300\n")));
+    let (o2, e2) = solve(&d, "elastic", &scene_text(load));
+    assert!(o1.status.success() && o2.status.success());
+    let (a, b) = (
+        rows(&std::fs::read_to_string(e1.join("curve.csv")).unwrap()),
+        rows(&std::fs::read_to_string(e2.join("curve.csv")).unwrap()),
+    );
+    for (x, y) in a.iter().zip(&b) {
+        assert!(rel(x[2], y[2]) < 1e-8, "{} vs {}", x[2], y[2]);
+        assert_eq!(x[8], 0.0);
+    }
+    // refusals
+    let (o, _) = solve(
+        &d,
+        "nmodel",
+        &scene_text(&format!("{load}[plasticity]\nhardness = 1e9\n")).replace("kind = \"bem\"", "kind = \"independent\""),
+    );
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity"));
+    let (o, _) = solve(&d, "neg", &scene_text(&format!("{load}[plasticity]\nhardness = -1\n")));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity.hardness"));
+    let scene = d.join("plastic.toml");
+    for args in [
+        vec!["compare".to_string(), scene.display().to_string(), "--out".into(), d.join("cmp").display().to_string()],
+        vec!["law".to_string(), scene.display().to_string(), "--out".into(), d.join("law.csv").display().to_string()],
+    ] {
+        let o = crate::support::strata_in(&d).args(&args).output().unwrap();
+        assert!(!o.status.success(), "{args:?}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("plastic"), "{args:?}");
+    }
+}
