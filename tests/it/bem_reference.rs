@@ -294,6 +294,47 @@ fn python_tamaas_steel_pair() {
     compare_rows("tamaas steel/steel", &theirs, &ours);
 }
 
+/// The hardness cap (issue 35, physics.md §6.3) on a half-space against ContactMechanics
+/// 1.8's plastic system (zero-mean half-space, `stiffness_q0 = 0`) at equal approach along
+/// a path that loads and unloads (both keep the plastic depth between steps): mean
+/// pressure within 5e-9 (required 1e-4, measured 4.6e-10), contact and plastic areas
+/// within two grid points (measured identical).
+#[test]
+#[ignore = "needs target/python-reference/{surface.npy,cm_plastic.csv}: run tests/python/run.sh"]
+fn python_contactmechanics_plastic() {
+    let (header, rows) = read_csv(&python_reference_dir().join("cm_plastic.csv"));
+    let (id, ip, ia, ipl) = (
+        column(&header, "delta"),
+        column(&header, "mean_pressure"),
+        column(&header, "area_fraction"),
+        column(&header, "plastic_area_fraction"),
+    );
+    let heights = python_surface();
+    let stack = Stack::half_space(4e9, 0.15).expect("stack");
+    let solver = BemSolver::new(&heights, L, &stack, BemOptions::default()).expect("solver");
+    let loads: Vec<BemLoad> = rows.iter().map(|r| BemLoad::Approach(r[id])).collect();
+    let ours = solver.solve_plastic_curve(&loads, 0.2e9).expect("plastic path");
+    let (mut wp, mut wa, mut wpl) = (0.0_f64, 0.0_f64, 0.0_f64);
+    for (r, (s, info)) in rows.iter().zip(&ours) {
+        let ep = (s.mean_pressure / r[ip] - 1.0).abs();
+        let ea = (s.area_fraction - r[ia]).abs();
+        let epl = (info.plastic_area_fraction - r[ipl]).abs();
+        eprintln!(
+            "cm plastic δ {:.1e}: p {:.8e} vs {:.8e} (rel {ep:.1e}); A/A0 {:.5e} vs {:.5e}; plastic {:.5e} vs {:.5e}",
+            r[id], s.mean_pressure, r[ip], s.area_fraction, r[ia], info.plastic_area_fraction, r[ipl]
+        );
+        wp = wp.max(ep);
+        wa = wa.max(ea);
+        wpl = wpl.max(epl);
+    }
+    eprintln!("cm plastic: worst rel. pressure {wp:.2e}, area {wa:.2e}, plastic area {wpl:.2e}");
+    // required 1e-4 (issue 35); measured 4.6e-10 in pressure, areas and plastic areas
+    // identical (CI mode, 256², A/A₀ 0.1 %…24 %, plastic up to 10.4 %)
+    let point = 2.0 / (heights.len() as f64);
+    assert!(wp <= 5e-9, "pressure off by {wp:e}");
+    assert!(wa <= point && wpl <= point, "areas off by {wa:e}, {wpl:e}");
+}
+
 /// One layer (h = 100 µm) bonded to a rigid base against ContactMechanics 1.8 at equal
 /// approach (its rigid offset + z_M); the mean gaps must agree too.
 #[test]

@@ -3,6 +3,8 @@
 
     python compare.py tamaas SURFACE.npy OUT.csv  # homogeneous half-space, Tamaas 2.9
     python compare.py tamaas_pair SURFACE.npy OUT.csv  # steel on steel: composite E*, Tamaas 2.9
+    python compare.py cm_plastic SURFACE.npy OUT.csv   # hardness cap on a half-space, loading and
+                                                       # unloading, ContactMechanics 1.8 plastic system
     python compare.py cm SURFACE.npy OUT.csv      # one layer on a rigid base, ContactMechanics 1.8
     python compare.py free SURFACE.npy OUT.csv    # non-periodic half-space, ContactMechanics 1.8
     python compare.py speed DIR OUT.csv           # Tamaas seconds per load step (surfaces of the bem bench)
@@ -138,6 +140,51 @@ def run_tamaas_pair(surf, out):
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
+# Elastic-perfectly plastic half-space (strata's [plasticity], physics.md §6.3): the
+# ContactMechanics plastic system (PlasticTopography + PlasticNonSmoothContactSystem,
+# which keeps the plastic depth between solves) under offset control along a path that
+# loads and unloads; approaches delta = offset + z_M (m).
+CM_PLASTIC_HARDNESS = 0.2e9
+CM_PLASTIC_DELTAS = [2e-6, 4e-6, 6e-6, 4e-6, 2e-6]
+
+
+def run_cm_plastic(surf, out):
+    from SurfaceTopography import PlasticTopography, Topography
+    from ContactMechanics import PeriodicFFTElasticHalfSpace
+    from ContactMechanics.Factory import make_plastic_system
+
+    z = surface(surf)
+    n = z.shape[0]
+    zmax = z.max()
+    rms = z.std()
+    # stiffness_q0 = 0: the zero-mean deflection of strata's (and Tamaas') periodic
+    # half-space (CM's default stiffens the q = 0 mode like the lowest wavevector).
+    substrate = PeriodicFFTElasticHalfSpace((n, n), ESTAR, (L, L), stiffness_q0=0.0)
+    topo = PlasticTopography(Topography(z, (L, L), periodic=True), CM_PLASTIC_HARDNESS)
+    system = make_plastic_system(substrate=substrate, surface=topo)
+    rows = []
+    u0 = None
+    for delta in CM_PLASTIC_DELTAS:
+        t = time.perf_counter()
+        sol = system.minimize_proxy(offset=delta - zmax, initial_displacements=u0,
+                                    pentol=1e-12 * rms, forcetol=1e-12, maxiter=100000)
+        dt = time.perf_counter() - t
+        if not sol.success:
+            raise SystemExit(f"ContactMechanics (plastic) did not converge at delta={delta}: {sol.message}")
+        u0 = sol.x
+        p = np.asarray(sol.jac) / (L * L / (n * n))
+        area = np.count_nonzero(p > 0) / p.size
+        plastic = np.count_nonzero(p >= CM_PLASTIC_HARDNESS * (1 - 1e-9)) / p.size
+        rows.append((delta, p.mean(), area, plastic, dt))
+        print(f"cm plastic delta {delta:.3e}: p {p.mean():.8e} Pa, A/A0 {area:.5e}, plastic {plastic:.5e}, {dt:.2f} s", flush=True)
+    with open(out, "w") as f:
+        f.write(f"# ContactMechanics 1.8 plastic system (PlasticTopography, hardness {CM_PLASTIC_HARDNESS}), offset control, "
+                f"half-space E*={ESTAR!r}; load then unload; surface {surf} ({n}^2, L={L})\n")
+        f.write("delta,mean_pressure,area_fraction,plastic_area_fraction,seconds\n")
+        for r in rows:
+            f.write(",".join(repr(float(v)) for v in r) + "\n")
+
+
 def run_cm(surf, out):
     from ContactMechanics import PeriodicFFTElasticHalfSpace
     from ContactMechanics.Optimization import constrained_conjugate_gradients
@@ -255,7 +302,8 @@ def run_speed(directory, out):
 
 if __name__ == "__main__":
     args = sys.argv[1:]
-    if len(args) != 3 or args[0] not in ("tamaas", "tamaas_pair", "cm", "free", "speed"):
+    if len(args) != 3 or args[0] not in ("tamaas", "tamaas_pair", "cm", "cm_plastic", "free", "speed"):
         raise SystemExit(__doc__)
-    {"tamaas": run_tamaas, "tamaas_pair": run_tamaas_pair, "cm": run_cm, "free": run_free,
+    {"tamaas": run_tamaas, "tamaas_pair": run_tamaas_pair, "cm": run_cm, "cm_plastic": run_cm_plastic,
+     "free": run_free,
      "speed": run_speed}[args[0]](args[1], args[2])

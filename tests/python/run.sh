@@ -2,7 +2,8 @@
 # Checks strata's FFT-BEM against independent public solvers (issue 6):
 #   * Tamaas 2.9 (homogeneous half-space, equal mean gap; and steel on steel, strata's
 #     two-body [counterface], against Tamaas with the composite E*),
-#   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach) and
+#   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach; and its
+#     plastic system on a half-space, loading and unloading, strata's [plasticity]) and
 #   * ContactMechanics 1.8 FreeFFTElasticHalfSpace (the surface as an isolated,
 #     non-periodic sample on a half-space, equal approach),
 # on strata's generated paper-like surface (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm),
@@ -46,7 +47,7 @@ fail() { echo "tests/python/run.sh: ERROR: $*" >&2; exit 1; }
 
 t_start=$(date +%s)
 mkdir -p "$STRATA_PY_REF"
-rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF"/{tamaas,tamaas_pair,cm,free}.{csv,log}
+rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF"/{tamaas,tamaas_pair,cm,cm_plastic,free}.{csv,log}
 if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV" || fail "cannot create a venv with $PY (install python3-venv)"
 fi
@@ -65,7 +66,7 @@ t_surf=$(date +%s)
 # three run side by side, each into a log of its own printed when all are done (one after
 # the other they left a core idle for ~20 s of a CI run).
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
-solvers=(tamaas tamaas_pair cm free)
+solvers=(tamaas tamaas_pair cm cm_plastic free)
 pids=()
 for solver in "${solvers[@]}"; do
     "$VENV/bin/python" tests/python/compare.py "$solver" "$STRATA_PY_REF/surface.npy" \
