@@ -13,27 +13,18 @@
 //! (ContactMechanics' plastic system and Tamaas' saturated solver solve the same
 //! problem).
 //!
-//! # Method: MPRGP
-//! Dostál's modified proportioning with reduced gradient projections (Dostál & Schöberl,
-//! Comput. Optim. Appl. 30, 2005; Dostál, *Optimal Quadratic Programming Algorithms*,
-//! 2009, ch. 7–8) for box constraints: conjugate-gradient steps on the free set
-//! (0 < p < H) while the chopped gradient β (the gradient components that would move a
-//! bound point inside) is small against the free gradient φ, ‖β‖² ≤ Γ² φ̃ᵀφ; an
-//! expansion step (the feasible CG step, then a projected gradient step of length ᾱ)
-//! when the CG step would leave the box; a proportioning step along −β otherwise. For a
-//! strictly convex quadratic and ᾱ ∈ (0, 2/‖K‖] the iterates converge R-linearly to the
-//! unique minimiser, whatever fraction of the contact is plastic — no rescaling of p is
-//! involved, so the iteration does not stall with the whole set just below H (the
-//! failure of a projected Polonsky–Keer rescaling, physics.md §6.3). ‖K‖ is estimated by
-//! power iteration, with a 25 % margin. Γ = 1.
-//!
-//! Stopping: the largest violation of the KKT conditions (the projected gradient, in
-//! metres) below `tolerance × σ_z`, evaluated on the exact g = K p − z_e + c (recomputed
-//! from p every [`REFRESH`] iterations and before acceptance). Force control: the
-//! offset c is found by a safeguarded secant on the mean pressure (monotone in c),
-//! each evaluation warm-started from the last.
+//! # Method
+//! MPRGP ([`strata_runtime::bounded`]): Dostál's modified proportioning with reduced
+//! gradient projections for box constraints, R-linearly convergent for a strictly convex
+//! quadratic whatever fraction of the contact is plastic — no rescaling of p, so it does
+//! not stall with the whole set just below H (the failure of a projected Polonsky–Keer
+//! rescaling, physics.md §6.3). The operator is the solver's FFT convolution; ‖K‖ by
+//! power iteration. Stopping: the largest violation of the KKT conditions (m) below
+//! `tolerance × σ_z` on the exact gap. Force control: the offset c is found by a
+//! safeguarded secant (Illinois) on the mean pressure, monotone in c, each evaluation
+//! warm-started from the last.
 
-use strata_runtime::fft::Fft2Work;
+use strata_runtime::bounded::{BoundedError, Mprgp, Outcome, norm_estimate};
 
 use crate::BemError;
 use crate::maps::count_patches;
@@ -41,10 +32,8 @@ use crate::operator::Operator;
 
 /// Exact gap recomputations from p, at least every this many iterations.
 const REFRESH: usize = 50;
-/// MPRGP's proportioning constant Γ.
-const GAMMA: f64 = 1.0;
 
-/// The bounded problem on one operator.
+/// The bounded problem on one operator: g = K p − z_e + c.
 pub(crate) struct Bounded<'a> {
     pub op: &'a Operator,
     /// Include the periodic uniform mode (a rigid base's C₀).
@@ -60,221 +49,41 @@ pub(crate) struct Bounded<'a> {
     pub max_iterations: usize,
 }
 
-/// What one bounded solve did.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct Outcome {
-    pub iterations: usize,
-    pub products: usize,
-    /// Largest KKT violation at acceptance (m).
-    pub violation: f64,
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+fn bem_error(e: BoundedError<BemError>) -> BemError {
+    match e {
+        BoundedError::NotConverged {
+            iterations,
+            violation,
+            tolerance,
+        } => BemError::NotConverged {
+            iterations,
+            error: violation,
+            tolerance,
+        },
+        BoundedError::NonFinite(i) => BemError::NonFinite(i),
+        BoundedError::Operator(e) => e,
+        _ => BemError::NonFinite(0),
+    }
 }
 
 impl Bounded<'_> {
-    /// g = K p − z + c.
-    fn gap(&self, p: &[f64], c: f64, g: &mut [f64], work: &mut Fft2Work) -> Result<(), BemError> {
-        self.op.apply(p, g, self.uniform, work)?;
-        for (gi, zi) in g.iter_mut().zip(self.z) {
-            *gi += c - zi;
-        }
-        Ok(())
-    }
-
-    /// Free gradient φ (g on 0 < p < H, else 0), chopped gradient β, the reduced free
-    /// gradient's φ̃ᵀφ, ‖β‖² and the largest KKT violation.
-    fn split(&self, p: &[f64], g: &[f64], phi: &mut [f64], beta: &mut [f64]) -> (f64, f64, f64) {
-        let h = self.hardness;
-        let a = self.alpha;
-        let (mut pt, mut bb, mut worst) = (0.0, 0.0, 0.0_f64);
-        for i in 0..p.len() {
-            let (x, gi) = (p[i], g[i]);
-            if x <= 0.0 {
-                phi[i] = 0.0;
-                beta[i] = gi.min(0.0);
-            } else if x >= h {
-                phi[i] = 0.0;
-                beta[i] = gi.max(0.0);
-            } else {
-                phi[i] = gi;
-                beta[i] = 0.0;
-                let reduced = if gi > 0.0 {
-                    (x / a).min(gi)
-                } else {
-                    ((x - h) / a).max(gi)
-                };
-                pt += reduced * gi;
-            }
-            bb += beta[i] * beta[i];
-            worst = worst.max(phi[i].abs()).max(beta[i].abs());
-        }
-        (pt, bb, worst)
-    }
-
     /// Solves the bounded problem at offset `c`, from `p` (projected into the box);
     /// `g` receives the exact elastic gap K p − z_e + c of the solution.
     pub fn solve(&self, c: f64, p: &mut [f64], g: &mut [f64]) -> Result<Outcome, BemError> {
-        let n = p.len();
-        let h = self.hardness;
-        for v in p.iter_mut() {
-            *v = v.clamp(0.0, h);
-        }
+        let b: Vec<f64> = self.z.iter().map(|z| z - c).collect();
         let mut work = self.op.work();
-        let (mut phi, mut beta) = (vec![0.0; n], vec![0.0; n]);
-        let (mut dir, mut kd) = (vec![0.0; n], vec![0.0; n]);
-        self.gap(p, c, g, &mut work)?;
-        let mut products = 1;
-        let mut since_exact = 0;
-        let mut fresh_direction = true;
-        let mut last = f64::NAN;
-        for it in 0..=self.max_iterations {
-            let (pt, bb, mut worst) = self.split(p, g, &mut phi, &mut beta);
-            if worst <= self.tol && since_exact > 0 {
-                // Accept only on the exact gap.
-                self.gap(p, c, g, &mut work)?;
-                products += 1;
-                since_exact = 0;
-                let (_, _, w) = self.split(p, g, &mut phi, &mut beta);
-                worst = w;
-            }
-            if !worst.is_finite() {
-                return Err(BemError::NonFinite(it));
-            }
-            last = worst;
-            if worst <= self.tol {
-                return Ok(Outcome {
-                    iterations: it,
-                    products,
-                    violation: worst,
-                });
-            }
-            if it == self.max_iterations {
-                break;
-            }
-            if since_exact >= REFRESH {
-                self.gap(p, c, g, &mut work)?;
-                products += 1;
-                since_exact = 0;
-                fresh_direction = true;
-                continue;
-            }
-            since_exact += 1;
-            if bb <= GAMMA * GAMMA * pt {
-                // Proportional: a conjugate-gradient step on the free set.
-                if fresh_direction {
-                    dir.copy_from_slice(&phi);
-                    fresh_direction = false;
-                }
-                self.op.apply(&dir, &mut kd, self.uniform, &mut work)?;
-                products += 1;
-                let dkd = dot(&dir, &kd);
-                if !(dkd > 0.0) {
-                    // A direction in the operator's null space (the zero-mean mode):
-                    // fall back to a projected gradient step.
-                    self.projected_step(p, &phi);
-                    self.gap(p, c, g, &mut work)?;
-                    products += 1;
-                    since_exact = 0;
-                    fresh_direction = true;
-                    continue;
-                }
-                let a_cg = dot(g, &dir) / dkd;
-                let mut a_f = f64::INFINITY;
-                for i in 0..n {
-                    let d = dir[i];
-                    if d > 0.0 {
-                        a_f = a_f.min(p[i] / d);
-                    } else if d < 0.0 {
-                        a_f = a_f.min((p[i] - h) / d);
-                    }
-                }
-                if a_cg <= a_f {
-                    for i in 0..n {
-                        p[i] -= a_cg * dir[i];
-                        g[i] -= a_cg * kd[i];
-                    }
-                    // The new free gradient and the conjugate direction.
-                    self.split(p, g, &mut phi, &mut beta);
-                    let gam = dot(&phi, &kd) / dkd;
-                    for i in 0..n {
-                        dir[i] = phi[i] - gam * dir[i];
-                    }
-                } else {
-                    // Expansion: the feasible step, then a projected gradient step.
-                    for i in 0..n {
-                        p[i] = (p[i] - a_f * dir[i]).clamp(0.0, h);
-                        g[i] -= a_f * kd[i];
-                    }
-                    self.split(p, g, &mut phi, &mut beta);
-                    self.projected_step(p, &phi);
-                    self.gap(p, c, g, &mut work)?;
-                    products += 1;
-                    since_exact = 0;
-                    fresh_direction = true;
-                }
-            } else {
-                // Proportioning: release bound points along −β.
-                self.op.apply(&beta, &mut kd, self.uniform, &mut work)?;
-                products += 1;
-                let bkb = dot(&beta, &kd);
-                let a = if bkb > 0.0 { bb / bkb } else { self.alpha };
-                // The step may not cross the opposite bound (β moves a point off its
-                // own bound only).
-                let mut a_max = f64::INFINITY;
-                for i in 0..n {
-                    let d = beta[i];
-                    if d > 0.0 {
-                        a_max = a_max.min(p[i] / d);
-                    } else if d < 0.0 {
-                        a_max = a_max.min((p[i] - h) / d);
-                    }
-                }
-                let a = a.min(a_max);
-                for i in 0..n {
-                    p[i] = (p[i] - a * beta[i]).clamp(0.0, h);
-                    g[i] -= a * kd[i];
-                }
-                fresh_direction = true;
-            }
+        let uniform = self.uniform;
+        let mut apply = |x: &[f64], y: &mut [f64]| self.op.apply(x, y, uniform, &mut work);
+        Mprgp {
+            upper: self.hardness,
+            alpha: self.alpha,
+            tol: self.tol,
+            max_iterations: self.max_iterations,
+            refresh: REFRESH,
         }
-        Err(BemError::NotConverged {
-            iterations: self.max_iterations,
-            error: last,
-            tolerance: self.tol,
-        })
+        .solve(&mut apply, &b, p, g)
+        .map_err(bem_error)
     }
-
-    /// p ← P(p − ᾱ φ).
-    fn projected_step(&self, p: &mut [f64], phi: &[f64]) {
-        for (x, f) in p.iter_mut().zip(phi) {
-            *x = (*x - self.alpha * f).clamp(0.0, self.hardness);
-        }
-    }
-}
-
-/// ‖K‖ by power iteration (40 products from a smooth positive start), with a 25 %
-/// margin: an upper estimate of the largest eigenvalue (m/Pa).
-pub(crate) fn norm_estimate(op: &Operator, n: usize, uniform: bool) -> Result<f64, BemError> {
-    let mut work = op.work();
-    let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.5 * ((i * 7919) % 1013) as f64 / 1013.0).collect();
-    let mut kv = vec![0.0; n];
-    let mut lambda = 0.0;
-    for _ in 0..40 {
-        let norm = dot(&v, &v).sqrt();
-        if !(norm > 0.0) {
-            break;
-        }
-        v.iter_mut().for_each(|x| *x /= norm);
-        op.apply(&v, &mut kv, uniform, &mut work)?;
-        lambda = dot(&v, &kv);
-        std::mem::swap(&mut v, &mut kv);
-    }
-    if !(lambda.is_finite() && lambda > 0.0) {
-        return Err(BemError::NonFinite(0));
-    }
-    Ok(1.25 * lambda)
 }
 
 /// Per-step plastic quantities of a solution (see [`crate::BemSolver::plastic_path`]).
@@ -345,7 +154,13 @@ impl<'s> PlasticPath<'s> {
         let parts = solver.plastic_parts();
         let n = parts.ny * parts.nx;
         // ‖K‖ of the operator with the uniform mode where a rigid base has one.
-        let norm = norm_estimate(parts.op, n, parts.periodic && parts.c0.is_some())?;
+        let uniform = parts.periodic && parts.c0.is_some();
+        let mut work = parts.op.work();
+        let norm = norm_estimate(
+            &mut |x: &[f64], y: &mut [f64]| parts.op.apply(x, y, uniform, &mut work),
+            n,
+        )
+        .map_err(bem_error)?;
         Ok(PlasticPath {
             solver,
             hardness,
@@ -362,12 +177,20 @@ impl<'s> PlasticPath<'s> {
     }
 
     /// Solves one load on the current (flattened) surface and keeps its plastic depth.
-    pub fn step(&mut self, load: crate::BemLoad) -> Result<(crate::BemSolution, PlasticInfo), BemError> {
+    pub fn step(
+        &mut self,
+        load: crate::BemLoad,
+    ) -> Result<(crate::BemSolution, PlasticInfo), BemError> {
         use crate::cg::Control;
         let parts = self.solver.plastic_parts();
         let control = self.solver.control_of(load)?;
         let n = parts.ny * parts.nx;
-        let z_e: Vec<f64> = parts.z.iter().zip(&self.depth).map(|(z, d)| z - d).collect();
+        let z_e: Vec<f64> = parts
+            .z
+            .iter()
+            .zip(&self.depth)
+            .map(|(z, d)| z - d)
+            .collect();
         let mut bounded = Bounded {
             op: parts.op,
             uniform: false,

@@ -63,6 +63,7 @@
 
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
+pub mod bounded;
 pub mod compliance;
 /// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).
 #[cfg(feature = "spectral")]

@@ -313,7 +313,9 @@ fn python_contactmechanics_plastic() {
     let stack = Stack::half_space(4e9, 0.15).expect("stack");
     let solver = BemSolver::new(&heights, L, &stack, BemOptions::default()).expect("solver");
     let loads: Vec<BemLoad> = rows.iter().map(|r| BemLoad::Approach(r[id])).collect();
-    let ours = solver.solve_plastic_curve(&loads, 0.2e9).expect("plastic path");
+    let ours = solver
+        .solve_plastic_curve(&loads, 0.2e9)
+        .expect("plastic path");
     let (mut wp, mut wa, mut wpl) = (0.0_f64, 0.0_f64, 0.0_f64);
     for (r, (s, info)) in rows.iter().zip(&ours) {
         let ep = (s.mean_pressure / r[ip] - 1.0).abs();
@@ -321,7 +323,13 @@ fn python_contactmechanics_plastic() {
         let epl = (info.plastic_area_fraction - r[ipl]).abs();
         eprintln!(
             "cm plastic δ {:.1e}: p {:.8e} vs {:.8e} (rel {ep:.1e}); A/A0 {:.5e} vs {:.5e}; plastic {:.5e} vs {:.5e}",
-            r[id], s.mean_pressure, r[ip], s.area_fraction, r[ia], info.plastic_area_fraction, r[ipl]
+            r[id],
+            s.mean_pressure,
+            r[ip],
+            s.area_fraction,
+            r[ia],
+            info.plastic_area_fraction,
+            r[ipl]
         );
         wp = wp.max(ep);
         wa = wa.max(ea);

@@ -69,10 +69,19 @@ fn infinite_hardness_is_elastic() {
 #[test]
 fn full_plastic_contact_carries_h_times_a() {
     let h = heights(64, 5);
-    let solver = BemSolver::new(&h, 1e-3, &Stack::half_space(210e9, 0.3).unwrap(), BemOptions::default()).unwrap();
+    let solver = BemSolver::new(
+        &h,
+        1e-3,
+        &Stack::half_space(210e9, 0.3).unwrap(),
+        BemOptions::default(),
+    )
+    .unwrap();
     let hardness = 1e6;
     for (sol, info) in solver
-        .solve_plastic_curve(&[BemLoad::Approach(2e-6), BemLoad::Approach(5e-6)], hardness)
+        .solve_plastic_curve(
+            &[BemLoad::Approach(2e-6), BemLoad::Approach(5e-6)],
+            hardness,
+        )
         .unwrap()
     {
         assert_eq!(info.plastic_points, sol.contact_points);
@@ -86,8 +95,17 @@ fn full_plastic_contact_carries_h_times_a() {
 #[test]
 fn soft_coating_converges_mostly_plastic() {
     let h = heights(128, 7);
-    let solver = BemSolver::new(&h, 1e-3, &Stack::paper_two_layer(5.0).unwrap(), BemOptions::default()).unwrap();
-    let loads: Vec<BemLoad> = [2e-6, 5e-6, 8e-6, 1.2e-5].into_iter().map(BemLoad::Approach).collect();
+    let solver = BemSolver::new(
+        &h,
+        1e-3,
+        &Stack::paper_two_layer(5.0).unwrap(),
+        BemOptions::default(),
+    )
+    .unwrap();
+    let loads: Vec<BemLoad> = [2e-6, 5e-6, 8e-6, 1.2e-5]
+        .into_iter()
+        .map(BemLoad::Approach)
+        .collect();
     let curve = solver.solve_plastic_curve(&loads, 0.2e9).unwrap();
     let mut most = 0.0_f64;
     for (sol, info) in &curve {
@@ -113,7 +131,13 @@ fn soft_coating_converges_mostly_plastic() {
 #[test]
 fn force_control_equals_displacement_control() {
     let h = heights(64, 9);
-    let solver = BemSolver::new(&h, 1e-3, &Stack::paper_two_layer(1.0).unwrap(), BemOptions::default()).unwrap();
+    let solver = BemSolver::new(
+        &h,
+        1e-3,
+        &Stack::paper_two_layer(1.0).unwrap(),
+        BemOptions::default(),
+    )
+    .unwrap();
     let hardness = 0.5e9;
     let (f, fi) = solver
         .solve_plastic_curve(&[BemLoad::MeanPressure(2e7)], hardness)
@@ -138,7 +162,13 @@ fn force_control_equals_displacement_control() {
 #[test]
 fn unloading_follows_the_flattened_surface() {
     let h = heights(64, 11);
-    let solver = BemSolver::new(&h, 1e-3, &Stack::half_space(4e9, 0.15).unwrap(), BemOptions::default()).unwrap();
+    let solver = BemSolver::new(
+        &h,
+        1e-3,
+        &Stack::half_space(4e9, 0.15).unwrap(),
+        BemOptions::default(),
+    )
+    .unwrap();
     let mut path = PlasticPath::new(&solver, 0.4e9).unwrap();
     let (d0, d1) = (5e-6, 6e-6);
     let (load0, _) = path.step(BemLoad::Approach(d0)).unwrap();
@@ -163,10 +193,17 @@ const SCENE: &str = "[stack]\nfile = \"STACK\"\n[surface]\nperiodic = true\n[sur
 
 fn scene_text(extra: &str) -> String {
     let stack = crate::support::repo().join("tables/stacks/paper-two-layer.toml");
-    format!("{}{extra}", SCENE.replace("STACK", &stack.display().to_string()))
+    format!(
+        "{}{extra}",
+        SCENE.replace("STACK", &stack.display().to_string())
+    )
 }
 
-fn solve(dir: &std::path::Path, name: &str, text: &str) -> (std::process::Output, std::path::PathBuf) {
+fn solve(
+    dir: &std::path::Path,
+    name: &str,
+    text: &str,
+) -> (std::process::Output, std::path::PathBuf) {
     let scene = dir.join(format!("{name}.toml"));
     std::fs::write(&scene, text).unwrap();
     let out = dir.join(name);
@@ -195,7 +232,13 @@ fn rows(csv: &str) -> Vec<Vec<f64>> {
 fn plastic_scenes_through_solve() {
     let d = crate::support::fresh_dir("plastic", "scene");
     let load = "[load]\napproach = { from = 2e-6, to = 8e-6, steps = 4 }\n";
-    let (o, out) = solve(&d, "plastic", &scene_text(&format!("{load}unload = true\n[plasticity]\nhardness = 0.2e9\n")));
+    let (o, out) = solve(
+        &d,
+        "plastic",
+        &scene_text(&format!(
+            "{load}unload = true\n[plasticity]\nhardness = 0.2e9\n"
+        )),
+    );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
     assert!(csv.starts_with("delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid,plastic_area_fraction\n"));
@@ -203,16 +246,28 @@ fn plastic_scenes_through_solve() {
     assert_eq!(r.len(), 7);
     for k in 0..3 {
         assert_eq!(r[k][0], r[6 - k][0], "same δ on the way back");
-        assert!(r[6 - k][2] < r[k][2], "step {k}: unloading {} ≥ loading {}", r[6 - k][2], r[k][2]);
+        assert!(
+            r[6 - k][2] < r[k][2],
+            "step {k}: unloading {} ≥ loading {}",
+            r[6 - k][2],
+            r[k][2]
+        );
     }
-    assert!(r[3][8] > 0.0 && r[4][8] == 0.0, "plastic at the top, elastic unloading");
+    assert!(
+        r[3][8] > 0.0 && r[4][8] == 0.0,
+        "plastic at the top, elastic unloading"
+    );
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap()).unwrap();
     assert_eq!(json["plasticity"]["hardness"], 0.2e9);
     let depth = json["steps"][6]["plastic_depth_max"].as_f64().unwrap();
     assert!(depth > 0.0 && depth == json["steps"][3]["plastic_depth_max"].as_f64().unwrap());
     // H huge: the elastic scene (another solver: the preconditioned Polonsky–Keer CG).
-    let (o1, e1) = solve(&d, "hard", &scene_text(&format!("{load}[plasticity]\nhardness = 1e300\n")));
+    let (o1, e1) = solve(
+        &d,
+        "hard",
+        &scene_text(&format!("{load}[plasticity]\nhardness = 1e300\n")),
+    );
     let (o2, e2) = solve(&d, "elastic", &scene_text(load));
     assert!(o1.status.success() && o2.status.success());
     let (a, b) = (
@@ -227,19 +282,37 @@ fn plastic_scenes_through_solve() {
     let (o, _) = solve(
         &d,
         "nmodel",
-        &scene_text(&format!("{load}[plasticity]\nhardness = 1e9\n")).replace("kind = \"bem\"", "kind = \"independent\""),
+        &scene_text(&format!("{load}[plasticity]\nhardness = 1e9\n"))
+            .replace("kind = \"bem\"", "kind = \"independent\""),
     );
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity"));
-    let (o, _) = solve(&d, "neg", &scene_text(&format!("{load}[plasticity]\nhardness = -1\n")));
+    let (o, _) = solve(
+        &d,
+        "neg",
+        &scene_text(&format!("{load}[plasticity]\nhardness = -1\n")),
+    );
     assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity.hardness"));
     let scene = d.join("plastic.toml");
     for args in [
-        vec!["compare".to_string(), scene.display().to_string(), "--out".into(), d.join("cmp").display().to_string()],
-        vec!["law".to_string(), scene.display().to_string(), "--out".into(), d.join("law.csv").display().to_string()],
+        vec![
+            "compare".to_string(),
+            scene.display().to_string(),
+            "--out".into(),
+            d.join("cmp").display().to_string(),
+        ],
+        vec![
+            "law".to_string(),
+            scene.display().to_string(),
+            "--out".into(),
+            d.join("law.csv").display().to_string(),
+        ],
     ] {
         let o = crate::support::strata_in(&d).args(&args).output().unwrap();
         assert!(!o.status.success(), "{args:?}");
-        assert!(String::from_utf8_lossy(&o.stderr).contains("plastic"), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains("plastic"),
+            "{args:?}"
+        );
     }
 }
