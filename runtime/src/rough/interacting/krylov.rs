@@ -28,7 +28,7 @@
 
 use super::energy::{Energy, State};
 use super::far_field::{NB, Vb, dot};
-use super::newton::lu_solve;
+use super::lu::lu_solve;
 
 /// The solve of J x = b on the active set `act` at the state `st`: dense LU with the
 /// dense sums, conjugate gradients to the relative residual `rtol` (max-norm, F units)

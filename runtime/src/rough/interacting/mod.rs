@@ -75,6 +75,7 @@ pub mod far_field;
 pub(crate) mod far_grid;
 pub(crate) mod images;
 pub(crate) mod krylov;
+pub(crate) mod lu;
 #[cfg(feature = "spectral")]
 pub(crate) mod near;
 #[cfg(not(feature = "spectral"))]
