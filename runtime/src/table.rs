@@ -87,6 +87,7 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 
 /// Errors reading, validating or using a table.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum TableError {
     #[error("cannot access table file {path}: {message}")]
     Io { path: String, message: String },

@@ -32,7 +32,7 @@ mod params;
 pub use crate::law::contact_radius;
 pub use error::{FarFieldError, IndependentError, NewtonError, PressureError, RoughError};
 pub use interacting::Interaction;
-pub use params::{Diagnostics, FarFieldInfo, Params, raise_advice};
+pub use params::{Diagnostics, FarFieldInfo, Params, ParamsError, raise_advice};
 
 use crate::law::AsperityLaw;
 use crate::summits::Summit;
