@@ -373,17 +373,6 @@ impl Table {
         Ok(())
     }
 
-    /// Serialises the table ([`codec`]).
-    pub fn to_bytes(&self) -> Result<Vec<u8>, TableError> {
-        self.validate()?;
-        codec::encode(self)
-    }
-
-    /// Parses and validates a table ([`codec`]).
-    pub fn from_bytes(bytes: &[u8]) -> Result<Self, TableError> {
-        codec::decode(bytes)
-    }
-
     /// Loads a table file, checking signature, version, length, checksum and contents.
     pub fn load(path: &Path) -> Result<Self, TableError> {
         let bytes = std::fs::read(path).map_err(|e| TableError::Io {

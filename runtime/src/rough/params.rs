@@ -134,7 +134,10 @@ impl Params {
         for (field, v) in [
             ("kkt_tolerance", self.kkt_tolerance),
             ("newton_tolerance", self.newton_tolerance),
-            ("iterative_newton_tolerance", self.iterative_newton_tolerance),
+            (
+                "iterative_newton_tolerance",
+                self.iterative_newton_tolerance,
+            ),
             ("round_off_floor", self.round_off_floor),
             ("armijo", self.armijo),
             ("g_difference_step", self.g_difference_step),
