@@ -156,7 +156,7 @@ impl Params {
             ("far_field_tolerance", self.far_field_tolerance),
             ("drop_fraction", self.drop_fraction),
         ] {
-            if !(v >= 0.0 && v < 1.0) {
+            if !(0.0..1.0).contains(&v) {
                 return bad(field, v, "in [0, 1)");
             }
         }

@@ -62,7 +62,7 @@ impl Newton<'_, '_> {
     /// [`Params::iterative_newton_tolerance`] × δ_max on the grid path.
     fn target(&self) -> f64 {
         let prm = self.params;
-        let rel = if self.energy.geo.fast.is_some() {
+        let rel = if self.energy.geo.sums.grid().is_some() {
             prm.iterative_newton_tolerance
         } else {
             prm.newton_tolerance
