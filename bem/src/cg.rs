@@ -53,7 +53,6 @@
 //! base: pressures 2e-4 of the peak off; `preconditioned_unloading_curves_on_extreme_coatings`);
 //! the maximum costs ~10 % more iterations on the E2/E1 = 5 curve (348 → 387 at 512²).
 
-
 use crate::BemError;
 use crate::iteration::{CgOutcome, Head, Problem, Start, State};
 use crate::state::{Control, Pending, REFRESH, StepSums, Sums};
@@ -66,7 +65,6 @@ enum Fused {
     /// set changed (`changed` in the sums), the state converged, or a refresh is due.
     Stopped(Sums),
 }
-
 
 /// Solves; on return `p` holds the pressure. With a preconditioner in the problem the
 /// preconditioned iteration runs ([`crate::pcg`]), the plain one otherwise or once the
@@ -139,7 +137,6 @@ fn plain(s: &mut State, p: &mut [f64], it: &mut usize) -> Result<CgOutcome, BemE
         }
     }
 }
-
 
 impl State<'_> {
     /// The direction t = g + β t (on the contact set) and r = K t, one product, and the
@@ -230,5 +227,4 @@ impl State<'_> {
             None => Fused::Stopped(sums),
         })
     }
-
 }

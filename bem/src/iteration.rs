@@ -83,7 +83,6 @@ pub(crate) enum Head {
     Go,
 }
 
-
 impl<'a> State<'a> {
     /// The initial guess (kept if given: a warm start), the buffers, and the exact gap
     /// of the guess.
@@ -222,7 +221,6 @@ impl<'a> State<'a> {
     }
 }
 
-
 impl<'a> State<'a> {
     /// Applies the pending scale to p and u.
     pub(crate) fn materialise(&mut self, p: &mut [f64]) {
@@ -308,7 +306,6 @@ impl<'a> State<'a> {
             leave: d.leave,
         }
     }
-
 }
 
 /// Error terms of the state (f p, f u) with offset c (pressure control: f and c are

@@ -153,7 +153,6 @@ impl StepSums {
     }
 }
 
-
 impl Merge for StepSums {
     fn merge(self, o: Self) -> Self {
         StepSums {
@@ -287,4 +286,3 @@ pub(crate) struct UpdateChunk<'s> {
     pub(crate) r: &'s [f64],
     pub(crate) z: &'s [f64],
 }
-

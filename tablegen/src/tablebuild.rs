@@ -17,17 +17,15 @@
 
 use std::path::{Path, PathBuf};
 
-use rayon::prelude::*;
-use strata_runtime::Stack;
-use strata_runtime::table::{
-    Axis, DEFAULT_TOLERANCE, FORMAT_VERSION, Family, Header, Table, Vary,
-};
 use crate::approx::{Approx, ApproxError};
 pub use crate::error::BuildError;
-use crate::progress::bar;
 pub use crate::progress::Bars;
+use crate::progress::bar;
 use crate::tablecheck::{FarChoice, choose_far_field};
 pub use crate::tablecheck::{SplitMix, check, check_with};
+use rayon::prelude::*;
+use strata_runtime::Stack;
+use strata_runtime::table::{Axis, DEFAULT_TOLERANCE, FORMAT_VERSION, Family, Header, Table, Vary};
 
 /// Table resolution and family.
 #[derive(Debug, Clone, PartialEq)]
@@ -518,7 +516,10 @@ mod tests {
             .unwrap(),
         ] {
             let e = t2.law_for(&bad).unwrap_err();
-            assert!(matches!(e, strata_runtime::table::TableError::NotInFamily(_)), "{e}");
+            assert!(
+                matches!(e, strata_runtime::table::TableError::NotInFamily(_)),
+                "{e}"
+            );
         }
     }
 
@@ -613,11 +614,11 @@ mod shipped {
 mod check_tests {
     use super::*;
     use crate::tablecheck::*;
+    use strata_runtime::Layer;
+    use strata_runtime::law::AsperityLaw;
     use strata_runtime::table::Table;
     use strata_runtime::table::far::FarField;
     use strata_runtime::{Base, Stack};
-    use strata_runtime::Layer;
-    use strata_runtime::law::AsperityLaw;
 
     fn one_layer(e1: f64, nu1: f64, base: Base) -> Stack {
         Stack::new(

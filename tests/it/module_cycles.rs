@@ -104,7 +104,9 @@ fn tokens(src: &str) -> Vec<Tok> {
             out.push(Tok::Ident(b[s..j].iter().collect()));
             i = j;
         } else if c.is_ascii_digit() {
-            while i < n && (ident_char(b[i]) || b[i] == '.' && i + 1 < n && b[i + 1].is_ascii_digit()) {
+            while i < n
+                && (ident_char(b[i]) || b[i] == '.' && i + 1 < n && b[i + 1].is_ascii_digit())
+            {
                 i += 1;
             }
         } else if c == ':' && i + 1 < n && b[i + 1] == ':' {
@@ -222,7 +224,12 @@ fn absolute(at: &[String], path: &[String], children: &BTreeSet<String>) -> Opti
 
 /// Parses a `use` tree at `toks[*i]` (after `use`), with `prefix` the path so far;
 /// pushes (binding name or "*", path).
-fn use_tree(toks: &[Tok], i: &mut usize, prefix: Vec<String>, out: &mut Vec<(String, Vec<String>)>) {
+fn use_tree(
+    toks: &[Tok],
+    i: &mut usize,
+    prefix: Vec<String>,
+    out: &mut Vec<(String, Vec<String>)>,
+) {
     let mut path = prefix;
     if toks.get(*i) == Some(&Tok::Path) {
         *i += 1;
@@ -303,7 +310,10 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
     let path_attrs = path_attributes(&src);
     let mut path_attr_seen = 0;
     let mut files_to_read: Vec<(PathBuf, Vec<String>)> = Vec::new();
-    tree.entry(at.clone()).or_default().files.insert(rel.clone());
+    tree.entry(at.clone())
+        .or_default()
+        .files
+        .insert(rel.clone());
     // First pass: modules, definitions and use declarations.
     let mut code_paths: Vec<(Vec<String>, Vec<String>)> = Vec::new();
     let mut i = 0;
@@ -312,7 +322,8 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
         match &toks[i] {
             Tok::Punct('#') => {
                 // `#[path = "…"]` before a `mod` (its string read from the text).
-                if let (Some(Tok::Punct('[')), Some(Tok::Ident(a))) = (toks.get(i + 1), toks.get(i + 2))
+                if let (Some(Tok::Punct('[')), Some(Tok::Ident(a))) =
+                    (toks.get(i + 1), toks.get(i + 2))
                     && a == "path"
                 {
                     attr_path = path_attrs.get(path_attr_seen).cloned();
@@ -338,7 +349,10 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
                 if let Some(Tok::Ident(name)) = toks.get(i + 1) {
                     let mut child = cur.clone();
                     child.push(name.clone());
-                    tree.entry(cur.clone()).or_default().children.insert(name.clone());
+                    tree.entry(cur.clone())
+                        .or_default()
+                        .children
+                        .insert(name.clone());
                     match toks.get(i + 2) {
                         Some(Tok::Punct(';')) => {
                             if cur == at {
@@ -347,7 +361,10 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
                             }
                         }
                         Some(Tok::Punct('{')) => {
-                            tree.entry(child.clone()).or_default().files.insert(rel.clone());
+                            tree.entry(child.clone())
+                                .or_default()
+                                .files
+                                .insert(rel.clone());
                             pending_inline = Some(child);
                         }
                         _ => {}
@@ -403,13 +420,21 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
                 ) =>
             {
                 if let Some(Tok::Ident(name)) = toks.get(i + 1) {
-                    tree.entry(cur.clone()).or_default().defined.insert(name.clone());
+                    tree.entry(cur.clone())
+                        .or_default()
+                        .defined
+                        .insert(name.clone());
                 }
                 i += 1;
             }
             Tok::Ident(k) if k == "macro_rules" => {
-                if let (Some(Tok::Punct('!')), Some(Tok::Ident(name))) = (toks.get(i + 1), toks.get(i + 2)) {
-                    tree.entry(cur.clone()).or_default().defined.insert(name.clone());
+                if let (Some(Tok::Punct('!')), Some(Tok::Ident(name))) =
+                    (toks.get(i + 1), toks.get(i + 2))
+                {
+                    tree.entry(cur.clone())
+                        .or_default()
+                        .defined
+                        .insert(name.clone());
                 }
                 i += 1;
             }
@@ -417,7 +442,10 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
                 // A path in code: crate::…, super::…, self::…, or child::… (not after `::`,
                 // `$` or `.`).
                 let prev = if i > 0 { toks.get(i - 1) } else { None };
-                let after_path = matches!(prev, Some(Tok::Path) | Some(Tok::Punct('$')) | Some(Tok::Punct('.')));
+                let after_path = matches!(
+                    prev,
+                    Some(Tok::Path) | Some(Tok::Punct('$')) | Some(Tok::Punct('.'))
+                );
                 let mut j = i;
                 let mut p = vec![first.clone()];
                 while toks.get(j + 1) == Some(&Tok::Path) {
@@ -437,7 +465,10 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
         }
     }
     for (cur, p) in code_paths {
-        let children = tree.get(&cur).map(|m| m.children.clone()).unwrap_or_default();
+        let children = tree
+            .get(&cur)
+            .map(|m| m.children.clone())
+            .unwrap_or_default();
         // `pub(in crate::x)` and the like are not imports; neither is the first segment
         // of a path that only names this module (`self::`).
         if let Some(abs) = absolute(&cur, &p, &children) {
@@ -465,7 +496,11 @@ fn declared_children(toks: &[Tok]) -> BTreeSet<String> {
 fn path_attributes(src: &str) -> Vec<String> {
     src.lines()
         .filter_map(|l| {
-            let rest = l.trim().strip_prefix("#[path")?.trim_start().strip_prefix('=')?;
+            let rest = l
+                .trim()
+                .strip_prefix("#[path")?
+                .trim_start()
+                .strip_prefix('=')?;
             let rest = rest.trim().strip_prefix('"')?;
             Some(rest[..rest.find('"')?].to_string())
         })
@@ -660,7 +695,8 @@ fn closed_path(g: &Graph, comp: &[String]) -> String {
 /// members (the package directories with a `Cargo.toml` and a `src/`).
 fn crate_roots() -> Vec<PathBuf> {
     let root = repo();
-    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).expect("the workspace manifest");
+    let manifest =
+        std::fs::read_to_string(root.join("Cargo.toml")).expect("the workspace manifest");
     let members = manifest
         .split("members")
         .nth(1)
@@ -739,7 +775,10 @@ fn no_file_imports_another_in_a_cycle() {
         new.is_empty(),
         "{} import cycle(s) between files:\n{}",
         new.len(),
-        new.iter().map(|s| s.as_str()).collect::<Vec<_>>().join("\n")
+        new.iter()
+            .map(|s| s.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
     );
     assert!(
         gone.is_empty(),
@@ -760,17 +799,36 @@ fn checker_finds_cycles() {
         "lib.rs",
         "mod a;\nmod b;\nmod c;\nmod leaf;\npub use b::B;\npub use leaf::Leaf;\n// crate::c::C in a comment\n",
     );
-    write("a/mod.rs", "mod inner;\npub(crate) fn a() { inner::f(); }\n");
-    write("a/inner.rs", "pub(crate) fn f() { let _ = \"crate::b::B\"; }\n");
-    write("b.rs", "use crate::Leaf;\npub struct B;\nfn g() { crate::c::h(); }\n");
+    write(
+        "a/mod.rs",
+        "mod inner;\npub(crate) fn a() { inner::f(); }\n",
+    );
+    write(
+        "a/inner.rs",
+        "pub(crate) fn f() { let _ = \"crate::b::B\"; }\n",
+    );
+    write(
+        "b.rs",
+        "use crate::Leaf;\npub struct B;\nfn g() { crate::c::h(); }\n",
+    );
     write("c.rs", "pub(crate) fn h() { let _ = super::B; }\n");
     write("leaf.rs", "pub struct Leaf;\n");
     let g = graph(&src.join("lib.rs"), &dir);
     let found = cycles(&g);
-    assert_eq!(found, vec![vec!["src/b.rs".to_string(), "src/c.rs".to_string()]], "{g:?}");
+    assert_eq!(
+        found,
+        vec![vec!["src/b.rs".to_string(), "src/c.rs".to_string()]],
+        "{g:?}"
+    );
     assert!(g["src/b.rs"].contains_key("src/leaf.rs"), "{g:?}");
-    assert!(g["src/lib.rs"].is_empty(), "a facade imports nothing it re-exports: {g:?}");
-    assert!(!g["src/a/inner.rs"].contains_key("src/b.rs"), "strings are not paths: {g:?}");
+    assert!(
+        g["src/lib.rs"].is_empty(),
+        "a facade imports nothing it re-exports: {g:?}"
+    );
+    assert!(
+        !g["src/a/inner.rs"].contains_key("src/b.rs"),
+        "strings are not paths: {g:?}"
+    );
     assert!(g["src/a/mod.rs"].contains_key("src/a/inner.rs"), "{g:?}");
 }
 
@@ -790,7 +848,11 @@ fn bem_checks_for_avx2_in_one_place() {
                 for (n, line) in text.lines().enumerate() {
                     let code = line.split("//").next().unwrap_or("");
                     if code.contains("is_x86_feature_detected!") {
-                        sites.push(format!("{}:{}", p.strip_prefix(repo()).unwrap_or(&p).display(), n + 1));
+                        sites.push(format!(
+                            "{}:{}",
+                            p.strip_prefix(repo()).unwrap_or(&p).display(),
+                            n + 1
+                        ));
                     }
                 }
             }

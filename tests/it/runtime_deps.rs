@@ -13,7 +13,15 @@ fn runtime_tree(extra: &[&str]) -> BTreeSet<String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = std::process::Command::new(cargo)
         .current_dir(repo())
-        .args(["tree", "-p", "strata-runtime", "-e", "normal", "--prefix", "none"])
+        .args([
+            "tree",
+            "-p",
+            "strata-runtime",
+            "-e",
+            "normal",
+            "--prefix",
+            "none",
+        ])
         .args(["--locked", "--offline"])
         .args(extra)
         .output()
@@ -41,7 +49,9 @@ fn runtime_default_features_are_light() {
         crates.len(),
         crates.iter().cloned().collect::<Vec<_>>().join("\n")
     );
-    for heavy in ["ndarray", "rayon", "rustfft", "realfft", "zip", "toml", "rand"] {
+    for heavy in [
+        "ndarray", "rayon", "rustfft", "realfft", "zip", "toml", "rand",
+    ] {
         assert!(
             !crates.iter().any(|c| c.split(' ').next() == Some(heavy)),
             "{heavy} is a default dependency of the runtime"

@@ -170,7 +170,6 @@ impl UpdateFill<'_> {
             acc.stats.add(f2 * v, gap);
         }
     }
-
 }
 
 /// The rule of an update pass (see [`UpdateStep`]).
