@@ -354,11 +354,9 @@ fn read_module(tree: &mut Tree, file: &Path, at: Vec<String>, root: &Path) {
                         .children
                         .insert(name.clone());
                     match toks.get(i + 2) {
-                        Some(Tok::Punct(';')) => {
-                            if cur == at {
-                                let f = child_file(file, dir_owner, name, attr_path.as_deref());
-                                files_to_read.push((f, child));
-                            }
+                        Some(Tok::Punct(';')) if cur == at => {
+                            let f = child_file(file, dir_owner, name, attr_path.as_deref());
+                            files_to_read.push((f, child));
                         }
                         Some(Tok::Punct('{')) => {
                             tree.entry(child.clone())
