@@ -65,7 +65,7 @@
 //! from 512² to 2048², against 181–808 plain); convolutions by real-to-complex FFTs with
 //! the kernel applied in place ([`strata_runtime::fft`]), the vector operations fused
 //! into the FFT's row passes, 4 points per instruction where the CPU has AVX2 (module
-//! `simd`, the scalar rules otherwise), and run on all cores; the correction of the
+//! `kernels`: the form is chosen once per solver, the scalar rules otherwise), and run on all cores; the correction of the
 //! displacement where only a few points changed the contact set summed in real space
 //! (module `update`); warm starts along a load path
 //! ([`BemSolver::solve_curve`]: the field extrapolated from the last two steps) and a
@@ -95,36 +95,15 @@
 mod cg;
 mod error;
 pub mod influence;
+mod iteration;
+mod kernels;
 mod maps;
 mod operator;
 mod pcg;
 pub mod plastic;
 mod reference;
-#[cfg(target_arch = "x86_64")]
-mod simd;
-
-/// Tests only: run the scalar rules even where the CPU has AVX2 (the solver must give
-/// the same answers either way; other tests running meanwhile may take either path).
-#[cfg(test)]
-pub(crate) static SCALAR: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Whether the vector forms of [`simd`] run on this CPU (AVX2).
-#[inline]
-fn avx2() -> bool {
-    #[cfg(test)]
-    if SCALAR.load(std::sync::atomic::Ordering::Relaxed) {
-        return false;
-    }
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
 mod solver;
+mod state;
 #[cfg(test)]
 mod tests;
 mod update;

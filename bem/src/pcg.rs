@@ -17,14 +17,16 @@
 //! 808 → 28). Each iteration costs two convolutions, M⁻¹ and K: the update of p and u
 //! is fused into the preconditioner's product while the contact set stays put (as in the
 //! plain iteration), and a third product corrects u when it changes at more than a few
-//! points (fewer: summed in real space, [`crate::update::POINT_SUMS`]). The stopping
+//! points (fewer: summed in real space, [`crate::state::POINT_SUMS`]). The stopping
 //! criterion, the exact refreshes and the acceptance on u = K p are those of `cg`.
 
 use strata_runtime::fft::Merge;
 
 use crate::BemError;
-use crate::cg::{Control, Head, Pending, REFRESH, State, StepSums, Sums};
+use crate::iteration::{CgOutcome, Head, State};
+use crate::kernels::Kernels;
 use crate::operator::Operator;
+use crate::state::{Control, Pending, REFRESH, Sums};
 
 /// The preconditioned gap of a state: δ = Σ_C g y and the mean ȳ removed from y
 /// (pressure control; 0 otherwise).
@@ -57,26 +59,9 @@ impl Merge for PcSums {
 impl PcSums {
     /// y = q on the contact set (p > 0), 0 elsewhere, with the sums.
     #[inline(always)]
-    fn drain(p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) -> Self {
-        #[cfg(target_arch = "x86_64")]
-        if crate::avx2() {
-            // SAFETY: the CPU has AVX2; the rows hold q.len() values.
-            let [gy, y, g, m] = unsafe { crate::simd::pc_drain(p, g, y, q) };
-            return PcSums { gy, y, g, m };
-        }
-        let mut a = PcSums::default();
-        for k in 0..q.len() {
-            if p[k] > 0.0 {
-                y[k] = q[k];
-                a.gy += g[k] * q[k];
-                a.y += q[k];
-                a.g += g[k];
-                a.m += 1.0;
-            } else {
-                y[k] = 0.0;
-            }
-        }
-        a
+    fn drain(kernels: Kernels, p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) -> Self {
+        let [gy, y, g, m] = kernels.pc_drain(p, g, y, q);
+        PcSums { gy, y, g, m }
     }
 
     fn precond(self, control: Control) -> Precond {
@@ -103,7 +88,7 @@ const STALL: usize = 24;
 /// the contact over the whole cell and a uniform gap. The solve then starts again from
 /// the cold guess k₁-stiffness × (z − c)⁺ (a warm start may have pressed too hard), and
 /// if that stalls too, goes on with the plain direction, the gap itself, which has the
-/// uniform component ([`crate::cg::solve`]). Under other controls the watch is off.
+/// uniform component (`cg::solve`). Under other controls the watch is off.
 struct Stall {
     on: bool,
     best: f64,
@@ -150,7 +135,7 @@ pub(crate) fn run(
     minv: &Operator,
     p: &mut [f64],
     it: &mut usize,
-) -> Result<Option<crate::cg::CgOutcome>, BemError> {
+) -> Result<Option<CgOutcome>, BemError> {
     let pb = s.pb;
     let mut stall = Stall::new(s.control);
     let mut exact = true;
@@ -209,6 +194,7 @@ impl State<'_> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let (f, c) = (self.f, self.c);
         let u = &self.u;
+        let kernels = self.pb.kernels;
         self.products += 1;
         let ((), sums) = minv.apply_fields(
             [&mut self.g, &mut self.y],
@@ -228,7 +214,7 @@ impl State<'_> {
                 }
             },
             |_| Some(()),
-            |_, i, [g, y], q| PcSums::drain(&p[i * nx..(i + 1) * nx], g, y, q),
+            |_, i, [g, y], q| PcSums::drain(kernels, &p[i * nx..(i + 1) * nx], g, y, q),
         )?;
         Ok(sums.unwrap_or_default().precond(self.control))
     }
@@ -237,7 +223,7 @@ impl State<'_> {
     fn direction_pc(&mut self, p: &[f64], beta: f64, ybar: f64) -> Result<Pending, BemError> {
         let nx = self.pb.op.nx();
         let f = self.f;
-        let wide = crate::avx2();
+        let kernels = self.pb.kernels;
         self.products += 1;
         let (gt, d) = self.pb.op.apply_fields(
             [&mut self.t, &mut self.r, &mut self.y, &mut self.g],
@@ -245,31 +231,12 @@ impl State<'_> {
             &mut self.work,
             |i, [t, _, y, g], input| {
                 let prow = &p[i * nx..(i + 1) * nx];
-                #[cfg(target_arch = "x86_64")]
-                if wide {
-                    // SAFETY: the CPU has AVX2; the rows hold nx values.
-                    return unsafe {
-                        crate::simd::direction_pc_row([ybar, beta], prow, y, g, t, input)
-                    };
-                }
-                let mut gt = 0.0;
-                for k in 0..nx {
-                    let v = if prow[k] > 0.0 {
-                        let v = y[k] - ybar + beta * t[k];
-                        gt += g[k] * v;
-                        v
-                    } else {
-                        0.0
-                    };
-                    t[k] = v;
-                    input[k] = v;
-                }
-                gt
+                kernels.direction_pc_row([ybar, beta], prow, y, g, t, input)
             },
             |_| Some(()),
             |_, i, [t, r, _, _], q| {
                 r.copy_from_slice(q);
-                StepSums::row(f, &p[i * nx..(i + 1) * nx], t, q)
+                kernels.step_sums(f, &p[i * nx..(i + 1) * nx], t, q)
             },
         )?;
         let mut d = d.unwrap_or_default();
@@ -288,6 +255,7 @@ impl State<'_> {
         minv: &Operator,
         go: bool,
     ) -> Result<Fused, BemError> {
+        let kernels = self.pb.kernels;
         let fill = self.update_fill(step, p.len());
         let (tol, z_rms) = (self.pb.tolerance, self.pb.z_rms);
         let gate = |a: &Sums| (go && !a.changed.any() && a.stats.error(z_rms) > tol).then_some(());
@@ -303,9 +271,11 @@ impl State<'_> {
             ],
             self.control.uniform(),
             &mut self.work,
-            |i, [p, u, g, t, r, corr, _], input| fill.row(i, [p, u, g, t, r, corr], input),
+            |i, [p, u, g, t, r, corr, _], input| {
+                kernels.update_fill_row(&fill, i, [p, u, g, t, r, corr], input)
+            },
             gate,
-            |_, _, [p, _, g, _, _, _, y], q| PcSums::drain(p, g, y, q),
+            |_, _, [p, _, g, _, _, _, y], q| PcSums::drain(kernels, p, g, y, q),
         )?;
         if drained.is_some() {
             self.products += 1;

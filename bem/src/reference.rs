@@ -18,7 +18,8 @@
 //! ```
 
 use crate::BemError;
-use crate::cg::{CgOutcome, Control, Problem};
+use crate::iteration::{CgOutcome, Problem};
+use crate::state::Control;
 
 /// Solves from a cold start; on return `p` holds the pressure.
 pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgOutcome, BemError> {

@@ -7,9 +7,12 @@ use strata_runtime::compliance::Compliance;
 use strata_runtime::resources::{bytes_for, check_memory};
 use strata_runtime::stack::{Base, Stack};
 
-use crate::cg::{self, Control, Problem};
+use crate::cg;
+use crate::iteration::Problem;
+use crate::kernels::Kernels;
 use crate::maps::{BemSolution, count_patches, resample_rect};
 use crate::operator::Operator;
+use crate::state::Control;
 use crate::{BemError, BemLoad, BemOptions};
 
 /// The sample: sides (m) and boundary condition. Heights are given as an ny × nx array,
@@ -88,6 +91,8 @@ pub struct BemSolver {
     /// operator's spectrum is not positive).
     precond: Option<Operator>,
     options: BemOptions,
+    /// The row loops (scalar or AVX2), chosen once when the solver is built.
+    kernels: Kernels,
     /// How to build the operator of the half grid (coarse-to-fine start).
     source: KernelSource,
     coarse: OnceLock<Option<Box<BemSolver>>>,
@@ -388,6 +393,7 @@ impl BemSolver {
             c0,
             op,
             options,
+            kernels: Kernels::detect(),
             source,
             coarse: OnceLock::new(),
         }
@@ -516,7 +522,17 @@ impl BemSolver {
             stiffness: self.local_stiffness(),
             tolerance: self.options.tolerance,
             max_iterations: self.options.max_iterations,
+            kernels: self.kernels,
         }
+    }
+
+    /// The same solver with the row loops `kernels` (tests of the scalar rules against
+    /// the vector forms on whole solves; before any solve, so the coarse grid's solver
+    /// inherits them).
+    #[cfg(test)]
+    pub(crate) fn with_kernels(mut self, kernels: Kernels) -> Self {
+        self.kernels = kernels;
+        self
     }
 
     /// The CG control of a load.
@@ -670,7 +686,7 @@ impl BemSolver {
                 Operator::free(my, mx, &g).ok()?
             }
         };
-        Some(Box::new(Self::assemble(
+        let mut coarse = Self::assemble(
             my,
             mx,
             self.geometry,
@@ -680,7 +696,9 @@ impl BemSolver {
             op,
             self.options,
             self.source.clone(),
-        )))
+        );
+        coarse.kernels = self.kernels;
+        Some(Box::new(coarse))
     }
 
     /// A stiffness (Pa/m) for initial guesses: that of the longest wave of the sample,
@@ -702,7 +720,7 @@ impl BemSolver {
         load: BemLoad,
         control: Control,
         p: Vec<f64>,
-        out: cg::CgOutcome,
+        out: crate::iteration::CgOutcome,
     ) -> BemSolution {
         let (ny, nx) = (self.ny, self.nx);
         let n2 = (ny * nx) as f64;

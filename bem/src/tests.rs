@@ -562,12 +562,12 @@ fn point_sums_equal_the_product() {
 
 #[test]
 fn scalar_and_vector_rules_give_the_same_solutions() {
-    // The AVX2 row loops (crate::simd) against the scalar rules on whole solves: a rough
+    // The AVX2 row loops (crate::kernels) against the scalar rules on whole solves: a rough
     // periodic cell (two-layer stack on a rigid base: uniform mode in play) under
     // mean-pressure and approach control, and a free 40×48 sample, both iterations.
     // The two paths sum in different orders, so they stop within the tolerance of each
     // other, not bit for bit: fields within 1e-8 of the peak, same contact sets.
-    use std::sync::atomic::Ordering;
+    use crate::kernels::Kernels;
     let rough = |ny: usize, nx: usize| {
         Array2::from_shape_fn((ny, nx), |(i, j)| {
             let (y, x) = (i as f64 / ny as f64, j as f64 / nx as f64);
@@ -648,10 +648,10 @@ fn scalar_and_vector_rules_give_the_same_solutions() {
                     }
                     (_, false) => BemLoad::Approach(0.8 * solver.max_separation()),
                 };
-                crate::SCALAR.store(true, Ordering::Relaxed);
-                let scalar = solver.solve(load);
-                crate::SCALAR.store(false, Ordering::Relaxed);
-                let (scalar, vector) = (scalar.unwrap(), solver.solve(load).unwrap());
+                let scalar = BemSolver::with_geometry(heights, *geo, stack, opts)
+                    .unwrap()
+                    .with_kernels(Kernels::scalar());
+                let (scalar, vector) = (scalar.solve(load).unwrap(), solver.solve(load).unwrap());
                 let peak = scalar.pressure.iter().fold(0.0f64, |a, &b| a.max(b));
                 let diff = scalar
                     .pressure

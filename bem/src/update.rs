@@ -1,268 +1,17 @@
 //! The update of p and u along a step of the constrained conjugate gradient
-//! ([`crate::cg`]): p ← max(f p − τ t, 0) with re-entry where the gap is negative,
+//! (`cg` and `pcg`): p ← max(f p − τ t, 0) with re-entry where the gap is negative,
 //! u ← f u − τ r, fused into the next product's row pass while the contact set stays put
-//! ([`UpdateFill`]) or as a pass of its own; and the correction u += K Δ where the
+//! (`UpdateFill`, row loops in `kernels`) or as a pass of its own; and the correction u += K Δ where the
 //! projection or the re-entry moved p off the step (Δ ≠ −τ t): by a product, or in real
-//! space when at most [`POINT_SUMS`] points changed.
+//! space when at most [`POINT_SUMS`](crate::state::POINT_SUMS) points changed; and the end of a step that was not
+//! fused ([`State::finish`]).
 
 use rayon::prelude::*;
 use strata_runtime::fft::Merge;
 
 use crate::BemError;
-use crate::cg::{CHUNK, Control, Pending, State, Sums};
-
-/// The points where a pass changed p off the step direction (left the contact set past
-/// p = 0, or re-entered it): their number and, up to [`Changed::CAP`] of them, their
-/// indices, so that the correction K Δ of a few points can be summed in real space.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Changed {
-    n: usize,
-    at: [u32; Changed::CAP],
-}
-
-impl Default for Changed {
-    fn default() -> Self {
-        Changed {
-            n: 0,
-            at: [0; Changed::CAP],
-        }
-    }
-}
-
-impl Changed {
-    /// Indices kept; past this only the count.
-    pub(crate) const CAP: usize = POINT_SUMS;
-
-    #[inline(always)]
-    fn push(&mut self, i: usize) {
-        if self.n < Self::CAP {
-            self.at[self.n] = i as u32;
-        }
-        self.n += 1;
-    }
-
-    /// Whether any point changed.
-    pub(crate) fn any(&self) -> bool {
-        self.n > 0
-    }
-
-    /// The indices, if all were kept.
-    pub(crate) fn points(&self) -> Option<&[u32]> {
-        (self.n <= Self::CAP).then(|| &self.at[..self.n])
-    }
-
-    pub(crate) fn merge(mut self, o: Self) -> Self {
-        let total = self.n + o.n;
-        if total <= Self::CAP {
-            self.at[self.n..total].copy_from_slice(&o.at[..o.n]);
-        }
-        self.n = total;
-        self
-    }
-}
-
-/// The fill of a fused iteration (see `State::fused` in [`crate::cg`]): the pending step applied to
-/// a row, the new gap on the contact set written to `g` and to the transform's input.
-pub(crate) struct UpdateFill<'a> {
-    z: &'a [f64],
-    nx: usize,
-    /// The state's scale and offset, the step.
-    f: f64,
-    c: f64,
-    tau: f64,
-    /// The new state's scale and offset, the contact set unchanged.
-    pub(crate) f2: f64,
-    pub(crate) c2: f64,
-}
-
-impl<'a> UpdateFill<'a> {
-    /// Row `i`: `rows` = [p, u, g, t, r, corr]; vectorised where the CPU allows
-    /// ([`crate::simd`]).
-    pub(crate) fn row(&self, i: usize, rows: [&mut [f64]; 6], input: &mut [f64]) -> Sums {
-        #[cfg(target_arch = "x86_64")]
-        if crate::avx2() {
-            // SAFETY: the CPU has AVX2 (checked at run time).
-            return unsafe { crate::simd::update_fill_row(self, i, rows, input) };
-        }
-        let mut acc = Sums::default();
-        self.points(i, 0..self.nx, rows, input, &mut acc);
-        acc
-    }
-
-    /// Points `ks` of row `i` (the scalar rule), added to `acc`.
-    #[inline(always)]
-    pub(crate) fn points(
-        &self,
-        i: usize,
-        ks: std::ops::Range<usize>,
-        rows: [&mut [f64]; 6],
-        input: &mut [f64],
-        acc: &mut Sums,
-    ) {
-        let [p, u, g, t, r, corr] = rows;
-        let (f, c, tau, f2, c2, nx) = (self.f, self.c, self.tau, self.f2, self.c2, self.nx);
-        let zrow = &self.z[i * nx..(i + 1) * nx];
-        for k in ks {
-            let (pi, ui) = (f * p[k], f * u[k]);
-            let v = if pi > 0.0 {
-                let v = pi - tau * t[k];
-                if v <= 0.0 {
-                    acc.changed.push(i * nx + k);
-                    if v < 0.0 {
-                        corr[k] = -v;
-                    }
-                    0.0
-                } else {
-                    v
-                }
-            } else {
-                let g = ui - zrow[k] + c;
-                if g < 0.0 {
-                    acc.changed.push(i * nx + k);
-                    acc.overlap = true;
-                    corr[k] = -tau * g;
-                    -tau * g
-                } else {
-                    0.0
-                }
-            };
-            p[k] = v;
-            let un = ui - tau * r[k];
-            u[k] = un;
-            let gap = f2 * un - zrow[k] + c2;
-            let gi = if v > 0.0 {
-                acc.su += un;
-                acc.sz += zrow[k];
-                acc.m += 1.0;
-                acc.psum += v;
-                gap
-            } else {
-                0.0
-            };
-            g[k] = gi;
-            input[k] = gi;
-            acc.stats.add(f2 * v, gap);
-        }
-    }
-
-    /// A fill from its parts (tests of the vector form against the scalar rule).
-    #[cfg(test)]
-    pub(crate) fn from_parts(z: &'a [f64], nx: usize, [f, c, tau, f2, c2]: [f64; 5]) -> Self {
-        UpdateFill {
-            z,
-            nx,
-            f,
-            c,
-            tau,
-            f2,
-            c2,
-        }
-    }
-
-    /// The step and scales: (f, c, τ, f′, c′), and the row length and heights.
-    pub(crate) fn consts(&self) -> ([f64; 5], usize, &[f64]) {
-        (
-            [self.f, self.c, self.tau, self.f2, self.c2],
-            self.nx,
-            self.z,
-        )
-    }
-}
-
-/// The step of an update pass ([`State::update`]): the pending scale f, the offset c,
-/// the step τ, and the offset if it is known (displacement control: the error terms
-/// follow).
-#[derive(Clone, Copy)]
-pub(crate) struct UpdateStep {
-    pub(crate) f: f64,
-    pub(crate) c: f64,
-    pub(crate) tau: f64,
-    pub(crate) known: Option<f64>,
-}
-
-/// One chunk of an update pass: p, u and `corr` updated, t, r and z read.
-pub(crate) struct UpdateChunk<'s> {
-    pub(crate) p: &'s mut [f64],
-    pub(crate) u: &'s mut [f64],
-    pub(crate) corr: &'s mut [f64],
-    pub(crate) t: &'s [f64],
-    pub(crate) r: &'s [f64],
-    pub(crate) z: &'s [f64],
-}
-
-impl UpdateStep {
-    /// The chunk starting at point `first`; vectorised where the CPU allows
-    /// ([`crate::simd`]).
-    pub(crate) fn chunk(&self, first: usize, mut ch: UpdateChunk) -> Sums {
-        #[cfg(target_arch = "x86_64")]
-        if crate::avx2() {
-            // SAFETY: the CPU has AVX2 (checked at run time).
-            return unsafe { crate::simd::update_chunk(self, first, ch) };
-        }
-        let mut acc = Sums::default();
-        self.points(first, 0..ch.p.len(), &mut ch, &mut acc);
-        acc
-    }
-
-    /// Points `ks` of the chunk (the scalar rule), added to `acc`.
-    #[inline(always)]
-    pub(crate) fn points(
-        &self,
-        first: usize,
-        ks: std::ops::Range<usize>,
-        ch: &mut UpdateChunk,
-        acc: &mut Sums,
-    ) {
-        let UpdateStep { f, c, tau, known } = *self;
-        let UpdateChunk {
-            p,
-            u,
-            corr,
-            t,
-            r,
-            z,
-        } = ch;
-        for i in ks {
-            let pi = f * p[i];
-            let ui = f * u[i];
-            let mut k = 0.0;
-            let v = if pi > 0.0 {
-                let v = pi - tau * t[i];
-                if v < 0.0 {
-                    k = -v;
-                    0.0
-                } else {
-                    v
-                }
-            } else {
-                let g = ui - z[i] + c;
-                if g < 0.0 {
-                    k = -tau * g;
-                    acc.overlap = true;
-                    k
-                } else {
-                    0.0
-                }
-            };
-            p[i] = v;
-            let un = ui - tau * r[i];
-            u[i] = un;
-            if k != 0.0 {
-                acc.changed.push(first + i);
-                corr[i] = k;
-            }
-            if v > 0.0 {
-                acc.su += un;
-                acc.sz += z[i];
-                acc.m += 1.0;
-                acc.psum += v;
-            }
-            if let Some(c) = known {
-                acc.stats.add(v, un - z[i] + c);
-            }
-        }
-    }
-}
+use crate::iteration::State;
+use crate::state::{CHUNK, Changed, Control, Pending, Sums, UpdateChunk, UpdateFill, UpdateStep};
 
 impl<'a> State<'a> {
     /// The fill of a fused iteration applying `step` (n points): the new state's scale
@@ -300,6 +49,7 @@ impl<'a> State<'a> {
     /// p ← max(f p − τ t, 0) with re-entry, u ← f u − τ r; the changes off −τ t go to
     /// `corr`.
     pub(crate) fn update(&mut self, p: &mut [f64], tau: f64) -> Sums {
+        let kernels = self.pb.kernels;
         let step = UpdateStep {
             f: self.f,
             c: self.c,
@@ -314,7 +64,8 @@ impl<'a> State<'a> {
             .zip(self.r.par_chunks(CHUNK))
             .zip(self.pb.z.par_chunks(CHUNK))
             .map(|((((((chunk, p), u), corr), t), r), z)| {
-                step.chunk(
+                kernels.update_chunk(
+                    &step,
                     chunk * CHUNK,
                     UpdateChunk {
                         p,
@@ -330,7 +81,7 @@ impl<'a> State<'a> {
     }
 
     /// u += K corr (corr zeroed on the way); the contact-set sums follow. The correction
-    /// of at most [`POINT_SUMS`] points is summed in real space ([`Self::correct_points`]),
+    /// of at most [`POINT_SUMS`](crate::state::POINT_SUMS) points is summed in real space ([`Self::correct_points`]),
     /// a larger one by a product.
     pub(crate) fn correct(&mut self, p: &[f64], before: Sums) -> Result<Sums, BemError> {
         // Listed (at most POINT_SUMS points): in real space.
@@ -361,12 +112,6 @@ impl<'a> State<'a> {
         })
     }
 }
-
-/// The most changed points whose correction K Δ is summed in real space (one pass over
-/// the grid per point, ~1/12 of a product's time at 512² on the 2-core machine) rather
-/// than by a product. Along the bench's 512² curve (plain iteration) about half the
-/// corrections have ≤ 12 points: products per iteration 1.48 → 1.25.
-pub(crate) const POINT_SUMS: usize = 12;
 
 impl State<'_> {
     /// [`Self::correct`] for the changed points `at`, in real space:
@@ -432,4 +177,31 @@ fn add_correction(du: &[f64], u: &mut [f64], p: &[f64], z: &[f64], known: Option
         }
     }
     acc
+}
+
+impl State<'_> {
+    /// After an update that was not fused (or stopped): u corrected by K Δ if the contact
+    /// set changed, the pending scale (pressure control), the offset and error terms.
+    /// Returns whether points re-entered the contact set (the conjugation restarts).
+    pub(crate) fn finish(&mut self, p: &mut [f64], mut sums: Sums) -> Result<bool, BemError> {
+        self.f = 1.0;
+        if sums.changed.any() {
+            // The contact set changed: add K Δ (the second product of this iteration,
+            // or a sum in real space over a few points).
+            sums = self.correct(p, sums)?;
+        }
+        let overlap = sums.overlap;
+        if let Control::Pressure(pbar) = self.control {
+            if sums.psum > 0.0 {
+                self.f = pbar * p.len() as f64 / sums.psum;
+            } else {
+                // Every point left the contact: restart from the uniform pressure.
+                p.fill(pbar);
+                self.exact(p)?;
+                return Ok(true);
+            }
+        }
+        self.settle(p, sums);
+        Ok(overlap)
+    }
 }

@@ -67,7 +67,7 @@ pub fn indent<'py>(
         }
     };
     let rows: Vec<(f64, f64)> = py.detach(|| {
-        crate::with_progress(progress, || -> anyhow::Result<Vec<(f64, f64)>> {
+        crate::progress::with_progress(progress, || -> anyhow::Result<Vec<(f64, f64)>> {
             if full {
                 let solver = Asperity::new(&stack, Options::default())?;
                 deltas

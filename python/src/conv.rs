@@ -190,3 +190,11 @@ pub fn count(obj: &Bound<'_, PyAny>, name: &str, kind: Kind) -> PyResult<u64> {
         )
     })
 }
+
+/// A JSON value (curve.json's summary, surface statistics) as Python objects.
+pub(crate) fn json_to_py<'py>(
+    py: Python<'py>,
+    v: &serde_json::Value,
+) -> PyResult<Bound<'py, PyAny>> {
+    py.import("json")?.call_method1("loads", (v.to_string(),))
+}

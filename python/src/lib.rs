@@ -17,27 +17,11 @@ mod asperity;
 mod conv;
 mod errors;
 mod law;
+mod progress;
 mod solve;
 mod stack;
 mod surface;
 mod table;
-
-/// Runs `f` with the progress and log lines of the `strata` library on stderr
-/// (`progress`) or silenced.
-pub(crate) fn with_progress<T>(progress: bool, f: impl FnOnce() -> T) -> T {
-    strata::progress::set_quiet(!progress);
-    let out = f();
-    strata::progress::set_quiet(false);
-    out
-}
-
-/// A JSON value (curve.json's summary, surface statistics) as Python objects.
-pub(crate) fn json_to_py<'py>(
-    py: Python<'py>,
-    v: &serde_json::Value,
-) -> PyResult<Bound<'py, PyAny>> {
-    py.import("json")?.call_method1("loads", (v.to_string(),))
-}
 
 #[pymodule]
 fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {

@@ -287,7 +287,7 @@ impl PyScene {
         let opts = self.options(progress, cache_dir, table)?;
         let mut kept: Vec<(usize, BemSolution)> = Vec::new();
         let sol = py.detach(|| {
-            crate::with_progress(progress, || {
+            crate::progress::with_progress(progress, || {
                 let surface = self.load_surface(progress)?;
                 solve_surface_with_maps(&self.scene, &self.path, surface, &opts, &mut |k, _, m| {
                     if keep == 1 {
@@ -303,7 +303,7 @@ impl PyScene {
             })
         })?;
         let out = curve_dict(py, &sol.steps)?;
-        out.set_item("meta", crate::json_to_py(py, &sol.meta)?)?;
+        out.set_item("meta", crate::conv::json_to_py(py, &sol.meta)?)?;
         let list = PyList::empty(py);
         for (k, m) in kept {
             let d = PyDict::new(py);
@@ -336,7 +336,7 @@ impl PyScene {
     ) -> PyResult<PyContactLaw> {
         let opts = self.options(progress, cache_dir, table)?;
         let sampled = py.detach(|| {
-            crate::with_progress(progress, || {
+            crate::progress::with_progress(progress, || {
                 let surface = self.load_surface(progress)?;
                 strata::cli::law::sample_law(
                     &self.scene,

@@ -231,7 +231,7 @@ impl PySurface {
     /// --json` prints), SI units.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::json_to_py(py, &strata::engine::surface_json(&self.surface))
+        crate::conv::json_to_py(py, &strata::engine::surface_json(&self.surface))
     }
 
     /// Warnings of the reader and of the statistics' plausibility checks.

@@ -90,7 +90,7 @@ impl PyTable {
         };
         let table = py
             .detach(|| {
-                crate::with_progress(progress, || {
+                crate::progress::with_progress(progress, || {
                     strata_tablegen::tablebuild::build(&stack, &opts)
                 })
             })

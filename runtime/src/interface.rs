@@ -60,6 +60,7 @@ pub const MAX_SAMPLES: usize = 100_000;
 
 /// Errors building or querying an [`InterfaceLaw`]. Each names the offending input.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum InterfaceError {
     #[error("samples: {0} samples given, at least 2 are needed")]
     TooFewSamples(usize),

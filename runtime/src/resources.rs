@@ -24,6 +24,7 @@ static LIMIT: AtomicU64 = AtomicU64::new(0);
 
 /// A request above the memory limit, or an unreadable limit setting.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum ResourceError {
     #[error(
         "{what} needs about {} but the memory limit is {} ({source_of_limit}); \

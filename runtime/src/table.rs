@@ -87,6 +87,7 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-4;
 
 /// Errors reading, validating or using a table.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum TableError {
     #[error("cannot access table file {path}: {message}")]
     Io { path: String, message: String },
@@ -370,17 +371,6 @@ impl Table {
             }
         }
         Ok(())
-    }
-
-    /// Serialises the table ([`codec`]).
-    pub fn to_bytes(&self) -> Result<Vec<u8>, TableError> {
-        self.validate()?;
-        codec::encode(self)
-    }
-
-    /// Parses and validates a table ([`codec`]).
-    pub fn from_bytes(bytes: &[u8]) -> Result<Self, TableError> {
-        codec::decode(bytes)
     }
 
     /// Loads a table file, checking signature, version, length, checksum and contents.

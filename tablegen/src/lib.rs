@@ -22,5 +22,7 @@ pub mod fredholm;
 pub mod kernel;
 
 pub mod approx;
+mod error;
+mod progress;
 pub mod tablebuild;
 pub mod tablecheck;

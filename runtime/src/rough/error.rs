@@ -7,6 +7,7 @@ use crate::resources::ResourceError;
 
 /// Errors of the rough-contact solvers.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum RoughError {
     #[error("no summits: the surface has no asperity to load")]
     NoSummits,
@@ -53,6 +54,7 @@ pub enum RoughError {
 
 /// The N model (single-asperity inversions).
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum IndependentError {
     #[error(
         "N model: asperity {index}: cannot solve ζ(a)a²/R = δ for a (δ = {delta}, R = {radius})"
@@ -66,6 +68,7 @@ pub enum IndependentError {
 
 /// The far-field model of the interaction kernel.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum FarFieldError {
     #[error(
         "I model far field: contact radii keep leaving the far-field model's range (last bound A = {bound:e} m, \
@@ -82,6 +85,7 @@ pub enum FarFieldError {
 
 /// The active-set Newton method of the I model.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum NewtonError {
     #[error(
         "I model: did not converge at δ = {delta:e} m: KKT residual {residual:e} (tolerance {tolerance:e}) \
@@ -132,6 +136,7 @@ pub enum NewtonError {
 
 /// The pressure-controlled driver.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum PressureError {
     #[error("load.mean_pressures: value {target:e} Pa out of range: {reason}")]
     OutOfRange { target: f64, reason: String },

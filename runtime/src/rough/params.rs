@@ -101,6 +101,92 @@ pub struct Params {
     pub max_pressure_iterations: usize,
 }
 
+/// A solver parameter outside its range ([`Params::validate`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("solver parameter `{field}` = {value}: must be {requirement}")]
+#[non_exhaustive]
+pub struct ParamsError {
+    /// The field of [`Params`].
+    pub field: &'static str,
+    /// Its value (counts as reals).
+    pub value: f64,
+    /// The range it must lie in.
+    pub requirement: &'static str,
+}
+
+impl Params {
+    /// Checks every field against its range, naming the first that is outside it:
+    /// tolerances, the Armijo constant and the difference steps in (0, 1) (the far-field
+    /// tolerance and the drop fraction in [0, 1): 0 means exact sums, never dropping);
+    /// the activation probe and start in (0, 1]; the far-field bound factor finite and
+    /// ≥ 1 (A bounds the N-model radii); every iteration cap and budget ≥ 1. The
+    /// defaults pass. The solvers do not call it: an embedder that sets fields calls it
+    /// once, before solving.
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        let bad = |field, value, requirement| {
+            Err(ParamsError {
+                field,
+                value,
+                requirement,
+            })
+        };
+        let open01 = "in (0, 1)";
+        for (field, v) in [
+            ("kkt_tolerance", self.kkt_tolerance),
+            ("newton_tolerance", self.newton_tolerance),
+            (
+                "iterative_newton_tolerance",
+                self.iterative_newton_tolerance,
+            ),
+            ("round_off_floor", self.round_off_floor),
+            ("armijo", self.armijo),
+            ("g_difference_step", self.g_difference_step),
+            ("jacobian_difference_step", self.jacobian_difference_step),
+            ("pressure_tolerance", self.pressure_tolerance),
+            (
+                "independent_pressure_tolerance",
+                self.independent_pressure_tolerance,
+            ),
+        ] {
+            if !(v > 0.0 && v < 1.0) {
+                return bad(field, v, open01);
+            }
+        }
+        for (field, v) in [
+            ("far_field_tolerance", self.far_field_tolerance),
+            ("drop_fraction", self.drop_fraction),
+        ] {
+            if !(0.0..1.0).contains(&v) {
+                return bad(field, v, "in [0, 1)");
+            }
+        }
+        for (field, v) in [
+            ("activation_probe", self.activation_probe),
+            ("activation_start", self.activation_start),
+        ] {
+            if !(v > 0.0 && v <= 1.0) {
+                return bad(field, v, "in (0, 1]");
+            }
+        }
+        let b = self.far_field_bound_factor;
+        if !(b.is_finite() && b >= 1.0) {
+            return bad("far_field_bound_factor", b, "finite and >= 1");
+        }
+        for (field, v) in [
+            ("max_activation_rounds", self.max_activation_rounds),
+            ("max_newton_steps", self.max_newton_steps),
+            ("max_step_newton_steps", self.max_step_newton_steps),
+            ("max_step_evaluations", self.max_step_evaluations),
+            ("max_pressure_iterations", self.max_pressure_iterations),
+        ] {
+            if v == 0 {
+                return bad(field, v as f64, ">= 1");
+            }
+        }
+        Ok(())
+    }
+}
+
 impl Default for Params {
     fn default() -> Self {
         Params {
@@ -182,4 +268,60 @@ pub fn raise_advice(key: &str, c: bool) -> String {
         String::new()
     };
     format!("[solver] {key} in the scene (Python: Scene(..., solver={{\"{key}\": ...}}){c})")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn validate_accepts_the_defaults_and_names_a_bad_field() {
+        assert_eq!(Params::default().validate(), Ok(()));
+        let exact = Params {
+            far_field_tolerance: 0.0,
+            ..Params::default()
+        };
+        assert_eq!(exact.validate(), Ok(()));
+        for (p, field) in [
+            (
+                Params {
+                    kkt_tolerance: 0.0,
+                    ..Params::default()
+                },
+                "kkt_tolerance",
+            ),
+            (
+                Params {
+                    armijo: f64::NAN,
+                    ..Params::default()
+                },
+                "armijo",
+            ),
+            (
+                Params {
+                    far_field_tolerance: -1e-5,
+                    ..Params::default()
+                },
+                "far_field_tolerance",
+            ),
+            (
+                Params {
+                    far_field_bound_factor: 0.9,
+                    ..Params::default()
+                },
+                "far_field_bound_factor",
+            ),
+            (
+                Params {
+                    max_step_evaluations: 0,
+                    ..Params::default()
+                },
+                "max_step_evaluations",
+            ),
+        ] {
+            let e = p.validate().unwrap_err();
+            assert_eq!(e.field, field);
+            assert!(e.to_string().contains(field), "{e}");
+        }
+    }
 }

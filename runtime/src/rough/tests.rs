@@ -2,7 +2,8 @@
 //! far-field error bounds and load paths on the shipped table.
 
 use super::*;
-use crate::law::Homogeneous;
+use crate::law::{AsperityLaw, Homogeneous};
+use crate::summits::Summit;
 use crate::surface::Surface;
 
 fn reference_surface() -> Option<Surface> {

@@ -57,6 +57,7 @@ use thiserror::Error;
 
 /// Errors from building or reading a surface. Each names the field or file.
 #[derive(Debug, Error)]
+#[non_exhaustive]
 pub enum SurfaceError {
     #[error("cannot read surface file {path}: {message}")]
     Io { path: String, message: String },

@@ -35,6 +35,21 @@ const PREFIX: usize = 28;
 /// make bincode allocate more than this (it asked for 3e18 bytes and aborted before).
 pub const MAX_PAYLOAD: u64 = 1 << 30;
 
+/// The file form of a table (the table itself knows nothing of it: this module imports
+/// `table`, never the other way).
+impl Table {
+    /// Serialises the table, validated first ([`encode`]).
+    pub fn to_bytes(&self) -> Result<Vec<u8>, TableError> {
+        self.validate()?;
+        encode(self)
+    }
+
+    /// Parses and validates a table ([`decode`]).
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, TableError> {
+        decode(bytes)
+    }
+}
+
 /// Serialises a table (header and arrays) to bytes.
 pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
     let config = bincode::config::standard();

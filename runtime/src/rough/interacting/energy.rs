@@ -4,7 +4,7 @@
 
 use super::far_field::{FarModel, NB, Vb, bracket, dot};
 use super::images::Prepared;
-use super::near::GridWork;
+use super::pair_sums::Work;
 use super::uniform::ZeroMean;
 use crate::law::AsperityLaw;
 use crate::rough::local::Local;
@@ -130,7 +130,7 @@ pub(crate) struct State {
     /// a_l = 0), and the workspace of the interaction grid.
     pub src: Vec<Vb>,
     pub sc: Vec<f64>,
-    pub work: Option<GridWork>,
+    pub work: Work,
 }
 
 /// Resizes `v` to `n` copies of `x` without reallocating when it is large enough.
@@ -363,7 +363,7 @@ impl Energy<'_> {
         let (n, ma) = (geo.n(), act.len());
         let mut jm = vec![0.0; ma * ma];
         let pi = std::f64::consts::PI;
-        if self.far().is_some() {
+        if let (Some(_), Some(nf)) = (self.far(), geo.sums.dense()) {
             let z: Vec<Vb> = act
                 .iter()
                 .map(|&l| {
@@ -376,7 +376,7 @@ impl Energy<'_> {
                 })
                 .collect();
             for (ii, &k) in act.iter().enumerate() {
-                let row = &geo.nf[k * n..(k + 1) * n];
+                let row = &nf[k * n..(k + 1) * n];
                 let dqk = st.loc[k].dq;
                 let out = &mut jm[ii * ma..(ii + 1) * ma];
                 for (jj, &l) in act.iter().enumerate() {

@@ -5,8 +5,8 @@
 //! repeated on the (2m+1)² block of cells around the sample, its own images included;
 //! [`Images::Isolated`] uses plain distances.
 
-use super::far_field::{FarModel, NB, Vb, dot};
-use super::near::{FastError, FastSums, GridWork};
+use super::far_field::{FarModel, NB, Vb};
+use super::pair_sums::{DenseSums, PairSums, Rows, Sources, Work};
 use crate::resources::{bytes_for, check_memory};
 use crate::rough::{FarFieldError, Images, RoughError};
 use crate::summits::Summit;
@@ -21,10 +21,6 @@ pub(crate) struct Prepared {
     /// Position (x, y) of each local index (m).
     pub pos: Vec<(f64, f64)>,
     pub far: Option<FarModel>,
-    /// N_kl,j = Σ_far images c_j(r), the Chebyshev coefficients of Σ_far images W(·, r)
-    /// (1/m; m×m row-major, symmetric; the diagonal holds the far self-images); empty
-    /// without a far model.
-    pub nf: Vec<Vb>,
     /// Near cross entries (p, q, r), p < q, one per image.
     pub near: Vec<(usize, usize, f64)>,
     /// Near cross entries of each local index.
@@ -37,8 +33,11 @@ pub(crate) struct Prepared {
     pub far_pairs: usize,
     /// N_kk: the far self images of one asperity (the same for every asperity).
     pub self_far: Vb,
-    /// The grid far field and near corrections (None: the dense sums `nf`).
-    pub fast: Option<FastSums>,
+    /// The far pair sums: dense N_kl,j = Σ_far images c_j(r), the Chebyshev coefficients
+    /// of Σ_far images W(·, r) (1/m; m×m row-major, symmetric; the diagonal holds the far
+    /// self-images; empty without a far model), or the grid far field with near
+    /// corrections.
+    pub sums: Box<dyn PairSums>,
     /// The dense sums skip the rows of candidates with δ_k at or below this (m): 0
     /// (not loaded), −∞ with the zero-mean images (every candidate may touch).
     pub rows_from: f64,
@@ -93,7 +92,11 @@ impl Prepared {
         let is_far = |r: f64| r >= r_c && r <= r_top;
         let n = cand.len();
         let (self_far, near_self) = self_images(extent, m, far.as_ref());
+        #[cfg(not(feature = "spectral"))]
+        let _ = (sums, tol);
+        #[cfg(feature = "spectral")]
         if let (Sums::Grid, Some(f)) = (sums, far.as_ref()) {
+            use super::near::{FastError, FastSums};
             match FastSums::build(summits, &cand, extent, m, f, tol) {
                 Ok(Some((fast, near))) => {
                     let far_pairs = fast.modelled_pairs + n * near_self_far(m, near_self.len());
@@ -104,13 +107,12 @@ impl Prepared {
                         cand,
                         a_valid: f.a_max,
                         far,
-                        nf: Vec::new(),
                         near,
                         near_of,
                         near_self,
                         far_pairs,
                         self_far,
-                        fast: Some(fast),
+                        sums: Box::new(fast),
                         rows_from: 0.0,
                     });
                 }
@@ -168,14 +170,13 @@ impl Prepared {
             pos: cand.iter().map(|&k| (summits[k].x, summits[k].y)).collect(),
             cand,
             far,
-            nf,
+            sums: Box::new(DenseSums { nf, n }),
             near,
             near_of,
             near_self,
             a_valid,
             far_pairs,
             self_far,
-            fast: None,
             rows_from: 0.0,
         })
     }
@@ -194,38 +195,22 @@ impl Prepared {
         deltas: &[f64],
         out_d: &mut [f64],
         out_u: &mut [Vb],
-        work: &mut Option<GridWork>,
+        work: &mut Work,
         sources_only: bool,
     ) -> Result<(), RoughError> {
-        if let Some(fast) = &self.fast {
-            let w = work.get_or_insert_with(|| fast.work());
-            return fast
-                .apply(src, sc, out_d, out_u, w, sources_only)
-                .map_err(|e| FarFieldError::Grid(e.to_string()).into());
-        }
-        let n = self.n();
-        for k in 0..n {
-            let row = &self.nf[k * n..(k + 1) * n];
-            let mut d = 0.0;
-            let mut u = [0.0; NB];
-            if deltas[k] <= self.rows_from {
-                out_d[k] = d;
-                out_u[k] = u;
-                continue;
-            }
-            for (l, nkl) in row.iter().enumerate() {
-                if l == k || sc[l] == 0.0 {
-                    continue;
-                }
-                d += dot(nkl, &src[l]);
-                for i in 0..NB {
-                    u[i] += sc[l] * nkl[i];
-                }
-            }
-            out_d[k] = d;
-            out_u[k] = u;
-        }
-        Ok(())
+        let rows = Rows {
+            deltas,
+            from: self.rows_from,
+        };
+        self.sums
+            .apply(
+                Sources { src, sc },
+                rows,
+                (out_d, out_u),
+                work,
+                sources_only,
+            )
+            .map_err(|e| FarFieldError::Grid(e).into())
     }
 
     /// Number of candidates.

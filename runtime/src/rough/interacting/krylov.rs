@@ -18,17 +18,17 @@
 //! and a symmetric Gauss–Seidel (SSOR, ω = 1) preconditioner M = (D + L) D⁻¹ (D + Lᵀ)
 //! built from the near field of H: its diagonal D and its entries between asperities
 //! closer than r_near (exact near pairs from the energy state; the others from the far
-//! model's leading three Chebyshev coefficients of the pair, [`FastSums::near_pairs`]).
+//! model's leading three Chebyshev coefficients of the pair, [`PairSums::near_pairs`]).
 //! M is symmetric positive definite whenever D > 0, whatever the coupling, and carries
 //! the strong short-range couplings the Jacobi preconditioner diag(H) misses.
 //! Negative curvature (pᵀHp ≤ 0) ends the iteration with the iterate so far (the Newton
 //! line search then checks descent and falls back to its scaled steepest descent).
 //!
-//! [`FastSums::near_pairs`]: super::near::FastSums::near_pairs
+//! [`PairSums::near_pairs`]: super::pair_sums::PairSums::near_pairs
 
 use super::energy::{Energy, State};
 use super::far_field::{NB, Vb, dot};
-use super::newton::lu_solve;
+use super::lu::lu_solve;
 
 /// The solve of J x = b on the active set `act` at the state `st`: dense LU with the
 /// dense sums, conjugate gradients to the relative residual `rtol` (max-norm, F units)
@@ -40,7 +40,7 @@ pub(crate) fn solve(
     b: &[f64],
     rtol: f64,
 ) -> Option<Vec<f64>> {
-    if en.geo.fast.is_none() {
+    if en.geo.sums.grid().is_none() {
         let mut jm = en.jacobian(st, act);
         let mut rhs = b.to_vec();
         return lu_solve(&mut jm, &mut rhs, act.len());
@@ -180,10 +180,9 @@ impl Ssor {
         let geo = op.en.geo;
         let mut start = vec![0usize; m + 1];
         let (mut col, mut val) = (Vec::new(), Vec::new());
-        let Some(fast) = geo.fast.as_ref().filter(|_| coupled) else {
+        let Some((pairs, lead)) = geo.sums.near_pairs().filter(|_| coupled) else {
             return Ssor { d, start, col, val };
         };
-        let (pairs, lead) = fast.near_pairs();
         // merge-join of the near pairs with the exact near list (one entry per image),
         // both sorted by (q, p): rows of ascending q, columns of ascending p
         let near = &geo.near;

@@ -75,12 +75,11 @@ pub mod far_field;
 pub(crate) mod far_grid;
 pub(crate) mod images;
 pub(crate) mod krylov;
+pub(crate) mod lu;
 #[cfg(feature = "spectral")]
 pub(crate) mod near;
-#[cfg(not(feature = "spectral"))]
-#[path = "near_stub.rs"]
-pub(crate) mod near;
 pub(crate) mod newton;
+pub(crate) mod pair_sums;
 pub(crate) mod path;
 #[cfg(all(test, feature = "spectral"))]
 mod scale_tests;
@@ -370,9 +369,8 @@ impl<'r, 'a> Problem<'r, 'a> {
     fn far_info(&self) -> Option<FarFieldInfo> {
         let g = &self.geo;
         let (grid_cells, near_radius, grid_error) =
-            g.fast.as_ref().map_or(((0, 0), 0.0, 0.0), |f| {
-                let (gx, gy, _) = f.grid.period();
-                ((gx as usize, gy as usize), f.grid.r_near, f.grid.worst)
+            g.sums.grid().map_or(((0, 0), 0.0, 0.0), |gi| {
+                (gi.cells, gi.near_radius, gi.worst)
             });
         g.far.as_ref().map(|f| FarFieldInfo {
             bound: f.a_max,

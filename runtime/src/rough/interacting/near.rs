@@ -12,6 +12,7 @@
 
 use super::far_field::{FarModel, NB, Vb, dot};
 use super::far_grid::{FarGrid, Stencil};
+use super::pair_sums::{GridInfo, LEAD, NearPairs, PairSums, Rows, Sources, Work};
 use crate::fft::FftError;
 use crate::resources::{ResourceError, bytes_for, check_memory};
 use crate::summits::Summit;
@@ -22,9 +23,6 @@ use rayon::prelude::*;
 /// preconditioner) and a margin for the exact list; the pairs of [`BUILD_BLOCK`]
 /// sources in assembly come on top ([`FastSums::build`]).
 pub(crate) const ENTRY_BYTES: u64 = 8 + 4 * (NB + LEAD) as u64 + 16;
-
-/// Leading Chebyshev coefficients of a near pair kept for the preconditioner.
-pub(crate) const LEAD: usize = 3;
 
 /// Sources whose near pairs are assembled at once (in parallel) when the sums are built.
 const BUILD_BLOCK: usize = 2048;
@@ -298,15 +296,8 @@ impl FastSums {
         )))
     }
 
-    /// The near pairs (p, q), p < q (local indices, sorted by (q, p)), and per pair the far
-    /// model's leading coefficients over its images at r ≥ r_c (1/m; zero for a pair
-    /// whose images are all closer than r_c: those are in the exact near list).
-    pub fn near_pairs(&self) -> (&[(u32, u32)], &[[f32; LEAD]]) {
-        (&self.pair, &self.lead)
-    }
-
-    /// A workspace for [`apply`](Self::apply).
-    pub fn work(&self) -> GridWork {
+    /// A workspace for [`apply_grid`](Self::apply_grid).
+    fn work(&self) -> GridWork {
         let n = self.stencils.len();
         GridWork {
             grid: self.grid.work(),
@@ -323,7 +314,7 @@ impl FastSums {
     /// own outputs (every pair read once, for both of its directions). `sources_only`:
     /// only the outputs of the sources (sc[k] ≠ 0) are wanted (a Jacobian–vector
     /// product on the active set); the others are left at zero.
-    pub fn apply(
+    fn apply_grid(
         &self,
         src: &[Vb],
         sc: &[f64],
@@ -387,6 +378,38 @@ impl FastSums {
                 }
             });
         Ok(())
+    }
+}
+
+/// The grid path of the pair sums.
+impl PairSums for FastSums {
+    fn apply(
+        &self,
+        Sources { src, sc }: Sources,
+        _: Rows,
+        (out_d, out_u): (&mut [f64], &mut [Vb]),
+        work: &mut Work,
+        sources_only: bool,
+    ) -> Result<(), String> {
+        let w = work
+            .get_or_insert_with(|| Box::new(self.work()))
+            .downcast_mut::<GridWork>()
+            .ok_or("the workspace of another pair-sum path")?;
+        self.apply_grid(src, sc, out_d, out_u, w, sources_only)
+            .map_err(|e| e.to_string())
+    }
+
+    fn grid(&self) -> Option<GridInfo> {
+        let (gx, gy, _) = self.grid.period();
+        Some(GridInfo {
+            cells: (gx as usize, gy as usize),
+            near_radius: self.grid.r_near,
+            worst: self.grid.worst,
+        })
+    }
+
+    fn near_pairs(&self) -> Option<NearPairs<'_>> {
+        Some((&self.pair, &self.lead))
     }
 }
 

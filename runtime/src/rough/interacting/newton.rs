@@ -62,7 +62,7 @@ impl Newton<'_, '_> {
     /// [`Params::iterative_newton_tolerance`] × δ_max on the grid path.
     fn target(&self) -> f64 {
         let prm = self.params;
-        let rel = if self.energy.geo.fast.is_some() {
+        let rel = if self.energy.geo.sums.grid().is_some() {
             prm.iterative_newton_tolerance
         } else {
             prm.newton_tolerance
@@ -325,47 +325,3 @@ const EARLY_ACTIVATION: f64 = 1e-3;
 /// ≤ 1.9e-9, far below the 1e-5 the accelerated-sums test asks); da/dδ itself only seeds
 /// the next step's start.
 const RATES_TOLERANCE: f64 = 1e-4;
-
-/// Dense LU solve with partial pivoting (row-major m×m); None when singular.
-pub(crate) fn lu_solve(a: &mut [f64], b: &mut [f64], m: usize) -> Option<Vec<f64>> {
-    for k in 0..m {
-        let piv = (k..m).max_by(|&i, &j| {
-            a[i * m + k]
-                .abs()
-                .partial_cmp(&a[j * m + k].abs())
-                .unwrap_or(std::cmp::Ordering::Equal)
-        })?;
-        if a[piv * m + k].is_nan() || a[piv * m + k] == 0.0 {
-            return None;
-        }
-        if piv != k {
-            for c in 0..m {
-                a.swap(k * m + c, piv * m + c);
-            }
-            b.swap(k, piv);
-        }
-        let d = a[k * m + k];
-        for i in k + 1..m {
-            let f = a[i * m + k] / d;
-            if f != 0.0 {
-                for c in k..m {
-                    a[i * m + c] -= f * a[k * m + c];
-                }
-                b[i] -= f * b[k];
-            }
-        }
-    }
-    let mut x = vec![0.0; m];
-    for i in (0..m).rev() {
-        let mut s = b[i];
-        for c in i + 1..m {
-            s -= a[i * m + c] * x[c];
-        }
-        x[i] = s / a[i * m + i];
-    }
-    if x.iter().all(|v| v.is_finite()) {
-        Some(x)
-    } else {
-        None
-    }
-}

@@ -1,16 +1,15 @@
-//! AVX2 forms of the iteration's hottest loops ([`crate::cg`]'s fused update and next
-//! direction, and the update pass of [`crate::update`]), 4 points per instruction, with the sums in vector
+//! AVX2 forms of the iteration's hottest loops (the fused update and next direction of
+//! `cg` and `pcg`, and the update pass of `update`), 4 points per instruction, with the sums in vector
 //! accumulators (no serial dependency through one scalar sum or `max`). The crate's
 //! baseline is SSE2 and the scalar loops, branchy, are not vectorised by the compiler:
-//! these run where `is_x86_feature_detected!("avx2")` says so. A block of 4 points in
+//! these run where [`Kernels::detect`](super::Kernels::detect) found AVX2. A block of 4 points in
 //! which the contact set changes is handed to the scalar rule, so the vector path only
 //! ever sees the common case. Sums are formed in a different order than the scalar
 //! loops (last bits only).
 
 use core::arch::x86_64::*;
 
-use crate::cg::{StepSums, Sums, UpdateFill};
-use crate::update::{UpdateChunk, UpdateStep};
+use crate::state::{StepSums, Sums, UpdateChunk, UpdateFill, UpdateStep};
 
 /// Σ of the 4 lanes.
 #[inline(always)]
@@ -74,7 +73,7 @@ fn step4([vf, vc, vtau]: [__m256d; 3], [pp, uu, tt, zz]: [__m256d; 4], strict: b
 }
 
 /// Lane accumulators of a pass that changes u ([`Sums`]): Σ u, Σ z, the count and Σ p
-/// over the contact set, and the error terms ([`crate::cg::Stats`]).
+/// over the contact set, and the error terms ([`crate::state::Stats`]).
 struct SumsLanes {
     su: __m256d,
     sz: __m256d,
@@ -222,7 +221,7 @@ impl StepLanes {
     }
 }
 
-/// [`UpdateFill::row`] on AVX2: the pending step applied to row `i` of p and u, the new
+/// The fused update row of [`UpdateFill`] on AVX2: the pending step applied to row `i` of p and u, the new
 /// gap on the contact set written to g and to the transform's input, and the sums.
 ///
 /// # Safety
@@ -598,244 +597,5 @@ pub(crate) unsafe fn pc_drain(p: &[f64], g: &[f64], y: &mut [f64], q: &[f64]) ->
             out[2] + hsum(gs),
             out[3] + hsum(m),
         ]
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A row of 4k + 3 points mixing the cases: contact points that stay, contact points
-    /// projected to p = 0 (one exactly), points off the set that stay off and points that
-    /// re-enter, so that blocks take both the vector path and the scalar hand-over.
-    fn row(nx: usize) -> [Vec<f64>; 6] {
-        let w = |s: f64| (0..nx).map(move |k| (k as f64 * s).sin());
-        let mut p: Vec<f64> = w(0.7)
-            .enumerate()
-            .map(|(k, v)| if k % 3 == 0 { 0.0 } else { 1.0 + v })
-            .collect();
-        let mut t: Vec<f64> = w(1.3).map(|v| 0.2 * v).collect();
-        for k in [16, 17, 19] {
-            p[k] = 1.0;
-        }
-        t[5] = 2.0; // leaves the set past p = 0
-        t[10] = 1.0 + (10.0f64 * 0.7).sin(); // reaches p = 0 exactly (τ = 1)
-        let mut u: Vec<f64> = w(0.3).map(|v| 0.5 + v).collect();
-        let mut r: Vec<f64> = w(2.1).collect();
-        // Block 16..20 stays on the vector path, with a point off the set that does not
-        // re-enter (old gap > 0) but whose new gap is negative: the interpenetration term.
-        u[18] = 1.0;
-        r[18] = 30.0;
-        [p, u, vec![0.0; nx], t, r, vec![0.0; nx]]
-    }
-
-    #[test]
-    fn vector_row_loops_equal_the_scalar_rule() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
-            eprintln!("no AVX2 on this CPU: the scalar rule runs and is tested elsewhere");
-            return;
-        }
-        let nx = 4 * 9 + 3;
-        let z: Vec<f64> = (0..nx).map(|k| 0.9 * (k as f64 * 0.45).cos()).collect();
-        let fill = UpdateFill::from_parts(&z, nx, [1.0, 0.1, 1.0, 1.25, -0.05]);
-        let (mut a, mut b) = (row(nx), row(nx));
-        let (mut ia, mut ib) = (vec![0.0; nx], vec![0.0; nx]);
-        let sa = {
-            let [p, u, g, t, r, c] = &mut a;
-            // SAFETY: AVX2 checked above; rows of nx values.
-            unsafe { update_fill_row(&fill, 0, [p, u, g, t, r, c], &mut ia) }
-        };
-        let mut sb = Sums::default();
-        {
-            let [p, u, g, t, r, c] = &mut b;
-            fill.points(0, 0..nx, [p, u, g, t, r, c], &mut ib, &mut sb);
-        }
-        let close = |x: f64, y: f64| (x - y).abs() <= 1e-13 * (1.0 + x.abs().max(y.abs()));
-        for (f, (x, y)) in a.iter().zip(&b).enumerate() {
-            assert!(
-                x.iter().zip(y).all(|(x, y)| x == y),
-                "field {f}: {x:?} vs {y:?}"
-            );
-        }
-        assert_eq!(ia, ib);
-        assert!(
-            sb.changed.any() && sb.overlap,
-            "the row must change the set"
-        );
-        assert_eq!(sa.changed.points(), sb.changed.points());
-        assert_eq!(sa.overlap, sb.overlap);
-        for (x, y) in [
-            (sa.su, sb.su),
-            (sa.sz, sb.sz),
-            (sa.m, sb.m),
-            (sa.psum, sb.psum),
-            (sa.stats.gmax, sb.stats.gmax),
-            (sa.stats.psum, sb.stats.psum),
-            (sa.stats.gg, sb.stats.gg),
-            (sa.stats.pen, sb.stats.pen),
-        ] {
-            assert!(close(x, y), "{x} vs {y}");
-        }
-
-        // The next direction: vector against the scalar loop on the filled row.
-        let [p, _, g, t, r, _] = &a;
-        let q: Vec<f64> = (0..nx).map(|k| (k as f64 * 0.9).cos()).collect();
-        let (mut t1, mut r1, mut t2, mut r2) = (t.clone(), r.clone(), t.clone(), r.clone());
-        let (beta, f2) = (0.4, 1.25);
-        // SAFETY: AVX2 checked above.
-        let d1 = unsafe { next_direction(beta, f2, [p, g], [&mut t1, &mut r1], &q) };
-        let mut d2 = StepSums::default();
-        for k in 0..nx {
-            r2[k] = q[k] + beta * r2[k];
-            if p[k] > 0.0 {
-                t2[k] = g[k] + beta * t2[k];
-                d2.add(f2 * p[k], t2[k], r2[k]);
-                d2.gt += g[k] * t2[k];
-            }
-        }
-        assert_eq!(t1, t2);
-        assert_eq!(r1, r2);
-
-        // The direction rows and their sums, and the preconditioner's drain.
-        let (f, c) = (1.1, 0.05);
-        let [p, u, g, t, _, _] = &a;
-        let (mut t1, mut t2) = (t.clone(), t.clone());
-        let mut i1 = vec![0.0; nx];
-        // SAFETY: AVX2 checked above; rows of nx values.
-        let s1 = unsafe { direction_row([f, c, beta], p, u, &z, &mut t1, &mut i1) };
-        let mut s2 = 0.0;
-        for k in 0..nx {
-            t2[k] = if p[k] > 0.0 {
-                let gk = f * u[k] - z[k] + c;
-                let v = gk + beta * t2[k];
-                s2 += gk * v;
-                v
-            } else {
-                0.0
-            };
-        }
-        assert_eq!(t1, t2);
-        assert_eq!(i1, t2);
-        assert!(close(s1, s2), "{s1} vs {s2}");
-        let (mut t3, mut t4) = (t.clone(), t.clone());
-        let ybar = 0.3;
-        // SAFETY: as above.
-        let s3 = unsafe { direction_pc_row([ybar, beta], p, &q, g, &mut t3, &mut i1) };
-        let mut s4 = 0.0;
-        for k in 0..nx {
-            t4[k] = if p[k] > 0.0 {
-                let v = q[k] - ybar + beta * t4[k];
-                s4 += g[k] * v;
-                v
-            } else {
-                0.0
-            };
-        }
-        assert_eq!(t3, t4);
-        assert!(close(s3, s4), "{s3} vs {s4}");
-        // SAFETY: as above.
-        let e1 = unsafe { step_sums(f, p, &t4, &q) };
-        let mut e2 = StepSums::default();
-        for k in 0..nx {
-            if p[k] > 0.0 {
-                e2.add(f * p[k], t4[k], q[k]);
-            }
-        }
-        for (x, y) in [
-            (e1.rt, e2.rt),
-            (e1.t, e2.t),
-            (e1.r, e2.r),
-            (e1.m, e2.m),
-            (e1.leave, e2.leave),
-        ] {
-            assert!(close(x, y), "{x} vs {y}");
-        }
-        assert!(e2.leave.is_finite());
-        let (mut y1, mut y2) = (vec![9.0; nx], vec![9.0; nx]);
-        // SAFETY: as above.
-        let w1 = unsafe { pc_drain(p, g, &mut y1, &q) };
-        let mut w2 = [0.0; 4];
-        for k in 0..nx {
-            y2[k] = if p[k] > 0.0 { q[k] } else { 0.0 };
-            if p[k] > 0.0 {
-                w2[0] += g[k] * q[k];
-                w2[1] += q[k];
-                w2[2] += g[k];
-                w2[3] += 1.0;
-            }
-        }
-        assert_eq!(y1, y2);
-        for (x, y) in w1.iter().zip(&w2) {
-            assert!(close(*x, *y), "{x} vs {y}");
-        }
-
-        // The update pass, with and without the error terms of a known offset.
-        for known in [None, Some(0.1)] {
-            let step = UpdateStep {
-                f: 1.0,
-                c: 0.1,
-                tau: 1.0,
-                known,
-            };
-            let (mut a, mut b) = (row(nx), row(nx));
-            let sa = {
-                let [p, u, _, t, r, corr] = &mut a;
-                let ch = UpdateChunk {
-                    p,
-                    u,
-                    corr,
-                    t,
-                    r,
-                    z: &z,
-                };
-                // SAFETY: AVX2 checked above; equal lengths.
-                unsafe { update_chunk(&step, 7, ch) }
-            };
-            let mut sb = Sums::default();
-            {
-                let [p, u, _, t, r, corr] = &mut b;
-                let mut ch = UpdateChunk {
-                    p,
-                    u,
-                    corr,
-                    t,
-                    r,
-                    z: &z,
-                };
-                step.points(7, 0..nx, &mut ch, &mut sb);
-            }
-            assert_eq!(a, b);
-            assert!(sb.changed.any() && sb.overlap);
-            assert_eq!(sa.changed.points(), sb.changed.points());
-            for (x, y) in [
-                (sa.su, sb.su),
-                (sa.sz, sb.sz),
-                (sa.m, sb.m),
-                (sa.psum, sb.psum),
-                (sa.stats.gmax, sb.stats.gmax),
-                (sa.stats.psum, sb.stats.psum),
-                (sa.stats.gg, sb.stats.gg),
-                (sa.stats.pen, sb.stats.pen),
-            ] {
-                assert!(close(x, y), "{known:?}: {x} vs {y}");
-            }
-            if known.is_some() {
-                assert!(
-                    sb.stats.pen > 1.0,
-                    "the row must interpenetrate: {}",
-                    sb.stats.pen
-                );
-            }
-        }
-        for (x, y) in [
-            (d1.gt, d2.gt),
-            (d1.rt, d2.rt),
-            (d1.t, d2.t),
-            (d1.r, d2.r),
-            (d1.m, d2.m),
-            (d1.leave, d2.leave),
-        ] {
-            assert!(close(x, y), "{x} vs {y}");
-        }
     }
 }
