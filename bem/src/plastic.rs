@@ -109,7 +109,7 @@ pub(crate) fn contact_stats(p: &[f64], ny: usize, nx: usize, periodic: bool) -> 
 }
 
 /// What the path reads of its [`crate::BemSolver`].
-pub(crate) struct Parts<'a> {
+struct Parts<'a> {
     pub op: &'a Operator,
     pub z: &'a [f64],
     pub ny: usize,
@@ -122,6 +122,26 @@ pub(crate) struct Parts<'a> {
     pub e_star1: f64,
     pub area: f64,
     pub options: crate::BemOptions,
+}
+
+fn parts(s: &crate::BemSolver) -> Parts<'_> {
+    let (z, [z_max, z_mean, z_rms]) = s.heights_and_stats();
+    let (c0, options) = s.uniform_and_options();
+    let (ny, nx) = s.shape();
+    Parts {
+        op: s.operator(),
+        z,
+        ny,
+        nx,
+        periodic: s.geometry().periodic,
+        z_max,
+        z_mean,
+        z_rms,
+        c0,
+        e_star1: s.e_star1(),
+        area: s.area(),
+        options,
+    }
 }
 
 /// A load path of elastic–perfectly plastic contact on one [`crate::BemSolver`]: the
@@ -151,7 +171,7 @@ impl<'s> PlasticPath<'s> {
                 reason: "must be > 0 Pa".into(),
             });
         }
-        let parts = solver.plastic_parts();
+        let parts = parts(solver);
         let n = parts.ny * parts.nx;
         // ‖K‖ of the operator with the uniform mode where a rigid base has one.
         let uniform = parts.periodic && parts.c0.is_some();
@@ -181,8 +201,8 @@ impl<'s> PlasticPath<'s> {
         &mut self,
         load: crate::BemLoad,
     ) -> Result<(crate::BemSolution, PlasticInfo), BemError> {
-        use crate::cg::Control;
-        let parts = self.solver.plastic_parts();
+        use crate::state::Control;
+        let parts = parts(self.solver);
         let control = self.solver.control_of(load)?;
         let n = parts.ny * parts.nx;
         let z_e: Vec<f64> = parts
@@ -292,7 +312,7 @@ impl<'s> PlasticPath<'s> {
         p: &mut [f64],
         g: &mut [f64],
     ) -> Result<(f64, Outcome, usize), BemError> {
-        let parts = self.solver.plastic_parts();
+        let parts = parts(self.solver);
         let n2 = (parts.ny * parts.nx) as f64;
         let mut total = Outcome {
             iterations: 0,

@@ -598,23 +598,19 @@ impl BemSolver {
         })
     }
 
-    /// What the plastic solver (module `plastic`) reads: the operator, the heights,
-    /// their statistics and the control of a load.
-    pub(crate) fn plastic_parts(&self) -> crate::plastic::Parts<'_> {
-        crate::plastic::Parts {
-            op: &self.op,
-            z: &self.z,
-            ny: self.ny,
-            nx: self.nx,
-            periodic: self.geometry.periodic,
-            z_max: self.z_max,
-            z_mean: self.z_mean,
-            z_rms: self.z_rms,
-            c0: self.c0,
-            e_star1: self.e_star1,
-            area: self.area(),
-            options: self.options,
-        }
+    /// The influence operator (module `plastic`).
+    pub(crate) fn operator(&self) -> &Operator {
+        &self.op
+    }
+
+    /// The heights, row-major (m), and their maximum, mean and RMS (module `plastic`).
+    pub(crate) fn heights_and_stats(&self) -> (&[f64], [f64; 3]) {
+        (&self.z, [self.z_max, self.z_mean, self.z_rms])
+    }
+
+    /// C₀ of a periodic cell on a rigid base, and the solver's options (module `plastic`).
+    pub(crate) fn uniform_and_options(&self) -> (Option<f64>, BemOptions) {
+        (self.c0, self.options)
     }
 
     /// The control of `load` (module `plastic`).

@@ -498,4 +498,28 @@ mod tests {
         assert_eq!(c.s(0.0), 0.0);
         assert_eq!(c.s(f64::INFINITY), 1.0);
     }
+
+    /// The ends of the admissible modulus range (`stack::YOUNG_RANGE`), each on the
+    /// other as a base, give a finite S(ρ).
+    #[test]
+    fn ends_of_the_modulus_range_are_finite() {
+        for (a, b) in [(1e-3, 1e15), (1e15, 1e-3)] {
+            let s = Stack::new(
+                vec![crate::stack::Layer {
+                    thickness: 1e-4,
+                    young: a,
+                    poisson: 0.3,
+                }],
+                Base::Elastic {
+                    young: b,
+                    poisson: 0.3,
+                },
+            )
+            .unwrap();
+            let c = Compliance::new(&s);
+            for rho in [1e-2, 1e2, 1e4, 1e6, 1e8] {
+                assert!(c.s(rho).is_finite(), "{a} on {b}: S({rho}) = {}", c.s(rho));
+            }
+        }
+    }
 }

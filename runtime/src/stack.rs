@@ -793,7 +793,7 @@ kind = "rigid"
     }
 
     /// Moduli whose transfer-matrix products leave f64 are refused, naming the field;
-    /// the ends of the admissible range are accepted and give a finite S(ρ).
+    /// the ends of the admissible range are accepted.
     #[test]
     fn moduli_outside_the_representable_range_are_refused() {
         let st = |e1: &str, eb: &str| {
@@ -809,12 +809,9 @@ kind = "rigid"
         let e = st("1e9", "1e300").unwrap_err().to_string();
         assert!(e.starts_with("base") && e.contains("young"), "{e}");
         for (a, b) in [("1e-3", "1e15"), ("1e15", "1e-3")] {
-            let s = st(a, b).unwrap();
-            let c = crate::Compliance::new(&s);
-            for rho in [1e-2, 1e2, 1e4, 1e6, 1e8] {
-                assert!(c.s(rho).is_finite(), "{a} on {b}: S({rho}) = {}", c.s(rho));
-            }
+            assert!(st(a, b).is_ok(), "{a} on {b}");
         }
+        // (their S(ρ) is finite: `compliance::tests::ends_of_the_modulus_range_are_finite`)
     }
 
     #[test]

@@ -7,7 +7,7 @@ use toml::{Table, Value};
 
 use strata_runtime::surface::{FileKind, HeightUnit, Spacing};
 
-use super::SceneError;
+use super::error::SceneError;
 
 pub(super) fn check_keys(
     t: &Table,

@@ -43,68 +43,22 @@
 
 use std::path::{Path, PathBuf};
 
-use thiserror::Error;
 use toml::{Table, Value};
 
 use strata_bem::BemOptions;
 use strata_runtime::rough::{Images, Params};
-use strata_runtime::stack::{Stack, StackError};
+use strata_runtime::stack::Stack;
 use strata_runtime::surface::{
-    Detrend, FileKind, GenerateParams, ReadOptions, Repair, Spacing, Surface, SurfaceError,
+    Detrend, FileKind, GenerateParams, ReadOptions, Repair, Spacing, Surface,
 };
 
+mod error;
 mod fields;
+pub use error::SceneError;
 use fields::{
     boolean, check_keys, existing_file, file_scale, integer, number, numbers, positive, string,
     table,
 };
-
-/// Errors of scene reading and validation. Each names the field; [`Scene::from_file`]
-/// adds the scene file ([`SceneError::InFile`]).
-#[derive(Debug, Error)]
-pub enum SceneError {
-    #[error("cannot read scene {path}: {message}")]
-    Io { path: String, message: String },
-    #[error("not valid TOML: {0}")]
-    Syntax(String),
-    #[error("unknown key `{key}` (expected one of: {expected})")]
-    UnknownKey { key: String, expected: &'static str },
-    #[error("missing field `{0}`")]
-    Missing(String),
-    #[error("field `{field}` must be {expected}")]
-    WrongType {
-        field: String,
-        expected: &'static str,
-    },
-    #[error("field `{field}` is invalid: {reason}")]
-    Invalid { field: String, reason: String },
-    /// An error of the inline `[stack]` table.
-    #[error("stack: {0}")]
-    Stack(StackError),
-    /// An error of the stack file named by `stack.file` (the error names the file).
-    #[error(transparent)]
-    StackFile(StackError),
-    #[error(transparent)]
-    Surface(#[from] SurfaceError),
-    #[error(
-        "{field} = \"{value}\": {what} {resolved} (paths in a scene are relative to the scene's directory, {dir}){hint}"
-    )]
-    MissingFile {
-        field: &'static str,
-        /// "no such file", or "a directory, not a file:".
-        what: &'static str,
-        value: String,
-        resolved: String,
-        dir: String,
-        hint: &'static str,
-    },
-    /// Any of the above in a scene file.
-    #[error("scene {path}: {error}")]
-    InFile {
-        path: String,
-        error: Box<SceneError>,
-    },
-}
 
 /// Where the surface comes from.
 #[derive(Debug, Clone, PartialEq)]

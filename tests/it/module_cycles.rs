@@ -738,16 +738,7 @@ fn workspace_cycles() -> Vec<String> {
 /// Cycles left, for now, to the work under way on their files (issue 32): the files of
 /// each, and what removes it. Any other cycle fails the test, and so does an entry that
 /// is no longer a cycle (delete it then): the list only shrinks.
-const KNOWN: &[(&[&str], &str)] = &[
-    (
-        &["src/scene/fields.rs", "src/scene/mod.rs"],
-        "SceneError into a leaf module (the scene library of issue 32 item 1)",
-    ),
-    (
-        &["runtime/src/compliance.rs", "runtime/src/stack.rs"],
-        "stack.rs's test of extreme moduli builds a Compliance: move it to compliance.rs's tests",
-    ),
-];
+const KNOWN: &[(&[&str], &str)] = &[];
 
 #[test]
 fn no_file_imports_another_in_a_cycle() {
