@@ -64,6 +64,7 @@
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod compliance;
+pub mod conduction;
 /// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).
 #[cfg(feature = "spectral")]
 pub use strata_fft as fft;
@@ -79,4 +80,5 @@ pub mod surface;
 pub mod table;
 
 pub use compliance::Compliance;
+pub use conduction::{ConductionCompliance, ConductionKind};
 pub use stack::{Base, Layer, Stack, StackError};
