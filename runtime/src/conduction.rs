@@ -109,8 +109,10 @@ pub struct ConductionCompliance {
     k1: f64,
     /// S_th(0).
     s0: f64,
-    /// Σ hᵢ/kᵢ (m²K/W or m²/S... per unit area: the layers' 1-D resistance).
+    /// Σ hᵢ/kᵢ (per unit area: the layers' 1-D resistance).
     series: f64,
+    /// Largest over smallest conductivity (layers and a half-space base), ≥ 1.
+    contrast: f64,
 }
 
 impl ConductionCompliance {
@@ -152,6 +154,10 @@ impl ConductionCompliance {
             .zip(&k)
             .map(|(l, k)| l.thickness / k)
             .sum();
+        let all = k.iter().copied().chain((!isothermal).then_some(kb));
+        let (lo, hi) = all.fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
         Ok(ConductionCompliance {
             kind,
             layers,
@@ -159,6 +165,7 @@ impl ConductionCompliance {
             k1,
             s0,
             series,
+            contrast: hi / lo,
         })
     }
 
@@ -224,6 +231,12 @@ impl ConductionCompliance {
             z = (z + t) / den;
         }
         (z, d)
+    }
+
+    /// The conductivity contrast: largest over smallest conductivity of the layers and
+    /// (unless isothermal) the base, ≥ 1.
+    pub fn contrast(&self) -> f64 {
+        self.contrast
     }
 
     /// k_th(ρ) = S_th(ρ) − 1 at wavenumber ρ ≥ 0 (1/m), by the bounded recursion of the
