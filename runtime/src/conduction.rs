@@ -84,15 +84,21 @@ impl ConductionKind {
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum ConductionError {
     /// A layer or the (half-space) base lacks the conductivity the problem needs.
-    #[error(
-        "{location}: missing `{field}` ({kind} conduction needs it for every layer and a \
-         half-space base; or set [base] conduction = \"isothermal\")"
-    )]
+    #[error("{location}: missing `{field}` ({})", missing_hint(*.location, .kind))]
     Missing {
         location: Location,
         field: &'static str,
         kind: &'static str,
     },
+}
+
+fn missing_hint(location: Location, kind: &str) -> String {
+    match location {
+        Location::Base => format!(
+            "{kind} conduction through a half-space base needs it; or set [base] conduction = \"isothermal\""
+        ),
+        _ => format!("{kind} conduction needs it on every layer"),
+    }
 }
 
 /// The conduction compliance of one stack for one [`ConductionKind`], precomputed for
