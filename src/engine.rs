@@ -222,10 +222,10 @@ pub fn law_for(
         log!(
             quiet,
             "stack: homogeneous (E* = {:e} Pa): Hertz asperities, no table loaded",
-            stack.top_plane_strain_modulus()
+            stack.contact_modulus()
         );
         return Ok(Box::new(Homogeneous {
-            e_star: stack.top_plane_strain_modulus(),
+            e_star: stack.contact_modulus(),
         }));
     }
     let table = match (&opts.table, &scene.table) {
@@ -437,6 +437,7 @@ pub fn solve_surface_with_maps(
                   "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
     });
     let mut meta = meta;
+    add_counterface_meta(&mut meta, scene);
     if let Some(f) = &failed {
         meta["partial"] = serde_json::json!({
             "failed_step": f.step, "delta": f.delta, "error": f.error,
@@ -497,11 +498,35 @@ fn modulus(e: f64) -> String {
     )
 }
 
+/// curve.json's `counterface` entry when the scene has an elastic counterface (and a
+/// rough one's note): the pair's E* is what `e_star_1` and `pressure_ratio` use.
+pub fn add_counterface_meta(meta: &mut serde_json::Value, scene: &Scene) {
+    let Some(c) = scene.stack.counterface() else {
+        return;
+    };
+    meta["counterface"] = serde_json::json!({
+        "stack": stack_description(c),
+        "e_star_1_counterface": c.top_plane_strain_modulus(),
+        "e_star_1_body": scene.stack.top_plane_strain_modulus(),
+        "e_star_pair": scene.stack.contact_modulus(),
+        "rough": scene.counterface_surface.is_some(),
+        "note": "two elastic bodies (physics.md §6.1): e_star_1 and pressure_ratio are the pair's, \
+                 1/E* = 1/E*1,body + 1/E*1,counterface; a rough counterface's heights are added to the body's",
+    });
+}
+
 /// A stack in a few words for plot titles: its name, else its make-up
 /// (`2 layers on a rigid base, E1 = 4 GPa`, `half-space, E = 210 GPa`).
 pub fn stack_description(stack: &strata_runtime::Stack) -> String {
     if let Some(n) = &stack.name {
         return n.clone();
+    }
+    if let Some(c) = stack.counterface() {
+        return format!(
+            "{} against {}",
+            stack_description(&stack.body()),
+            stack_description(c)
+        );
     }
     if stack.is_homogeneous() {
         return format!("half-space, E = {}", modulus(stack.top_material().0));
@@ -642,7 +667,7 @@ fn solve_bem(
         "model_short": "BEM",
         "stack": stack_description(stack),
         "solid": solid,
-        "e_star_1": stack.top_plane_strain_modulus(),
+        "e_star_1": stack.contact_modulus(),
         "nominal_area": area,
         "z_max_minus_mean": top_to_mean,
         "surface": surface_json,
@@ -653,6 +678,8 @@ fn solve_bem(
                   "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)",
                   "contacts": "contact patches"},
     });
+    let mut meta = meta;
+    add_counterface_meta(&mut meta, scene);
     Ok(SceneSolution {
         steps,
         meta,

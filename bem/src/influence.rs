@@ -98,17 +98,22 @@ pub struct Remainder {
 impl Remainder {
     /// Tabulates J on [0, r_max] for `stack`; `None` for a homogeneous stack.
     pub fn new(stack: &Stack, r_max: f64) -> Result<Option<Self>, BemError> {
-        if stack.is_homogeneous() || stack.layers().is_empty() {
+        if stack.is_homogeneous() {
             return Ok(None);
         }
         let comp = Compliance::new(stack);
-        let e1 = stack.top_plane_strain_modulus();
-        let k0 = match stack.base() {
-            Base::Rigid => -1.0,
-            Base::Elastic { young, poisson } => e1 * (1.0 - poisson * poisson) / young - 1.0,
+        let e1 = stack.contact_modulus();
+        let k0 = match (stack.counterface(), stack.base()) {
+            (Some(_), _) => comp.s_at_zero() - 1.0,
+            (None, Base::Rigid) => -1.0,
+            (None, Base::Elastic { young, poisson }) => {
+                e1 * (1.0 - poisson * poisson) / young - 1.0
+            }
         };
-        let b = stack.layers()[0].thickness;
-        let depth: f64 = stack.layers().iter().map(|l| l.thickness).sum();
+        let Some(b) = stack.top_thickness() else {
+            return Ok(None);
+        };
+        let depth = stack.total_thickness();
         if !(b > 0.0 && depth.is_finite() && r_max.is_finite() && r_max > 0.0) {
             return Err(BemError::Influence(format!(
                 "layer thickness {b:e} m or sample diagonal {r_max:e} m out of range"
@@ -219,7 +224,7 @@ pub fn coefficients(
     px: f64,
     py: f64,
 ) -> Result<Vec<f64>, BemError> {
-    let e1 = stack.top_plane_strain_modulus();
+    let e1 = stack.contact_modulus();
     let diag = (nx as f64 * px).hypot(ny as f64 * py);
     let rem = Remainder::new(stack, diag)?;
     let pi_e = std::f64::consts::PI * e1;

@@ -47,8 +47,12 @@ const COARSE_MIN: usize = 256;
 
 /// Uniform-mode compliance of a stack on a rigid base, C₀ = Σ hᵢ/Mᵢ (m/Pa), with the
 /// P-wave modulus Mᵢ = Eᵢ(1−νᵢ)/((1+νᵢ)(1−2νᵢ)); `None` on an elastic base (infinite).
-/// Equals lim_{k→0} 2S(k)/(E*₁k).
+/// Equals lim_{k→0} 2S(k)/(E*k). With a counterface the two bodies' C₀ add (both on
+/// rigid bases), else `None` (physics.md §6.1).
 pub fn uniform_compliance(stack: &Stack) -> Option<f64> {
+    if let Some(c) = stack.counterface() {
+        return Some(uniform_compliance(&stack.body())? + uniform_compliance(c)?);
+    }
     match stack.base() {
         Base::Elastic { .. } => None,
         Base::Rigid => Some(
@@ -207,7 +211,7 @@ impl BemSolver {
             return Self::periodic(
                 heights,
                 geometry,
-                stack.top_plane_strain_modulus(),
+                stack.contact_modulus(),
                 uniform_compliance(stack),
                 |k| if homogeneous { 1.0 } else { comp.s(k) },
                 options,
@@ -221,7 +225,7 @@ impl BemSolver {
             format!("BEM grid {ny}×{nx} (non-periodic)"),
             Self::memory_needed(ny, nx, false),
         )?;
-        let e_star1 = stack.top_plane_strain_modulus();
+        let e_star1 = stack.contact_modulus();
         if !(e_star1.is_finite() && e_star1 > 0.0) {
             return Err(BemError::Modulus(e_star1));
         }

@@ -156,7 +156,8 @@ int32_t strata_surface_generate(double size,
 void strata_surface_free(struct StrataSurface *surface);
 
 // Builds the contact law of `surface` pressed against a rigid flat on the stack
-// of the TOML file `stack_path`: solves the load curve with `model`
+// of the TOML file `stack_path` (against a second elastic body instead when the
+// file has a `[counterface]` table: the two compliances add): solves the load curve with `model`
 // (`STRATA_MODEL_*`) at `samples` separations (2 to `STRATA_MAX_SAMPLES`) evenly
 // spaced from first contact g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it
 // monotonically (see `strata_runtime::interface`). A homogeneous stack uses Hertz

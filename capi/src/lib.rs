@@ -565,7 +565,8 @@ mod exported {
     }
 
     /// Builds the contact law of `surface` pressed against a rigid flat on the stack
-    /// of the TOML file `stack_path`: solves the load curve with `model`
+    /// of the TOML file `stack_path` (against a second elastic body instead when the
+    /// file has a `[counterface]` table: the two compliances add): solves the load curve with `model`
     /// (`STRATA_MODEL_*`) at `samples` separations (2 to `STRATA_MAX_SAMPLES`) evenly
     /// spaced from first contact g₀ = z_M − z̄ down to `min_gap` (m), and interpolates it
     /// monotonically (see `strata_runtime::interface`). A homogeneous stack uses Hertz
@@ -798,7 +799,7 @@ pub fn build_law_with(
 ) -> Result<InterfaceLaw, CapiError> {
     let law: Box<dyn AsperityLaw> = if stack.is_homogeneous() {
         Box::new(Homogeneous {
-            e_star: stack.top_plane_strain_modulus(),
+            e_star: stack.contact_modulus(),
         })
     } else {
         let t = table.ok_or_else(|| CapiError::Invalid {

@@ -1028,3 +1028,67 @@ fn solver_options_reach_the_law() {
         strata_surface_free(surface);
     }
 }
+
+/// A stack file with a `[counterface]` table: the C ABI's law is that of the pair
+/// (physics.md §6.1) — steel on aluminium equals the composite half-space, p(g) to the bit
+/// pattern up to 1e-12 relative.
+#[test]
+fn counterface_in_the_stack_file_reaches_the_law() {
+    let dir = tmp("capi-counterface");
+    let pair = dir.join("pair.toml");
+    let composite = dir.join("composite.toml");
+    let e_pair = 1.0 / (1.0 / (210e9 / (1.0 - 0.09)) + 1.0 / (70e9 / (1.0 - 0.33 * 0.33)));
+    std::fs::write(
+        &pair,
+        "[base]\nkind = \"elastic\"\nyoung = 210e9\npoisson = 0.3\n\
+         [counterface]\n[counterface.base]\nkind = \"elastic\"\nyoung = 70e9\npoisson = 0.33\n",
+    )
+    .unwrap();
+    std::fs::write(
+        &composite,
+        format!("[base]\nkind = \"elastic\"\nyoung = {e_pair:e}\npoisson = 0\n"),
+    )
+    .unwrap();
+    let mut surface: *mut StrataSurface = std::ptr::null_mut();
+    unsafe {
+        assert_eq!(
+            strata_surface_generate(1e-3, 64, 2.4, 2.0, 10.0, 1e-6, 1, &mut surface),
+            STRATA_OK
+        );
+        let mut laws = Vec::new();
+        for p in [&pair, &composite] {
+            let path = c(&p.display().to_string());
+            let mut law: *mut StrataLaw = std::ptr::null_mut();
+            assert_eq!(
+                strata_law_new(
+                    std::ptr::null(),
+                    path.as_ptr(),
+                    surface,
+                    STRATA_MODEL_INTERACTING_PERIODIC,
+                    0.0,
+                    20,
+                    &mut law
+                ),
+                STRATA_OK,
+                "{}",
+                last_error()
+            );
+            laws.push(law);
+        }
+        let mut g0 = 0.0;
+        assert_eq!(strata_law_first_contact_gap(laws[0], &mut g0), STRATA_OK);
+        for f in [0.2, 0.5, 0.8] {
+            let (mut p, mut q) = (0.0, 0.0);
+            assert_eq!(strata_law_pressure(laws[0], f * g0, &mut p), STRATA_OK);
+            assert_eq!(strata_law_pressure(laws[1], f * g0, &mut q), STRATA_OK);
+            assert!(
+                p > 0.0 && ((p - q) / q).abs() < 1e-12,
+                "g = {f} g0: {p} vs {q}"
+            );
+        }
+        for l in laws {
+            strata_law_free(l);
+        }
+        strata_surface_free(surface);
+    }
+}

@@ -35,8 +35,12 @@ use crate::table::table_arg;
 /// (default: the table cache); solver a dict as the scene's [solver] table, the budgets
 /// and tolerances an error message may ask to raise ({"max_step_newton_steps": n,
 /// "max_step_evaluations": n, "kkt_tolerance": x, "max_pressure_iterations": n,
-/// "bem_max_iterations": n, "bem_tolerance": x}). Fields are validated as in a scene file, and errors
-/// (strata.SceneError) name them (`load.approach.steps`, `model.images`, ...).
+/// "bem_max_iterations": n, "bem_tolerance": x}); counterface a strata.Stack (or a stack
+/// file path) pressed against the first body instead of a rigid flat (the two compliances
+/// add, physics.md §6.1) and counterface_surface its rough strata.Surface, heights as seen
+/// from the first body on the same grid (added to `surface`). Fields are validated as
+/// in a scene file, and errors (strata.SceneError) name them (`load.approach.steps`,
+/// `model.images`, `counterface.base`, ...).
 #[pyclass(name = "Scene", module = "strata", frozen)]
 pub struct PyScene {
     scene: Scene,
@@ -125,7 +129,7 @@ const MEMORY: &str = "<python>";
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None))]
+    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None, counterface=None, counterface_surface=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         stack: &Bound<'_, PyAny>,
@@ -136,9 +140,19 @@ impl PyScene {
         image_cells: Option<i64>,
         table: Option<&Bound<'_, PyAny>>,
         solver: Option<&Bound<'_, PyAny>>,
+        counterface: Option<&Bound<'_, PyAny>>,
+        counterface_surface: Option<&Bound<'_, PySurface>>,
     ) -> PyResult<Self> {
         let stack = stack_of(stack, "Scene: stack")?;
-        let surface = surface.get().surface.clone();
+        let mut surface = surface.get().surface.clone();
+        if let Some(cs) = counterface_surface {
+            surface = surface
+                .plus_counterface(&cs.get().surface)
+                .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("counterface_surface: {e}")))?;
+        }
+        let counterface = counterface
+            .map(|c| stack_of(c, "Scene: counterface"))
+            .transpose()?;
         let load = load.ok_or_else(|| {
             to_py(
                 Kind::Scene,
@@ -163,6 +177,13 @@ impl PyScene {
         top.insert("load".into(), py_to_toml(load, "load")?);
         if let Some(sv) = solver {
             top.insert("solver".into(), py_to_toml(sv, "solver")?);
+        }
+        if let Some(c) = counterface {
+            let t: toml::Table = c
+                .to_toml_string()
+                .parse()
+                .map_err(|e: toml::de::Error| to_py(Kind::Stack, anyhow::anyhow!("{e}")))?;
+            top.insert("counterface".into(), toml::Value::Table(t));
         }
         let scene = Scene::from_table_in(top, Path::new("."), Some(memory_surface_spec(&surface)))
             .map_err(err(Kind::Scene))?;

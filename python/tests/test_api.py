@@ -212,3 +212,28 @@ def test_import_time_below_one_second():
                                   check=True).stdout) for _ in range(3)]
     print(f"import strata: {min(times):.3f} s (best of 3), {max(times):.3f} s worst")
     assert max(times) < 1.0
+
+
+def test_counterface_pair_equals_composite_half_space():
+    """Two elastic half-spaces (steel on aluminium) are one half-space of the composite E*
+    (physics.md §6.1), in every model; a rough counterface is the summed heights."""
+    z = strata.Surface.generate(size=1e-3, grid=64, fractal_dimension=2.4, k_min=2, k_max=8, rms=1e-6, seed=5)
+    steel, alu = strata.Stack.half_space(210e9, 0.3), strata.Stack.half_space(70e9, 0.33)
+    e_pair = 1 / (1 / steel.e_star1 + 1 / alu.e_star1)
+    composite = strata.Stack.half_space(e_pair, 0.0)
+    for model, load in [("bem", {"approach": {"from": 5e-7, "to": 1.5e-6, "steps": 3}}),
+                        ("independent", {"mean_pressures": [1e6, 1e7]})]:
+        a = strata.Scene(steel, z, model=model, load=load, counterface=alu).solve()
+        b = strata.Scene(composite, z, model=model, load=load).solve()
+        np.testing.assert_allclose(a.mean_pressure, b.mean_pressure, rtol=1e-12)
+        np.testing.assert_allclose(a.area_fraction, b.area_fraction, rtol=1e-12)
+        assert a.meta["counterface"]["e_star_pair"] == pytest.approx(e_pair, rel=1e-15)
+    w = strata.Surface.generate(size=1e-3, grid=64, fractal_dimension=2.4, k_min=2, k_max=8, rms=1e-6, seed=6)
+    load = {"approach": {"from": 5e-7, "to": 1.5e-6, "steps": 2}}
+    rough = strata.Scene(steel, z, model="bem", load=load, counterface=alu, counterface_surface=w).solve()
+    summed = strata.Surface(z.heights + w.heights, size=1e-3, periodic=True)
+    flat = strata.Scene(steel, summed, model="bem", load=load, counterface=alu).solve()
+    np.testing.assert_array_equal(rough.mean_pressure, flat.mean_pressure)
+    with pytest.raises(strata.SceneError, match="counterface_surface"):
+        small = strata.Surface.generate(size=1e-3, grid=32, fractal_dimension=2.4, k_min=2, k_max=8, rms=1e-6, seed=6)
+        strata.Scene(steel, z, model="bem", load=load, counterface=alu, counterface_surface=small)

@@ -29,6 +29,13 @@
 //! half-space of its material, exactly. This keeps identical layers on an identical
 //! half-space at k_z = 0 to round-off for any ρh.
 //!
+//! # Two bodies (physics.md §6.1)
+//! Against an elastic counterface the normal displacements add:
+//! S/E* = S_A/E*₁,A + S_B/E*₁,B with 1/E* = 1/E*₁,A + 1/E*₁,B, so
+//! S = w S_A + (1 − w) S_B with w = E*/E*₁,A, and S(∞) = 1 still. The pair is
+//! evaluated in a canonical order ([`Stack::canonical_pair`]), so swapping the
+//! bodies gives the same bits.
+//!
 //! All functions take ρ in 1/m and return dimensionless values.
 
 use crate::stack::{Base, Stack, shear_modulus};
@@ -119,9 +126,18 @@ pub fn scaled_transfer(t: f64, nu: f64) -> [[[f64; 2]; 2]; 4] {
     [t11, t12, t21, t22]
 }
 
-/// Per-layer constants of a stack, precomputed for fast repeated S(ρ) evaluations.
+/// Precomputed S(ρ) of a stack, or of a stack and its counterface.
 #[derive(Debug, Clone)]
 pub struct Compliance {
+    /// The first body (canonical order for a pair).
+    a: Body,
+    /// The counterface and the weight w = E*/E*₁,A of the first body's S.
+    b: Option<(Body, f64)>,
+}
+
+/// Per-layer constants of one body, precomputed for fast repeated S(ρ) evaluations.
+#[derive(Debug, Clone)]
+struct Body {
     /// (thickness, ν, μ_below/μ_this) per layer, top first. For the last layer on a
     /// rigid base the ratio is unused.
     layers: Vec<(f64, f64, f64)>,
@@ -141,8 +157,56 @@ pub struct Compliance {
 const SMALL_T: f64 = 1e-60;
 
 impl Compliance {
-    /// Precomputes the constants of `stack`.
+    /// Precomputes the constants of `stack` (and of its counterface, if any).
     pub fn new(stack: &Stack) -> Self {
+        match stack.canonical_pair() {
+            None => Compliance {
+                a: Body::new(stack),
+                b: None,
+            },
+            Some((a, b)) => {
+                let w = stack.contact_modulus() / a.top_plane_strain_modulus();
+                Compliance {
+                    a: Body::new(&a),
+                    b: Some((Body::new(&b), w)),
+                }
+            }
+        }
+    }
+
+    /// S(0) = lim_{ρ→0} S(ρ): E*₁/E*_b on an elastic base, 0 on a rigid base
+    /// (with a counterface, w S_A(0) + (1 − w) S_B(0)).
+    pub fn s_at_zero(&self) -> f64 {
+        match &self.b {
+            None => self.a.s0,
+            Some((b, w)) => w * self.a.s0 + (1.0 - w) * b.s0,
+        }
+    }
+
+    /// The normalised compliance S(ρ) = 1 + k_z(ρ) = α F11(ρ) (physics.md §2), ρ in 1/m;
+    /// of the pair with a counterface (physics.md §6.1).
+    ///
+    /// S is even in ρ (the Hankel kernel depends on |ρ|); S(0) returns the limit and
+    /// S(∞) = 1.
+    pub fn s(&self, rho: f64) -> f64 {
+        match &self.b {
+            None => self.a.s(rho),
+            Some((b, w)) => w * self.a.s(rho) + (1.0 - w) * b.s(rho),
+        }
+    }
+
+    /// k_z(ρ) = S(ρ) − 1 (paper, before eq. 7), ρ in 1/m.
+    pub fn kz(&self, rho: f64) -> f64 {
+        match &self.b {
+            None => self.a.s(rho) - 1.0,
+            // w(S_A − 1) + (1 − w)(S_B − 1): no cancellation of the two 1s.
+            Some((b, w)) => w * (self.a.s(rho) - 1.0) + (1.0 - w) * (b.s(rho) - 1.0),
+        }
+    }
+}
+
+impl Body {
+    fn new(stack: &Stack) -> Self {
         let ls = stack.layers();
         let mu: Vec<f64> = ls
             .iter()
@@ -169,7 +233,7 @@ impl Compliance {
             }
         };
         let h_min = ls.iter().map(|l| l.thickness).fold(f64::INFINITY, f64::min);
-        Compliance {
+        Body {
             layers,
             base_nu,
             nu1,
@@ -178,16 +242,8 @@ impl Compliance {
         }
     }
 
-    /// S(0) = lim_{ρ→0} S(ρ): E*₁/E*_b on an elastic base, 0 on a rigid base.
-    pub fn s_at_zero(&self) -> f64 {
-        self.s0
-    }
-
-    /// The normalised compliance S(ρ) = 1 + k_z(ρ) = α F11(ρ) (physics.md §2), ρ in 1/m.
-    ///
-    /// S is even in ρ (the Hankel kernel depends on |ρ|); S(0) returns the limit and
-    /// S(∞) = 1.
-    pub fn s(&self, rho: f64) -> f64 {
+    /// S(ρ) of this body alone, normalised by its own E*₁.
+    fn s(&self, rho: f64) -> f64 {
         let rho = rho.abs();
         if rho == 0.0 {
             return self.s0;
@@ -232,11 +288,6 @@ impl Compliance {
         let det = z[0][0] * z[1][1] - z[0][1] * z[1][0];
         let inv_ws = z[0][0] / det; // [Ẑ⁻¹]_{W,S}
         -inv_ws / (1.0 - self.nu1)
-    }
-
-    /// k_z(ρ) = S(ρ) − 1 (paper, before eq. 7), ρ in 1/m.
-    pub fn kz(&self, rho: f64) -> f64 {
-        self.s(rho) - 1.0
     }
 }
 

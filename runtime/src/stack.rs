@@ -12,6 +12,14 @@
 //! kind = "rigid"       # or kind = "elastic" with young and poisson
 //! ```
 //!
+//! A stack may be pressed against a second elastic body, the **counterface**
+//! ([`Stack::against`], a `[counterface]` table of the same keys in a stack or scene
+//! file; physics.md §6.1). Frictionless normal displacements of the two bodies add, so
+//! every mechanical property the models read — S(ρ) ([`crate::Compliance`]), the
+//! contact modulus E* ([`Stack::contact_modulus`]), the length scales, homogeneity —
+//! is then that of the pair; [`Stack::layers`] and [`Stack::base`] stay the first
+//! body's. Without a counterface the stack is pressed by a rigid smooth flat.
+//!
 //! Conduction (optional, physics.md §6.2): any `[[layer]]` and the `[base]` may give
 //! `thermal_conductivity` (W/(m·K)) and `electrical_conductivity` (S/m); the base is
 //! then a conducting half-space. `[base] conduction = "isothermal"` makes the bottom of
@@ -99,6 +107,10 @@ pub struct Stack {
     pub name: Option<String>,
     layers: Vec<Layer>,
     base: Base,
+    /// The elastic counterface, if the stack is not pressed by a rigid flat. Not in
+    /// the serde form (a table file stores it beside the stack, `table::codec`).
+    #[serde(skip)]
+    counterface: Option<Box<Stack>>,
     /// Conduction properties (issue 34). Not part of a table file's binary header
     /// (`serde(skip)`: tables stay byte-identical and loadable); empty unless given.
     #[serde(skip)]
@@ -144,6 +156,12 @@ pub enum StackError {
     NoLayersOnRigid,
     #[error("stack has no layers and no base: give [[layer]] tables and/or an elastic [base]")]
     Empty,
+    /// An error of the `[counterface]` of a stack.
+    #[error("counterface: {0}")]
+    Counterface(Box<StackError>),
+    /// A counterface that has a counterface itself.
+    #[error("a counterface cannot have its own counterface (two bodies touch)")]
+    NestedCounterface,
     /// An error in a stack file, with the file's path.
     #[error("stack file {path}: {error}")]
     InFile {
@@ -332,6 +350,7 @@ impl Stack {
             name: None,
             layers,
             base,
+            counterface: None,
             conduction: StackConduction::default(),
         })
     }
@@ -395,6 +414,46 @@ impl Stack {
         self.conduction.layers.get(i).copied().unwrap_or_default()
     }
 
+    /// This stack pressed against the elastic stack `counterface` instead of a rigid
+    /// flat (physics.md §6.1). Refuses a counterface that has a counterface.
+    pub fn against(mut self, counterface: Stack) -> Result<Self, StackError> {
+        if counterface.counterface.is_some() {
+            return Err(StackError::NestedCounterface);
+        }
+        self.counterface = Some(Box::new(counterface));
+        Ok(self)
+    }
+
+    /// The elastic counterface, `None` for a rigid smooth flat.
+    pub fn counterface(&self) -> Option<&Stack> {
+        self.counterface.as_deref()
+    }
+
+    /// The first body alone (pressed by a rigid flat).
+    pub fn body(&self) -> Stack {
+        Stack {
+            counterface: None,
+            ..self.clone()
+        }
+    }
+
+    /// The pair with its two bodies in a canonical order (the one whose Debug form
+    /// sorts first is the body), so that a pair and its swap compute S(ρ) and E* with
+    /// the same floating-point operations (physics.md §6.1: swapping changes nothing).
+    /// `None` without a counterface.
+    pub fn canonical_pair(&self) -> Option<(Stack, Stack)> {
+        let b = self.counterface.as_deref()?.clone();
+        let mut a = self.body();
+        a.name = None;
+        let mut b2 = b;
+        b2.name = None;
+        if format!("{a:?}") <= format!("{b2:?}") {
+            Some((a, b2))
+        } else {
+            Some((b2, a))
+        }
+    }
+
     /// A homogeneous elastic half-space (zero layers on an elastic base).
     pub fn half_space(young: f64, poisson: f64) -> Result<Self, StackError> {
         Stack::new(Vec::new(), Base::Elastic { young, poisson })
@@ -447,32 +506,66 @@ impl Stack {
         plane_strain_modulus(e, nu)
     }
 
-    /// α = −E*₁/2 (Pa), the paper's lim 1/F11 (physics.md §2).
+    /// The contact modulus E* (Pa) every model normalises by: E*₁ of the top material
+    /// against a rigid flat; with a counterface 1/E* = 1/E*₁,A + 1/E*₁,B (physics.md
+    /// §6.1, symmetric in A and B to the last bit).
+    pub fn contact_modulus(&self) -> f64 {
+        match self.canonical_pair() {
+            None => self.top_plane_strain_modulus(),
+            Some((a, b)) => {
+                1.0 / (1.0 / a.top_plane_strain_modulus() + 1.0 / b.top_plane_strain_modulus())
+            }
+        }
+    }
+
+    /// α = −E*/2 (Pa), the paper's lim 1/F11 (physics.md §2), with E* the
+    /// [`contact_modulus`](Self::contact_modulus).
     pub fn alpha(&self) -> f64 {
-        -0.5 * self.top_plane_strain_modulus()
+        -0.5 * self.contact_modulus()
     }
 
-    /// The reference length h₁: the top layer's thickness (m). `None` for a
-    /// half-space, which has no length scale.
+    /// The reference length h₁ (m): the top layer's thickness; with a counterface the
+    /// thinner of the two bodies' top layers (k_z decays like e^{−2ρh₁}). `None` for a
+    /// half-space (or two), which has no length scale.
     pub fn top_thickness(&self) -> Option<f64> {
-        self.layers.first().map(|l| l.thickness)
+        let own = self.layers.first().map(|l| l.thickness);
+        match (own, self.counterface().and_then(|c| c.top_thickness())) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
     }
 
-    /// Total thickness of the layers (m).
+    /// Total thickness of the layers (m); with a counterface the larger of the two
+    /// bodies' totals (the slowest length scale of S near ρ = 0).
     pub fn total_thickness(&self) -> f64 {
-        self.layers.iter().map(|l| l.thickness).sum()
+        let own: f64 = self.layers.iter().map(|l| l.thickness).sum();
+        match self.counterface() {
+            None => own,
+            Some(c) => own.max(c.total_thickness()),
+        }
     }
 
-    /// True when the solid is mechanically a homogeneous half-space: an elastic base
-    /// and every layer of the same material as the base (k_z ≡ 0).
+    /// True when the solid is mechanically a homogeneous half-space (k_z ≡ 0): an
+    /// elastic base and every layer of the same material as the base — for both
+    /// bodies when there is a counterface (their E* is then the contact modulus).
     pub fn is_homogeneous(&self) -> bool {
-        match self.base {
+        let own = match self.base {
             Base::Rigid => false,
             Base::Elastic { young, poisson } => self
                 .layers
                 .iter()
                 .all(|l| l.young == young && l.poisson == poisson),
-        }
+        };
+        own && self.counterface().is_none_or(|c| c.is_homogeneous())
+    }
+
+    /// True when S(0) = 0: a rigid base under this stack and, with a counterface,
+    /// under the counterface too (then a uniform pressure gives a finite deflection).
+    pub fn on_rigid_bases(&self) -> bool {
+        matches!(self.base, Base::Rigid)
+            && self
+                .counterface()
+                .is_none_or(|c| matches!(c.base, Base::Rigid))
     }
 
     #[cfg(feature = "toml")]
@@ -501,11 +594,11 @@ impl Stack {
     /// Builds a stack from an already parsed TOML table (used for inline stacks in scenes).
     pub fn from_toml_table(table: &toml::Table) -> Result<Self, StackError> {
         for key in table.keys() {
-            if !["name", "layer", "base"].contains(&key.as_str()) {
+            if !["name", "layer", "base", "counterface"].contains(&key.as_str()) {
                 return Err(StackError::UnknownKey {
                     location: Location::Top,
                     key: key.clone(),
-                    expected: "name, layer, base",
+                    expected: "name, layer, base, counterface",
                 });
             }
         }
@@ -578,27 +671,52 @@ impl Stack {
                 stack = stack.with_conduction(layer_cond, base_cond, base_kind)?;
             }
         }
-        Ok(stack)
+        match table.get("counterface") {
+            None => Ok(stack),
+            Some(toml::Value::Table(t)) => {
+                let c =
+                    Stack::from_toml_table(t).map_err(|e| StackError::Counterface(Box::new(e)))?;
+                stack.against(c)
+            }
+            Some(v) => Err(StackError::WrongType {
+                location: Location::Top,
+                field: "counterface".into(),
+                expected: "a table ([counterface], a stack)",
+                found: v.type_str().into(),
+            }),
+        }
     }
 
     #[cfg(feature = "toml")]
-    /// Serialises the stack back to the TOML format it is read from.
+    /// Serialises the stack back to the TOML format it is read from (a counterface as
+    /// a `[counterface]` table with `[[counterface.layer]]` and `[counterface.base]`).
     pub fn to_toml_string(&self) -> String {
+        let mut s = self.body_toml("");
+        if let Some(c) = self.counterface() {
+            s.push_str("[counterface]\n");
+            s.push_str(&c.body_toml("counterface."));
+        }
+        s
+    }
+
+    #[cfg(feature = "toml")]
+    /// The TOML of the first body, tables prefixed by `prefix` (e.g. `counterface.`).
+    fn body_toml(&self, prefix: &str) -> String {
         let mut s = String::new();
         if let Some(n) = &self.name {
             s.push_str(&format!("name = {}\n", toml::Value::String(n.clone())));
         }
         for (i, l) in self.layers.iter().enumerate() {
             s.push_str(&format!(
-                "[[layer]]\nthickness = {:e}\nyoung = {:e}\npoisson = {:e}\n",
+                "[[{prefix}layer]]\nthickness = {:e}\nyoung = {:e}\npoisson = {:e}\n",
                 l.thickness, l.young, l.poisson
             ));
             push_conductivity(&mut s, &self.layer_conductivity(i));
         }
         match self.base {
-            Base::Rigid => s.push_str("[base]\nkind = \"rigid\"\n"),
+            Base::Rigid => s.push_str(&format!("[{prefix}base]\nkind = \"rigid\"\n")),
             Base::Elastic { young, poisson } => s.push_str(&format!(
-                "[base]\nkind = \"elastic\"\nyoung = {young:e}\npoisson = {poisson:e}\n"
+                "[{prefix}base]\nkind = \"elastic\"\nyoung = {young:e}\npoisson = {poisson:e}\n"
             )),
         }
         if self.conduction.base_kind == BaseConduction::Isothermal {

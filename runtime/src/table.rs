@@ -288,8 +288,17 @@ impl Table {
             });
         }
         // Re-validate the stack: deserialisation bypasses Stack::new.
-        let st = Stack::new(h.stack.layers().to_vec(), h.stack.base())?;
-        if st.layers().is_empty() {
+        let mut st = Stack::new(h.stack.layers().to_vec(), h.stack.base())?;
+        if let Some(c) = h.stack.counterface() {
+            // (the codec re-validated it on decoding; a table built in memory too)
+            st = st.against(Stack::new(c.layers().to_vec(), c.base())?)?;
+            if h.family.is_some() {
+                return Err(TableError::Invalid(
+                    "a table of a stack and its counterface has no family axis".into(),
+                ));
+            }
+        }
+        if st.top_thickness().is_none() {
             return Err(TableError::Invalid("the stack has no layers".into()));
         }
         for (name, ax) in [("x", h.x), ("w", h.w), ("s", h.s)] {
@@ -414,6 +423,36 @@ impl Table {
     pub fn family_coordinate(&self, stack: &Stack) -> Result<f64, TableError> {
         let t = &self.header.stack;
         let nf = |m: String| TableError::NotInFamily(m);
+        match (stack.canonical_pair(), t.canonical_pair()) {
+            (None, None) => {}
+            (Some((sa, sb)), Some((ta, tb))) => {
+                // Both bodies in canonical order (a pair and its swap share a table),
+                // each nondimensionalised by the pair's h₁ and E*.
+                let rs = (
+                    stack.top_thickness().unwrap_or(1.0),
+                    stack.contact_modulus(),
+                );
+                let rt = (t.top_thickness().unwrap_or(1.0), t.contact_modulus());
+                for (what, s, tt) in [("body", &sa, &ta), ("counterface", &sb, &tb)] {
+                    same_body(s, tt, rs, rt).map_err(|m| nf(format!("pair's {what}: {m}")))?;
+                }
+                return Ok(0.0);
+            }
+            (Some(_), None) => {
+                return Err(nf(
+                    "it is pressed against an elastic counterface; the table is of the stack \
+                     against a rigid flat (build a table for the pair)"
+                        .into(),
+                ));
+            }
+            (None, Some(_)) => {
+                return Err(nf(
+                    "the table is of a stack against an elastic counterface; this stack is \
+                     pressed by a rigid flat"
+                        .into(),
+                ));
+            }
+        }
         if stack.layers().len() != t.layers().len() {
             return Err(nf(format!(
                 "it has {} layers, the table's stack has {}",
@@ -499,7 +538,7 @@ impl Table {
     /// with the header's number of terms: the leading term only on a rigid base.
     pub fn far_field(&self, stack: &Stack, k0: f64) -> far::FarField {
         let m = self.header.far_terms;
-        if m == 0 || matches!(stack.base(), Base::Rigid) {
+        if m == 0 || stack.on_rigid_bases() {
             return far::FarField::leading(k0);
         }
         let comp = crate::Compliance::new(stack);
@@ -530,14 +569,16 @@ impl Table {
                 stack.compliance(0.0) - 1.0,
             ),
         };
-        let h1 = stack.layers()[0].thickness;
+        let h1 = stack
+            .top_thickness()
+            .ok_or_else(|| TableError::NotInFamily("it has no layers".into()))?;
         Ok(TableLaw {
-            e_star: stack.top_plane_strain_modulus(),
+            e_star: stack.contact_modulus(),
             h1,
             k0,
             point_force: crate::law::PointForce::of_stack(stack),
             far: self.far_field(stack, k0),
-            rigid: matches!(stack.base(), Base::Rigid),
+            rigid: stack.on_rigid_bases(),
             x: h.x,
             w: h.w,
             s_axis: h.s,
@@ -545,6 +586,45 @@ impl Table {
             g: interp::Grid2::even_in_y(h.x, h.w, &g),
             s,
         })
+    }
+}
+
+/// Whether body `s` equals body `t` up to the scalings `rs` = (h, E) of its pair and
+/// `rt` of the table's: thicknesses h_i/h, moduli E_i/E, Poisson ratios, base.
+fn same_body(s: &Stack, t: &Stack, rs: (f64, f64), rt: (f64, f64)) -> Result<(), String> {
+    if s.layers().len() != t.layers().len() {
+        return Err(format!(
+            "it has {} layers, the table's has {}",
+            s.layers().len(),
+            t.layers().len()
+        ));
+    }
+    for (i, (ls, lt)) in s.layers().iter().zip(t.layers()).enumerate() {
+        let n = i + 1;
+        if !close(ls.thickness / rs.0, lt.thickness / rt.0)
+            || !close(ls.young / rs.1, lt.young / rt.1)
+            || (ls.poisson - lt.poisson).abs() > 1e-12
+        {
+            return Err(format!(
+                "layer {n} (h, E, ν) = ({:e} m, {:e} Pa, {}) is not the table's ({:e} m, {:e} Pa, {}) \
+                 scaled",
+                ls.thickness, ls.young, ls.poisson, lt.thickness, lt.young, lt.poisson
+            ));
+        }
+    }
+    match (s.base(), t.base()) {
+        (Base::Rigid, Base::Rigid) => Ok(()),
+        (
+            Base::Elastic {
+                young: ys,
+                poisson: ps,
+            },
+            Base::Elastic {
+                young: yt,
+                poisson: pt,
+            },
+        ) if (ps - pt).abs() <= 1e-12 && close(ys / rs.1, yt / rt.1) => Ok(()),
+        _ => Err("its base differs from the table's".into()),
     }
 }
 

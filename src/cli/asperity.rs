@@ -61,10 +61,19 @@ pub struct Args {
     /// Overwrite existing --plot and --profile files.
     #[arg(long)]
     pub force: bool,
+    /// A second elastic body (stack file) in place of the rigid flat: the asperity is
+    /// pressed against it, the two compliances add (physics.md §6.1).
+    #[arg(long)]
+    pub counterface: Option<PathBuf>,
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let stack = Stack::from_toml_file(&a.stack)?;
+    let mut stack = Stack::from_toml_file(&a.stack)?;
+    if let Some(c) = &a.counterface {
+        stack = stack
+            .against(Stack::from_toml_file(c).context("--counterface")?)
+            .context("--counterface")?;
+    }
     if !(a.radius.is_finite() && a.radius > 0.0) {
         bail!("--radius: must be positive and finite, got {}", a.radius);
     }
@@ -84,6 +93,11 @@ pub fn run(a: Args) -> Result<()> {
         }
     }
     let mut inputs = vec![("the stack file".to_string(), a.stack.clone())];
+    inputs.extend(
+        a.counterface
+            .iter()
+            .map(|c| ("the counterface stack file".to_string(), c.clone())),
+    );
     inputs.extend(a.table.iter().map(|t| ("the table".to_string(), t.clone())));
     for (flag, out) in [("--plot", &a.plot), ("--profile", &a.profile)] {
         if let Some(p) = out {
@@ -162,7 +176,7 @@ pub fn run(a: Args) -> Result<()> {
         set.commit()?;
     }
     if let (Some(path), Some(set)) = (&a.plot, plot_set) {
-        let es = stack.top_plane_strain_modulus();
+        let es = stack.contact_modulus();
         let hertz = |d: f64| 4.0 / 3.0 * es * a.radius.sqrt() * d.powf(1.5);
         let (lo, hi) = rows.iter().fold((f64::INFINITY, 0.0f64), |(l, h), r| {
             (l.min(r.0), h.max(r.0))

@@ -472,7 +472,19 @@ fn describe(scene: &Scene) -> String {
         Some(n) => format!("stack \"{n}\""),
         None => format!("stack of {} layer(s)", scene.stack.layers().len()),
     };
-    format!("{src}; {stack}")
+    match scene.stack.counterface() {
+        None => format!("{src}; {stack}"),
+        Some(c) => format!(
+            "{src}{}; {stack} against an elastic counterface \"{}\" (two bodies, physics.md §6.1: \
+             E*₁ below is the pair's, 1/E* = 1/E*₁,body + 1/E*₁,counterface)",
+            if scene.counterface_surface.is_some() {
+                " plus the counterface's heights"
+            } else {
+                ""
+            },
+            crate::engine::stack_description(c)
+        ),
+    }
 }
 
 fn images_name(images: Images) -> String {

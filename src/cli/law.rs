@@ -271,6 +271,18 @@ fn solve_asperities(
 
 fn solid(scene: &Scene) -> String {
     let s = &scene.stack;
+    if let Some(c) = s.counterface() {
+        return format!(
+            "{} against an elastic counterface ({}), pair E* = {:e} Pa",
+            solid_of(&s.body()),
+            solid_of(c),
+            s.contact_modulus()
+        );
+    }
+    solid_of(s)
+}
+
+fn solid_of(s: &strata_runtime::Stack) -> String {
     if s.is_homogeneous() {
         format!(
             "homogeneous (E* = {:e} Pa, Hertz asperities)",
@@ -345,7 +357,7 @@ fn solve_bem(
         law: il,
         model: describe(None),
         solid: solid(scene),
-        e_star: scene.stack.top_plane_strain_modulus(),
+        e_star: scene.stack.contact_modulus(),
         nominal_area: area,
         surface: sol.meta["surface"].clone(),
         warnings,

@@ -79,6 +79,10 @@ pub struct BuildArgs {
     /// Output table file.
     #[arg(long)]
     pub out: PathBuf,
+    /// A second elastic body (stack file): the table is of the pair, its two
+    /// compliances added (physics.md §6.1); no family axis.
+    #[arg(long)]
+    pub counterface: Option<PathBuf>,
     /// Family axis `LAYER:LO:HI:N` (LAYER = layer number >= 2 or `base`; LO, HI =
     /// modulus ratios to layer 1; N members, log-spaced).
     #[arg(long)]
@@ -185,13 +189,16 @@ fn load(file: &std::path::Path) -> Result<Table> {
 pub fn run(a: Args) -> Result<()> {
     match a.command {
         Sub::Build(b) => {
-            let stack = Stack::from_toml_file(&b.stack)?;
+            let mut stack = Stack::from_toml_file(&b.stack)?;
+            let mut inputs = vec![("the stack file".to_string(), b.stack.clone())];
+            if let Some(c) = &b.counterface {
+                stack = stack
+                    .against(Stack::from_toml_file(c).context("--counterface")?)
+                    .context("--counterface")?;
+                inputs.push(("the counterface stack file".into(), c.clone()));
+            }
             let family = b.vary.as_deref().map(parse_vary).transpose()?;
-            refuse_inputs(
-                "--out",
-                &b.out,
-                &[("the stack file".into(), b.stack.clone())],
-            )?;
+            refuse_inputs("--out", &b.out, &inputs)?;
             let set = OutputSet::file("--out", &b.out, b.force)?;
             let opts = BuildOptions {
                 nx: b.nx,
@@ -287,6 +294,16 @@ fn print_info(t: &Table, o: &mut dyn Write) -> io::Result<()> {
         "stack: {}",
         h.stack.name.as_deref().unwrap_or("(unnamed)")
     )?;
+    if let Some(c) = h.stack.counterface() {
+        writeln!(
+            o,
+            "counterface: {} (an elastic second body: the table is of the pair, E* = {:e} Pa; \
+             file format version {})",
+            c.name.as_deref().unwrap_or("(unnamed)"),
+            h.stack.contact_modulus(),
+            strata_runtime::table::codec::PAIR_VERSION
+        )?;
+    }
     for line in h.stack.to_toml_string().lines() {
         writeln!(o, "  {line}")?;
     }
@@ -313,7 +330,7 @@ fn print_info(t: &Table, o: &mut dyn Write) -> io::Result<()> {
         "g: w = asinh(sqrt((r-a)/h1)) in [0, {:.4}], {} nodes; far field beyond r - a = {:.1} H with {} correction terms (error {:.2e} of (4/3)a^3/r)",
         h.w.hi,
         h.w.n,
-        h.stack.layers()[0].thickness * h.w.hi.sinh().powi(2) / h.stack.total_thickness(),
+        h.stack.top_thickness().unwrap_or(1.0) * h.w.hi.sinh().powi(2) / h.stack.total_thickness(),
         h.far_terms,
         h.far_field_error
     )?;

@@ -237,7 +237,7 @@ pub(super) fn existing_file(
         dir.display().to_string()
     };
     Err(SceneError::MissingFile {
-        field,
+        field: field.to_string(),
         what: if p.is_dir() {
             "a directory, not a file:"
         } else {

@@ -90,7 +90,7 @@ pub enum SceneError {
         "{field} = \"{value}\": {what} {resolved} (paths in a scene are relative to the scene's directory, {dir}){hint}"
     )]
     MissingFile {
-        field: &'static str,
+        field: String,
         /// "no such file", or "a directory, not a file:".
         what: &'static str,
         value: String,
@@ -271,9 +271,16 @@ impl SolverSpec {
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
+    /// The first body; with an elastic `[counterface]`, pressed against it
+    /// ([`Stack::counterface`]), so every model sees the pair (physics.md §6.1).
     pub stack: Stack,
     /// The stack file (`stack.file`, resolved), if the stack is not inline.
     pub stack_file: Option<PathBuf>,
+    /// The counterface's stack file (`counterface.file`, resolved), if any.
+    pub counterface_file: Option<PathBuf>,
+    /// The counterface's rough surface (`[counterface.surface]`), heights as seen from
+    /// the first body; added to the first body's ([`Surface::plus_counterface`]).
+    pub counterface_surface: Option<SurfaceSpec>,
     /// Optional table file (absolute).
     pub table: Option<PathBuf>,
     pub surface: SurfaceSpec,
@@ -328,6 +335,16 @@ impl Scene {
         if let SurfaceSource::File(p) = &self.surface.source {
             v.push(("the scene's surface file".into(), p.clone()));
         }
+        if let Some(p) = &self.counterface_file {
+            v.push(("the scene's counterface stack file".into(), p.clone()));
+        }
+        if let Some(SurfaceSpec {
+            source: SurfaceSource::File(p),
+            ..
+        }) = &self.counterface_surface
+        {
+            v.push(("the scene's counterface surface file".into(), p.clone()));
+        }
         v
     }
 
@@ -356,8 +373,16 @@ impl Scene {
         check_keys(
             &top,
             "",
-            &["stack", "surface", "model", "load", "output", "solver"],
-            "stack, surface, model, load, output, solver",
+            &[
+                "stack",
+                "surface",
+                "model",
+                "load",
+                "output",
+                "solver",
+                "counterface",
+            ],
+            "stack, surface, model, load, output, solver, counterface",
         )?;
         // [stack]
         let st = table(&top, "stack", "stack")?;
@@ -389,7 +414,7 @@ impl Scene {
                 Stack::from_toml_table(&inline).map_err(SceneError::Stack)?
             }
         };
-        let table_path = string(st, "table", "stack.table")?
+        let mut table_path = string(st, "table", "stack.table")?
             .map(|t| {
                 existing_file(
                     dir,
@@ -399,6 +424,26 @@ impl Scene {
                 )
             })
             .transpose()?;
+        // [counterface] (absent: a rigid smooth flat)
+        let counter = parse_counterface(&top, dir)?;
+        let mut stack = stack;
+        if let Some(c) = &counter.stack {
+            if table_path.is_some() {
+                return Err(SceneError::Invalid {
+                    field: "stack.table".into(),
+                    reason: "serves the stack against a rigid flat; with an elastic \
+                             [counterface] give counterface.table (a table built for the pair, \
+                             `strata table build STACK.toml --counterface STACK2 --out FILE`) or \
+                             leave it out to use the table cache"
+                        .into(),
+                });
+            }
+            stack = stack.against(c.clone()).map_err(|e| SceneError::Invalid {
+                field: "counterface".into(),
+                reason: e.to_string(),
+            })?;
+            table_path = counter.table.clone();
+        }
         // [surface] (or one given in memory)
         let surface = match surface {
             Some(s) => s,
@@ -569,9 +614,25 @@ impl Scene {
                 OutputSpec { maps }
             }
         };
+        if let Some(cs) = &counter.surface {
+            if matches!(cs.source, SurfaceSource::Generate(_))
+                && matches!(surface.source, SurfaceSource::Generate(_))
+                && cs.source == surface.source
+            {
+                return Err(SceneError::Invalid {
+                    field: "counterface.surface.generate.seed".into(),
+                    reason:
+                        "equals the first body's [surface.generate]: the two surfaces would be \
+                             the same heights twice; give the counterface another seed"
+                            .into(),
+                });
+            }
+        }
         Ok(Scene {
             stack,
             stack_file,
+            counterface_file: counter.file,
+            counterface_surface: counter.surface,
             table: table_path,
             surface,
             model: ModelSpec { kind, images },
@@ -584,12 +645,165 @@ impl Scene {
     /// Builds (reads or generates) the surface; a file by its extension (`.x3p`,
     /// `.npy`, else text) with the scene's spacing, height unit, repair and detrend.
     /// What the reader did is in [`Surface::log`].
+    ///
+    /// With a rough counterface (`[counterface.surface]`) the result is the composite
+    /// surface h_A + h_B (physics.md §6.1).
     pub fn load_surface(&self) -> Result<Surface, SceneError> {
-        let s = &self.surface;
-        Ok(match &s.source {
-            SurfaceSource::Generate(g) => Surface::generate(g)?,
-            SurfaceSource::File(p) => Surface::read(p, &s.read)?,
-        })
+        let own = load_spec(&self.surface)?;
+        match &self.counterface_surface {
+            None => Ok(own),
+            Some(c) => Ok(own.plus_counterface(&load_spec(c)?)?),
+        }
+    }
+}
+
+fn load_spec(s: &SurfaceSpec) -> Result<Surface, SceneError> {
+    Ok(match &s.source {
+        SurfaceSource::Generate(g) => Surface::generate(g)?,
+        SurfaceSource::File(p) => Surface::read(p, &s.read)?,
+    })
+}
+
+/// The parsed `[counterface]` table.
+#[derive(Default)]
+struct CounterfaceSpec {
+    /// The elastic counterface; `None` for a rigid flat.
+    stack: Option<Stack>,
+    file: Option<PathBuf>,
+    table: Option<PathBuf>,
+    surface: Option<SurfaceSpec>,
+}
+
+/// `[counterface]`: `kind = "rigid"` (the default when absent) or an elastic stack
+/// (`file`, or inline `[[counterface.layer]]`/`[counterface.base]`; `kind = "elastic"`
+/// optional), an optional pair `table` and an optional `[counterface.surface]` with
+/// the keys of `[surface]`.
+fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneError> {
+    if !top.contains_key("counterface") {
+        return Ok(CounterfaceSpec::default());
+    }
+    let ct = table(top, "counterface", "counterface")?;
+    check_keys(
+        ct,
+        "counterface.",
+        &["kind", "file", "table", "name", "layer", "base", "surface"],
+        "kind, file, table, name, layer, base, surface",
+    )?;
+    let has_stack = ["file", "name", "layer", "base"]
+        .iter()
+        .any(|k| ct.contains_key(*k));
+    let rigid = match string(ct, "kind", "counterface.kind")? {
+        Some("rigid") => true,
+        Some("elastic") => false,
+        None => !has_stack,
+        Some(other) => {
+            return Err(SceneError::Invalid {
+                field: "counterface.kind".into(),
+                reason: format!("`{other}` is not one of \"rigid\", \"elastic\""),
+            });
+        }
+    };
+    let mut spec = CounterfaceSpec::default();
+    if rigid {
+        for k in ["file", "name", "layer", "base", "table"] {
+            if ct.contains_key(k) {
+                return Err(SceneError::Invalid {
+                    field: format!("counterface.{k}"),
+                    reason:
+                        "a rigid counterface (counterface.kind = \"rigid\") has no stack or table"
+                            .into(),
+                });
+            }
+        }
+    } else {
+        let file = string(ct, "file", "counterface.file")?
+            .map(|f| existing_file(dir, "counterface.file", f, ""))
+            .transpose()?;
+        let stack = match &file {
+            Some(f) => {
+                if ct.contains_key("layer") || ct.contains_key("base") {
+                    return Err(SceneError::Invalid {
+                        field: "counterface.file".into(),
+                        reason: "give either `file` or inline [[counterface.layer]]/[counterface.base], not both"
+                            .into(),
+                    });
+                }
+                Stack::from_toml_file(f).map_err(|e| SceneError::Invalid {
+                    field: "counterface.file".into(),
+                    reason: e.to_string(),
+                })?
+            }
+            None => {
+                if !(ct.contains_key("layer") || ct.contains_key("base")) {
+                    return Err(SceneError::Missing(
+                        "counterface.file (or inline [[counterface.layer]]/[counterface.base]) for kind = \"elastic\""
+                            .into(),
+                    ));
+                }
+                let mut inline = ct.clone();
+                for k in ["kind", "table", "surface"] {
+                    inline.remove(k);
+                }
+                Stack::from_toml_table(&inline).map_err(|e| SceneError::Invalid {
+                    field: "counterface".into(),
+                    reason: e.to_string(),
+                })?
+            }
+        };
+        spec.table = string(ct, "table", "counterface.table")?
+            .map(|t| {
+                existing_file(
+                    dir,
+                    "counterface.table",
+                    t,
+                    "; build it with `strata table build STACK.toml --counterface STACK2 --out FILE`, or leave `table` out to use the table cache",
+                )
+            })
+            .transpose()?;
+        spec.stack = Some(stack);
+        spec.file = file;
+    }
+    if ct.contains_key("surface") {
+        let mut fake = Table::new();
+        fake.insert("surface".into(), ct["surface"].clone());
+        spec.surface = Some(parse_surface(&fake, dir).map_err(in_counterface)?);
+    }
+    Ok(spec)
+}
+
+/// A `[surface]` error re-labelled as one of `[counterface.surface]`.
+fn in_counterface(e: SceneError) -> SceneError {
+    let f = |s: String| format!("counterface.{s}");
+    match e {
+        SceneError::UnknownKey { key, expected } => SceneError::UnknownKey {
+            key: f(key),
+            expected,
+        },
+        SceneError::Missing(m) => SceneError::Missing(f(m)),
+        SceneError::WrongType { field, expected } => SceneError::WrongType {
+            field: f(field),
+            expected,
+        },
+        SceneError::Invalid { field, reason } => SceneError::Invalid {
+            field: f(field),
+            reason,
+        },
+        SceneError::MissingFile {
+            field,
+            what,
+            value,
+            resolved,
+            dir,
+            hint,
+        } => SceneError::MissingFile {
+            field: f(field),
+            what,
+            value,
+            resolved,
+            dir,
+            hint,
+        },
+        other => other,
     }
 }
 

@@ -184,7 +184,7 @@ impl Asperity {
                 reason: "must be in 2..=100000",
             });
         }
-        let homogeneous = stack.is_homogeneous() || stack.layers().is_empty();
+        let homogeneous = stack.is_homogeneous();
         Ok(Asperity {
             stack: stack.clone(),
             comp: Compliance::new(stack),

@@ -170,12 +170,13 @@ type Row = (f64, f64, Vec<f64>);
 
 /// Builds the table of `stack` (or of its family) with `opts`.
 pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
-    if stack.is_homogeneous() || stack.layers().is_empty() {
+    if stack.is_homogeneous() {
         return Err(BuildError::Homogeneous);
     }
     let x = log_axis("x_range/nx", opts.x_range.0, opts.x_range.1, opts.nx)?;
     let s_axis = log_axis("s_range/ns", opts.s_range.0, opts.s_range.1, opts.ns)?;
-    let h1 = stack.layers()[0].thickness;
+    // Not homogeneous: one of the bodies has a layer.
+    let h1 = stack.top_thickness().ok_or(BuildError::Homogeneous)?;
     let depth = stack.total_thickness();
     if !(opts.tolerance.is_finite() && opts.tolerance > 0.0) {
         return Err(BuildError::Option {
@@ -191,6 +192,12 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     }
     let family = match opts.family {
         None => None,
+        Some(_) if stack.counterface().is_some() => {
+            return Err(BuildError::Option {
+                field: "vary",
+                reason: "a table of a stack and its counterface has no family axis".into(),
+            });
+        }
         Some((vary, lo, hi, n)) => {
             match vary {
                 Vary::Layer(i) if i < 2 || i > stack.layers().len() => {
@@ -381,17 +388,30 @@ fn fingerprint(stack: &Stack) -> u64 {
             h = h.wrapping_mul(0x0000_0100_0000_01b3);
         }
     };
-    let (h1, e1) = (stack.layers()[0].thickness, stack.layers()[0].young);
-    for l in stack.layers() {
-        eat(l.thickness / h1);
-        eat(l.young / e1);
-        eat(l.poisson);
-    }
-    match stack.base() {
-        strata_runtime::Base::Rigid => eat(-1.0),
-        strata_runtime::Base::Elastic { young, poisson } => {
-            eat(young / e1);
-            eat(poisson);
+    // h₁ and E₁ of a single stack (the layer-1 values); a pair is scaled by its own
+    // h₁ and the first body's surface modulus, in canonical order, so a pair and its
+    // swap share a table.
+    let h1 = stack.top_thickness().unwrap_or(1.0);
+    let bodies = match stack.canonical_pair() {
+        None => vec![stack.clone()],
+        Some((a, b)) => vec![a, b],
+    };
+    let e1 = bodies[0].top_material().0;
+    for (i, body) in bodies.iter().enumerate() {
+        if i > 0 {
+            eat(f64::NAN); // separates the counterface (no single stack hashes NaN)
+        }
+        for l in body.layers() {
+            eat(l.thickness / h1);
+            eat(l.young / e1);
+            eat(l.poisson);
+        }
+        match body.base() {
+            strata_runtime::Base::Rigid => eat(-1.0),
+            strata_runtime::Base::Elastic { young, poisson } => {
+                eat(young / e1);
+                eat(poisson);
+            }
         }
     }
     h
@@ -405,7 +425,7 @@ pub fn build_and_cache(
     dir: &Path,
     opts: &BuildOptions,
 ) -> Result<(Table, PathBuf), BuildError> {
-    if stack.is_homogeneous() || stack.layers().is_empty() {
+    if stack.is_homogeneous() {
         return Err(BuildError::Homogeneous);
     }
     let path = dir.join(format!("stack-{:016x}.strata", fingerprint(stack)));

@@ -8,7 +8,7 @@
 use rayon::prelude::*;
 use strata_runtime::table::far::{FAR_TERMS, FarField};
 use strata_runtime::table::{Axis, InterpError, Table};
-use strata_runtime::{Base, Compliance, Stack};
+use strata_runtime::{Compliance, Stack};
 
 use crate::approx::{Approx, ApproxError};
 use crate::tablebuild::{BuildError, bar};
@@ -78,7 +78,7 @@ pub fn check_with(
             let member = table.member_stack(c)?;
             let law = table.law_for(&member)?;
             let ap = Approx::new(&member);
-            let h1 = member.layers()[0].thickness;
+            let h1 = member.top_thickness().unwrap_or(1.0);
             let a = h1 * cx.exp();
             let r = a + h1 * w.sinh().powi(2);
             let (chi, zeta) = ap.chi_zeta(a)?;
@@ -128,7 +128,7 @@ fn scale(a: f64, r: f64) -> f64 {
 /// [`strata_runtime::table::far`]).
 pub fn far_field_of(stack: &Stack) -> FarField {
     let comp = Compliance::new(stack);
-    if matches!(stack.base(), Base::Rigid) {
+    if stack.on_rigid_bases() {
         return FarField::leading(comp.s_at_zero() - 1.0);
     }
     FarField::new(&comp, stack.total_thickness())
@@ -237,8 +237,8 @@ pub fn choose_far_field(
 mod tests {
     use super::*;
     use crate::tablebuild::{BuildOptions, build};
-    use strata_runtime::Layer;
     use strata_runtime::law::AsperityLaw;
+    use strata_runtime::{Base, Layer};
 
     fn one_layer(e1: f64, nu1: f64, base: Base) -> Stack {
         Stack::new(

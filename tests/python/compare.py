@@ -2,6 +2,7 @@
 """Reference load curves from independent public solvers, for tests/bem_reference.rs.
 
     python compare.py tamaas SURFACE.npy OUT.csv  # homogeneous half-space, Tamaas 2.9
+    python compare.py tamaas_pair SURFACE.npy OUT.csv  # steel on steel: composite E*, Tamaas 2.9
     python compare.py cm SURFACE.npy OUT.csv      # one layer on a rigid base, ContactMechanics 1.8
     python compare.py free SURFACE.npy OUT.csv    # non-periodic half-space, ContactMechanics 1.8
     python compare.py speed DIR OUT.csv           # Tamaas seconds per load step (surfaces of the bem bench)
@@ -98,6 +99,41 @@ def run_tamaas(surf, out):
         f.write(f"# Tamaas 2.9 PolonskyKeerRey(gap, gap), tol 1e-10; half-space E={E}, nu={NU}; E*={ESTAR!r}; "
                 f"surface {surf} ({z.shape[0]}^2, L={L})\n")
         f.write("target_mean_gap,mean_gap,pressure_ratio,area_fraction,seconds\n")
+        for r in rows:
+            f.write(",".join(repr(float(v)) for v in r) + "\n")
+
+
+# Two steel half-spaces (E = 210 GPa, nu = 0.3 each; strata's [counterface], physics.md
+# §6.1): Tamaas has one deformable body, so it is given the composite modulus
+# E*_pair = 1/(1/E* + 1/E*) = E*/2 as E with nu = 0 (E* = E/(1 - 0^2)).
+E_STEEL, NU_STEEL = 210e9, 0.3
+ESTAR_PAIR = 1.0 / (2.0 / (E_STEEL / (1 - NU_STEEL**2)))
+
+
+def run_tamaas_pair(surf, out):
+    import tamaas as tm
+
+    z = surface(surf)
+    n = z.shape[0]
+    sep = z.max() - z.mean()
+    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [L, L], [n, n])
+    model.E = ESTAR_PAIR
+    model.nu = 0.0
+    solver = tm.PolonskyKeerRey(model, z, 1e-10, tm.PolonskyKeerRey.gap, tm.PolonskyKeerRey.gap)
+    solver.dump_freq = 10**9
+    rows = []
+    for frac in loads(TAMAAS_FRACTIONS, z, "tamaas_pair"):
+        g = frac * sep
+        solver.solve(g)
+        p = np.asarray(model.traction).reshape(z.shape)
+        gap = np.asarray(model["gap"]).reshape(z.shape)
+        area = np.count_nonzero(gap == 0.0) / gap.size
+        rows.append((g, gap.mean(), p.mean(), area))
+        print(f"tamaas steel/steel mean gap {g:.4e}: p {p.mean():.8e} Pa, A/A0 {area:.5e}", flush=True)
+    with open(out, "w") as f:
+        f.write(f"# Tamaas 2.9 PolonskyKeerRey(gap, gap), tol 1e-10; steel on steel (E={E_STEEL}, nu={NU_STEEL} each) "
+                f"as one half-space of E*_pair={ESTAR_PAIR!r}; surface {surf} ({n}^2, L={L})\n")
+        f.write("target_mean_gap,mean_gap,mean_pressure,area_fraction\n")
         for r in rows:
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
@@ -219,6 +255,7 @@ def run_speed(directory, out):
 
 if __name__ == "__main__":
     args = sys.argv[1:]
-    if len(args) != 3 or args[0] not in ("tamaas", "cm", "free", "speed"):
+    if len(args) != 3 or args[0] not in ("tamaas", "tamaas_pair", "cm", "free", "speed"):
         raise SystemExit(__doc__)
-    {"tamaas": run_tamaas, "cm": run_cm, "free": run_free, "speed": run_speed}[args[0]](args[1], args[2])
+    {"tamaas": run_tamaas, "tamaas_pair": run_tamaas_pair, "cm": run_cm, "free": run_free,
+     "speed": run_speed}[args[0]](args[1], args[2])

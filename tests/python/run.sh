@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Checks strata's FFT-BEM against independent public solvers (issue 6):
-#   * Tamaas 2.9 (homogeneous half-space, equal mean gap),
+#   * Tamaas 2.9 (homogeneous half-space, equal mean gap; and steel on steel, strata's
+#     two-body [counterface], against Tamaas with the composite E*),
 #   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach) and
 #   * ContactMechanics 1.8 FreeFFTElasticHalfSpace (the surface as an isolated,
 #     non-periodic sample on a half-space, equal approach),
@@ -45,7 +46,7 @@ fail() { echo "tests/python/run.sh: ERROR: $*" >&2; exit 1; }
 
 t_start=$(date +%s)
 mkdir -p "$STRATA_PY_REF"
-rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF"/{tamaas,cm,free}.{csv,log}
+rm -f "$STRATA_PY_REF/surface.npy" "$STRATA_PY_REF"/{tamaas,tamaas_pair,cm,free}.{csv,log}
 if [ ! -x "$VENV/bin/python" ]; then
     "$PY" -m venv "$VENV" || fail "cannot create a venv with $PY (install python3-venv)"
 fi
@@ -64,7 +65,7 @@ t_surf=$(date +%s)
 # three run side by side, each into a log of its own printed when all are done (one after
 # the other they left a core idle for ~20 s of a CI run).
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}
-solvers=(tamaas cm free)
+solvers=(tamaas tamaas_pair cm free)
 pids=()
 for solver in "${solvers[@]}"; do
     "$VENV/bin/python" tests/python/compare.py "$solver" "$STRATA_PY_REF/surface.npy" \

@@ -66,12 +66,18 @@ class Scene:
     objects, where ``surface`` may also be a SurfaceTopography topography.
     ``solver`` is the scene's ``[solver]`` table as a dict: the budgets and tolerances
     an error message may ask to raise (``{"max_step_newton_steps": 40000}``, ...).
+    ``counterface`` (a :class:`Stack` or stack file) presses the first body against a second
+    elastic body instead of a rigid flat (the two compliances add; the pair's E* is in every
+    normalisation); ``counterface_surface`` is that body's roughness, heights as seen from the
+    first body on the same grid (added to ``surface``).
     """
 
     def __init__(self, stack, surface, model: str = "interacting", load=None, images: Optional[str] = None,
-                 image_cells: Optional[int] = None, table=None, solver: Optional[Dict[str, Any]] = None):
+                 image_cells: Optional[int] = None, table=None, solver: Optional[Dict[str, Any]] = None,
+                 counterface=None, counterface_surface=None):
+        cs = None if counterface_surface is None else as_surface(counterface_surface)
         self._native = _strata.Scene(stack, as_surface(surface), model, load, images, image_cells, table,
-                                     solver)
+                                     solver, counterface, cs)
 
     @classmethod
     def _wrap(cls, native) -> "Scene":

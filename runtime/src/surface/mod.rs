@@ -95,6 +95,16 @@ pub enum SurfaceError {
     /// The message includes the limit's; no `source` (a chain would print it twice).
     #[error("surface: {0}")]
     Resources(crate::resources::ResourceError),
+    /// Two surfaces whose heights cannot be added point by point.
+    #[error(
+        "counterface surface: its {what} ({other}) differs from the first body's ({this}); \
+         the two height maps must share the grid, pixel size and periodicity"
+    )]
+    Mismatch {
+        what: &'static str,
+        this: String,
+        other: String,
+    },
 }
 
 impl From<crate::resources::ResourceError> for SurfaceError {
@@ -374,6 +384,60 @@ impl Surface {
     /// Number of points replaced when the surface was read with [`Repair::Median`].
     pub fn repaired(&self) -> usize {
         self.repaired
+    }
+
+    /// The composite surface of two rough bodies: heights h = h_A + h_B at the same
+    /// in-plane points (physics.md §6.1: frictionless small-slope contact of two rough
+    /// surfaces is that of their sum against a smooth one), `counterface` given as
+    /// seen from this body. Refuses different grids, pixel sizes (relative 1e-9) or
+    /// periodicity. The log and warnings keep this surface's, plus one line.
+    pub fn plus_counterface(&self, counterface: &Surface) -> Result<Surface, SurfaceError> {
+        let c = counterface;
+        let differs =
+            |what, this: String, other: String| SurfaceError::Mismatch { what, this, other };
+        if self.shape() != c.shape() {
+            return Err(differs(
+                "grid",
+                format!("{}×{}", self.n0, self.n1),
+                format!("{}×{}", c.n0, c.n1),
+            ));
+        }
+        let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+        if !(near(self.dx, c.dx) && near(self.dy, c.dy)) {
+            return Err(differs(
+                "pixel size",
+                format!("{:e} × {:e} m", self.dx, self.dy),
+                format!("{:e} × {:e} m", c.dx, c.dy),
+            ));
+        }
+        if self.periodic != c.periodic {
+            return Err(differs(
+                "periodicity",
+                format!("periodic = {}", self.periodic),
+                format!("periodic = {}", c.periodic),
+            ));
+        }
+        let z = self.z.iter().zip(&c.z).map(|(a, b)| a + b).collect();
+        let mut s = Surface::with_spacing(
+            z,
+            self.n0,
+            self.n1,
+            Spacing::Pixel(self.dx, self.dy),
+            self.periodic,
+        )?;
+        s.repaired = self.repaired + c.repaired;
+        s.log = self.log.clone();
+        s.log
+            .extend(c.log.iter().map(|l| format!("counterface: {l}")));
+        s.log.push(format!(
+            "counterface heights added point by point (its RMS {:e} m): the composite surface h_A + h_B is solved against a smooth counterface",
+            c.rms()
+        ));
+        s.warnings = self.warnings.clone();
+        s.warnings
+            .extend(c.warnings.iter().map(|w| format!("counterface: {w}")));
+        s.form = self.form.clone();
+        Ok(s)
     }
     /// What the reader did, one line each (units, repairs, form removal, metadata).
     pub fn log(&self) -> &[String] {

@@ -11,11 +11,21 @@
 //!   bytes 28..    payload: bincode 2 (serde, standard config) of `Table`
 //! ```
 //!
+//! A table of a stack pressed against an elastic counterface (physics.md §6.1) is
+//! stored as version [`PAIR_VERSION`]: the same payload followed by the counterface's
+//! stack, bincode of the tuple `(Table, Stack)`; a table without one keeps version
+//! [`FORMAT_VERSION`] and its bytes.
+//!
 //! The version is read before the payload is decoded, so a file from another
 //! format version is reported as such, not as corrupt.
 
 use super::{FORMAT_VERSION, Table, TableError};
 use crate::hash::fnv1a;
+use crate::stack::Stack;
+
+/// File version of a table whose stack has an elastic counterface: the
+/// [`FORMAT_VERSION`] payload followed by the counterface stack.
+pub const PAIR_VERSION: u32 = FORMAT_VERSION + 1;
 
 /// File signature.
 pub const MAGIC: &[u8; 8] = b"STRATATB";
@@ -27,11 +37,18 @@ pub const MAX_PAYLOAD: u64 = 1 << 30;
 
 /// Serialises a table (header and arrays) to bytes.
 pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
-    let payload = bincode::serde::encode_to_vec(table, bincode::config::standard())
-        .map_err(|e| TableError::Corrupt(format!("cannot encode table: {e}")))?;
+    let config = bincode::config::standard();
+    let (version, payload) = match table.header.stack.counterface() {
+        None => (FORMAT_VERSION, bincode::serde::encode_to_vec(table, config)),
+        Some(c) => (
+            PAIR_VERSION,
+            bincode::serde::encode_to_vec((table, c), config),
+        ),
+    };
+    let payload = payload.map_err(|e| TableError::Corrupt(format!("cannot encode table: {e}")))?;
     let mut out = Vec::with_capacity(PREFIX + payload.len());
     out.extend_from_slice(MAGIC);
-    out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
+    out.extend_from_slice(&version.to_le_bytes());
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
     out.extend_from_slice(&fnv1a(&payload).to_le_bytes());
     out.extend_from_slice(&payload);
@@ -59,7 +76,7 @@ pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
     let mut v = [0u8; 4];
     v.copy_from_slice(&bytes[8..12]);
     let version = u32::from_le_bytes(v);
-    if version != FORMAT_VERSION {
+    if version != FORMAT_VERSION && version != PAIR_VERSION {
         return Err(TableError::WrongVersion {
             found: version,
             expected: FORMAT_VERSION,
@@ -91,11 +108,20 @@ pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
             "checksum mismatch (the file was modified or damaged)".into(),
         ));
     }
-    let (table, used): (Table, usize) = bincode::serde::decode_from_slice(
-        payload,
-        bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>(),
-    )
-    .map_err(|e| TableError::Corrupt(format!("cannot decode payload: {e}")))?;
+    let config = bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>();
+    let bad =
+        |e: bincode::error::DecodeError| TableError::Corrupt(format!("cannot decode payload: {e}"));
+    let (table, used) = if version == FORMAT_VERSION {
+        bincode::serde::decode_from_slice::<Table, _>(payload, config).map_err(bad)?
+    } else {
+        let ((mut table, counterface), used): ((Table, Stack), usize) =
+            bincode::serde::decode_from_slice(payload, config).map_err(bad)?;
+        // Deserialisation bypasses Stack::new: re-validate before attaching.
+        let mut c = Stack::new(counterface.layers().to_vec(), counterface.base())?;
+        c.name = counterface.name.clone();
+        table.header.stack = table.header.stack.against(c)?;
+        (table, used)
+    };
     if used != payload.len() {
         return Err(TableError::Corrupt("payload has unread bytes".into()));
     }

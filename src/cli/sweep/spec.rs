@@ -37,7 +37,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::scene::{ModelKind, Scene, SurfaceSource};
+use crate::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
 use anyhow::{Context, Result, anyhow, bail};
 use strata_runtime::hash::Fnv1a;
 use strata_runtime::rough::Images;
@@ -110,6 +110,10 @@ enum Param {
     Layer(usize, LayerField),
     BaseYoung,
     BasePoisson,
+    /// `counterface.layerN.*` of the elastic counterface.
+    CounterLayer(usize, LayerField),
+    CounterBaseYoung,
+    CounterBasePoisson,
     Surface(SurfaceField),
     ModelKind,
     ModelImages,
@@ -123,7 +127,8 @@ enum Kind {
 }
 
 const KNOWN: &str = "stack.modulus_ratio, stack.layerN.thickness|young|poisson, \
-stack.base.young|poisson, surface.k_min|k_max|rms|fractal_dimension|size|grid|seed, \
+stack.base.young|poisson, counterface.layerN.thickness|young|poisson, \
+counterface.base.young|poisson, surface.k_min|k_max|rms|fractal_dimension|size|grid|seed, \
 model.kind, model.images";
 
 fn param_of(name: &str) -> Option<(Param, Kind)> {
@@ -133,6 +138,8 @@ fn param_of(name: &str) -> Option<(Param, Kind)> {
         "stack.modulus_ratio" => (Param::ModulusRatio, f),
         "stack.base.young" => (Param::BaseYoung, f),
         "stack.base.poisson" => (Param::BasePoisson, f),
+        "counterface.base.young" => (Param::CounterBaseYoung, f),
+        "counterface.base.poisson" => (Param::CounterBasePoisson, f),
         "surface.k_min" => (Param::Surface(KMin), f),
         "surface.k_max" => (Param::Surface(KMax), f),
         "surface.rms" => (Param::Surface(Rms), f),
@@ -143,7 +150,10 @@ fn param_of(name: &str) -> Option<(Param, Kind)> {
         "model.kind" => (Param::ModelKind, Kind::Str),
         "model.images" => (Param::ModelImages, Kind::Str),
         _ => {
-            let rest = name.strip_prefix("stack.layer")?;
+            let (counter, rest) = match name.strip_prefix("stack.layer") {
+                Some(rest) => (false, rest),
+                None => (true, name.strip_prefix("counterface.layer")?),
+            };
             let (n, field) = rest.split_once('.')?;
             let n: usize = n.parse().ok().filter(|n| *n >= 1)?;
             let field = match field {
@@ -152,7 +162,11 @@ fn param_of(name: &str) -> Option<(Param, Kind)> {
                 "poisson" => LayerField::Poisson,
                 _ => return None,
             };
-            (Param::Layer(n, field), f)
+            if counter {
+                (Param::CounterLayer(n, field), f)
+            } else {
+                (Param::Layer(n, field), f)
+            }
         }
     })
 }
@@ -200,6 +214,14 @@ pub fn input_files(scene: &Scene) -> Vec<PathBuf> {
     let mut v: Vec<PathBuf> = scene.stack_file.iter().cloned().collect();
     v.extend(scene.table.iter().cloned());
     if let SurfaceSource::File(p) = &scene.surface.source {
+        v.push(p.clone());
+    }
+    v.extend(scene.counterface_file.iter().cloned());
+    if let Some(SurfaceSpec {
+        source: SurfaceSource::File(p),
+        ..
+    }) = &scene.counterface_surface
+    {
         v.push(p.clone());
     }
     v
@@ -306,12 +328,19 @@ fn check_value(param: Param, v: &Value, field: &str) -> Result<()> {
         }
     };
     match param {
-        Param::ModulusRatio | Param::BaseYoung => need(x > 0.0, "must be > 0"),
-        Param::Layer(_, LayerField::Thickness) => need(x > 0.0, "must be > 0 (m)"),
-        Param::Layer(_, LayerField::Young) => need(x > 0.0, "must be > 0 (Pa)"),
-        Param::Layer(_, LayerField::Poisson) | Param::BasePoisson => {
-            need(x > -1.0 && x <= 0.5, "must be in (−1, 0.5]")
+        Param::ModulusRatio | Param::BaseYoung | Param::CounterBaseYoung => {
+            need(x > 0.0, "must be > 0")
         }
+        Param::Layer(_, LayerField::Thickness) | Param::CounterLayer(_, LayerField::Thickness) => {
+            need(x > 0.0, "must be > 0 (m)")
+        }
+        Param::Layer(_, LayerField::Young) | Param::CounterLayer(_, LayerField::Young) => {
+            need(x > 0.0, "must be > 0 (Pa)")
+        }
+        Param::Layer(_, LayerField::Poisson)
+        | Param::CounterLayer(_, LayerField::Poisson)
+        | Param::BasePoisson
+        | Param::CounterBasePoisson => need(x > -1.0 && x <= 0.5, "must be in (−1, 0.5]"),
         Param::Surface(f) => match f {
             SurfaceField::KMin | SurfaceField::KMax => need(x > 0.0, "must be > 0 (units of 2π/L)"),
             SurfaceField::Rms | SurfaceField::Size => need(x > 0.0, "must be > 0 (m)"),
@@ -509,6 +538,37 @@ impl Sweep {
                 {
                     bail!("{field}: the base scene's stack has a rigid base")
                 }
+                Param::CounterLayer(..) | Param::CounterBaseYoung | Param::CounterBasePoisson
+                    if self.base.stack.counterface().is_none() =>
+                {
+                    bail!(
+                        "{field}: the base scene has no elastic counterface (give a [counterface] stack)"
+                    )
+                }
+                Param::CounterLayer(n, _)
+                    if n > self
+                        .base
+                        .stack
+                        .counterface()
+                        .map_or(0, |c| c.layers().len()) =>
+                {
+                    bail!(
+                        "{field}: the base scene's counterface has {} layer(s)",
+                        self.base
+                            .stack
+                            .counterface()
+                            .map_or(0, |c| c.layers().len())
+                    )
+                }
+                Param::CounterBaseYoung | Param::CounterBasePoisson
+                    if self
+                        .base
+                        .stack
+                        .counterface()
+                        .is_some_and(|c| matches!(c.base(), Base::Rigid)) =>
+                {
+                    bail!("{field}: the base scene's counterface has a rigid base")
+                }
                 Param::ModulusRatio
                     if self.base.stack.layers().len() < 2
                         && !(self.base.stack.layers().len() == 1
@@ -605,7 +665,47 @@ impl Sweep {
                     *young = r * e1;
                 }
             }
-            scene.stack = Stack::new(layers, base).context("stack")?;
+            // (a swept stack loses its name: the name described the base scene's)
+            let mut st = Stack::new(layers, base).context("stack")?;
+            if let Some(c) = scene.stack.counterface() {
+                st = st.against(c.clone()).context("stack")?;
+            }
+            scene.stack = st;
+        }
+        let counter_swept = self.axes.iter().any(|a| {
+            matches!(
+                a.param,
+                Param::CounterLayer(..) | Param::CounterBaseYoung | Param::CounterBasePoisson
+            )
+        });
+        if let (true, Some(c)) = (counter_swept, scene.stack.counterface()) {
+            let mut layers = c.layers().to_vec();
+            let mut base = c.base();
+            for (a, v) in self.axes.iter().zip(values) {
+                let x = v.num();
+                match a.param {
+                    Param::CounterLayer(n, f) => {
+                        let l = &mut layers[n - 1];
+                        match f {
+                            LayerField::Thickness => l.thickness = x,
+                            LayerField::Young => l.young = x,
+                            LayerField::Poisson => l.poisson = x,
+                        }
+                    }
+                    Param::CounterBaseYoung | Param::CounterBasePoisson => {
+                        if let Base::Elastic { young, poisson } = &mut base {
+                            if a.param == Param::CounterBaseYoung {
+                                *young = x;
+                            } else {
+                                *poisson = x;
+                            }
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            let cs = Stack::new(layers, base).context("counterface")?;
+            scene.stack = scene.stack.body().against(cs).context("counterface")?;
         }
         for (a, v) in self.axes.iter().zip(values) {
             match a.param {
