@@ -65,6 +65,7 @@
 
 pub mod bounded;
 pub mod compliance;
+pub mod conduction;
 /// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).
 #[cfg(feature = "spectral")]
 pub use strata_fft as fft;
@@ -80,4 +81,5 @@ pub mod surface;
 pub mod table;
 
 pub use compliance::Compliance;
+pub use conduction::{ConductionCompliance, ConductionKind};
 pub use stack::{Base, Layer, Stack, StackError};

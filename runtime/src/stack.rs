@@ -20,6 +20,13 @@
 //! is then that of the pair; [`Stack::layers`] and [`Stack::base`] stay the first
 //! body's. Without a counterface the stack is pressed by a rigid smooth flat.
 //!
+//! Conduction (optional, physics.md §6.2): any `[[layer]]` and the `[base]` may give
+//! `thermal_conductivity` (W/(m·K)) and `electrical_conductivity` (S/m); the base is
+//! then a conducting half-space. `[base] conduction = "isothermal"` makes the bottom of
+//! the last layer an isothermal (equipotential) sink instead, the usual case under a
+//! rigid base. Stacks without these fields read, write and compute exactly as before;
+//! see [`crate::conduction`].
+//!
 //! Layer 1 is the top layer (the contact surface). Validation names the offending
 //! field and the layer index (1-based, as a user counts them). Poisson ratios are
 //! accepted in (−1, 0.5]: ν = 0.5 is an exactly incompressible material, which the
@@ -53,6 +60,46 @@ pub enum Base {
     Elastic { young: f64, poisson: f64 },
 }
 
+/// Conductivities of one layer or of a conducting base (SI units); `None` where the
+/// stack does not give one (physics.md §6.2).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct Conductivity {
+    /// Thermal conductivity k (W/(m·K)), > 0.
+    pub thermal: Option<f64>,
+    /// Electrical conductivity σ (S/m), > 0.
+    pub electrical: Option<f64>,
+}
+
+impl Conductivity {
+    /// True when neither conductivity is given.
+    pub fn is_empty(&self) -> bool {
+        self.thermal.is_none() && self.electrical.is_none()
+    }
+}
+
+/// How heat (or current) leaves through the bottom of the stack (physics.md §6.2).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub enum BaseConduction {
+    /// The base is a conducting half-space of the base's conductivities
+    /// ([`StackConduction::base`]; the default).
+    #[default]
+    HalfSpace,
+    /// An isothermal (equipotential) sink at the bottom of the last layer
+    /// (`[base] conduction = "isothermal"`).
+    Isothermal,
+}
+
+/// The conduction properties of a stack: per layer (top first) and of the base.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct StackConduction {
+    /// One entry per layer, top first (all empty when the stack gives none).
+    pub layers: Vec<Conductivity>,
+    /// The base's conductivities (a conducting half-space); empty for an isothermal base.
+    pub base: Conductivity,
+    /// Conducting half-space or isothermal sink below the last layer.
+    pub base_kind: BaseConduction,
+}
+
 /// A validated material stack. Construct with [`Stack::new`] or [`Stack::from_toml_str`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Stack {
@@ -64,6 +111,10 @@ pub struct Stack {
     /// the serde form (a table file stores it beside the stack, `table::codec`).
     #[serde(skip)]
     counterface: Option<Box<Stack>>,
+    /// Conduction properties (issue 34). Not part of a table file's binary header
+    /// (`serde(skip)`: tables stay byte-identical and loadable); empty unless given.
+    #[serde(skip)]
+    conduction: StackConduction,
 }
 
 /// Errors from reading or validating a stack. Each names the field, and the layer
@@ -117,6 +168,20 @@ pub enum StackError {
         path: String,
         error: Box<StackError>,
     },
+    /// `[base] conduction` is neither "isothermal" nor "half-space".
+    #[error("base: unknown conduction `{0}` (expected \"isothermal\" or \"half-space\")")]
+    UnknownBaseConduction(String),
+    /// An isothermal base given a conductivity.
+    #[error(
+        "base: field `{field}` is not allowed with conduction = \"isothermal\" (an isothermal sink has no conductivity)"
+    )]
+    IsothermalWithConductivity { field: &'static str },
+    /// An isothermal base under no layer.
+    #[error("base: conduction = \"isothermal\" needs at least one layer on top")]
+    NoLayersOnIsothermal,
+    /// [`Stack::with_conduction`] got another number of entries than layers.
+    #[error("conduction properties for {given} layers given to a stack of {layers} layers")]
+    ConductionLayers { layers: usize, given: usize },
 }
 
 /// Admissible Young moduli (Pa), inclusive: from far below the softest gels to far
@@ -204,6 +269,43 @@ fn check_poisson(location: Location, value: f64) -> Result<(), StackError> {
     Ok(())
 }
 
+/// Admissible conductivities (W/(m·K) or S/m), inclusive: from far below PTFE's
+/// electrical conductivity to far above any metal's. Within it every ratio of two
+/// conductivities, and so the conduction compliance S_th, stays finite in f64.
+pub const CONDUCTIVITY_RANGE: (f64, f64) = (1e-30, 1e30);
+
+fn check_conductivity(
+    location: Location,
+    field: &'static str,
+    value: f64,
+) -> Result<(), StackError> {
+    let reason = if !value.is_finite() {
+        "must be a finite number"
+    } else if value <= 0.0 {
+        "conductivity must be > 0"
+    } else if !(CONDUCTIVITY_RANGE.0..=CONDUCTIVITY_RANGE.1).contains(&value) {
+        "conductivity must lie in [1e-30, 1e30]"
+    } else {
+        return Ok(());
+    };
+    Err(StackError::Invalid {
+        location,
+        field,
+        value,
+        reason,
+    })
+}
+
+fn check_conductivities(location: Location, c: &Conductivity) -> Result<(), StackError> {
+    if let Some(k) = c.thermal {
+        check_conductivity(location, "thermal_conductivity", k)?;
+    }
+    if let Some(s) = c.electrical {
+        check_conductivity(location, "electrical_conductivity", s)?;
+    }
+    Ok(())
+}
+
 fn check_thickness(location: Location, value: f64) -> Result<(), StackError> {
     if !value.is_finite() {
         return Err(StackError::Invalid {
@@ -249,7 +351,67 @@ impl Stack {
             layers,
             base,
             counterface: None,
+            conduction: StackConduction::default(),
         })
+    }
+
+    /// Sets the conduction properties (physics.md §6.2): one [`Conductivity`] per layer
+    /// (top first, or none at all), the base's, and whether the base is a conducting
+    /// half-space or an isothermal sink. Validated like a stack file: conductivities
+    /// positive and finite in [`CONDUCTIVITY_RANGE`], an isothermal base without
+    /// conductivities and under at least one layer.
+    pub fn with_conduction(
+        mut self,
+        layers: Vec<Conductivity>,
+        base: Conductivity,
+        base_kind: BaseConduction,
+    ) -> Result<Self, StackError> {
+        let layers = if layers.is_empty() {
+            vec![Conductivity::default(); self.layers.len()]
+        } else {
+            layers
+        };
+        if layers.len() != self.layers.len() {
+            return Err(StackError::ConductionLayers {
+                layers: self.layers.len(),
+                given: layers.len(),
+            });
+        }
+        for (i, c) in layers.iter().enumerate() {
+            check_conductivities(Location::Layer(i + 1), c)?;
+        }
+        check_conductivities(Location::Base, &base)?;
+        if base_kind == BaseConduction::Isothermal {
+            if base.thermal.is_some() {
+                return Err(StackError::IsothermalWithConductivity {
+                    field: "thermal_conductivity",
+                });
+            }
+            if base.electrical.is_some() {
+                return Err(StackError::IsothermalWithConductivity {
+                    field: "electrical_conductivity",
+                });
+            }
+            if self.layers.is_empty() {
+                return Err(StackError::NoLayersOnIsothermal);
+            }
+        }
+        self.conduction = StackConduction {
+            layers,
+            base,
+            base_kind,
+        };
+        Ok(self)
+    }
+
+    /// The conduction properties (empty when the stack gives none).
+    pub fn conduction(&self) -> &StackConduction {
+        &self.conduction
+    }
+
+    /// The conductivities of layer `i` (0-based, top first); empty when not given.
+    pub fn layer_conductivity(&self, i: usize) -> Conductivity {
+        self.conduction.layers.get(i).copied().unwrap_or_default()
     }
 
     /// This stack pressed against the elastic stack `counterface` instead of a rigid
@@ -453,6 +615,7 @@ impl Stack {
             }
         };
         let mut layers = Vec::new();
+        let mut layer_cond = Vec::new();
         match table.get("layer") {
             None => {}
             Some(toml::Value::Array(items)) => {
@@ -465,6 +628,7 @@ impl Stack {
                         found: item.type_str().into(),
                     })?;
                     layers.push(parse_layer(loc, t)?);
+                    layer_cond.push(parse_conductivity(loc, t)?);
                 }
             }
             Some(v) => {
@@ -498,6 +662,15 @@ impl Stack {
         };
         let mut stack = Stack::new(layers, base)?;
         stack.name = name;
+        if let Some(toml::Value::Table(t)) = table.get("base") {
+            let (base_cond, base_kind) = parse_base_conduction(t)?;
+            if base_kind != BaseConduction::HalfSpace
+                || !base_cond.is_empty()
+                || layer_cond.iter().any(|c| !c.is_empty())
+            {
+                stack = stack.with_conduction(layer_cond, base_cond, base_kind)?;
+            }
+        }
         match table.get("counterface") {
             None => Ok(stack),
             Some(toml::Value::Table(t)) => {
@@ -533,11 +706,12 @@ impl Stack {
         if let Some(n) = &self.name {
             s.push_str(&format!("name = {}\n", toml::Value::String(n.clone())));
         }
-        for l in &self.layers {
+        for (i, l) in self.layers.iter().enumerate() {
             s.push_str(&format!(
                 "[[{prefix}layer]]\nthickness = {:e}\nyoung = {:e}\npoisson = {:e}\n",
                 l.thickness, l.young, l.poisson
             ));
+            push_conductivity(&mut s, &self.layer_conductivity(i));
         }
         match self.base {
             Base::Rigid => s.push_str(&format!("[{prefix}base]\nkind = \"rigid\"\n")),
@@ -545,7 +719,22 @@ impl Stack {
                 "[{prefix}base]\nkind = \"elastic\"\nyoung = {young:e}\npoisson = {poisson:e}\n"
             )),
         }
+        if self.conduction.base_kind == BaseConduction::Isothermal {
+            s.push_str("conduction = \"isothermal\"\n");
+        }
+        push_conductivity(&mut s, &self.conduction.base);
         s
+    }
+}
+
+/// Appends the given conductivities as TOML lines (nothing when none is given).
+#[cfg(feature = "toml")]
+fn push_conductivity(s: &mut String, c: &Conductivity) {
+    if let Some(k) = c.thermal {
+        s.push_str(&format!("thermal_conductivity = {k:e}\n"));
+    }
+    if let Some(k) = c.electrical {
+        s.push_str(&format!("electrical_conductivity = {k:e}\n"));
     }
 }
 
@@ -597,8 +786,14 @@ fn parse_layer(location: Location, t: &toml::Table) -> Result<Layer, StackError>
     check_keys(
         location,
         t,
-        &["thickness", "young", "poisson"],
-        "thickness, young, poisson",
+        &[
+            "thickness",
+            "young",
+            "poisson",
+            "thermal_conductivity",
+            "electrical_conductivity",
+        ],
+        "thickness, young, poisson, thermal_conductivity, electrical_conductivity",
     )?;
     let thickness = get_number(location, t, "thickness")?;
     check_thickness(location, thickness)?;
@@ -635,15 +830,32 @@ fn parse_base(t: &toml::Table) -> Result<Base, StackError> {
     };
     match kind {
         "rigid" => {
-            check_keys(loc, t, &["kind"], "kind (a rigid base has no properties)")?;
+            check_keys(
+                loc,
+                t,
+                &[
+                    "kind",
+                    "conduction",
+                    "thermal_conductivity",
+                    "electrical_conductivity",
+                ],
+                "kind (a rigid base has no elastic properties), conduction, thermal_conductivity, electrical_conductivity",
+            )?;
             Ok(Base::Rigid)
         }
         "elastic" => {
             check_keys(
                 loc,
                 t,
-                &["kind", "young", "poisson"],
-                "kind, young, poisson",
+                &[
+                    "kind",
+                    "young",
+                    "poisson",
+                    "conduction",
+                    "thermal_conductivity",
+                    "electrical_conductivity",
+                ],
+                "kind, young, poisson, conduction, thermal_conductivity, electrical_conductivity",
             )?;
             let young = get_number(loc, t, "young")?;
             check_young(loc, young)?;
@@ -653,6 +865,46 @@ fn parse_base(t: &toml::Table) -> Result<Base, StackError> {
         }
         other => Err(StackError::UnknownBaseKind(other.to_string())),
     }
+}
+
+/// The optional conductivities of a `[[layer]]` or `[base]` table.
+#[cfg(feature = "toml")]
+fn parse_conductivity(location: Location, t: &toml::Table) -> Result<Conductivity, StackError> {
+    let get = |field: &'static str| -> Result<Option<f64>, StackError> {
+        if !t.contains_key(field) {
+            return Ok(None);
+        }
+        let v = get_number(location, t, field)?;
+        check_conductivity(location, field, v)?;
+        Ok(Some(v))
+    };
+    Ok(Conductivity {
+        thermal: get("thermal_conductivity")?,
+        electrical: get("electrical_conductivity")?,
+    })
+}
+
+/// The `[base]` table's conduction: its conductivities and `conduction` kind.
+#[cfg(feature = "toml")]
+fn parse_base_conduction(t: &toml::Table) -> Result<(Conductivity, BaseConduction), StackError> {
+    let cond = parse_conductivity(Location::Base, t)?;
+    let kind = match t.get("conduction") {
+        None => BaseConduction::HalfSpace,
+        Some(toml::Value::String(s)) => match s.as_str() {
+            "isothermal" => BaseConduction::Isothermal,
+            "half-space" => BaseConduction::HalfSpace,
+            other => return Err(StackError::UnknownBaseConduction(other.to_string())),
+        },
+        Some(v) => {
+            return Err(StackError::WrongType {
+                location: Location::Base,
+                field: "conduction".into(),
+                expected: "a string (\"isothermal\" or \"half-space\")",
+                found: v.type_str().into(),
+            });
+        }
+    };
+    Ok((cond, kind))
 }
 
 #[cfg(test)]
@@ -826,6 +1078,129 @@ kind = "rigid"
         std::fs::remove_file(&p).unwrap();
         assert!(
             e.starts_with(&format!("stack file {}: layer 1", p.display())),
+            "{e}"
+        );
+    }
+
+    const CONDUCTING: &str = r#"
+[[layer]]
+thickness = 1e-5
+young = 2e11
+poisson = 0.3
+thermal_conductivity = 400
+electrical_conductivity = 5.8e7
+[[layer]]
+thickness = 1e-4
+young = 4e9
+poisson = 0.3
+thermal_conductivity = 0.2
+[base]
+kind = "elastic"
+young = 2e11
+poisson = 0.3
+thermal_conductivity = 50
+"#;
+
+    /// Conductivities are read per layer and base, written back, and absent ones stay
+    /// absent: a stack without them writes exactly what it wrote before.
+    #[test]
+    fn conductivities_round_trip() {
+        let s = Stack::from_toml_str(CONDUCTING).unwrap();
+        assert_eq!(s.layer_conductivity(0).thermal, Some(400.0));
+        assert_eq!(s.layer_conductivity(0).electrical, Some(5.8e7));
+        assert_eq!(s.layer_conductivity(1).electrical, None);
+        assert_eq!(s.conduction().base.thermal, Some(50.0));
+        assert_eq!(s.conduction().base_kind, BaseConduction::HalfSpace);
+        let round = Stack::from_toml_str(&s.to_toml_string()).unwrap();
+        assert_eq!(round, s);
+        let iso = Stack::from_toml_str(
+            "[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.3\nthermal_conductivity = 1\n[base]\nkind = \"rigid\"\nconduction = \"isothermal\"",
+        )
+        .unwrap();
+        assert_eq!(iso.conduction().base_kind, BaseConduction::Isothermal);
+        let text = iso.to_toml_string();
+        assert!(
+            text.ends_with("[base]\nkind = \"rigid\"\nconduction = \"isothermal\"\n"),
+            "{text}"
+        );
+        assert_eq!(Stack::from_toml_str(&text).unwrap(), iso);
+        // Without conduction fields: the exact text of before.
+        let p = Stack::from_toml_str(PAPER).unwrap();
+        assert_eq!(
+            p.to_toml_string(),
+            "name = \"paper\"\n[[layer]]\nthickness = 1e-4\nyoung = 4e9\npoisson = 1.5e-1\n\
+             [[layer]]\nthickness = 9e-4\nyoung = 2e10\npoisson = 1.5e-1\n[base]\nkind = \"rigid\"\n"
+        );
+        assert_eq!(p.conduction(), &StackConduction::default());
+        assert_eq!(p, Stack::paper_two_layer(5.0).unwrap().with_name("paper"));
+    }
+
+    #[test]
+    fn conduction_errors_name_field_and_layer() {
+        let layer = |extra: &str| {
+            format!(
+                "[[layer]]\nthickness = 1e-4\nyoung = 1e9\npoisson = 0.3\n{extra}\n[base]\nkind = \"rigid\"\n"
+            )
+        };
+        let e = err(&layer("thermal_conductivity = -1"));
+        assert!(
+            e.contains("layer 1") && e.contains("thermal_conductivity") && e.contains("> 0"),
+            "{e}"
+        );
+        let e = err(&layer("electrical_conductivity = nan"));
+        assert!(
+            e.contains("layer 1") && e.contains("electrical_conductivity") && e.contains("finite"),
+            "{e}"
+        );
+        let e = err(&layer("electrical_conductivity = 1e40"));
+        assert!(
+            e.contains("electrical_conductivity") && e.contains("1e30"),
+            "{e}"
+        );
+        let e = err(&layer("thermal_conductivity = \"high\""));
+        assert!(
+            e.contains("thermal_conductivity") && e.contains("number"),
+            "{e}"
+        );
+        let e = err(&(layer("") + "thermal_conductivity = 0"));
+        assert!(
+            e.starts_with("base") && e.contains("thermal_conductivity"),
+            "{e}"
+        );
+        let e = err(&(layer("") + "conduction = \"isothermal\"\nthermal_conductivity = 3"));
+        assert!(
+            e.starts_with("base") && e.contains("isothermal") && e.contains("thermal_conductivity"),
+            "{e}"
+        );
+        let e = err(&(layer("") + "conduction = \"adiabatic\""));
+        assert!(e.contains("adiabatic") && e.contains("isothermal"), "{e}");
+        let e = err(&(layer("") + "conduction = 1"));
+        assert!(e.contains("conduction") && e.contains("string"), "{e}");
+        let e = err(
+            "[base]\nkind = \"elastic\"\nyoung = 1e9\npoisson = 0.3\nconduction = \"isothermal\"",
+        );
+        assert!(e.contains("isothermal") && e.contains("layer"), "{e}");
+        let e = err(&layer("thermal_conductvity = 1"));
+        assert!(
+            e.contains("thermal_conductvity") && e.contains("thermal_conductivity"),
+            "{e}"
+        );
+        let st = Stack::paper_two_layer(5.0).unwrap();
+        let e = st
+            .with_conduction(
+                vec![Conductivity::default()],
+                Conductivity::default(),
+                BaseConduction::HalfSpace,
+            )
+            .unwrap_err();
+        assert!(
+            matches!(
+                e,
+                StackError::ConductionLayers {
+                    layers: 2,
+                    given: 1
+                }
+            ),
             "{e}"
         );
     }

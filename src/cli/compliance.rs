@@ -1,4 +1,7 @@
 //! `strata compliance STACK.toml --rho-h LIST`: k_z(ρ) of a stack as CSV on stdout.
+//! With `--thermal` (or `--electrical`): the conduction compliance S_th(ρ) of
+//! physics.md §6.2 instead, header `rho_h,S_th` (the stack's `thermal_conductivity`,
+//! or `electrical_conductivity`, of every layer and of a half-space base).
 //!
 //! Output header `rho_h,k_z`, with ρ·h₁ dimensionless (h₁ the top layer's thickness)
 //! and every value printed with full f64 precision (shortest round-trip form). This
@@ -9,6 +12,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
+use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
 use strata_runtime::{Compliance, Stack};
 
 use crate::csv_out;
@@ -21,6 +25,12 @@ pub struct Args {
     /// `LO:HI:N:log` (N log-spaced values).
     #[arg(long = "rho-h", allow_hyphen_values = true)]
     pub rho_h: String,
+    /// Print the thermal conduction compliance S_th(ρ) (`rho_h,S_th`) instead of k_z.
+    #[arg(long, conflicts_with = "electrical")]
+    pub thermal: bool,
+    /// Print the electrical conduction compliance S_th(ρ) (`rho_h,S_th`) instead of k_z.
+    #[arg(long)]
+    pub electrical: bool,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -34,6 +44,14 @@ pub fn run(a: Args) -> Result<()> {
             "note: --rho-h {} is linearly spaced; write {}:log for log spacing",
             a.rho_h, a.rho_h
         ));
+    }
+    let kind = match (a.thermal, a.electrical) {
+        (true, _) => Some(ConductionKind::Thermal),
+        (_, true) => Some(ConductionKind::Electrical),
+        _ => None,
+    };
+    if let Some(kind) = kind {
+        return conduction(&a, &stack, kind, &rho_h);
     }
     let comp = Compliance::new(&stack);
     // A half-space has no h₁; k_z ≡ 0 there whatever ρ is.
@@ -50,5 +68,26 @@ pub fn run(a: Args) -> Result<()> {
         rows.push([format!("{x:e}"), format!("{kz:e}")]);
     }
     crate::stdio::print(|o| csv_out::write(o, ["rho_h", "k_z"], rows).map_err(Into::into))?;
+    Ok(())
+}
+
+/// `rho_h,S_th` for `--thermal` / `--electrical`.
+fn conduction(a: &Args, stack: &Stack, kind: ConductionKind, rho_h: &[f64]) -> Result<()> {
+    let comp = ConductionCompliance::new(stack, kind)
+        .map_err(|e| anyhow::anyhow!("stack file {}: {e}", a.stack.display()))?;
+    // A half-space has no h₁; S_th ≡ 1 there whatever ρ is.
+    let h1 = stack.top_thickness().unwrap_or(1.0);
+    let mut rows = Vec::with_capacity(rho_h.len());
+    for &x in rho_h {
+        let s = comp.s(x / h1);
+        if !s.is_finite() {
+            bail!(
+                "stack file {}: S_th at rho_h = {x:e} is {s} (not representable in f64 for this stack)",
+                a.stack.display()
+            );
+        }
+        rows.push([format!("{x:e}"), format!("{s:e}")]);
+    }
+    crate::stdio::print(|o| csv_out::write(o, ["rho_h", "S_th"], rows).map_err(Into::into))?;
     Ok(())
 }

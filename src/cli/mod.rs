@@ -4,6 +4,7 @@ pub mod args;
 pub mod asperity;
 pub mod compare;
 pub mod compliance;
+pub mod conductance;
 pub mod law;
 pub mod solve;
 pub mod study;
@@ -39,8 +40,10 @@ pub struct Cli {
 
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Print the surface compliance k_z(ρ) = S(ρ) − 1 of a stack as CSV (`rho_h,k_z`).
+    /// Print the surface compliance k_z(ρ) = S(ρ) − 1 of a stack as CSV (`rho_h,k_z`); with --thermal/--electrical the conduction compliance (`rho_h,S_th`).
     Compliance(compliance::Args),
+    /// Constriction conductance of one isothermal spot of radius a on the stack: CSV `a,conductance,psi`.
+    Conductance(conductance::Args),
     /// A paraboloidal asperity pressed into the stack: CSV `delta,a,force` (full solution).
     Asperity(asperity::Args),
     /// Surrogate tables of χ, ζ, g: build, info, check, export.
@@ -62,6 +65,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Compliance(a) => compliance::run(a),
+        Command::Conductance(a) => conductance::run(a),
         Command::Asperity(a) => asperity::run(a),
         Command::Table(a) => table::run(a),
         Command::Solve(a) => solve::run(a),

@@ -258,22 +258,14 @@ impl Asperity {
                 // incompressible layers on a stiff base need 2–16× the default
                 // N = 2a/h₁ at a/h₁ ≳ 100. Costs one extra N/4 solve when N suffices.
                 let rhs: [fredholm::Rhs<'_>; 2] = [&r1, &r2];
-                let mut n_int = intervals.next_multiple_of(4);
-                let mut quarter = fredholm::product(&quad, a, n_int / 4, &rhs)?;
-                let mut half = fredholm::product(&quad, a, n_int / 2, &rhs)?;
-                loop {
-                    let full = fredholm::product(&quad, a, n_int, &rhs)?;
-                    let ext = fredholm::richardson(&full, &half);
-                    let prev = fredholm::richardson(&half, &quarter);
-                    if fredholm::relative_change(&ext, &prev) <= AUTO_REFINE_TOL
-                        || 2 * n_int > AUTO_MAX_INTERVALS
-                    {
-                        return Ok(ext);
-                    }
-                    quarter = half;
-                    half = full;
-                    n_int *= 2;
-                }
+                Ok(fredholm::product_adaptive(
+                    &quad,
+                    a,
+                    intervals,
+                    &rhs,
+                    AUTO_REFINE_TOL,
+                    AUTO_MAX_INTERVALS,
+                )?)
             }
             (_, disc) => Ok(fredholm::solve(&quad, a, disc, &[&r1, &r2], n)?),
         }

@@ -90,7 +90,9 @@ pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
     (x, w)
 }
 
-/// A quadrature rule for ∫₀^∞ f(u) du over the support of k_z, with k_z at its nodes.
+/// A quadrature rule for ∫₀^∞ f(u) du over the support of k_z, with k_z at its nodes
+/// (or of any other kernel function k(u) of the same form: [`KzQuadrature::for_kernel`];
+/// the fields then hold k).
 #[derive(Debug, Clone)]
 pub struct KzQuadrature {
     /// Nodes u_k (1/m).
@@ -114,7 +116,27 @@ impl KzQuadrature {
         }
         let depth = stack.total_thickness();
         let kz0 = comp.s_at_zero() - 1.0;
-        let u_max = (TAIL + 0.5 * (1.0 + kz0.abs()).ln()) / h1;
+        Self::for_kernel(h1, 0.25 / depth, kz0, x_max, |u| comp.kz(u))
+    }
+
+    /// The same rule for any kernel function k(u) of the Fredholm equation's form
+    /// (physics.md §3: K_a built from k(ρ/a) as from k_z), e.g. the conduction kernel
+    /// k_th = S_th − 1 of physics.md §6.2 ([`crate::spot`]). `h1` (m) is the length on
+    /// which k decays like e^{−2u h₁}; `u_first` (1/m) the first panel's end, below
+    /// which k has its slowest features (0.25/H for k_z, H the total depth); `k0` = k(0).
+    /// [`KzQuadrature::new`] is this with k = k_z, so its nodes, weights and values are
+    /// unchanged by the generalisation.
+    pub fn for_kernel(
+        h1: f64,
+        u_first: f64,
+        k0: f64,
+        x_max: f64,
+        k: impl Fn(f64) -> f64 + Sync,
+    ) -> Result<Self, KernelError> {
+        if !(x_max.is_finite() && x_max > 0.0) {
+            return Err(KernelError::BadRange(x_max));
+        }
+        let u_max = (TAIL + 0.5 * (1.0 + k0.abs()).ln()) / h1;
         let du_max = (1.0 / h1).min(PANEL_PHASE / x_max);
         let panels = u_max / du_max;
         if panels.is_nan() || panels > MAX_RULE_PANELS {
@@ -124,7 +146,7 @@ impl KzQuadrature {
             });
         }
         let mut breaks = vec![0.0];
-        let mut u = (0.25 / depth).min(du_max);
+        let mut u = u_first.min(du_max);
         breaks.push(u);
         while u < u_max {
             u = (2.0 * u).min(u + du_max).min(u_max);
@@ -140,7 +162,7 @@ impl KzQuadrature {
                 weights.push(hw * w);
             }
         }
-        let kz: Vec<f64> = nodes.par_iter().map(|&u| comp.kz(u)).collect();
+        let kz: Vec<f64> = nodes.par_iter().map(|&u| k(u)).collect();
         if let Some(k) = kz.iter().position(|v| !v.is_finite()) {
             return Err(KernelError::NonFinite { u: nodes[k] });
         }
@@ -148,7 +170,7 @@ impl KzQuadrature {
             u: nodes,
             w: weights,
             kz,
-            kz0,
+            kz0: k0,
             x_max,
         })
     }

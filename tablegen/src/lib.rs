@@ -20,6 +20,7 @@ pub use strata_runtime as runtime;
 pub mod asperity;
 pub mod fredholm;
 pub mod kernel;
+pub mod spot;
 
 pub mod approx;
 mod error;

@@ -14,6 +14,7 @@ mod compare;
 mod compliance_cli;
 mod compliance_hard_cases;
 mod compliance_second_method;
+mod conductance;
 mod counterface;
 mod docs;
 mod errors;
