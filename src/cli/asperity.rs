@@ -65,6 +65,11 @@ pub struct Args {
     /// pressed against it, the two compliances add (physics.md §6.1).
     #[arg(long)]
     pub counterface: Option<PathBuf>,
+    /// Hardness H (Pa) of the asperity's tip: the pressure is capped at H (an
+    /// elastic–perfectly plastic tip, physics.md §6.3), solved on rings in physical
+    /// space; prints `delta,a,force,a_plastic` (a_plastic: the radius of the core at H).
+    #[arg(long, allow_hyphen_values = true)]
+    pub hardness: Option<f64>,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -114,6 +119,38 @@ pub fn run(a: Args) -> Result<()> {
         .as_ref()
         .map(|p| OutputSet::file("--profile", p, a.force))
         .transpose()?;
+    if let Some(h) = a.hardness {
+        if a.model == Model::Approx {
+            bail!(
+                "--hardness: the capped asperity is solved in full (--model full); its tables are not built yet"
+            );
+        }
+        if a.profile.is_some() || a.plot.is_some() {
+            bail!("--hardness: --profile and --plot are not written for the capped asperity yet");
+        }
+        let s = strata_tablegen::plastic_asperity::PlasticAsperity::new(&stack, h)
+            .context("--hardness")?;
+        let mut rows = Vec::with_capacity(deltas.len());
+        for &d in &deltas {
+            if d == 0.0 {
+                rows.push([0.0, 0.0, 0.0, 0.0]);
+                continue;
+            }
+            let c = s
+                .at_delta(d, a.radius)
+                .with_context(|| format!("solving delta = {d:e} m"))?;
+            rows.push([d, c.a, c.force, c.a_plastic]);
+        }
+        crate::stdio::print(|o| {
+            csv_out::write(
+                o,
+                ["delta", "a", "force", "a_plastic"],
+                rows.iter().map(|r| r.map(num)),
+            )
+            .map_err(Into::into)
+        })?;
+        return Ok(());
+    }
     let (solver, approx) = match a.model {
         Model::Full => (Some(Asperity::new(&stack, Options::default())?), None),
         Model::Approx => (

@@ -20,6 +20,8 @@ pub use strata_runtime as runtime;
 pub mod asperity;
 pub mod fredholm;
 pub mod kernel;
+pub mod plastic_asperity;
+pub mod rings;
 pub mod spot;
 
 pub mod approx;

@@ -332,35 +332,10 @@ mod tests {
         eprintln!("second method: worst relative difference {worst:.1e}");
     }
 
-    /// Complete elliptic integrals K(k), E(k) of modulus k < 1 (arithmetic–geometric mean).
-    fn elliptic(k: f64) -> (f64, f64) {
-        let (mut a, mut b) = (1.0f64, (1.0 - k * k).sqrt());
-        let mut sum = 0.5 * k * k;
-        let mut pow = 0.5;
-        for _ in 0..40 {
-            let c = 0.5 * (a - b);
-            let (a2, b2) = (0.5 * (a + b), (a * b).sqrt());
-            pow *= 2.0;
-            sum += pow * c * c;
-            a = a2;
-            b = b2;
-            if c.abs() < 1e-17 {
-                break;
-            }
-        }
-        let kk = PI / (2.0 * a);
-        (kk, kk * (1.0 - sum))
-    }
-
     /// Surface temperature at radius r of a unit uniform flux on a disc of radius c on a
     /// half-space of unit conductivity (Boussinesq's disc, thermal form).
     fn disc_temperature(r: f64, c: f64) -> f64 {
-        if r <= c {
-            2.0 * c / PI * elliptic(r / c).1
-        } else {
-            let (kk, ee) = elliptic(c / r);
-            2.0 * r / PI * (ee - (1.0 - c * c / (r * r)) * kk)
-        }
+        crate::rings::disc_response(r, c)
     }
 
     /// ψ by an independent method: piecewise-constant flux on `n` rings graded towards
