@@ -302,9 +302,9 @@ impl<'s> PlasticPath<'s> {
         Ok((solution, info))
     }
 
-    /// Force control: the offset c with mean p(c) = `target` (mean p falls as c grows),
-    /// bracketed from the last offset by doubling steps of σ_z, then regula falsi
-    /// (Illinois) to 1e-12 relative.
+    /// Force control: the offset c with mean p(c) = `target` (mean p falls as c grows)
+    /// to 1e-12 relative, by a secant safeguarded with a bracket, from the last offset
+    /// (or the elastic solution's) and a second point from p̄ ∝ (z_M − c)^{3/2}.
     fn force_control(
         &self,
         bounded: &Bounded,
@@ -329,63 +329,70 @@ impl<'s> PlasticPath<'s> {
             Ok(p.iter().sum::<f64>() / n2 - target)
         };
         let zmax = bounded.z.iter().fold(f64::MIN, |m, z| m.max(*z));
-        let mut c = self.c.unwrap_or(zmax);
-        let mut f = eval(c, p, g)?;
-        let step0 = parts.z_rms.max(1e-12);
-        // Bracket: (lo, f_lo > 0 side: too much pressure) and (hi, f_hi < 0).
-        let (mut lo, mut flo, mut hi, mut fhi);
-        if f > 0.0 {
-            (lo, flo) = (c, f);
-            let mut s = step0;
-            loop {
-                c += s;
-                f = eval(c, p, g)?;
-                if f <= 0.0 {
-                    (hi, fhi) = (c, f);
-                    break;
-                }
-                (lo, flo) = (c, f);
-                s *= 2.0;
-                if evals.get() > 200 {
-                    return Err(BemError::NonFinite(total.iterations));
+        // First guess: the elastic solution at the same mean pressure (the
+        // preconditioned Polonsky–Keer solve, cheap) — its offset c = ḡ + z̄ (periodic,
+        // the uniform mode excluded as here) or z_M − δ (non-periodic) — unless the
+        // path has an offset already.
+        let c0 = match self.c {
+            Some(c) => c,
+            None => {
+                let e = self
+                    .solver
+                    .solve(crate::BemLoad::MeanPressure(target))?;
+                if parts.periodic {
+                    e.mean_gap + parts.z_mean
+                } else {
+                    parts.z_max - e.approach
                 }
             }
-        } else {
-            (hi, fhi) = (c, f);
-            let mut s = step0;
-            loop {
-                c -= s;
-                f = eval(c, p, g)?;
-                if f >= 0.0 {
-                    (lo, flo) = (c, f);
-                    break;
-                }
-                (hi, fhi) = (c, f);
-                s *= 2.0;
-                if evals.get() > 200 {
-                    return Err(BemError::NonFinite(total.iterations));
-                }
+        };
+        let f0 = eval(c0, p, g)?;
+        if f0.abs() <= 1e-12 * target {
+            return Ok((c0, total, evals.get()));
+        }
+        // Second point: p̄ ∝ (z_M − c)^{3/2} through the first.
+        let depth0 = (zmax - c0).max(parts.z_rms * 1e-3);
+        let ratio = (target / (f0 + target).max(1e-3 * target)).powf(2.0 / 3.0);
+        let mut pts = [(c0, f0), (zmax - depth0 * ratio, 0.0)];
+        pts[1].1 = eval(pts[1].0, p, g)?;
+        // Safeguarded secant: a bracket (lo: f > 0, too much pressure; hi: f < 0)
+        // where known, bisection when the secant leaves it.
+        let (mut lo, mut hi) = (None::<f64>, None::<f64>);
+        for &(c, f) in &pts {
+            if f > 0.0 {
+                lo = Some(lo.map_or(c, |l: f64| l.max(c)));
+            } else {
+                hi = Some(hi.map_or(c, |h: f64| h.min(c)));
             }
         }
-        let mut side = 0;
-        for _ in 0..200 {
-            if f.abs() <= 1e-12 * target || (hi - lo).abs() <= 1e-15 * (1.0 + c.abs()) {
+        let (mut c, mut f) = pts[1];
+        for _ in 0..100 {
+            if f.abs() <= 1e-12 * target {
                 break;
             }
-            c = (lo * fhi - hi * flo) / (fhi - flo);
+            let [(ca, fa), (cb, fb)] = pts;
+            let mut next = if fb != fa { cb - fb * (cb - ca) / (fb - fa) } else { f64::NAN };
+            if let (Some(l), Some(h)) = (lo, hi) {
+                if !(next > l.min(h) && next < l.max(h)) {
+                    next = 0.5 * (l + h);
+                }
+                if (l - h).abs() <= 1e-15 * (1.0 + l.abs()) {
+                    break;
+                }
+            } else if !next.is_finite() {
+                // no bracket yet and no slope: step by σ_z towards more or less load
+                next = cb + if fb > 0.0 { parts.z_rms } else { -parts.z_rms };
+            }
+            c = next;
             f = eval(c, p, g)?;
             if f > 0.0 {
-                (lo, flo) = (c, f);
-                if side == 1 {
-                    fhi *= 0.5;
-                }
-                side = 1;
+                lo = Some(lo.map_or(c, |l: f64| l.max(c)));
             } else {
-                (hi, fhi) = (c, f);
-                if side == -1 {
-                    flo *= 0.5;
-                }
-                side = -1;
+                hi = Some(hi.map_or(c, |h: f64| h.min(c)));
+            }
+            pts = [pts[1], (c, f)];
+            if evals.get() > 200 {
+                return Err(BemError::NonFinite(total.iterations));
             }
         }
         Ok((c, total, evals.get()))

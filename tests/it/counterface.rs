@@ -442,6 +442,22 @@ fn pair_table_serves_the_pair_only() {
         .unwrap_err()
         .to_string();
     assert!(other.contains("pair's"), "{other}");
+    // The paper's coating against the same coating (issue 33): built within the
+    // table tolerance (the builder checks 1 000 points and refuses a table above it).
+    let same = d.join("same.strata");
+    let o = strata_in(&d)
+        .args(["table", "build"])
+        .arg(&p)
+        .arg("--counterface")
+        .arg(&p)
+        .arg("--out")
+        .arg(&same)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t2 = strata_runtime::table::Table::load(&same).unwrap();
+    let err = t2.header.interp_error.expect("measured at build");
+    assert!(err.chi <= 1e-4 && err.zeta <= 1e-4 && err.g <= 1e-4, "{err:?}");
     // The single-stack family table refuses the pair.
     let fam =
         strata_runtime::table::Table::load(&repo().join("tables/paper-two-layer.strata")).unwrap();
