@@ -289,10 +289,13 @@ pub fn solve_surface_with_maps(
         ModelKind::Interacting => Model::Interacting(scene.model.images),
         ModelKind::Bem => return solve_bem(scene, scene_path, surface, opts, maps),
     };
+    if let (Model::Independent, Some(pl), false) = (model, scene.plasticity, scene.unload) {
+        return solve_independent_plastic(scene, scene_path, surface, opts, pl.hardness);
+    }
     if scene.plasticity.is_some() || scene.unload {
         bail!(
-            "[plasticity] and load.unload are solved by the BEM in this version (model.kind = \"bem\"); \
-             the N and I models are elastic"
+            "[plasticity] is solved by the BEM and the N model, load.unload by the BEM, in this \
+             version (model.kind = \"bem\"); the I model is elastic"
         );
     }
     let quiet = opts.quiet;
@@ -742,6 +745,140 @@ fn solve_bem(
         });
         meta["plastic_steps"] = serde_json::Value::Array(plastic_steps);
     }
+    Ok(SceneSolution {
+        steps,
+        meta,
+        seconds,
+        failed: None,
+    })
+}
+
+/// The N model with capped tips (`[plasticity]`, physics.md §9): the capped asperity's
+/// response table for the scene's stack and hardness (ring solves, built here), then
+/// every summit through it at each approach (or at the approach of each mean pressure,
+/// by bisection on δ, the load being monotone in it).
+fn solve_independent_plastic(
+    scene: &Scene,
+    scene_path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+    hardness: f64,
+) -> Result<SceneSolution> {
+    let quiet = opts.quiet;
+    let (surface_json, warnings) = surface_report(&surface, quiet);
+    let found = find_summits(&surface);
+    let t0 = Instant::now();
+    log!(
+        quiet,
+        "plasticity: pressure capped by the hardness H = {hardness:e} Pa; building the capped asperity's response table (ring solves)"
+    );
+    let resp = strata_tablegen::plastic_asperity::response(&scene.stack, hardness)
+        .context("plasticity")?;
+    if let Some((r, y)) = found
+        .summits
+        .iter()
+        .find_map(|s| resp.uncovered(s.radius).map(|y| (s.radius, y)))
+    {
+        bail!(
+            "plasticity: a summit of radius {r:e} m yields at a contact radius a_c = πHR/(2E*) of {y:.3e} h1, \
+             outside the capped asperity's table (a_c/h1 in [{:e}, {:e}]): the hardness is too high for \
+             this stack's top layer to be treated this way; use model.kind = \"bem\"",
+            strata_tablegen::plastic_asperity::RESPONSE_Y.0,
+            strata_tablegen::plastic_asperity::RESPONSE_Y.1
+        );
+    }
+    let law = Homogeneous {
+        e_star: scene.stack.contact_modulus(),
+    };
+    let rc = RoughContact::from_surface(&law, &surface)?.with_params(scene.solver.params());
+    log!(
+        quiet,
+        "simulating: independent asperities (N model) with capped tips; {} summits",
+        found.summits.len()
+    );
+    let deltas: Vec<f64> = match scene
+        .load
+        .approaches(rc.top_to_mean(), f64::INFINITY)
+        .context("load")?
+    {
+        Some(d) => d,
+        None => {
+            let LoadSpec::MeanPressures(ps) = &scene.load else {
+                bail!("load: internal error");
+            };
+            let mut out = Vec::with_capacity(ps.len());
+            for (i, &p) in ps.iter().enumerate() {
+                let f = |d: f64| -> Result<f64> {
+                    Ok(rc.solve_independent_plastic(&resp, d)?.0.mean_pressure - p)
+                };
+                let (mut lo, mut hi) = (0.0, rc.max_delta().max(1e-12));
+                let mut grow = 0;
+                while f(hi)? < 0.0 {
+                    lo = hi;
+                    hi *= 2.0;
+                    grow += 1;
+                    if grow > 60 {
+                        bail!(
+                            "load.mean_pressures[{i}]: {p:e} Pa is out of reach of the capped N model"
+                        );
+                    }
+                }
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if f(mid)? < 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                    if hi - lo <= 1e-14 * hi {
+                        break;
+                    }
+                }
+                out.push(0.5 * (lo + hi));
+            }
+            out
+        }
+    };
+    let mut steps = Vec::with_capacity(deltas.len());
+    let mut plastic_steps = Vec::with_capacity(deltas.len());
+    for (i, &d) in deltas.iter().enumerate() {
+        let (s, plastic) = rc
+            .solve_independent_plastic(&resp, d)
+            .with_context(|| format!("load step {i}"))?;
+        if !s.validity.is_valid() {
+            log!(
+                quiet,
+                "warning: load step {i} (δ = {d:e} m) is outside the asperity model's validity: {} (use model.kind = \"bem\" for this load)",
+                s.validity.describe()
+            );
+        }
+        plastic_steps.push(serde_json::json!({"plastic_area_fraction": plastic}));
+        steps.push(s);
+    }
+    let seconds = t0.elapsed().as_secs_f64();
+    let mut meta = serde_json::json!({
+        "scene": scene_path.display().to_string(),
+        "model": "independent asperities (N model) with capped tips",
+        "model_short": model_short(Model::Independent),
+        "stack": stack_description(&scene.stack),
+        "solid": "the capped asperity's response table (ring solves in physical space)",
+        "e_star_1": scene.stack.contact_modulus(),
+        "nominal_area": rc.area(),
+        "summits": rc.summits().len(),
+        "z_max_minus_mean": rc.top_to_mean(),
+        "surface": surface_json,
+        "warnings": warnings,
+        "seconds": seconds,
+        "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",
+                  "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
+    });
+    add_counterface_meta(&mut meta, scene);
+    meta["plasticity"] = serde_json::json!({
+        "hardness": hardness,
+        "note": "elastic–perfectly plastic tips (physics.md §9): each summit a capped paraboloid, its response \
+                 P = P_c F(δ/δ_c, a_c/h1), a = a_c G(…) tabulated from ring solves; loading only",
+    });
+    meta["plastic_steps"] = serde_json::Value::Array(plastic_steps);
     Ok(SceneSolution {
         steps,
         meta,

@@ -336,9 +336,7 @@ impl<'s> PlasticPath<'s> {
         let c0 = match self.c {
             Some(c) => c,
             None => {
-                let e = self
-                    .solver
-                    .solve(crate::BemLoad::MeanPressure(target))?;
+                let e = self.solver.solve(crate::BemLoad::MeanPressure(target))?;
                 if parts.periodic {
                     e.mean_gap + parts.z_mean
                 } else {
@@ -371,7 +369,11 @@ impl<'s> PlasticPath<'s> {
                 break;
             }
             let [(ca, fa), (cb, fb)] = pts;
-            let mut next = if fb != fa { cb - fb * (cb - ca) / (fb - fa) } else { f64::NAN };
+            let mut next = if fb != fa {
+                cb - fb * (cb - ca) / (fb - fa)
+            } else {
+                f64::NAN
+            };
             if let (Some(l), Some(h)) = (lo, hi) {
                 if !(next > l.min(h) && next < l.max(h)) {
                     next = 0.5 * (l + h);

@@ -598,12 +598,13 @@ impl Scene {
             let pt = table(&top, "plasticity", "plasticity")?;
             check_keys(pt, "plasticity.", &["hardness"], "hardness")?;
             let hardness = positive(pt, "hardness", "plasticity.hardness")?;
-            if kind != ModelKind::Bem {
+            if kind == ModelKind::Interacting {
                 return Err(SceneError::Invalid {
                     field: "plasticity".into(),
-                    reason: "the hardness cap is solved by the BEM in this version (model.kind = \"bem\"); \
-                             the N and I models are elastic"
-                        .into(),
+                    reason:
+                        "the hardness cap is solved by the BEM and the N model in this version \
+                             (model.kind = \"bem\" or \"independent\"); the I model is elastic"
+                            .into(),
                 });
             }
             Some(PlasticitySpec { hardness })

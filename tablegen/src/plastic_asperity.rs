@@ -179,6 +179,87 @@ impl PlasticAsperity {
     }
 }
 
+/// The response table's axes: x = δ/δ_c from 1e-2 to 1e2 (6 nodes per decade), y =
+/// a_c/h₁ from 1e-3 to 3 (3 per decade; one node on a homogeneous solid), 200 rings
+/// per node. The rings' ρ-rule grows like a/h₁ (panels of 1/a up to 25/h₁), which
+/// bounds y: summits of R ≲ 100 µm with H/E* ≲ 0.1 on layers h₁ ≳ 3 µm lie inside.
+pub const RESPONSE_X: (f64, f64, usize) = (1e-2, 1e2, 25);
+/// See [`RESPONSE_X`].
+pub const RESPONSE_Y: (f64, f64, usize) = (1e-3, 3.0, 11);
+
+/// The capped asperity's response table of `stack` and `hardness` for the N model
+/// (`strata_runtime::rough::plastic`): F = P/P_c, G = a/a_c and Φ = a_p/a at every
+/// node (x, y), each from one ring solve (in parallel).
+pub fn response(
+    stack: &Stack,
+    hardness: f64,
+) -> Result<strata_runtime::rough::plastic::PlasticResponse, PlasticAsperityError> {
+    use strata_runtime::rough::plastic::{LogAxis, PlasticResponse};
+    let mut solver = PlasticAsperity::new(stack, hardness)?;
+    solver.rings = 200;
+    let e = solver.e_star;
+    let h1 = if stack.is_homogeneous() {
+        None
+    } else {
+        stack.top_thickness()
+    };
+    let x = LogAxis {
+        lo: RESPONSE_X.0.ln(),
+        hi: RESPONSE_X.1.ln(),
+        n: RESPONSE_X.2,
+    };
+    let y = match h1 {
+        None => LogAxis {
+            lo: 0.0,
+            hi: 0.0,
+            n: 1,
+        },
+        Some(_) => LogAxis {
+            lo: RESPONSE_Y.0.ln(),
+            hi: RESPONSE_Y.1.ln(),
+            n: RESPONSE_Y.2,
+        },
+    };
+    let nodes: Vec<(usize, usize)> = (0..y.n)
+        .flat_map(|j| (0..x.n).map(move |i| (i, j)))
+        .collect();
+    use rayon::prelude::*;
+    let values: Vec<Result<(f64, f64, f64), PlasticAsperityError>> = nodes
+        .par_iter()
+        .map(|&(i, j)| {
+            // R with a_c = y h₁ (any R on a homogeneous solid), δ = x δ_c
+            // a half-space is Hertz up to the yield onset x = 1, exactly
+            if h1.is_none() && x.node(i) <= 0.0 {
+                return Ok((1.5 * x.node(i), 0.5 * x.node(i), 0.0));
+            }
+            let ac = h1.map_or(1e-6, |h| y.node(j).exp() * h);
+            let radius = 2.0 * e * ac / (std::f64::consts::PI * hardness);
+            let dc = ac * ac / radius;
+            let pc = 4.0 / 3.0 * e * ac.powi(3) / radius;
+            let c = solver.at_delta(x.node(i).exp() * dc, radius)?;
+            let phi = if c.a > 0.0 { c.a_plastic / c.a } else { 0.0 };
+            Ok(((c.force / pc).ln(), (c.a / ac).ln(), phi))
+        })
+        .collect();
+    let mut out = PlasticResponse {
+        e_star: e,
+        hardness,
+        h1,
+        x,
+        y,
+        ln_f: Vec::with_capacity(nodes.len()),
+        ln_g: Vec::with_capacity(nodes.len()),
+        phi: Vec::with_capacity(nodes.len()),
+    };
+    for v in values {
+        let (f, g, p) = v?;
+        out.ln_f.push(f);
+        out.ln_g.push(g);
+        out.phi.push(p);
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -258,5 +339,29 @@ mod tests {
             last = ratio;
         }
         assert!(last > 0.999, "{last}");
+    }
+
+    /// The response table against direct ring solves at points between its nodes
+    /// (homogeneous and the paper's layered stack): the N model's interpolation error.
+    #[test]
+    fn response_table_interpolates_the_rings() {
+        let h = 0.2e9;
+        let mut worst: f64 = 0.0;
+        for st in [
+            Stack::half_space(4e9, 0.15).unwrap(),
+            Stack::paper_two_layer(5.0).unwrap(),
+        ] {
+            let table = response(&st, h).unwrap();
+            let s = PlasticAsperity::new(&st, h).unwrap();
+            let e = st.contact_modulus();
+            for (radius, x) in [(2e-5, 0.37), (5e-5, 3.3), (1e-4, 17.0), (3e-5, 55.0)] {
+                let ac = std::f64::consts::PI * h * radius / (2.0 * e);
+                let delta = x * ac * ac / radius;
+                let (t, d) = (table.at(delta, radius), s.at_delta(delta, radius).unwrap());
+                worst = worst.max(rel(t.force, d.force)).max(rel(t.a, d.a));
+            }
+        }
+        eprintln!("response table vs rings: worst {worst:.1e}");
+        assert!(worst < 2.5e-2, "{worst:e}");
     }
 }

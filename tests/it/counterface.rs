@@ -457,7 +457,10 @@ fn pair_table_serves_the_pair_only() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let t2 = strata_runtime::table::Table::load(&same).unwrap();
     let err = t2.header.interp_error.expect("measured at build");
-    assert!(err.chi <= 1e-4 && err.zeta <= 1e-4 && err.g <= 1e-4, "{err:?}");
+    assert!(
+        err.chi <= 1e-4 && err.zeta <= 1e-4 && err.g <= 1e-4,
+        "{err:?}"
+    );
     // The single-stack family table refuses the pair.
     let fam =
         strata_runtime::table::Table::load(&repo().join("tables/paper-two-layer.strata")).unwrap();

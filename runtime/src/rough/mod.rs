@@ -29,6 +29,7 @@ pub mod independent;
 pub mod interacting;
 mod local;
 mod params;
+pub mod plastic;
 mod step;
 
 pub use crate::law::contact_radius;

@@ -1,0 +1,195 @@
+//! The N model with capped asperity tips (physics.md §9): every summit alone, each an
+//! elastic–perfectly plastic paraboloid (pressure ≤ H) on the layered solid, through a
+//! response table built from the capped asperity on rings (`strata_tablegen`'s
+//! `plastic_asperity::response`).
+//!
+//! # Scaling
+//! A summit of radius R yields (on a half-space) at δ_c = (πH/2E*)² R, with contact
+//! radius a_c = πHR/(2E*) and load P_c = (4/3) E* a_c³/R. In x = δ/δ_c and y = a_c/h₁
+//! (h₁ the top layer's thickness) the response is P = P_c F(x, y), a = a_c G(x, y), the
+//! plastic radius a_p = a Φ(x, y); on a homogeneous solid F, G, Φ do not depend on y
+//! (and F = x^{3/2}, G = x^{1/2}, Φ = 0 for x ≤ 1, Hertz). The table holds ln F, ln G and
+//! Φ on a grid uniform in (ln x, ln y), bilinear; below its x range the elastic
+//! power law F ∝ x^{3/2}, G ∝ x^{1/2} continues the first node, above it the last
+//! cell's log–log slopes; y is clamped to its range.
+
+use super::{Diagnostics, RoughContact, RoughError, Step, Validity};
+
+/// A uniform axis in ln of its variable: `n` nodes from `lo` to `hi` (ln values).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LogAxis {
+    pub lo: f64,
+    pub hi: f64,
+    pub n: usize,
+}
+
+impl LogAxis {
+    fn step(&self) -> f64 {
+        if self.n > 1 {
+            (self.hi - self.lo) / (self.n - 1) as f64
+        } else {
+            1.0
+        }
+    }
+    /// Node k's ln value.
+    pub fn node(&self, k: usize) -> f64 {
+        self.lo + self.step() * k as f64
+    }
+    /// (cell, fraction) of ln value `t`, clamped to the axis.
+    fn locate(&self, t: f64) -> (usize, f64) {
+        if self.n < 2 {
+            return (0, 0.0);
+        }
+        let s = ((t - self.lo) / self.step()).clamp(0.0, (self.n - 1) as f64);
+        let k = (s.floor() as usize).min(self.n - 2);
+        (k, s - k as f64)
+    }
+}
+
+/// The capped asperity's response F, G, Φ over (x, y) (module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlasticResponse {
+    /// The pair's contact modulus E* (Pa).
+    pub e_star: f64,
+    /// The hardness H (Pa).
+    pub hardness: f64,
+    /// h₁ (m); `None` on a homogeneous solid (y unused).
+    pub h1: Option<f64>,
+    pub x: LogAxis,
+    pub y: LogAxis,
+    /// ln F, ln G and Φ at node (i along x, j along y), index j·nx + i.
+    pub ln_f: Vec<f64>,
+    pub ln_g: Vec<f64>,
+    pub phi: Vec<f64>,
+}
+
+/// One summit's capped response.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CappedContact {
+    /// Contact radius a (m).
+    pub a: f64,
+    /// Load P (N).
+    pub force: f64,
+    /// dP/dδ (N/m).
+    pub stiffness: f64,
+    /// Plastic radius a_p (m).
+    pub a_plastic: f64,
+}
+
+impl PlasticResponse {
+    /// The bilinear value and its ln x slope of table `v` at (ln x, ln y).
+    fn lookup(&self, v: &[f64], lx: f64, ly: f64) -> (f64, f64) {
+        let (i, fx) = self.x.locate(lx);
+        let (j, fy) = self.y.locate(ly);
+        let nx = self.x.n;
+        let at = |ii: usize, jj: usize| v[jj.min(self.y.n - 1) * nx + ii];
+        let j1 = if self.y.n > 1 { j + 1 } else { j };
+        let v0 = at(i, j) * (1.0 - fy) + at(i, j1) * fy;
+        let v1 = at(i + 1, j) * (1.0 - fy) + at(i + 1, j1) * fy;
+        let slope = (v1 - v0) / self.x.step();
+        (v0 + (v1 - v0) * fx, slope)
+    }
+
+    /// y = a_c/h₁ of a summit of radius `radius` (m) if the table does not cover it
+    /// (layered solids only; a homogeneous one covers every radius).
+    pub fn uncovered(&self, radius: f64) -> Option<f64> {
+        let h = self.h1?;
+        let y = std::f64::consts::PI * self.hardness * radius / (2.0 * self.e_star) / h;
+        let ly = y.ln();
+        (!(ly >= self.y.lo - 1e-9 && ly <= self.y.hi + 1e-9)).then_some(y)
+    }
+
+    /// The response of a summit of radius `radius` (m) at interference `delta` (m).
+    pub fn at(&self, delta: f64, radius: f64) -> CappedContact {
+        if !(delta > 0.0) {
+            return CappedContact {
+                a: 0.0,
+                force: 0.0,
+                stiffness: 0.0,
+                a_plastic: 0.0,
+            };
+        }
+        let e = self.e_star;
+        let ac = std::f64::consts::PI * self.hardness * radius / (2.0 * e);
+        let dc = ac * ac / radius;
+        let pc = 4.0 / 3.0 * e * ac.powi(3) / radius;
+        let lx = (delta / dc).ln();
+        let ly = self.h1.map_or(0.0, |h| (ac / h).ln());
+        // below the table: the elastic power laws from its first node
+        let (lxq, extra_f, extra_g, slope_f) = if lx < self.x.lo {
+            let d = lx - self.x.lo;
+            (self.x.lo, 1.5 * d, 0.5 * d, Some(1.5))
+        } else {
+            (lx, 0.0, 0.0, None)
+        };
+        let (lf, sf) = self.lookup(&self.ln_f, lxq.min(self.x.hi), ly);
+        let (lg, sg) = self.lookup(&self.ln_g, lxq.min(self.x.hi), ly);
+        let (ph, _) = self.lookup(&self.phi, lxq.min(self.x.hi), ly);
+        // above the table: the last cell's log–log slopes
+        let over = (lx - self.x.hi).max(0.0);
+        let ln_f = lf + extra_f + sf * over;
+        let ln_g = lg + extra_g + sg * over;
+        let force = pc * ln_f.exp();
+        let a = ac * ln_g.exp();
+        // dP/dδ = (P/δ) d ln F/d ln x
+        let stiffness = force / delta * slope_f.unwrap_or(sf);
+        CappedContact {
+            a,
+            force,
+            stiffness,
+            a_plastic: a * ph.clamp(0.0, 1.0),
+        }
+    }
+}
+
+impl RoughContact<'_> {
+    /// The N model with capped tips at approach δ (m): every summit through `resp`.
+    /// Returns the step (its `radii` the contact radii) and the plastic area fraction
+    /// Σ π a_p²/A₀.
+    pub fn solve_independent_plastic(
+        &self,
+        resp: &PlasticResponse,
+        delta: f64,
+    ) -> Result<(Step, f64), RoughError> {
+        self.check_delta(delta)?;
+        let mut radii = vec![0.0; self.summits.len()];
+        let (mut load, mut area, mut plastic, mut stiffness, mut contacts) =
+            (0.0, 0.0, 0.0, 0.0, 0);
+        for (k, s) in self.summits.iter().enumerate() {
+            let dk = self.interference(k, delta);
+            if dk <= 0.0 {
+                continue;
+            }
+            let c = resp.at(dk, s.radius);
+            radii[k] = c.a;
+            load += c.force;
+            stiffness += c.stiffness;
+            area += std::f64::consts::PI * c.a * c.a;
+            plastic += std::f64::consts::PI * c.a_plastic * c.a_plastic;
+            contacts += 1;
+        }
+        let a0 = self.area();
+        let mean_pressure = load / a0;
+        let step = Step {
+            delta,
+            gap: self.top_to_mean() - delta,
+            load,
+            mean_pressure,
+            pressure_ratio: mean_pressure / resp.e_star,
+            area_fraction: area / a0,
+            contacts,
+            stiffness,
+            kkt_residual: None,
+            iterations: 0,
+            radii,
+            diagnostics: Diagnostics::default(),
+            validity: Validity {
+                below_mean_plane: delta > self.top_to_mean(),
+                beyond_deepest_valley: delta > self.max_delta(),
+                area_above_nominal: area > a0,
+                overlapping_contacts: 0,
+            },
+        };
+        Ok((step, plastic / a0))
+    }
+}
