@@ -205,6 +205,29 @@ impl<'s> PlasticPath<'s> {
         let parts = parts(self.solver);
         let control = self.solver.control_of(load)?;
         let n = parts.ny * parts.nx;
+        // Before any flattening the surface is the elastic solver's: its solution (the
+        // preconditioned iteration, fast) is the capped one when no pressure exceeds H —
+        // every KKT condition of the box problem then holds with the cap inactive — and
+        // otherwise, clipped at H, the bounded solve's start.
+        let mut start = None;
+        if self.depth.iter().all(|&d| d == 0.0) {
+            let warm = self.p.iter().all(|&v| v <= self.hardness).then_some(&self.p[..]);
+            let e = self.solver.solve_from(load, warm)?;
+            let top = e.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
+            if top <= self.hardness {
+                self.p = e.pressure.iter().copied().collect();
+                self.c = None;
+                let info = PlasticInfo {
+                    plastic_area_fraction: 0.0,
+                    plastic_points: 0,
+                    plastic_depth_max: 0.0,
+                    plastic_depth_mean: 0.0,
+                    offset_iterations: 0,
+                };
+                return Ok((e, info));
+            }
+            start = Some(e.pressure.iter().map(|v| v.min(self.hardness)).collect::<Vec<f64>>());
+        }
         let z_e: Vec<f64> = parts
             .z
             .iter()
@@ -221,7 +244,7 @@ impl<'s> PlasticPath<'s> {
             max_iterations: parts.options.max_iterations,
         };
         let mut g = vec![0.0; n];
-        let mut p = self.p.clone();
+        let mut p = start.unwrap_or_else(|| self.p.clone());
         let (c, out, offset_iterations) = match control {
             Control::Offset { c, uniform } => {
                 bounded.uniform = uniform;
