@@ -692,20 +692,17 @@ fn solve_bem(
         };
         let flat: Vec<f64> = sol.pressure.iter().copied().collect();
         worst_error = worst_error.max(sol.error).max(next.error);
-        steps.push(Step {
-            delta: sol.approach,
-            gap: sol.separation,
-            load: sol.total_load,
-            mean_pressure: sol.mean_pressure,
-            pressure_ratio: sol.pressure_ratio,
-            area_fraction: sol.area_fraction,
-            contacts: sol.patches,
-            stiffness: (next.total_load - sol.total_load) / dd,
-            kkt_residual: None,
-            iterations: sol.iterations,
-            radii: Vec::new(),
-            ..Default::default()
-        });
+        let mut st = Step::default();
+        st.delta = sol.approach;
+        st.gap = sol.separation;
+        st.load = sol.total_load;
+        st.mean_pressure = sol.mean_pressure;
+        st.pressure_ratio = sol.pressure_ratio;
+        st.area_fraction = sol.area_fraction;
+        st.contacts = sol.patches;
+        st.stiffness = (next.total_load - sol.total_load) / dd;
+        st.iterations = sol.iterations;
+        steps.push(st);
         warm = Some(flat);
         maps(k, total, sol)?;
         if let Some(b) = &bar {

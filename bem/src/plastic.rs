@@ -211,7 +211,11 @@ impl<'s> PlasticPath<'s> {
         // otherwise, clipped at H, the bounded solve's start.
         let mut start = None;
         if self.depth.iter().all(|&d| d == 0.0) {
-            let warm = self.p.iter().all(|&v| v <= self.hardness).then_some(&self.p[..]);
+            let warm = self
+                .p
+                .iter()
+                .all(|&v| v <= self.hardness)
+                .then_some(&self.p[..]);
             let e = self.solver.solve_from(load, warm)?;
             let top = e.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
             if top <= self.hardness {
@@ -226,7 +230,12 @@ impl<'s> PlasticPath<'s> {
                 };
                 return Ok((e, info));
             }
-            start = Some(e.pressure.iter().map(|v| v.min(self.hardness)).collect::<Vec<f64>>());
+            start = Some(
+                e.pressure
+                    .iter()
+                    .map(|v| v.min(self.hardness))
+                    .collect::<Vec<f64>>(),
+            );
         }
         let z_e: Vec<f64> = parts
             .z

@@ -153,19 +153,16 @@ impl StrataSolverOptions {
                 reason: format!("{tol} must be in (0, 1)"),
             });
         }
-        Ok(Params {
-            max_step_newton_steps: count(
-                "options.max_step_newton_steps",
-                self.max_step_newton_steps,
-            )?,
-            max_step_evaluations: count("options.max_step_evaluations", self.max_step_evaluations)?,
-            kkt_tolerance: tol,
-            max_pressure_iterations: count(
-                "options.max_pressure_iterations",
-                self.max_pressure_iterations,
-            )?,
-            ..Params::default()
-        })
+        let mut p = Params::default();
+        p.max_step_newton_steps =
+            count("options.max_step_newton_steps", self.max_step_newton_steps)?;
+        p.max_step_evaluations = count("options.max_step_evaluations", self.max_step_evaluations)?;
+        p.kkt_tolerance = tol;
+        p.max_pressure_iterations = count(
+            "options.max_pressure_iterations",
+            self.max_pressure_iterations,
+        )?;
+        Ok(p)
     }
 }
 

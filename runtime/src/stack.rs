@@ -120,6 +120,7 @@ pub struct Stack {
 /// Errors from reading or validating a stack. Each names the field, and the layer
 /// (1-based) where one is concerned.
 #[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
 pub enum StackError {
     #[error("cannot read stack file {path}: {message}")]
     Io { path: String, message: String },

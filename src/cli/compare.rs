@@ -688,20 +688,15 @@ mod tests {
     use super::*;
 
     fn step(gap: f64, p: f64, a: f64) -> Step {
-        Step {
-            delta: 1e-5 - gap,
-            gap,
-            load: p * 1e-6,
-            mean_pressure: p,
-            pressure_ratio: p / 4e9,
-            area_fraction: a,
-            contacts: 3,
-            stiffness: 0.0,
-            kkt_residual: None,
-            iterations: 0,
-            radii: Vec::new(),
-            ..Default::default()
-        }
+        let mut s = Step::default();
+        s.delta = 1e-5 - gap;
+        s.gap = gap;
+        s.load = p * 1e-6;
+        s.mean_pressure = p;
+        s.pressure_ratio = p / 4e9;
+        s.area_fraction = a;
+        s.contacts = 3;
+        s
     }
 
     /// p = p₀ exp(−g/λ) and A = c p^0.9: the interpolations are exact for these forms.

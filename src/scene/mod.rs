@@ -152,18 +152,16 @@ pub const SOLVER_KEYS: &str = "max_step_newton_steps, max_step_evaluations, kkt_
 impl SolverSpec {
     /// The asperity models' parameters: the defaults with the keys given.
     pub fn params(&self) -> Params {
-        let d = Params::default();
-        Params {
-            max_step_newton_steps: self
-                .max_step_newton_steps
-                .unwrap_or(d.max_step_newton_steps),
-            max_step_evaluations: self.max_step_evaluations.unwrap_or(d.max_step_evaluations),
-            kkt_tolerance: self.kkt_tolerance.unwrap_or(d.kkt_tolerance),
-            max_pressure_iterations: self
-                .max_pressure_iterations
-                .unwrap_or(d.max_pressure_iterations),
-            ..d
-        }
+        let mut p = Params::default();
+        p.max_step_newton_steps = self
+            .max_step_newton_steps
+            .unwrap_or(p.max_step_newton_steps);
+        p.max_step_evaluations = self.max_step_evaluations.unwrap_or(p.max_step_evaluations);
+        p.kkt_tolerance = self.kkt_tolerance.unwrap_or(p.kkt_tolerance);
+        p.max_pressure_iterations = self
+            .max_pressure_iterations
+            .unwrap_or(p.max_pressure_iterations);
+        p
     }
 
     /// The BEM options: `base` (the caller's, or the defaults) with the keys given.

@@ -530,9 +530,10 @@ mod rough {
             // already 2a/d = 0.96).
             let rc = RoughContact::from_surface(&law, &surf)
                 .unwrap()
-                .with_params(strata_runtime::rough::Params {
-                    zero_mean_images: false,
-                    ..Default::default()
+                .with_params({
+                    let mut p = strata_runtime::rough::Params::default();
+                    p.zero_mean_images = false;
+                    p
                 });
             assert_eq!(rc.summits().len(), 2);
             let bem = BemSolver::new(

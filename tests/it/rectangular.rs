@@ -283,9 +283,10 @@ fn periodic_images_rectangular_cell() {
     for (tol, limit) in [(0.0, 1e-10), (1e-5, 1e-5)] {
         let rc = RoughContact::from_surface(&law, &s)
             .expect("rc")
-            .with_params(strata_runtime::rough::Params {
-                zero_mean_images: false,
-                ..Default::default()
+            .with_params({
+                let mut p = strata_runtime::rough::Params::default();
+                p.zero_mean_images = false;
+                p
             })
             .with_far_field_tolerance(tol);
         assert_eq!(rc.summits().len(), sm.len());

@@ -43,9 +43,10 @@ fn deltas() -> Vec<f64> {
 
 /// Mean pressures of the I-model curve with periodic images on m cells per side.
 fn curve(law: &dyn AsperityLaw, s: &Surface, m: usize, zero_mean: bool) -> Vec<f64> {
-    let params = Params {
-        zero_mean_images: zero_mean,
-        ..Params::default()
+    let params = {
+        let mut p = Params::default();
+        p.zero_mean_images = zero_mean;
+        p
     };
     let rc = RoughContact::from_surface(law, s)
         .unwrap()
@@ -274,9 +275,10 @@ fn zero_mean_images_meet_the_ewald_kkt_conditions() {
     };
     let mut res = Vec::new();
     for (m, zero_mean) in [(1, true), (2, true), (4, true), (4, false)] {
-        let params = Params {
-            zero_mean_images: zero_mean,
-            ..Params::default()
+        let params = {
+            let mut p = Params::default();
+            p.zero_mean_images = zero_mean;
+            p
         };
         let rc = RoughContact::from_surface(&law, &s)
             .unwrap()

@@ -5,6 +5,7 @@
 /// Tolerances and limits of the rough-contact solvers. Relative tolerances of the I
 /// model are in units of the largest interference δ_max = max_k δ_k of the step (m).
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct Params {
     /// Far-field model of the interaction sums: largest error of every modelled G and
     /// ∂G/∂a relative to the point-force displacement (4/3)χa³/(πRr) and its

@@ -24,6 +24,7 @@ pub enum Model {
 
 /// Results of one load step.
 #[derive(Debug, Clone, PartialEq, Default)]
+#[non_exhaustive]
 pub struct Step {
     /// Approach δ (m).
     pub delta: f64,
