@@ -7,6 +7,7 @@
 //! `strata-tablegen` (Fredholm solves, table builds) and `strata-bem` (the full-field
 //! solver).
 
+pub mod asperity_table;
 pub mod cache;
 pub mod cli;
 pub mod csv_out;
@@ -14,6 +15,7 @@ pub mod engine;
 pub mod output_set;
 pub mod plot;
 pub mod progress;
+pub mod sampled_law;
 pub mod scene;
 pub mod stdio;
 pub mod study;

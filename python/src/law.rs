@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use strata::cli::law::SampledLaw;
+use strata::sampled_law::SampledLaw;
 
 use crate::conv;
 use crate::errors::{Kind, err};

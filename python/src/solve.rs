@@ -338,7 +338,7 @@ impl PyScene {
         let sampled = py.detach(|| {
             crate::progress::with_progress(progress, || {
                 let surface = self.load_surface(progress)?;
-                strata::cli::law::sample_law(
+                strata::sampled_law::sample_law(
                     &self.scene,
                     &self.path,
                     surface,

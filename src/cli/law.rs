@@ -31,16 +31,15 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use crate::scene::{LoadSpec, ModelKind, Scene};
+use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
-use strata_runtime::interface::{InterfaceLaw, MAX_SAMPLES, SampleOptions, sample_gaps};
-use strata_runtime::rough::{Images, Model, RoughContact};
 
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 
-use crate::engine::{EngineOptions, law_for, solve_surface};
-use strata_runtime::surface::Surface;
+use crate::engine::EngineOptions;
+pub use crate::sampled_law::{SampledLaw, sample_law};
+use crate::sampled_law::{check_min_gap, check_samples};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -77,62 +76,6 @@ pub struct Args {
     pub cache_dir: Option<PathBuf>,
 }
 
-/// A sampled contact law and what was solved, for the headers.
-#[derive(Debug, Clone)]
-pub struct SampledLaw {
-    /// p(g), A(g)/A₀ and dp/dg (monotone interpolation of the samples).
-    pub law: InterfaceLaw,
-    /// The model, in words.
-    pub model: String,
-    /// The solid, in words.
-    pub solid: String,
-    /// E*₁ (Pa).
-    pub e_star: f64,
-    /// Nominal area A₀ (m²).
-    pub nominal_area: f64,
-    /// The surface as solved (curve.json's `surface`: statistics, reader log, removed
-    /// form).
-    pub surface: serde_json::Value,
-    /// The surface's warnings (plausibility, a form that dominates the heights).
-    pub warnings: Vec<String>,
-}
-
-impl SampledLaw {
-    /// The Abaqus/CalculiX `*SURFACE BEHAVIOR` block with its `**` comment lines
-    /// naming the scene (`scene`: how it is shown), the model and the solid.
-    pub fn abaqus_block(&self, scene: &str) -> String {
-        self.law.abaqus_block(&[
-            "strata law: pressure-overclosure table of a rough (layered) interface".into(),
-            format!("scene: {scene}"),
-            format!("model: {}", self.model),
-            format!("solid: {}", self.solid),
-        ])
-    }
-}
-
-/// The contact law of a scene on its (already loaded) `surface`: `samples` separations
-/// from first contact down to `min_gap` (default: the smallest separation the scene's
-/// load reaches), by the scene's model (N, I or BEM), as `strata law` samples it.
-pub fn sample_law(
-    scene: &Scene,
-    path: &Path,
-    surface: Surface,
-    opts: &EngineOptions,
-    samples: usize,
-    min_gap: Option<f64>,
-) -> Result<SampledLaw> {
-    check_samples(samples)?;
-    check_min_gap(min_gap)?;
-    let sampled = match model_of(scene) {
-        Some(m) => solve_asperities(scene, path, surface, opts, m, samples, min_gap),
-        None => solve_bem(scene, path, surface, opts, samples, min_gap),
-    }?;
-    for w in sampled.law.validity_warnings() {
-        crate::stdio::eprint_line(format_args!("warning: law: {w}"));
-    }
-    Ok(sampled)
-}
-
 fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
     let ext = a
         .out
@@ -159,208 +102,6 @@ fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
             (Format::Abaqus, a.out.with_extension("inp")),
         ],
         f => vec![(f, a.out.clone())],
-    })
-}
-
-fn model_of(scene: &Scene) -> Option<Model> {
-    match scene.model.kind {
-        ModelKind::Independent => Some(Model::Independent),
-        ModelKind::Interacting => Some(Model::Interacting(scene.model.images)),
-        ModelKind::Bem => None,
-    }
-}
-
-fn describe(model: Option<Model>) -> String {
-    match model {
-        Some(Model::Independent) => "independent asperities (N model)".into(),
-        Some(Model::Interacting(Images::Isolated)) => {
-            "interacting asperities (I model), isolated sample".into()
-        }
-        Some(Model::Interacting(Images::Periodic(m))) => format!(
-            "interacting asperities (I model), periodic images on a {0}×{0} block",
-            2 * m + 1
-        ),
-        None => "boundary elements (FFT-BEM, periodic)".into(),
-    }
-}
-
-/// The smallest separation the scene's displacement-type load reaches, given g₀ (m).
-fn load_min_gap(load: &LoadSpec, g0: f64) -> Option<f64> {
-    match load {
-        LoadSpec::Separations(g) => g.iter().copied().reduce(f64::min),
-        LoadSpec::Approach { from, to, .. } => Some(g0 - from.max(*to)),
-        LoadSpec::MeanPressures(_) => None,
-    }
-}
-
-fn largest_pressure(load: &LoadSpec) -> Result<f64> {
-    match load {
-        LoadSpec::MeanPressures(p) => p
-            .iter()
-            .copied()
-            .reduce(f64::max)
-            .context("load.mean_pressures is empty"),
-        _ => bail!("load: internal error"),
-    }
-}
-
-fn check_samples(n: usize) -> Result<()> {
-    if n < 2 {
-        bail!("--samples {n}: at least 2 samples are needed (first contact and --min-gap)");
-    }
-    if n > MAX_SAMPLES {
-        bail!("--samples {n}: at most {MAX_SAMPLES}");
-    }
-    Ok(())
-}
-
-fn check_min_gap(g: Option<f64>) -> Result<()> {
-    if let Some(g) = g
-        && !g.is_finite()
-    {
-        bail!("--min-gap {g}: not a finite separation (m)");
-    }
-    Ok(())
-}
-
-/// N and I models: the runtime's RoughContact, as the C ABI does.
-fn solve_asperities(
-    scene: &Scene,
-    path: &Path,
-    surface: Surface,
-    opts: &EngineOptions,
-    model: Model,
-    samples: usize,
-    min_gap: Option<f64>,
-) -> Result<SampledLaw> {
-    let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
-    let law = law_for(scene, path, opts)?;
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
-    let g0 = rc.top_to_mean();
-    let given = min_gap.is_some();
-    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
-        Some(g) => g,
-        None => {
-            let p = largest_pressure(&scene.load)?;
-            rc.solve_pressure(model, p, &[])
-                .context("load.mean_pressures: the largest one sets the default --min-gap")?
-                .gap
-        }
-    };
-    progress::log(format!(
-        "law: {samples} samples from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
-    ));
-    let _spin = progress::spinner(format!("law: sampling {samples} separations"));
-    let il = InterfaceLaw::sample(&rc, model, &SampleOptions { samples, min_gap }).context(
-        if given {
-            "--min-gap"
-        } else {
-            "sampling the load curve"
-        },
-    )?;
-    Ok(SampledLaw {
-        law: il,
-        model: describe(Some(model)),
-        solid: solid(scene),
-        e_star: law.e_star(),
-        nominal_area: rc.area(),
-        surface: surface_json,
-        warnings,
-    })
-}
-
-fn solid(scene: &Scene) -> String {
-    let s = &scene.stack;
-    if let Some(c) = s.counterface() {
-        return format!(
-            "{} against an elastic counterface ({}), pair E* = {:e} Pa",
-            solid_of(&s.body()),
-            solid_of(c),
-            s.contact_modulus()
-        );
-    }
-    solid_of(s)
-}
-
-fn solid_of(s: &strata_runtime::Stack) -> String {
-    if s.is_homogeneous() {
-        format!(
-            "homogeneous (E* = {:e} Pa, Hertz asperities)",
-            s.top_plane_strain_modulus()
-        )
-    } else {
-        format!(
-            "layered, {} layer(s) on a {} base, E*1 = {:e} Pa",
-            s.layers().len(),
-            match s.base() {
-                strata_runtime::Base::Rigid => "rigid",
-                _ => "elastic",
-            },
-            s.top_plane_strain_modulus()
-        )
-    }
-}
-
-/// BEM: the engine's scene solve at the sample separations.
-fn solve_bem(
-    scene: &Scene,
-    path: &Path,
-    surface: Surface,
-    opts: &EngineOptions,
-    samples: usize,
-    min_gap: Option<f64>,
-) -> Result<SampledLaw> {
-    let z_max = surface
-        .heights()
-        .iter()
-        .copied()
-        .fold(f64::NEG_INFINITY, f64::max);
-    let g0 = z_max - surface.mean();
-    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
-        Some(g) => g,
-        None => {
-            let p = largest_pressure(&scene.load)?;
-            let mut one = scene.clone();
-            one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_surface(&one, path, surface.clone(), opts)
-                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
-            s.steps.first().context("BEM: no step")?.gap
-        }
-    };
-    if min_gap.is_nan() || min_gap >= g0 {
-        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
-    }
-    progress::log(format!(
-        "law: {samples} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
-    ));
-    let area = surface.extent().0 * surface.extent().1;
-    let mut sampled = scene.clone();
-    sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
-    let sol = solve_surface(&sampled, path, surface, opts)?;
-    let mut steps = sol.steps;
-    // First contact: the flat touches the highest grid point only, p = A = 0 exactly
-    // (the iterative solve may leave round-off there).
-    if let Some(s) = steps.first_mut() {
-        s.mean_pressure = 0.0;
-        s.area_fraction = 0.0;
-    }
-    let il = InterfaceLaw::from_steps(&steps, area).context("BEM load curve")?;
-    let warnings = sol.meta["warnings"]
-        .as_array()
-        .map(|w| {
-            w.iter()
-                .filter_map(|s| s.as_str().map(String::from))
-                .collect()
-        })
-        .unwrap_or_default();
-    Ok(SampledLaw {
-        law: il,
-        model: describe(None),
-        solid: solid(scene),
-        e_star: scene.stack.contact_modulus(),
-        nominal_area: area,
-        surface: sol.meta["surface"].clone(),
-        warnings,
     })
 }
 

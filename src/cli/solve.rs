@@ -61,17 +61,7 @@ pub struct Args {
     pub no_plots: bool,
 }
 
-/// The header of curve.csv.
-pub const CURVE_HEADER: [&str; 8] = [
-    "delta",
-    "gap",
-    "mean_pressure",
-    "pressure_ratio",
-    "area_fraction",
-    "contacts",
-    "stiffness",
-    "valid",
-];
+pub use crate::csv_out::CURVE_HEADER;
 
 /// curve.csv text: the fixed header, full precision; `valid` is 1 where the step is
 /// inside the model's validity (curve.json's `validity` says why not), else 0.

@@ -26,6 +26,7 @@ use strata_runtime::Stack;
 use strata_runtime::table::{Table, Vary};
 use strata_tablegen::tablebuild::{self, Bars, BuildOptions};
 
+pub use crate::asperity_table::{approx_paraboloid, approx_profile, build_time, law_for_stack};
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 use crate::stdio;
@@ -166,20 +167,6 @@ pub fn parse_vary(s: &str) -> Result<(Vary, f64, f64, usize)> {
         .parse()
         .map_err(|_| anyhow::anyhow!("--vary: N `{}` must be a positive integer", parts[3]))?;
     Ok((vary, lo, hi, n))
-}
-
-/// Build time for the header: SOURCE_DATE_EPOCH when set, else now.
-pub fn build_time() -> Result<u64> {
-    match std::env::var("SOURCE_DATE_EPOCH") {
-        Ok(v) => v
-            .trim()
-            .parse()
-            .with_context(|| format!("SOURCE_DATE_EPOCH = `{v}` is not a number of seconds")),
-        Err(_) => Ok(std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_secs())
-            .unwrap_or(0)),
-    }
 }
 
 fn load(file: &std::path::Path) -> Result<Table> {
@@ -350,96 +337,4 @@ fn print_info(t: &Table, o: &mut dyn Write) -> io::Result<()> {
         ),
         None => writeln!(o, "interpolation error: not measured"),
     }
-}
-
-/// The table-backed asperity law of `stack` for `strata asperity --model approx`:
-/// from `table` when given (refusing stacks the table does not serve), else from the
-/// table cache ([`crate::cache`]), building and caching the table there on first use.
-pub fn law_for_stack(
-    stack: &Stack,
-    table: Option<&std::path::Path>,
-    cache_dir: Option<&std::path::Path>,
-) -> Result<strata_runtime::table::TableLaw> {
-    if let Some(p) = table {
-        let t = Table::load(p).with_context(|| format!("--table {}", p.display()))?;
-        return t
-            .law_for(stack)
-            .with_context(|| format!("--table {} cannot serve this stack", p.display()));
-    }
-    let opts = BuildOptions {
-        check_points: 200,
-        build_time: build_time()?,
-        progress: true,
-        bars: Some(Bars(progress::raw_bar)),
-        ..BuildOptions::default()
-    };
-    let (t, _) = crate::engine::cached_table(stack, cache_dir, false, Some(opts))?;
-    Ok(t.law_for(stack)?)
-}
-
-/// Second-order approximation of a paraboloid (radius R) at approach δ (physics.md
-/// §4): solves δ = ζ(a) a²/R for a (bisection in ln a) and returns (a, P) with
-/// P = (4/3) E*₁ χ(a) a³/R. δ = 0 gives (0, 0).
-pub fn approx_paraboloid(
-    law: &strata_runtime::table::TableLaw,
-    delta: f64,
-    radius: f64,
-) -> Result<(f64, f64)> {
-    use strata_runtime::law;
-    if delta == 0.0 {
-        return Ok((0.0, 0.0));
-    }
-    let f = |a: f64| law::interference(law, a, radius) - delta;
-    let mut lo = (radius * delta).sqrt();
-    let mut hi = lo;
-    for _ in 0..200 {
-        if f(lo) <= 0.0 {
-            break;
-        }
-        lo *= 0.5;
-    }
-    for _ in 0..200 {
-        if f(hi) >= 0.0 {
-            break;
-        }
-        hi *= 2.0;
-    }
-    if !(f(lo) <= 0.0 && f(hi) >= 0.0) {
-        bail!("cannot bracket the contact radius for delta = {delta} m");
-    }
-    for _ in 0..200 {
-        let mid = (lo * hi).sqrt();
-        if f(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-        if hi - lo <= 1e-15 * hi {
-            break;
-        }
-    }
-    let a = 0.5 * (lo + hi);
-    let p = law::force(law, a, radius);
-    if !(a.is_finite() && p.is_finite()) {
-        bail!("approximate solution at delta = {delta} m is not finite");
-    }
-    Ok((a, p))
-}
-
-/// Approximate pressure (Pa, compressive positive) and displacement (m) at r for
-/// contact radius a (physics.md §4): p = (2E*₁/(πR)) χ(a) √(a² − r²) inside, and the
-/// displacement of `strata_runtime::law::displacement`.
-pub fn approx_profile(
-    law: &strata_runtime::table::TableLaw,
-    a: f64,
-    radius: f64,
-    r: f64,
-) -> (f64, f64) {
-    use strata_runtime::law::{self, AsperityLaw};
-    let p = if r < a {
-        2.0 * law.e_star() / (std::f64::consts::PI * radius) * law.chi(a) * (a * a - r * r).sqrt()
-    } else {
-        0.0
-    };
-    (p, law::displacement(law, a, radius, r))
 }

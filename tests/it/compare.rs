@@ -331,7 +331,13 @@ fn non_periodic_scan_is_compared_as_an_isolated_sample() {
     )
     .unwrap();
     let cmp = d.join("out");
-    let o = strata(&["compare", sc.to_str().unwrap(), "--out", cmp.to_str().unwrap(), "--no-plots"]);
+    let o = strata(&[
+        "compare",
+        sc.to_str().unwrap(),
+        "--out",
+        cmp.to_str().unwrap(),
+        "--no-plots",
+    ]);
     ok(&o);
     let md = std::fs::read_to_string(cmp.join("compare.md")).unwrap();
     assert!(md.contains("isolated sample"), "{md}");
