@@ -159,10 +159,7 @@ impl PyScene {
                 anyhow::anyhow!("missing field `load`: give load={{\"separations\": [...]}}, {{\"approach\": {{\"from\": ..., \"to\": ..., \"steps\": ...}}}} or {{\"mean_pressures\": [...]}}"),
             )
         })?;
-        let stack_toml: toml::Table = stack
-            .to_toml_string()
-            .parse()
-            .map_err(|e: toml::de::Error| to_py(Kind::Stack, anyhow::anyhow!("{e}")))?;
+        let stack_toml = stack.to_toml_table();
         let mut md = toml::Table::new();
         md.insert("kind".into(), toml::Value::String(model.into()));
         if let Some(i) = images {
@@ -179,11 +176,7 @@ impl PyScene {
             top.insert("solver".into(), py_to_toml(sv, "solver")?);
         }
         if let Some(c) = counterface {
-            let t: toml::Table = c
-                .to_toml_string()
-                .parse()
-                .map_err(|e: toml::de::Error| to_py(Kind::Stack, anyhow::anyhow!("{e}")))?;
-            top.insert("counterface".into(), toml::Value::Table(t));
+            top.insert("counterface".into(), toml::Value::Table(c.to_toml_table()));
         }
         let scene = Scene::from_table_in(top, Path::new("."), Some(memory_surface_spec(&surface)))
             .map_err(err(Kind::Scene))?;

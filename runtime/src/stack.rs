@@ -728,6 +728,69 @@ impl Stack {
     }
 }
 
+#[cfg(feature = "toml")]
+impl Stack {
+    /// The stack as a TOML table of the file format (the one [`Stack::from_toml_table`]
+    /// reads), built directly, without TOML text: `name`, `[[layer]]`, `[base]` and a
+    /// `[counterface]` table; scenes built in memory (the Python package) embed it.
+    pub fn to_toml_table(&self) -> toml::Table {
+        let mut t = self.body_table();
+        if let Some(c) = self.counterface() {
+            t.insert("counterface".into(), toml::Value::Table(c.body_table()));
+        }
+        t
+    }
+
+    fn body_table(&self) -> toml::Table {
+        use toml::Value::{Array, Float, String as Str, Table as Tab};
+        let mut t = toml::Table::new();
+        if let Some(n) = &self.name {
+            t.insert("name".into(), Str(n.clone()));
+        }
+        let conductivity = |m: &mut toml::Table, c: &Conductivity| {
+            if let Some(k) = c.thermal {
+                m.insert("thermal_conductivity".into(), Float(k));
+            }
+            if let Some(k) = c.electrical {
+                m.insert("electrical_conductivity".into(), Float(k));
+            }
+        };
+        let layers: Vec<toml::Value> = self
+            .layers
+            .iter()
+            .enumerate()
+            .map(|(i, l)| {
+                let mut m = toml::Table::new();
+                m.insert("thickness".into(), Float(l.thickness));
+                m.insert("young".into(), Float(l.young));
+                m.insert("poisson".into(), Float(l.poisson));
+                conductivity(&mut m, &self.layer_conductivity(i));
+                Tab(m)
+            })
+            .collect();
+        if !layers.is_empty() {
+            t.insert("layer".into(), Array(layers));
+        }
+        let mut b = toml::Table::new();
+        match self.base {
+            Base::Rigid => {
+                b.insert("kind".into(), Str("rigid".into()));
+            }
+            Base::Elastic { young, poisson } => {
+                b.insert("kind".into(), Str("elastic".into()));
+                b.insert("young".into(), Float(young));
+                b.insert("poisson".into(), Float(poisson));
+            }
+        }
+        if self.conduction.base_kind == BaseConduction::Isothermal {
+            b.insert("conduction".into(), Str("isothermal".into()));
+        }
+        conductivity(&mut b, &self.conduction.base);
+        t.insert("base".into(), Tab(b));
+        t
+    }
+}
+
 /// Appends the given conductivities as TOML lines (nothing when none is given).
 #[cfg(feature = "toml")]
 fn push_conductivity(s: &mut String, c: &Conductivity) {
@@ -925,6 +988,28 @@ poisson = 0.15
 [base]
 kind = "rigid"
 "#;
+
+    /// The table built directly equals the parsed text form, and reads back to the
+    /// same stack (with a counterface and conductivities too).
+    #[test]
+    fn toml_table_equals_the_text_form() {
+        let paper = Stack::from_toml_str(PAPER).unwrap();
+        let cond = Stack::from_toml_str(
+            "[[layer]]\nthickness = 1e-5\nyoung = 4e11\npoisson = 0.25\nthermal_conductivity = 20\n\
+             [base]\nkind = \"rigid\"\nconduction = \"isothermal\"\n",
+        )
+        .unwrap();
+        let pair = paper
+            .clone()
+            .against(Stack::half_space(210e9, 0.3).unwrap())
+            .unwrap();
+        for st in [paper, cond, pair, Stack::half_space(1e9, 0.5).unwrap()] {
+            let direct = st.to_toml_table();
+            let text: toml::Table = st.to_toml_string().parse().unwrap();
+            assert_eq!(direct, text);
+            assert_eq!(Stack::from_toml_table(&direct).unwrap(), st);
+        }
+    }
 
     #[test]
     fn parses_paper_stack() {
