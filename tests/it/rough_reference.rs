@@ -305,7 +305,8 @@ fn quadrature_law_matches_reference_chi_zeta_g() {
 }
 
 /// N model, I model isolated and I model with 5×5 periodic images against the shared
-/// reference: p_n/E*₁ and A/A₀ within 1 % at every approach, KKT residual < 1e-8.
+/// reference: p_n/E*₁ and A/A₀ within 3e-8 (required 1 %) at every approach, KKT
+/// residual < 1e-8.
 /// With the quadrature law the pair sums are exact (far-field tolerance 0: every
 /// distance's J₀ moments are computed once); measured agreement ~1e-10 (N, I isolated)
 /// and ~2e-9 (I periodic).
@@ -313,7 +314,8 @@ fn quadrature_law_matches_reference_chi_zeta_g() {
 fn rough_reference_e2e1_1() {
     let st = stack("stack_h100um_E2E1_1.toml");
     let law = QuadLaw::new(&st);
-    compare_with_reference(&law, 0.01, 0.0);
+    // required 1 %; measured ≤ 2.4e-9 (I periodic)
+    compare_with_reference(&law, 3e-8, 0.0);
 }
 
 /// The same comparison with the production law: the surrogate table built by
@@ -325,7 +327,8 @@ fn rough_reference_e2e1_1_table() {
     let (table, _) = strata_tablegen::tablebuild::build_and_cache(&st, &dir, &Default::default())
         .expect("table");
     let law = table.law_for(&st).expect("law");
-    compare_with_reference(&law, 0.01, 1e-6);
+    // required 1 %; measured ≤ 9.9e-7 (I periodic; the table's interpolation)
+    compare_with_reference(&law, 1e-5, 1e-6);
 }
 
 /// `far_tol`: the far-field tolerance of the I model (0: exact pair sums).

@@ -71,8 +71,10 @@ fn bem_scene_matches_reference_bem_column() {
         assert!((g[1] - r[1]).abs() < 1e-12, "gap {} vs {}", g[1], r[1]);
         let dp = (g[3] / r[2] - 1.0).abs();
         let da = (g[4] / r[3] - 1.0).abs();
+        eprintln!("gap {:e}: pressure {dp:.1e}, area {da:.1e}", r[1]);
+        // required 1e-3 / 1e-2; measured ≤ 4.9e-11 / 2.5e-11 (docs/validation.md)
         assert!(
-            dp < 1e-3 && da < 1e-2,
+            dp < 5e-10 && da < 3e-10,
             "gap {}: pressure {dp:e}, area {da:e}",
             r[1]
         );
