@@ -79,6 +79,16 @@ pub struct InfoArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    /// Also write the radially averaged PSD and the height and slope distributions to
+    /// this directory: psd.svg, heights.svg, slopes.svg and psd.csv.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Replace an existing --plot directory's files.
+    #[arg(long)]
+    pub force: bool,
+    /// Format of the --plot pictures: svg (default) or png.
+    #[arg(long, default_value = "svg")]
+    pub plot_format: String,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -232,6 +242,20 @@ fn info(a: InfoArgs) -> Result<()> {
             },
         )?
     };
+    if let Some(dir) = &a.plot {
+        crate::output_set::refuse_inputs(
+            "--plot",
+            dir,
+            &[("the surface file".into(), a.file.clone())],
+        )?;
+        let set = crate::output_set::OutputSet::dir("--plot", dir, a.force)?;
+        let ext = match a.plot_format.as_str() {
+            "svg" | "png" => a.plot_format.as_str(),
+            f => bail!("--plot-format `{f}`: expected svg or png"),
+        };
+        plot_surface(&surface, &set, &a.file.display().to_string(), ext)?;
+        set.commit()?;
+    }
     let stats = surface.stats();
     let warnings = crate::engine::surface_warnings(&surface);
     for w in &warnings {
@@ -274,5 +298,113 @@ fn info(a: InfoArgs) -> Result<()> {
         }
         Ok(())
     })?;
+    Ok(())
+}
+
+/// psd (log–log C(q) against q), heights and slopes (densities beside the Gaussian of
+/// the same RMS) as `ext` pictures, and psd.csv (`q,C,count`), for `surface info --plot`.
+fn plot_surface(
+    surface: &Surface,
+    set: &crate::output_set::OutputSet,
+    name: &str,
+    ext: &str,
+) -> Result<()> {
+    use crate::plot::{PlotSpec, Series, Style};
+    let psd = surface.radial_psd()?;
+    let text = crate::csv_out::text(
+        ["q", "C", "count"],
+        psd.iter().map(|b| {
+            [
+                crate::csv_out::num(b.q),
+                crate::csv_out::num(b.c),
+                b.count.to_string(),
+            ]
+        }),
+    )?;
+    set.write("psd.csv", text.as_bytes())?;
+    let short = std::path::Path::new(name)
+        .file_name()
+        .map(|f| f.to_string_lossy().into_owned())
+        .unwrap_or_else(|| name.to_string());
+    crate::plot::lines(
+        &set.path(&format!("psd.{ext}"))?,
+        &PlotSpec {
+            title: format!("Power spectral density: {short}"),
+            x_label: "wavenumber q (1/m)".into(),
+            y_label: "C(q) (m^4)".into(),
+            log_x: true,
+            log_y: true,
+            series: vec![Series {
+                name: "radial average".into(),
+                // bins at round-off (a band-limited surface outside its band) left out
+                points: psd
+                    .iter()
+                    .filter(|b| b.c > 1e-14 * psd.iter().fold(0.0_f64, |m, x| m.max(x.c)))
+                    .map(|b| (b.q, b.c))
+                    .collect(),
+                style: Style::Line,
+            }],
+        },
+    )?;
+    let (heights, slopes) = surface.distributions(60);
+    let stats = surface.stats();
+    let gauss =
+        |x: f64, s: f64| (-0.5 * (x / s).powi(2)).exp() / (s * (std::f64::consts::TAU).sqrt());
+    for (file, d, sigma, unit, density, label, scale) in [
+        (
+            "heights",
+            &heights,
+            stats.rms_height,
+            "height − mean (µm)",
+            "probability density (1/µm)",
+            "heights",
+            1e6,
+        ),
+        (
+            "slopes",
+            &slopes,
+            stats.rms_slope / std::f64::consts::SQRT_2,
+            "slope ∂h/∂x, ∂h/∂y (-)",
+            "probability density (-)",
+            "slopes",
+            1.0,
+        ),
+    ] {
+        let measured: Vec<(f64, f64)> =
+            d.x.iter()
+                .zip(&d.p)
+                .map(|(x, p)| (x * scale, p / scale))
+                .collect();
+        let lo = d.x.first().copied().unwrap_or(0.0);
+        let hi = d.x.last().copied().unwrap_or(0.0);
+        let normal: Vec<(f64, f64)> = (0..=200)
+            .map(|k| {
+                let x = lo + (hi - lo) * k as f64 / 200.0;
+                (x * scale, gauss(x, sigma) / scale)
+            })
+            .collect();
+        crate::plot::lines(
+            &set.path(&format!("{file}.{ext}"))?,
+            &PlotSpec {
+                title: format!("Distribution of the {label}: {short}"),
+                x_label: unit.into(),
+                y_label: density.into(),
+                log_x: false,
+                log_y: false,
+                series: vec![
+                    Series {
+                        name: "measured".into(),
+                        points: measured,
+                        style: Style::Points,
+                    },
+                    Series {
+                        name: "Gaussian, same RMS".into(),
+                        points: normal,
+                        style: Style::Line,
+                    },
+                ],
+            },
+        )?;
+    }
     Ok(())
 }

@@ -310,3 +310,89 @@ fn law_validity_reaches_the_abaqus_header() {
     assert!(!inp.contains("outside its validity"), "{inp}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `surface info --plot DIR`: the PSD (log–log, round-off bins left out), the height and
+/// slope densities beside the Gaussian of the same RMS, and psd.csv; the pictures carry
+/// their axis labels with units and a legend placed right of the plot area (readable at
+/// single-column size: nothing drawn over the curves). The PSD integrates to the RMS.
+#[test]
+fn surface_info_plots_psd_and_distributions() {
+    let d = crate::support::fresh_dir("measured-law", "info-plot");
+    let scene = crate::support::repo().join("scenes/paper-E2E1-5-interacting.toml");
+    let out = d.join("plots");
+    let o = crate::support::run_strata(&[
+        "surface",
+        "info",
+        scene.to_str().unwrap(),
+        "--plot",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for (file, labels) in [
+        (
+            "psd.svg",
+            &["wavenumber q (1/m)", "C(q) (m^4)", "radial average"][..],
+        ),
+        (
+            "heights.svg",
+            &[
+                "height − mean (µm)",
+                "probability density (1/µm)",
+                "measured",
+                "Gaussian, same RMS",
+            ][..],
+        ),
+        (
+            "slopes.svg",
+            &["probability density (-)", "measured", "Gaussian, same RMS"][..],
+        ),
+    ] {
+        let svg = std::fs::read_to_string(out.join(file)).unwrap();
+        for l in labels {
+            assert!(svg.contains(l), "{file}: no `{l}`");
+        }
+        // the legend's text starts right of every grid line of the plot area
+        let num = |tag: &str, key: &str| -> Vec<f64> {
+            svg.split(tag)
+                .skip(1)
+                .filter_map(|t| {
+                    let i = t.find(key)? + key.len();
+                    t[i..].split('"').next()?.parse().ok()
+                })
+                .collect()
+        };
+        let grid_right = num("<line", " x2=\"").into_iter().fold(0.0, f64::max);
+        let legend = labels.last().unwrap();
+        let legend_x = svg
+            .split("<text")
+            .find(|t| t.contains(legend))
+            .and_then(|t| {
+                t.split("x=\"")
+                    .nth(1)?
+                    .split('"')
+                    .next()?
+                    .parse::<f64>()
+                    .ok()
+            })
+            .unwrap();
+        assert!(
+            legend_x > grid_right,
+            "{file}: legend at x = {legend_x} over the plot (right edge {grid_right})"
+        );
+    }
+    // Parseval on the written bins: Σ C·count·Δq²/(2π)² = RMS² (the scene's 3.4 µm)
+    let csv = std::fs::read_to_string(out.join("psd.csv")).unwrap();
+    let dq = std::f64::consts::TAU / 1e-3;
+    let var: f64 = csv
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+            v[1] * v[2]
+        })
+        .sum::<f64>()
+        * dq
+        * dq
+        / (std::f64::consts::TAU * std::f64::consts::TAU);
+    assert!((var.sqrt() / 3.4e-6 - 1.0).abs() < 1e-9, "{}", var.sqrt());
+}

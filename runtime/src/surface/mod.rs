@@ -43,6 +43,8 @@ mod form;
 #[cfg(feature = "spectral")]
 mod generate;
 mod read;
+#[cfg(feature = "spectral")]
+mod spectrum;
 mod stats;
 #[cfg(feature = "x3p")]
 pub mod x3p;
@@ -51,6 +53,8 @@ pub use form::{Detrend, Form, KEPT_FORM_FRACTION, REMOVED_FORM_RATIO};
 #[cfg(feature = "spectral")]
 pub use generate::{GENERATE_BYTES_PER_POINT, GenerateParams};
 pub use read::{FileKind, HeightUnit, ReadOptions};
+#[cfg(feature = "spectral")]
+pub use spectrum::{Density, PsdBin};
 pub use stats::{MAX_RMS_HEIGHT_FRACTION, MAX_RMS_SLOPE, MIN_RMS_HEIGHT, SurfaceStats};
 
 use thiserror::Error;
