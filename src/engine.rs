@@ -677,6 +677,7 @@ fn solve_bem(
                 "kkt_bounded": sol.error,
                 "bounded_iterations": sol.iterations,
                 "offset_iterations": info.offset_iterations,
+                "active_set_steps": info.active_set_steps,
             }));
             (sol, next, dd)
         } else {

@@ -97,8 +97,12 @@ pub struct PlasticInfo {
     pub plastic_depth_max: f64,
     /// Mean accumulated plastic depth over the cell (m): the flattened volume over A₀.
     pub plastic_depth_mean: f64,
-    /// Outer secant steps of a force-controlled step (0 under displacement control).
+    /// Outer secant steps of a force-controlled step (0 under displacement control or
+    /// when the active-set steps settled).
     pub offset_iterations: usize,
+    /// Active-set steps (elastic solves with the plastic set fixed) before the bounded
+    /// solve checked the result.
+    pub active_set_steps: usize,
 }
 
 /// Contact patches and area of a pressure field.
@@ -227,6 +231,7 @@ impl<'s> PlasticPath<'s> {
                     plastic_depth_max: 0.0,
                     plastic_depth_mean: 0.0,
                     offset_iterations: 0,
+                    active_set_steps: 0,
                 };
                 return Ok((e, info));
             }
@@ -254,13 +259,20 @@ impl<'s> PlasticPath<'s> {
         };
         let mut g = vec![0.0; n];
         let mut p = start.unwrap_or_else(|| self.p.clone());
-        let (c, out, offset_iterations) = match control {
-            Control::Offset { c, uniform } => {
+        // Active-set steps on the elastic iteration first (fast); the bounded solve then
+        // checks (and, if the sets did not settle, finishes) the result.
+        let (settled, set_steps, set_products) = self.active_set(&parts, &z_e, control, &mut p)?;
+        let (c, out, offset_iterations) = match (control, settled) {
+            (Control::Offset { c, uniform }, _) => {
                 bounded.uniform = uniform;
                 let out = bounded.solve(c, &mut p, &mut g)?;
                 (c, out, 0)
             }
-            Control::Pressure(target) => {
+            (Control::Pressure(_), Some(c)) => {
+                let out = bounded.solve(c, &mut p, &mut g)?;
+                (c, out, 0)
+            }
+            (Control::Pressure(target), None) => {
                 if target >= self.hardness {
                     return Err(BemError::Load {
                         what: "mean pressure",
@@ -311,8 +323,8 @@ impl<'s> PlasticPath<'s> {
             separation: parts.z_max - parts.z_mean - approach,
             total_load: mean_pressure * parts.area,
             mean_deflection: if parts.periodic { w } else { f64::NAN },
-            iterations: out.iterations,
-            products: out.products,
+            iterations: set_steps + out.iterations,
+            products: set_products + out.products,
             error: out.violation / parts.z_rms,
             pressure: ndarray::Array2::from_shape_vec((parts.ny, parts.nx), p.clone())
                 .unwrap_or_default(),
@@ -328,10 +340,88 @@ impl<'s> PlasticPath<'s> {
             plastic_depth_max: self.depth.iter().fold(0.0, |m: f64, d| m.max(*d)),
             plastic_depth_mean: self.depth.iter().sum::<f64>() / n2,
             offset_iterations,
+            active_set_steps: set_steps,
         };
         self.p = p;
         self.c = Some(c);
         Ok((solution, info))
+    }
+
+    /// Primal–dual active-set steps: with the plastic set P fixed (p = H there) the
+    /// rest is an elastic contact problem on the heights z_e − K(H 1_P), P kept out of
+    /// contact (its heights lowered far below the surface), solved by the elastic
+    /// (preconditioned) iteration; then P gains the points whose pressure exceeds H and
+    /// loses those whose gap opens. Stops when P repeats (every KKT condition of the box
+    /// problem then holds) and returns the offset c; `None` after 30 steps (the bounded
+    /// solve takes over from the last pressure). Under force control the elastic solve
+    /// carries the target less P's share.
+    fn active_set(
+        &self,
+        parts: &Parts,
+        z_e: &[f64],
+        control: crate::state::Control,
+        p: &mut [f64],
+    ) -> Result<(Option<f64>, usize, usize), BemError> {
+        use crate::state::Control;
+        let n = p.len();
+        let (mut steps, mut products) = (0, 0);
+        let h = self.hardness;
+        if !h.is_finite() {
+            return Ok((None, 0, 0));
+        }
+        let (zmin, zmax) = z_e
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), z| {
+                (a.min(*z), b.max(*z))
+            });
+        let low = zmin - 1e3 * (zmax - zmin).max(parts.z_rms);
+        let uniform = matches!(control, Control::Offset { uniform: true, .. });
+        let mut plastic: Vec<bool> = p.iter().map(|&v| v >= h).collect();
+        let mut load = vec![0.0; n];
+        let mut q_h = vec![0.0; n];
+        let mut work = parts.op.work();
+        for _ in 0..30 {
+            steps += 1;
+            for i in 0..n {
+                load[i] = if plastic[i] { h } else { 0.0 };
+            }
+            parts.op.apply(&load, &mut q_h, uniform, &mut work)?;
+            products += 1;
+            let zp: Vec<f64> = (0..n)
+                .map(|i| if plastic[i] { low } else { z_e[i] - q_h[i] })
+                .collect();
+            let inner = match control {
+                Control::Offset { .. } => control,
+                Control::Pressure(t) => {
+                    let share = h * plastic.iter().filter(|&&b| b).count() as f64 / n as f64;
+                    if t - share <= 0.0 {
+                        return Ok((None, steps, products));
+                    }
+                    Control::Pressure(t - share)
+                }
+            };
+            let mut q: Vec<f64> = (0..n)
+                .map(|i| if plastic[i] { 0.0 } else { p[i].min(h) })
+                .collect();
+            let (c, gap, k) = self.solver.solve_on(&zp, inner, &mut q)?;
+            products += k;
+            let mut next = plastic.clone();
+            for i in 0..n {
+                // the true gap: on P the lowered height is replaced by z_e − q_H
+                let g = if plastic[i] {
+                    gap[i] + low - (z_e[i] - q_h[i])
+                } else {
+                    gap[i]
+                };
+                next[i] = if plastic[i] { g <= 0.0 } else { q[i] > h };
+                p[i] = if plastic[i] { h } else { q[i] };
+            }
+            if next == plastic {
+                return Ok((Some(c), steps, products));
+            }
+            plastic = next;
+        }
+        Ok((None, steps, products))
     }
 
     /// Force control: the offset c with mean p(c) = `target` (mean p falls as c grows)

@@ -613,6 +613,21 @@ impl BemSolver {
         (self.c0, self.options)
     }
 
+    /// The elastic iteration on the heights `z` instead of the solver's (same operator,
+    /// preconditioner, statistics and options) under `control`, from `p`: the inner
+    /// solve of module `plastic`'s active-set steps. Returns the offset and the gap.
+    pub(crate) fn solve_on(
+        &self,
+        z: &[f64],
+        control: Control,
+        p: &mut [f64],
+    ) -> Result<(f64, Vec<f64>, usize), BemError> {
+        let mut pb = self.problem();
+        pb.z = z;
+        let out = cg::solve(&pb, control, p)?;
+        Ok((out.offset, out.gap, out.products))
+    }
+
     /// The control of `load` (module `plastic`).
     pub(crate) fn control_of(&self, load: BemLoad) -> Result<Control, BemError> {
         self.control(load)
