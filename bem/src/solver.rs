@@ -734,6 +734,12 @@ impl BemSolver {
             let approach = self.z_max - out.offset;
             (approach, mean_gap - (out.offset - self.z_mean))
         };
+        let displacement = crate::maps::deflection(
+            &out.gap,
+            &self.z,
+            out.offset,
+            self.geometry.periodic.then_some(mean_deflection),
+        );
         BemSolution {
             load,
             mean_pressure,
@@ -750,7 +756,10 @@ impl BemSolver {
             products: out.products,
             error: out.error,
             pressure: Array2::from_shape_vec((ny, nx), p).unwrap_or_default(),
+            displacement: Array2::from_shape_vec((ny, nx), displacement).unwrap_or_default(),
             gap: Array2::from_shape_vec((ny, nx), out.gap).unwrap_or_default(),
+            sides: [self.geometry.lx, self.geometry.ly],
+            periodic: self.geometry.periodic,
         }
     }
 }
