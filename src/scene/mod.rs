@@ -6,7 +6,8 @@
 //! file = "stacks/paper.toml"   # or inline [[stack.layer]] / [stack.base] (+ name);
 //! table = "paper.strata"       # optional surrogate table for a layered stack
 //! [surface]
-//! file = "surface.npy"         # .x3p (ISO 25178-72), .npy (2-D f64) or a plain-text
+//! file = "surface.npy"         # .x3p (ISO 25178-72), .nc (SurfaceTopography NetCDF: sizes,
+//!                              # unit and periodic flag from the file), .npy (2-D f64) or a plain-text
 //!                              # matrix; or [surface.generate]. First array axis = x.
 //! size = 1e-3                  # .npy/text: length of the first axis (m, square pixels),
 //!                              # or size = [Lx, Ly] (m), or pixel_size = [dx, dy] (m);
@@ -926,7 +927,15 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
             let f = string(sf, "file", "surface.file")?.unwrap_or_default();
             let p = existing_file(dir, "surface.file", f, "")?;
             let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
-            let periodic = periodic.unwrap_or(false);
+            // A NetCDF topography's own periodic flag is the default (SurfaceTopography).
+            let periodic = periodic
+                .or_else(|| {
+                    (FileKind::of(&p) == FileKind::NetCdf)
+                        .then(|| strata_runtime::surface::netcdf::netcdf_periodic(&p).ok())
+                        .flatten()
+                        .flatten()
+                })
+                .unwrap_or(false);
             // Measured files: the least-squares plane is removed unless asked otherwise;
             // a periodic sample has no tilt to remove (a plane is not periodic).
             let detrend = match string(sf, "detrend", "surface.detrend")? {
