@@ -86,7 +86,7 @@ impl Bounded<'_> {
     }
 }
 
-/// Per-step plastic quantities of a solution (see [`crate::BemSolver::plastic_path`]).
+/// Per-step plastic quantities of a solution (see [`PlasticPath::step`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlasticInfo {
     /// Fraction of the grid at p = H (the plastic area over A₀).

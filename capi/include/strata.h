@@ -169,7 +169,9 @@ int32_t strata_surface_new(const double *heights,
 
 // Reads a measured surface in any format strata knows, as a scene's `[surface]`
 // with `file = path` does: ISO 25178-72 `.x3p` (pixel sizes and metres from the
-// file: pass `dx = dy = 0`), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
+// file: pass `dx = dy = 0`), SurfaceTopography's NetCDF `.nc` (sizes, unit and
+// periodic flag from the file: `dx = dy = 0`, `height_unit` NULL; a periodic file is
+// periodic), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
 // per line; first axis = x). For `.npy`/text, `dx`, `dy` are the pixel sizes (m,
 // both > 0); `height_unit` is `"m"`, `"mm"`, `"um"` or `"nm"` (NULL or `""`: metres;
 // `.x3p` accepts only metres). `detrend` is `"none"`, `"plane"` or `"curvature"`

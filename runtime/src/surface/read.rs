@@ -378,6 +378,7 @@ fn read_x3p_raw(path: &Path, _: &ReadOptions) -> Result<Raw, SurfaceError> {
 }
 
 /// Metres per unit of a SurfaceTopography unit string.
+#[cfg(feature = "netcdf")]
 fn unit_metres(u: &str) -> Option<f64> {
     Some(match u {
         "m" => 1.0,
