@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Tests the Python package as a user meets it: a fresh venv, the README's install
 # command (`pip install ./python`), pytest (+ SurfaceTopography for the adapter test,
-# matplotlib for the examples), then the two examples.
+# matplotlib for the examples, mypy for the stubs' stubtest), then the two examples.
 #
 # Usage: python/ci.sh [--ci] [--venv DIR]
 #   --ci        CI mode: SurfaceTopography must be installed and its test must run
@@ -68,10 +68,11 @@ t1=$(date +%s)
 t2=$(date +%s)
 echo "   pip install ./python: $((t2 - t1)) s"
 
-"$VPY" -m pip install --quiet --disable-pip-version-check pytest matplotlib SurfaceTopography \
-    || fail "pip could not install pytest, matplotlib, SurfaceTopography"
+# mypy: stubtest checks strata/_strata.pyi against the module (python/tests/test_stubs.py).
+"$VPY" -m pip install --quiet --disable-pip-version-check pytest matplotlib SurfaceTopography mypy \
+    || fail "pip could not install pytest, matplotlib, SurfaceTopography, mypy"
 t3=$(date +%s)
-echo "   pytest, matplotlib, SurfaceTopography: $((t3 - t2)) s"
+echo "   pytest, matplotlib, SurfaceTopography, mypy: $((t3 - t2)) s"
 
 export STRATA_BIN=${STRATA_BIN:-$CARGO_TARGET_DIR/debug/strata}
 if [ ! -x "$STRATA_BIN" ]; then

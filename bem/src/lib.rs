@@ -83,7 +83,9 @@
 //! Mean pressure p̄ (Pa), p̄/E*₁, real contact area fraction A/A₀ (the fraction of grid
 //! points with p > 0), the number of contact patches (connected components of the
 //! contact set, 4-connected, wrapped on a periodic cell), the mean gap, the approach,
-//! and the pressure and gap maps (writable as .npy with [`BemSolution::write_maps`]).
+//! the pressure, gap and deflection maps (writable as .npy with
+//! [`BemSolution::write_maps`], and as contact.engineering's NetCDF `results.nc` with
+//! [`BemSolution::write_netcdf`]).
 //!
 //! Memory is estimated before the grids are allocated and checked against
 //! [`strata_runtime::resources`] ([`BemSolver::memory_needed`]).
@@ -98,6 +100,7 @@ pub mod influence;
 mod iteration;
 mod kernels;
 mod maps;
+pub mod netcdf;
 mod operator;
 mod pcg;
 pub mod plastic;
@@ -111,6 +114,7 @@ mod update;
 pub use error::BemError;
 pub use maps::{BemSolution, count_patches, read_heights_npy, resample_rect, resample_spectral};
 pub use ndarray::Array2;
+pub use netcdf::NETCDF_MAP_VARIABLES;
 pub use plastic::{PlasticInfo, PlasticPath};
 pub use solver::{BemSolver, Geometry, uniform_compliance};
 pub use strata_runtime::stack::Stack;

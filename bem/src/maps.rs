@@ -50,6 +50,17 @@ pub struct BemSolution {
     pub pressure: Array2<f64>,
     /// Gap map g (m), ny×nx.
     pub gap: Array2<f64>,
+    /// Surface deflection map w (m), ny×nx: the elastic displacement of the surface
+    /// into the solid under `pressure`, so that g = w − z + c with z the heights (the
+    /// flattened heights under plasticity) and c the flat's position. On a periodic cell
+    /// its mean is [`Self::mean_deflection`] (C₀p̄ on a rigid base, 0 on an elastic base
+    /// or the half-space); on an isolated sample it is the free solid's absolute
+    /// deflection.
+    pub displacement: Array2<f64>,
+    /// Sides of the sample (m): along x (columns) and along y (rows).
+    pub sides: [f64; 2],
+    /// Whether the sample is one cell of a periodic pattern.
+    pub periodic: bool,
 }
 
 impl BemSolution {
@@ -67,6 +78,18 @@ impl BemSolution {
         }
         Ok(())
     }
+}
+
+/// The deflection w = g + z − c of a solve (`gap` g, heights `z`, the flat at `c`), moved
+/// on a periodic cell so that its mean is `mean` (the operator's uniform mode is a
+/// convention there, see the crate docs); `None`: left as it is.
+pub(crate) fn deflection(gap: &[f64], z: &[f64], c: f64, mean: Option<f64>) -> Vec<f64> {
+    let mut w: Vec<f64> = gap.iter().zip(z).map(|(g, z)| g + z - c).collect();
+    if let Some(mean) = mean.filter(|m| m.is_finite()) {
+        let shift = mean - w.iter().sum::<f64>() / w.len().max(1) as f64;
+        w.iter_mut().for_each(|v| *v += shift);
+    }
+    w
 }
 
 /// Reads a height map (m, f64) from a .npy file.

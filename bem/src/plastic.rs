@@ -86,7 +86,7 @@ impl Bounded<'_> {
     }
 }
 
-/// Per-step plastic quantities of a solution (see [`crate::BemSolver::plastic_path`]).
+/// Per-step plastic quantities of a solution (see [`PlasticPath::step`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlasticInfo {
     /// Fraction of the grid at p = H (the plastic area over A₀).
@@ -119,6 +119,8 @@ struct Parts<'a> {
     pub ny: usize,
     pub nx: usize,
     pub periodic: bool,
+    /// Sides (m) along x and y.
+    pub sides: [f64; 2],
     pub z_max: f64,
     pub z_mean: f64,
     pub z_rms: f64,
@@ -138,6 +140,7 @@ fn parts(s: &crate::BemSolver) -> Parts<'_> {
         ny,
         nx,
         periodic: s.geometry().periodic,
+        sides: [s.geometry().lx, s.geometry().ly],
         z_max,
         z_mean,
         z_rms,
@@ -311,6 +314,7 @@ impl<'s> PlasticPath<'s> {
         // force-controlled solve leaves out on a rigid base).
         let approach = parts.z_max - c + if bounded.uniform { 0.0 } else { w };
         let mean_gap = gap_sum / n2;
+        let displacement = crate::maps::deflection(&g, &z_e, c, parts.periodic.then_some(w));
         let solution = crate::BemSolution {
             load,
             mean_pressure,
@@ -333,6 +337,10 @@ impl<'s> PlasticPath<'s> {
                 g.iter().map(|v| v.max(0.0)).collect(),
             )
             .unwrap_or_default(),
+            displacement: ndarray::Array2::from_shape_vec((parts.ny, parts.nx), displacement)
+                .unwrap_or_default(),
+            sides: parts.sides,
+            periodic: parts.periodic,
         };
         let info = PlasticInfo {
             plastic_area_fraction: plastic_points as f64 / n2,

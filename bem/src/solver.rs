@@ -179,12 +179,13 @@ impl BemSolver {
     /// against [`strata_runtime::resources`] before anything is allocated.
     pub fn memory_needed(ny: usize, nx: usize, periodic: bool) -> u64 {
         let points = (ny as u64).saturating_mul(nx as u64);
-        // z, p, u, t, r, corr, g, y (preconditioned gap), the solution's two maps, a
-        // coarse grid (1/4); the operator and its inverse (the preconditioner's kernel).
+        // z, p, u, t, r, corr, g, y (preconditioned gap), the solution's three maps
+        // (pressure, gap, deflection), a coarse grid (1/4); the operator and its inverse
+        // (the preconditioner's kernel).
         let (gy, gx) = if periodic { (ny, nx) } else { (2 * ny, 2 * nx) };
         let inverse = 8 * (gx as u64 / 2 + 1).saturating_mul(gy as u64);
-        bytes_for(points, 8 * 11)
-            .saturating_add(bytes_for(points, 8 * 11) / 4)
+        bytes_for(points, 8 * 12)
+            .saturating_add(bytes_for(points, 8 * 12) / 4)
             .saturating_add(Operator::bytes(ny, nx, periodic))
             .saturating_add(inverse)
     }
@@ -749,6 +750,12 @@ impl BemSolver {
             let approach = self.z_max - out.offset;
             (approach, mean_gap - (out.offset - self.z_mean))
         };
+        let displacement = crate::maps::deflection(
+            &out.gap,
+            &self.z,
+            out.offset,
+            self.geometry.periodic.then_some(mean_deflection),
+        );
         BemSolution {
             load,
             mean_pressure,
@@ -765,7 +772,10 @@ impl BemSolver {
             products: out.products,
             error: out.error,
             pressure: Array2::from_shape_vec((ny, nx), p).unwrap_or_default(),
+            displacement: Array2::from_shape_vec((ny, nx), displacement).unwrap_or_default(),
             gap: Array2::from_shape_vec((ny, nx), out.gap).unwrap_or_default(),
+            sides: [self.geometry.lx, self.geometry.ly],
+            periodic: self.geometry.periodic,
         }
     }
 }

@@ -107,7 +107,18 @@ fn single_sine_full_contact_matches_closed_form() {
     for j in 0..n {
         let exact = pbar + pstar * (k * j as f64 * l / n as f64).cos();
         assert!((sol.pressure[[3, j]] - exact).abs() < 1e-8 * pbar);
+        // Full contact: the surface takes the flat's shape, w = z − c with a zero mean
+        // (half-space): w = A cos(kx).
+        let w = amp * (k * j as f64 * l / n as f64).cos();
+        assert!(
+            (sol.displacement[[3, j]] - w).abs() < 1e-8 * amp,
+            "{} vs {w}",
+            sol.displacement[[3, j]]
+        );
     }
+    assert_eq!(sol.sides, [l, l]);
+    assert!(sol.periodic);
+    assert_eq!(sol.mean_deflection, 0.0);
 }
 
 #[test]
@@ -505,6 +516,17 @@ fn free_boundary_hertz() {
     let a = (s.contact_points as f64 * dx * dx / std::f64::consts::PI).sqrt();
     assert!((a / a_hertz - 1.0).abs() < 0.03, "a {a} vs {a_hertz}");
     assert_eq!(s.patches, 1);
+    // The deflection: the free solid's, its mean the reported one; under the flat
+    // (g = 0) the surface sits at the flat, w = z − c; at the apex Hertz's w = d.
+    assert!(!s.periodic);
+    let w_mean = s.displacement.iter().sum::<f64>() / (n * n) as f64;
+    assert!((w_mean / s.mean_deflection - 1.0).abs() < 1e-9);
+    let flat = z_top - delta;
+    for ((w, z), g) in s.displacement.iter().zip(&heights).zip(&s.gap) {
+        assert!((w - (g + z - flat)).abs() < 1e-12 * delta);
+    }
+    let apex = s.displacement[[n / 2, n / 2]];
+    assert!((apex / d - 1.0).abs() < 0.01, "w(0) {apex} vs Hertz {d}");
     // Force control gives back the same state.
     let f = solver
         .solve(BemLoad::MeanPressure(s.mean_pressure))

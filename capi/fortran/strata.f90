@@ -1,9 +1,12 @@
 !> strata: Fortran 2008 bindings of the strata C ABI (capi/include/strata.h).
 !>
 !> The contact law of a rough layered interface from Fortran: load a surrogate table,
-!> generate or load a surface, solve the load curve once (strata_law_new), then query
-!> the mean contact pressure p(g) (Pa), the real contact-area fraction A(g)/A0 and the
-!> tangent dp/dg (Pa/m) at any mean-plane separation g (m). SI units throughout.
+!> generate or load a surface or pass its heights (strata_surface_new), give the stack
+!> as a file or as arrays (strata_stack_new), solve the load curve once
+!> (strata_law_new, strata_law_new_from_stack), then query the mean contact pressure
+!> p(g) (Pa), the real contact-area fraction A(g)/A0 and the tangent dp/dg (Pa/m) at
+!> any mean-plane separation g (m), alone or all three at once, at one gap or an array
+!> of them (strata_law_eval, strata_law_eval_array). SI units throughout.
 !>
 !> Two layers:
 !>  * c_strata_* : the C functions as declared in strata.h (bind(C)), pointer arguments
@@ -14,7 +17,7 @@
 !>    constructor fails.
 !> Every function returns STRATA_OK (0) or a STRATA_ERR_* code; on error
 !> strata_last_error_message() is the one-line message naming the offending argument.
-!> Handles (table, surface, law) are type(c_ptr); free them with strata_*_free.
+!> Handles (table, stack, surface, law) are type(c_ptr); free them with strata_*_free.
 !>
 !> Build (from the repository root, after `cargo build -p strata-capi`):
 !>   gfortran -std=f2008 capi/fortran/strata.f90 examples/fortran/law_example.f90 \
@@ -37,7 +40,7 @@ module strata
   integer(c_int32_t), parameter, public :: STRATA_ERR_INVALID_ARGUMENT = 2
   !> The table file is missing, unreadable, corrupt, or does not serve the stack.
   integer(c_int32_t), parameter, public :: STRATA_ERR_TABLE = 3
-  !> The stack file is missing, unreadable or invalid.
+  !> The stack file is missing, unreadable or invalid, or a strata_stack_new value is.
   integer(c_int32_t), parameter, public :: STRATA_ERR_STACK = 4
   !> The surface file or its generation parameters are invalid.
   integer(c_int32_t), parameter, public :: STRATA_ERR_SURFACE = 5
@@ -59,6 +62,14 @@ module strata
   integer(c_int32_t), parameter, public :: STRATA_MODEL_INTERACTING_ISOLATED = 1
   !> I model: interacting asperities, the sample repeated periodically (5x5 cells).
   integer(c_int32_t), parameter, public :: STRATA_MODEL_INTERACTING_PERIODIC = 2
+  !> Version of the library the header belongs to (strata_version(): the one linked).
+  integer(c_int32_t), parameter, public :: STRATA_VERSION_MAJOR = 0
+  integer(c_int32_t), parameter, public :: STRATA_VERSION_MINOR = 1
+  integer(c_int32_t), parameter, public :: STRATA_VERSION_PATCH = 0
+  !> strata_stack_new: the last layer is bonded to a rigid base.
+  integer(c_int32_t), parameter, public :: STRATA_BASE_RIGID = 0
+  !> strata_stack_new: the layers lie on an elastic half-space.
+  integer(c_int32_t), parameter, public :: STRATA_BASE_ELASTIC = 1
   !> strata_law_write: CSV gap,overclosure,mean_pressure,area_fraction,dp_dg.
   integer(c_int32_t), parameter, public :: STRATA_FORMAT_CSV = 0
   !> strata_law_write: Abaqus/CalculiX *SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR.
@@ -69,13 +80,17 @@ module strata
        c_strata_surface_info, c_strata_surface_generate, c_strata_surface_free, c_strata_law_new, c_strata_law_pressure, &
        c_strata_solver_options_default, c_strata_law_new_with_options, &
        c_strata_law_area_fraction, c_strata_law_dp_dg, c_strata_law_first_contact_gap, &
-       c_strata_law_min_gap, c_strata_law_write, c_strata_law_free
+       c_strata_law_min_gap, c_strata_law_write, c_strata_law_free, &
+       c_strata_stack_new, c_strata_stack_free, c_strata_surface_new, &
+       c_strata_law_new_from_stack, c_strata_law_eval, c_strata_law_eval_array
   public :: strata_last_error_message, strata_version, strata_table_load, &
        strata_table_free, strata_surface_load, strata_surface_read, strata_surface_info, &
        strata_surface_generate, strata_surface_free, strata_law_new, strata_law_pressure, &
        strata_solver_options_default, strata_law_new_with_options, &
        strata_law_area_fraction, strata_law_dp_dg, strata_law_first_contact_gap, &
-       strata_law_min_gap, strata_law_write, strata_law_free
+       strata_law_min_gap, strata_law_write, strata_law_free, &
+       strata_stack_new, strata_stack_free, strata_surface_new, &
+       strata_law_new_from_stack, strata_law_eval, strata_law_eval_array
 
   !> StrataSolverOptions: budgets and tolerances of strata_law_new_with_options (the
   !> scene's [solver] keys of the asperity models; fill with strata_solver_options_default).
@@ -273,6 +288,77 @@ module strata
        import :: c_ptr
        type(c_ptr), value :: law
      end subroutine c_strata_law_free
+
+     !> int32_t strata_stack_new(size_t n_layers, const double *thickness,
+     !>     const double *young, const double *poisson, int32_t base_kind,
+     !>     double base_young, double base_poisson, StrataStack **out)
+     function c_strata_stack_new(n_layers, thickness, young, poisson, base_kind, &
+          base_young, base_poisson, out) bind(C, name="strata_stack_new") result(code)
+       import :: c_double, c_int32_t, c_ptr, c_size_t
+       integer(c_size_t), value :: n_layers
+       type(c_ptr), value :: thickness, young, poisson
+       integer(c_int32_t), value :: base_kind
+       real(c_double), value :: base_young, base_poisson
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_stack_new
+
+     !> void strata_stack_free(StrataStack *stack)
+     subroutine c_strata_stack_free(stack) bind(C, name="strata_stack_free")
+       import :: c_ptr
+       type(c_ptr), value :: stack
+     end subroutine c_strata_stack_free
+
+     !> int32_t strata_surface_new(const double *heights, size_t nx, size_t ny,
+     !>     double dx, double dy, int32_t periodic, StrataSurface **out)
+     function c_strata_surface_new(heights, nx, ny, dx, dy, periodic, out) &
+          bind(C, name="strata_surface_new") result(code)
+       import :: c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: heights
+       integer(c_size_t), value :: nx, ny
+       real(c_double), value :: dx, dy
+       integer(c_int32_t), value :: periodic
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_surface_new
+
+     !> int32_t strata_law_new_from_stack(const StrataTable *table,
+     !>     const StrataStack *stack, const StrataSurface *surface, int32_t model,
+     !>     double min_gap, size_t samples, const StrataSolverOptions *options,
+     !>     StrataLaw **out)
+     function c_strata_law_new_from_stack(table, stack, surface, model, min_gap, samples, &
+          options, out) bind(C, name="strata_law_new_from_stack") result(code)
+       import :: c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: table, stack, surface
+       integer(c_int32_t), value :: model
+       real(c_double), value :: min_gap
+       integer(c_size_t), value :: samples
+       type(c_ptr), value :: options
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_new_from_stack
+
+     !> int32_t strata_law_eval(const StrataLaw *law, double gap, double *pressure,
+     !>     double *area_fraction, double *dp_dg)
+     function c_strata_law_eval(law, gap, pressure, area_fraction, dp_dg) &
+          bind(C, name="strata_law_eval") result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: pressure, area_fraction, dp_dg
+       integer(c_int32_t) :: code
+     end function c_strata_law_eval
+
+     !> int32_t strata_law_eval_array(const StrataLaw *law, size_t n, const double *gaps,
+     !>     double *pressure, double *area_fraction, double *dp_dg)
+     function c_strata_law_eval_array(law, n, gaps, pressure, area_fraction, dp_dg) &
+          bind(C, name="strata_law_eval_array") result(code)
+       import :: c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: law
+       integer(c_size_t), value :: n
+       type(c_ptr), value :: gaps, pressure, area_fraction, dp_dg
+       integer(c_int32_t) :: code
+     end function c_strata_law_eval_array
 
      !> size_t strlen(const char *s), for the C strings the library returns.
      function c_strlen(s) bind(C, name="strlen") result(n)
@@ -504,5 +590,109 @@ contains
     call c_strata_law_free(law)
     law = c_null_ptr
   end subroutine strata_law_free
+
+  !> A stack from arrays (top layer first): thickness (m), Young modulus (Pa), Poisson
+  !> ratio of each layer, on a base STRATA_BASE_RIGID or STRATA_BASE_ELASTIC (then of
+  !> base_young, base_poisson; with no layers the homogeneous half-space). The three
+  !> arrays must have the same size (else STRATA_ERR_INVALID_ARGUMENT, no message); an
+  !> error names the element, 0-based as in C (young[1] is young(2)).
+  function strata_stack_new(thickness, young, poisson, base_kind, base_young, &
+       base_poisson, stack) result(code)
+    real(c_double), intent(in), target, contiguous :: thickness(:), young(:), poisson(:)
+    integer(c_int32_t), intent(in) :: base_kind
+    real(c_double), intent(in) :: base_young, base_poisson
+    type(c_ptr), intent(out), target :: stack
+    integer(c_int32_t) :: code
+    stack = c_null_ptr
+    if (size(young) /= size(thickness) .or. size(poisson) /= size(thickness)) then
+       code = STRATA_ERR_INVALID_ARGUMENT
+       return
+    end if
+    if (size(thickness) == 0) then
+       code = c_strata_stack_new(0_c_size_t, c_null_ptr, c_null_ptr, c_null_ptr, &
+            base_kind, base_young, base_poisson, c_loc(stack))
+    else
+       code = c_strata_stack_new(int(size(thickness), c_size_t), c_loc(thickness), &
+            c_loc(young), c_loc(poisson), base_kind, base_young, base_poisson, c_loc(stack))
+    end if
+  end function strata_stack_new
+
+  !> Frees a stack (c_null_ptr is a no-op) and sets the handle to c_null_ptr.
+  subroutine strata_stack_free(stack)
+    type(c_ptr), intent(inout) :: stack
+    call c_strata_stack_free(stack)
+    stack = c_null_ptr
+  end subroutine strata_stack_free
+
+  !> A surface from heights (m) in memory: nx*ny values with x the first (fast in C,
+  !> here: heights(1 + j + i*ny) at x = i*dx, y = j*dy; an array h(ny, nx) in column
+  !> order has this layout), pixel sizes dx, dy (m). The heights are copied.
+  function strata_surface_new(heights, nx, ny, dx, dy, periodic, surface) result(code)
+    real(c_double), intent(in), target, contiguous :: heights(:)
+    integer, intent(in) :: nx, ny
+    real(c_double), intent(in) :: dx, dy
+    logical, intent(in) :: periodic
+    type(c_ptr), intent(out), target :: surface
+    integer(c_int32_t) :: code
+    integer(c_int32_t) :: flag
+    flag = 0
+    if (periodic) flag = 1
+    surface = c_null_ptr
+    if (size(heights, kind=c_size_t) < int(nx, c_size_t) * int(ny, c_size_t)) then
+       code = STRATA_ERR_INVALID_ARGUMENT
+       return
+    end if
+    code = c_strata_surface_new(c_loc(heights), int(nx, c_size_t), int(ny, c_size_t), &
+         dx, dy, flag, c_loc(surface))
+  end function strata_surface_new
+
+  !> strata_law_new_with_options on a stack handle (strata_stack_new) instead of a
+  !> stack file; `options` optional (absent: the defaults).
+  function strata_law_new_from_stack(table, stack, surface, model, min_gap, samples, law, &
+       options) result(code)
+    type(c_ptr), intent(in) :: table, stack, surface
+    integer(c_int32_t), intent(in) :: model
+    real(c_double), intent(in) :: min_gap
+    integer, intent(in) :: samples
+    type(c_ptr), intent(out), target :: law
+    type(strata_solver_options), intent(in), target, optional :: options
+    integer(c_int32_t) :: code
+    type(c_ptr) :: opts
+    opts = c_null_ptr
+    if (present(options)) opts = c_loc(options)
+    law = c_null_ptr
+    code = c_strata_law_new_from_stack(table, stack, surface, model, min_gap, &
+         int(samples, c_size_t), opts, c_loc(law))
+  end function strata_law_new_from_stack
+
+  !> p(g) (Pa), A(g)/A0 and dp/dg (Pa/m) at separation `gap` (m) in one call;
+  !> unchanged on error.
+  function strata_law_eval(law, gap, p, a, d) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: p, a, d
+    integer(c_int32_t) :: code
+    code = c_strata_law_eval(law, gap, c_loc(p), c_loc(a), c_loc(d))
+  end function strata_law_eval
+
+  !> strata_law_eval at every gaps(i) into p(i), a(i), d(i) (at least size(gaps) each,
+  !> else STRATA_ERR_INVALID_ARGUMENT, no message); all or nothing.
+  function strata_law_eval_array(law, gaps, p, a, d) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in), target, contiguous :: gaps(:)
+    real(c_double), intent(inout), target, contiguous :: p(:), a(:), d(:)
+    integer(c_int32_t) :: code
+    if (size(p) < size(gaps) .or. size(a) < size(gaps) .or. size(d) < size(gaps)) then
+       code = STRATA_ERR_INVALID_ARGUMENT
+       return
+    end if
+    if (size(gaps) == 0) then
+       code = c_strata_law_eval_array(law, 0_c_size_t, c_null_ptr, c_null_ptr, c_null_ptr, &
+            c_null_ptr)
+    else
+       code = c_strata_law_eval_array(law, int(size(gaps), c_size_t), c_loc(gaps), c_loc(p), &
+            c_loc(a), c_loc(d))
+    end if
+  end function strata_law_eval_array
 
 end module strata

@@ -19,7 +19,8 @@
 // The table file is missing, unreadable, corrupt, or does not serve the stack.
 #define STRATA_ERR_TABLE 3
 
-// The stack file is missing, unreadable or invalid.
+// The stack file is missing, unreadable or invalid, or a value given to
+// `strata_stack_new` is out of its domain (the message names the array element).
 #define STRATA_ERR_STACK 4
 
 // The surface file is missing or invalid, or its generation parameters are invalid.
@@ -55,6 +56,21 @@
 // I model: interacting asperities, the sample repeated periodically (5×5 cells).
 #define STRATA_MODEL_INTERACTING_PERIODIC 2
 
+// Major version of the library this header belongs to (`strata_version()` at run time).
+#define STRATA_VERSION_MAJOR 0
+
+// Minor version.
+#define STRATA_VERSION_MINOR 1
+
+// Patch version.
+#define STRATA_VERSION_PATCH 0
+
+// `strata_stack_new`: the last layer is bonded to a rigid base.
+#define STRATA_BASE_RIGID 0
+
+// `strata_stack_new`: the layers lie on an elastic half-space.
+#define STRATA_BASE_ELASTIC 1
+
 // `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg,valid`.
 #define STRATA_FORMAT_CSV 0
 
@@ -63,6 +79,9 @@
 
 // The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque).
 typedef struct StrataLaw StrataLaw;
+
+// A material stack: elastic layers on a rigid or elastic base (opaque).
+typedef struct StrataStack StrataStack;
 
 // A rough surface: heights on a square grid (opaque).
 typedef struct StrataSurface StrataSurface;
@@ -98,6 +117,27 @@ const char *strata_last_error_message(void);
 // The library version, e.g. "0.1.0" (static string).
 const char *strata_version(void);
 
+// Builds a stack from arrays, as a stack file's `[[layer]]` tables and `[base]`:
+// `n_layers` layers, top first, of thickness `thickness[i]` (m), Young modulus
+// `young[i]` (Pa) and Poisson ratio `poisson[i]`, on a base of kind
+// `STRATA_BASE_RIGID` (`base_young`, `base_poisson` ignored) or
+// `STRATA_BASE_ELASTIC` (a half-space of `base_young`, `base_poisson`; with
+// `n_layers = 0` the homogeneous half-space). Validated like a stack file; an error
+// names the array element (`young[1]`, 0-based) or argument. The arrays may be
+// NULL when `n_layers` is 0. `*out` receives a handle to free with
+// `strata_stack_free`. (A counterface or conduction properties need a stack file.)
+int32_t strata_stack_new(size_t n_layers,
+                         const double *thickness,
+                         const double *young,
+                         const double *poisson,
+                         int32_t base_kind,
+                         double base_young,
+                         double base_poisson,
+                         struct StrataStack **out);
+
+// Frees a stack (NULL is a no-op).
+void strata_stack_free(struct StrataStack *stack);
+
 // Loads a surrogate table file (`strata table build`). `*out` receives a handle to
 // free with `strata_table_free`.
 int32_t strata_table_load(const char *path, struct StrataTable **out);
@@ -113,9 +153,25 @@ int32_t strata_surface_load(const char *path,
                             int32_t periodic,
                             struct StrataSurface **out);
 
+// A surface from a height buffer in memory: `nx × ny` heights (m), row-major with
+// x the first index (`heights[i*ny + j]` at x = i·dx, y = j·dy; a Fortran array
+// `h(ny, nx)` in column order has this layout), pixel sizes `dx`, `dy` (m, > 0),
+// `periodic` (0/1). The heights are copied; non-finite values and spikes are
+// refused with their row and column (as when reading a file): the surface equals
+// the `.npy` file of these heights read with the same pixel sizes.
+int32_t strata_surface_new(const double *heights,
+                           size_t nx,
+                           size_t ny,
+                           double dx,
+                           double dy,
+                           int32_t periodic,
+                           struct StrataSurface **out);
+
 // Reads a measured surface in any format strata knows, as a scene's `[surface]`
 // with `file = path` does: ISO 25178-72 `.x3p` (pixel sizes and metres from the
-// file: pass `dx = dy = 0`), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
+// file: pass `dx = dy = 0`), SurfaceTopography's NetCDF `.nc` (sizes, unit and
+// periodic flag from the file: `dx = dy = 0`, `height_unit` NULL; a periodic file is
+// periodic), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
 // per line; first axis = x). For `.npy`/text, `dx`, `dy` are the pixel sizes (m,
 // both > 0); `height_unit` is `"m"`, `"mm"`, `"um"` or `"nm"` (NULL or `""`: metres;
 // `.x3p` accepts only metres). `detrend` is `"none"`, `"plane"` or `"curvature"`
@@ -187,6 +243,40 @@ int32_t strata_law_new_with_options(const struct StrataTable *table,
                                     size_t samples,
                                     const struct StrataSolverOptions *options,
                                     struct StrataLaw **out);
+
+// `strata_law_new_with_options` on a stack built in memory (`strata_stack_new`)
+// instead of a stack file: the same law, bit for bit, as from the file with the
+// same values. `options` NULL: the defaults; `table` may be NULL for a homogeneous
+// stack.
+int32_t strata_law_new_from_stack(const struct StrataTable *table,
+                                  const struct StrataStack *stack,
+                                  const struct StrataSurface *surface,
+                                  int32_t model,
+                                  double min_gap,
+                                  size_t samples,
+                                  const struct StrataSolverOptions *options,
+                                  struct StrataLaw **out);
+
+// p(g) (Pa), A(g)/A₀ and dp/dg (Pa/m) at separation `gap` (m) in one call: the
+// values `strata_law_pressure`, `strata_law_area_fraction` and `strata_law_dp_dg`
+// give, bit for bit. All three outputs are required and written only on success.
+int32_t strata_law_eval(const struct StrataLaw *law,
+                        double gap,
+                        double *pressure,
+                        double *area_fraction,
+                        double *dp_dg);
+
+// `strata_law_eval` at `n` separations `gaps[i]` (m) into the arrays `pressure`,
+// `area_fraction`, `dp_dg` of `n` doubles each (an FE code's integration points in
+// one call). All or nothing: an error at one gap (`STRATA_ERR_OUT_OF_RANGE`,
+// `STRATA_ERR_INVALID_ARGUMENT`) names it (`gaps[7]`) and leaves the outputs
+// untouched. The pointers may be NULL when `n` is 0.
+int32_t strata_law_eval_array(const struct StrataLaw *law,
+                              size_t n,
+                              const double *gaps,
+                              double *pressure,
+                              double *area_fraction,
+                              double *dp_dg);
 
 // Mean contact pressure p(g) (Pa) at separation `gap` (m); 0 at or above first
 // contact, `STRATA_ERR_OUT_OF_RANGE` below the smallest sampled separation.

@@ -1,10 +1,14 @@
 //! # strata-capi: the C ABI of the strata runtime
 //!
 //! Builds the contact law of a rough layered interface (module
-//! `strata_runtime::interface`) from C: load a surrogate table, read a stack, load or
-//! generate a surface, solve the load curve once, then query the mean contact pressure
-//! p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg (Pa/m) at any
-//! mean-plane separation g (m). SI units throughout.
+//! `strata_runtime::interface`) from C: load a surrogate table, read a stack (a TOML
+//! file, or arrays: `strata_stack_new`), load, generate or pass a surface (a height
+//! buffer: `strata_surface_new`), solve the load curve once, then query the mean contact
+//! pressure p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg
+//! (Pa/m) at any mean-plane separation g (m), one at a time or all three at once
+//! (`strata_law_eval`, `strata_law_eval_array`). SI units throughout. The header's
+//! `STRATA_VERSION_MAJOR`/`MINOR`/`PATCH` are the library's version at compile time;
+//! `strata_version()` the one linked.
 //!
 //! Conventions of every function:
 //! - returns `STRATA_OK` (0) or a positive `STRATA_ERR_*` code; on error,
@@ -53,7 +57,8 @@ pub const STRATA_ERR_NULL: i32 = 1;
 pub const STRATA_ERR_INVALID_ARGUMENT: i32 = 2;
 /// The table file is missing, unreadable, corrupt, or does not serve the stack.
 pub const STRATA_ERR_TABLE: i32 = 3;
-/// The stack file is missing, unreadable or invalid.
+/// The stack file is missing, unreadable or invalid, or a value given to
+/// `strata_stack_new` is out of its domain (the message names the array element).
 pub const STRATA_ERR_STACK: i32 = 4;
 /// The surface file is missing or invalid, or its generation parameters are invalid.
 pub const STRATA_ERR_SURFACE: i32 = 5;
@@ -82,6 +87,37 @@ pub const STRATA_MODEL_INTERACTING_ISOLATED: i32 = 1;
 /// I model: interacting asperities, the sample repeated periodically (5×5 cells).
 pub const STRATA_MODEL_INTERACTING_PERIODIC: i32 = 2;
 
+/// Major version of the library this header belongs to (`strata_version()` at run time).
+pub const STRATA_VERSION_MAJOR: i32 = 0;
+/// Minor version.
+pub const STRATA_VERSION_MINOR: i32 = 1;
+/// Patch version.
+pub const STRATA_VERSION_PATCH: i32 = 0;
+
+/// A decimal number of a version string, at compile time.
+const fn version_part(s: &str) -> i32 {
+    let b = s.as_bytes();
+    let mut i = 0;
+    let mut v = 0;
+    while i < b.len() {
+        v = v * 10 + (b[i] - b'0') as i32;
+        i += 1;
+    }
+    v
+}
+// The macros are literals (cbindgen writes them into the header): the build fails when
+// they drift from the crate's version.
+const _: () = assert!(
+    STRATA_VERSION_MAJOR == version_part(env!("CARGO_PKG_VERSION_MAJOR"))
+        && STRATA_VERSION_MINOR == version_part(env!("CARGO_PKG_VERSION_MINOR"))
+        && STRATA_VERSION_PATCH == version_part(env!("CARGO_PKG_VERSION_PATCH"))
+);
+
+/// `strata_stack_new`: the last layer is bonded to a rigid base.
+pub const STRATA_BASE_RIGID: i32 = 0;
+/// `strata_stack_new`: the layers lie on an elastic half-space.
+pub const STRATA_BASE_ELASTIC: i32 = 1;
+
 /// `strata_law_write`: CSV `gap,overclosure,mean_pressure,area_fraction,dp_dg,valid`.
 pub const STRATA_FORMAT_CSV: i32 = 0;
 /// `strata_law_write`: Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block.
@@ -90,6 +126,11 @@ pub const STRATA_FORMAT_ABAQUS: i32 = 1;
 /// A surrogate table of χ, ζ, g (opaque).
 pub struct StrataTable {
     table: Table,
+}
+
+/// A material stack: elastic layers on a rigid or elastic base (opaque).
+pub struct StrataStack {
+    stack: Stack,
 }
 
 /// A rough surface: heights on a square grid (opaque).
@@ -173,6 +214,14 @@ pub enum CapiError {
     Null(&'static str),
     #[error("argument `{name}`: {reason}")]
     Invalid { name: &'static str, reason: String },
+    /// An error at one element of an array argument (`gaps[3]`, `young[1]`): the code
+    /// is the element's error's.
+    #[error("{}", element_message(name, *index, error))]
+    Element {
+        name: &'static str,
+        index: usize,
+        error: Box<CapiError>,
+    },
     #[error("table: {0}")]
     Table(#[from] TableError),
     #[error("stack: {0}")]
@@ -189,12 +238,21 @@ pub enum CapiError {
     Resource(#[from] ResourceError),
 }
 
+/// `argument `young[1]`: …`: the element's error without a second `argument` prefix.
+fn element_message(name: &str, index: usize, error: &CapiError) -> String {
+    match error {
+        CapiError::Invalid { reason, .. } => format!("argument `{name}[{index}]`: {reason}"),
+        e => format!("argument `{name}[{index}]`: {e}"),
+    }
+}
+
 impl CapiError {
     /// The `STRATA_ERR_*` code of this error.
     pub fn code(&self) -> i32 {
         match self {
             CapiError::Null(_) => STRATA_ERR_NULL,
             CapiError::Invalid { .. } => STRATA_ERR_INVALID_ARGUMENT,
+            CapiError::Element { error, .. } => error.code(),
             CapiError::Table(_) => STRATA_ERR_TABLE,
             CapiError::Stack(_) => STRATA_ERR_STACK,
             CapiError::Surface(_) => STRATA_ERR_SURFACE,
@@ -334,6 +392,21 @@ unsafe fn query(
     })
 }
 
+/// A `STRATA_MODEL_*` value.
+fn model_arg(model: i32) -> Result<Model, CapiError> {
+    Ok(match model {
+        STRATA_MODEL_INDEPENDENT => Model::Independent,
+        STRATA_MODEL_INTERACTING_ISOLATED => Model::Interacting(Images::Isolated),
+        STRATA_MODEL_INTERACTING_PERIODIC => Model::Interacting(Images::Periodic(2)),
+        m => {
+            return Err(CapiError::Invalid {
+                name: "model",
+                reason: format!("{m} is not a STRATA_MODEL_* value (0, 1 or 2)"),
+            });
+        }
+    })
+}
+
 /// The cap on `samples` of `strata_law_new`, checked before any file is read.
 fn samples_arg(samples: usize) -> Result<(), CapiError> {
     if samples <= STRATA_MAX_SAMPLES {
@@ -348,6 +421,196 @@ fn samples_arg(samples: usize) -> Result<(), CapiError> {
         name: "samples",
         reason: format!("{samples} exceeds STRATA_MAX_SAMPLES = {STRATA_MAX_SAMPLES}{hint}"),
     })
+}
+
+/// `n` values from a C array (NULL is allowed only when `n` is 0).
+unsafe fn slice_arg<'a>(
+    name: &'static str,
+    p: *const f64,
+    n: usize,
+) -> Result<&'a [f64], CapiError> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(CapiError::Null(name));
+    }
+    if n > isize::MAX as usize / std::mem::size_of::<f64>() {
+        return Err(CapiError::Invalid {
+            name,
+            reason: format!(
+                "length {n} is impossibly large (a negative count converted to size_t?)"
+            ),
+        });
+    }
+    // SAFETY: non-NULL and, per the API contract, `n` readable doubles.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// A writable C array of `n` doubles (NULL is allowed only when `n` is 0).
+unsafe fn slice_out<'a>(
+    name: &'static str,
+    p: *mut f64,
+    n: usize,
+) -> Result<&'a mut [f64], CapiError> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err(CapiError::Null(name));
+    }
+    // SAFETY: non-NULL and, per the API contract, `n` writable doubles (the length was
+    // checked on the input array of the same call).
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// The stack of `strata_stack_new`: layers from the arrays (top first), each value
+/// checked finite first and then by the runtime's validation, an error naming the
+/// array element (`young[1]`, 0-based as in C) or the base argument.
+pub fn stack_from_arrays(
+    thickness: &[f64],
+    young: &[f64],
+    poisson: &[f64],
+    base_kind: i32,
+    base_young: f64,
+    base_poisson: f64,
+) -> Result<Stack, CapiError> {
+    use strata_runtime::stack::{Base, Layer, Location};
+    let element = |name: &'static str, index: usize, reason: String| CapiError::Element {
+        name,
+        index,
+        error: Box::new(CapiError::Invalid { name, reason }),
+    };
+    let mut layers = Vec::with_capacity(thickness.len());
+    for i in 0..thickness.len() {
+        for (name, v) in [
+            ("thickness", thickness[i]),
+            ("young", young[i]),
+            ("poisson", poisson[i]),
+        ] {
+            if !v.is_finite() {
+                return Err(element(name, i, format!("{v} is not a finite number")));
+            }
+        }
+        layers.push(Layer {
+            thickness: thickness[i],
+            young: young[i],
+            poisson: poisson[i],
+        });
+    }
+    let base = match base_kind {
+        STRATA_BASE_RIGID => Base::Rigid,
+        STRATA_BASE_ELASTIC => Base::Elastic {
+            young: finite("base_young", base_young)?,
+            poisson: finite("base_poisson", base_poisson)?,
+        },
+        k => {
+            return Err(CapiError::Invalid {
+                name: "base_kind",
+                reason: format!("{k} is not a STRATA_BASE_* value (0 rigid, 1 elastic)"),
+            });
+        }
+    };
+    Stack::new(layers, base).map_err(|e| match &e {
+        StackError::Invalid {
+            location: Location::Layer(l),
+            field,
+            ..
+        } => {
+            let name = match *field {
+                "young" => "young",
+                "poisson" => "poisson",
+                _ => "thickness",
+            };
+            CapiError::Element {
+                name,
+                index: l - 1,
+                error: Box::new(CapiError::Stack(e.clone())),
+            }
+        }
+        StackError::Invalid {
+            location: Location::Base,
+            field,
+            ..
+        } => CapiError::Invalid {
+            name: if *field == "poisson" {
+                "base_poisson"
+            } else {
+                "base_young"
+            },
+            reason: e.to_string(),
+        },
+        StackError::NoLayersOnRigid => CapiError::Invalid {
+            name: "n_layers",
+            reason: "is 0 but the base is rigid: a rigid base needs at least one layer".into(),
+        },
+        _ => CapiError::Stack(e),
+    })
+}
+
+/// The surface of `strata_surface_new`: `nx × ny` heights (m), row-major with x the
+/// first (slow) index, pixel sizes `dx`, `dy` (m). Checked as a surface file's heights
+/// are (non-finite values and spikes refused with their row and column): the same
+/// surface as the `.npy` of these heights read with the same pixel sizes.
+pub fn surface_from_heights(
+    heights: &[f64],
+    nx: usize,
+    ny: usize,
+    dx: f64,
+    dy: f64,
+    periodic: bool,
+) -> Result<Surface, CapiError> {
+    for (name, n) in [("nx", nx), ("ny", ny)] {
+        if n < 3 {
+            return Err(CapiError::Invalid {
+                name,
+                reason: format!("{n} points: a surface needs at least 3 along each axis"),
+            });
+        }
+    }
+    let dx = finite("dx", dx)?;
+    let dy = finite("dy", dy)?;
+    for (name, d) in [("dx", dx), ("dy", dy)] {
+        if d <= 0.0 {
+            return Err(CapiError::Invalid {
+                name,
+                reason: format!("{d} must be > 0 (the pixel size in metres)"),
+            });
+        }
+    }
+    Ok(Surface::measured_with(
+        heights.to_vec(),
+        nx,
+        ny,
+        Spacing::Pixel(dx, dy),
+        periodic,
+        Repair::Refuse,
+    )?)
+}
+
+/// p, A/A₀ and dp/dg at `gaps` into the three outputs (all or nothing: an error at
+/// one gap names it and leaves the outputs untouched).
+pub fn eval_into(
+    law: &InterfaceLaw,
+    gaps: &[f64],
+    pressure: &mut [f64],
+    area_fraction: &mut [f64],
+    dp_dg: &mut [f64],
+) -> Result<(), CapiError> {
+    let mut points = Vec::with_capacity(gaps.len());
+    for (i, &g) in gaps.iter().enumerate() {
+        points.push(law.eval(g).map_err(|e| CapiError::Element {
+            name: "gaps",
+            index: i,
+            error: Box::new(CapiError::Interface(e)),
+        })?);
+    }
+    for (i, q) in points.iter().enumerate() {
+        pressure[i] = q.pressure;
+        area_fraction[i] = q.area_fraction;
+        dp_dg[i] = q.dp_dg;
+    }
+    Ok(())
 }
 
 #[cfg(feature = "capi")]
@@ -366,6 +629,48 @@ mod exported {
     #[unsafe(no_mangle)]
     pub extern "C" fn strata_version() -> *const c_char {
         concat!(env!("CARGO_PKG_VERSION"), "\0").as_ptr().cast()
+    }
+
+    /// Builds a stack from arrays, as a stack file's `[[layer]]` tables and `[base]`:
+    /// `n_layers` layers, top first, of thickness `thickness[i]` (m), Young modulus
+    /// `young[i]` (Pa) and Poisson ratio `poisson[i]`, on a base of kind
+    /// `STRATA_BASE_RIGID` (`base_young`, `base_poisson` ignored) or
+    /// `STRATA_BASE_ELASTIC` (a half-space of `base_young`, `base_poisson`; with
+    /// `n_layers = 0` the homogeneous half-space). Validated like a stack file; an error
+    /// names the array element (`young[1]`, 0-based) or argument. The arrays may be
+    /// NULL when `n_layers` is 0. `*out` receives a handle to free with
+    /// `strata_stack_free`. (A counterface or conduction properties need a stack file.)
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_stack_new(
+        n_layers: usize,
+        thickness: *const f64,
+        young: *const f64,
+        poisson: *const f64,
+        base_kind: i32,
+        base_young: f64,
+        base_poisson: f64,
+        out: *mut *mut StrataStack,
+    ) -> i32 {
+        guard(|| {
+            let t = unsafe { slice_arg("thickness", thickness, n_layers) }?;
+            let y = unsafe { slice_arg("young", young, n_layers) }?;
+            let p = unsafe { slice_arg("poisson", poisson, n_layers) }?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let stack = stack_from_arrays(t, y, p, base_kind, base_young, base_poisson)?;
+            unsafe { put("out", out, StrataStack { stack }) }
+        })
+    }
+
+    /// Frees a stack (NULL is a no-op).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_stack_free(stack: *mut StrataStack) {
+        if !stack.is_null() {
+            // SAFETY: created by `strata_stack_new`, freed once.
+            let _ = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(stack) })));
+        }
     }
 
     /// Loads a surrogate table file (`strata table build`). `*out` receives a handle to
@@ -421,9 +726,48 @@ mod exported {
         })
     }
 
+    /// A surface from a height buffer in memory: `nx × ny` heights (m), row-major with
+    /// x the first index (`heights[i*ny + j]` at x = i·dx, y = j·dy; a Fortran array
+    /// `h(ny, nx)` in column order has this layout), pixel sizes `dx`, `dy` (m, > 0),
+    /// `periodic` (0/1). The heights are copied; non-finite values and spikes are
+    /// refused with their row and column (as when reading a file): the surface equals
+    /// the `.npy` file of these heights read with the same pixel sizes.
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_surface_new(
+        heights: *const f64,
+        nx: usize,
+        ny: usize,
+        dx: f64,
+        dy: f64,
+        periodic: i32,
+        out: *mut *mut StrataSurface,
+    ) -> i32 {
+        guard(|| {
+            let periodic = flag("periodic", periodic)?;
+            let n = nx.checked_mul(ny).ok_or_else(|| CapiError::Invalid {
+                name: "nx",
+                reason: format!("nx·ny = {nx}·{ny} overflows"),
+            })?;
+            // A grid too large for memory is refused before the copy.
+            strata_runtime::resources::check_memory(
+                "surface from a height buffer",
+                strata_runtime::resources::bytes_for(n as u64, 8),
+            )?;
+            let h = unsafe { slice_arg("heights", heights, n) }?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let surface = surface_from_heights(h, nx, ny, dx, dy, periodic)?;
+            unsafe { put("out", out, StrataSurface { surface }) }
+        })
+    }
+
     /// Reads a measured surface in any format strata knows, as a scene's `[surface]`
     /// with `file = path` does: ISO 25178-72 `.x3p` (pixel sizes and metres from the
-    /// file: pass `dx = dy = 0`), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
+    /// file: pass `dx = dy = 0`), SurfaceTopography's NetCDF `.nc` (sizes, unit and
+    /// periodic flag from the file: `dx = dy = 0`, `height_unit` NULL; a periodic file is
+    /// periodic), a 2-D f64 `.npy`, or a plain-text matrix (one grid row
     /// per line; first axis = x). For `.npy`/text, `dx`, `dy` are the pixel sizes (m,
     /// both > 0); `height_unit` is `"m"`, `"mm"`, `"um"` or `"nm"` (NULL or `""`: metres;
     /// `.x3p` accepts only metres). `detrend` is `"none"`, `"plane"` or `"curvature"`
@@ -606,17 +950,7 @@ mod exported {
             let sp = unsafe { path_arg("stack_path", stack_path) }?;
             let surface = &unsafe { get("surface", surface) }?.surface;
             let table = unsafe { table.as_ref() };
-            let model = match model {
-                STRATA_MODEL_INDEPENDENT => Model::Independent,
-                STRATA_MODEL_INTERACTING_ISOLATED => Model::Interacting(Images::Isolated),
-                STRATA_MODEL_INTERACTING_PERIODIC => Model::Interacting(Images::Periodic(2)),
-                m => {
-                    return Err(CapiError::Invalid {
-                        name: "model",
-                        reason: format!("{m} is not a STRATA_MODEL_* value (0, 1 or 2)"),
-                    });
-                }
-            };
+            let model = model_arg(model)?;
             let min_gap = finite("min_gap", min_gap)?;
             samples_arg(samples)?;
             if out.is_null() {
@@ -663,6 +997,97 @@ mod exported {
                 table, stack_path, surface, model, min_gap, samples, options, out,
             )
         }
+    }
+
+    /// `strata_law_new_with_options` on a stack built in memory (`strata_stack_new`)
+    /// instead of a stack file: the same law, bit for bit, as from the file with the
+    /// same values. `options` NULL: the defaults; `table` may be NULL for a homogeneous
+    /// stack.
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_law_new_from_stack(
+        table: *const StrataTable,
+        stack: *const StrataStack,
+        surface: *const StrataSurface,
+        model: i32,
+        min_gap: f64,
+        samples: usize,
+        options: *const StrataSolverOptions,
+        out: *mut *mut StrataLaw,
+    ) -> i32 {
+        guard(|| {
+            // SAFETY: NULL or a pointer to a valid StrataSolverOptions, per the contract.
+            let options = unsafe { options.as_ref() }.copied().unwrap_or_default();
+            let params = options.params()?;
+            let stack = &unsafe { get("stack", stack) }?.stack;
+            let surface = &unsafe { get("surface", surface) }?.surface;
+            let table = unsafe { table.as_ref() };
+            let model = model_arg(model)?;
+            let min_gap = finite("min_gap", min_gap)?;
+            samples_arg(samples)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let law = build_law_with(table, stack, surface, model, min_gap, samples, params)?;
+            unsafe { put("out", out, StrataLaw { law }) }
+        })
+    }
+
+    /// p(g) (Pa), A(g)/A₀ and dp/dg (Pa/m) at separation `gap` (m) in one call: the
+    /// values `strata_law_pressure`, `strata_law_area_fraction` and `strata_law_dp_dg`
+    /// give, bit for bit. All three outputs are required and written only on success.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_eval(
+        law: *const StrataLaw,
+        gap: f64,
+        pressure: *mut f64,
+        area_fraction: *mut f64,
+        dp_dg: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            for (name, p) in [
+                ("pressure", pressure),
+                ("area_fraction", area_fraction),
+                ("dp_dg", dp_dg),
+            ] {
+                if p.is_null() {
+                    return Err(CapiError::Null(name));
+                }
+            }
+            let q = l.law.eval(gap)?;
+            // SAFETY: non-NULL (checked above), writable per the API contract.
+            unsafe {
+                *pressure = q.pressure;
+                *area_fraction = q.area_fraction;
+                *dp_dg = q.dp_dg;
+            }
+            Ok(())
+        })
+    }
+
+    /// `strata_law_eval` at `n` separations `gaps[i]` (m) into the arrays `pressure`,
+    /// `area_fraction`, `dp_dg` of `n` doubles each (an FE code's integration points in
+    /// one call). All or nothing: an error at one gap (`STRATA_ERR_OUT_OF_RANGE`,
+    /// `STRATA_ERR_INVALID_ARGUMENT`) names it (`gaps[7]`) and leaves the outputs
+    /// untouched. The pointers may be NULL when `n` is 0.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_eval_array(
+        law: *const StrataLaw,
+        n: usize,
+        gaps: *const f64,
+        pressure: *mut f64,
+        area_fraction: *mut f64,
+        dp_dg: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let g = unsafe { slice_arg("gaps", gaps, n) }?;
+            let p = unsafe { slice_out("pressure", pressure, n) }?;
+            let a = unsafe { slice_out("area_fraction", area_fraction, n) }?;
+            let d = unsafe { slice_out("dp_dg", dp_dg, n) }?;
+            eval_into(&l.law, g, p, a, d)
+        })
     }
 
     /// Mean contact pressure p(g) (Pa) at separation `gap` (m); 0 at or above first

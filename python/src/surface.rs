@@ -132,7 +132,8 @@ impl PySurface {
     }
 
     /// Reads a height map by extension: `.x3p` (sizes and units from the file: give
-    /// neither size nor pixel_size), `.npy` (2-D float64) or a text matrix (both need
+    /// neither size nor pixel_size), SurfaceTopography's `.nc` (sizes, unit and periodic
+    /// flag from the file when it has them), `.npy` (2-D float64) or a text matrix (both need
     /// size or pixel_size, heights in `height_unit`: "m" (default), "mm", "um", "nm").
     /// detrend: "none", "plane" or "curvature"; repair: "none" or "median".
     #[staticmethod]

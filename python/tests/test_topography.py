@@ -83,3 +83,70 @@ def test_surface_topography_into_a_scene():
     s_um = strata.from_topography(topo_um.detrend("center"))
     np.testing.assert_allclose(s_um.heights, ref.heights - ref.heights.mean(), atol=1e-18)
     np.testing.assert_allclose(s_um.extent, (1e-3, 1e-3), rtol=1e-15)
+
+
+def netcdf_scene(tmp_path, surface_lines, model):
+    return strata.Scene.from_toml(
+        f"""
+[stack]
+[[stack.layer]]
+thickness = 1e-3
+young = 4e9
+poisson = 0.15
+[stack.base]
+kind = "elastic"
+young = 4e9
+poisson = 0.15
+[surface]
+{surface_lines}
+[model]
+kind = "{model}"
+[load]
+approach = {{ from = 1e-6, to = 4e-6, steps = 4 }}
+""",
+        dir=str(tmp_path),
+    )
+
+
+@pytest.mark.parametrize("model", ["bem", "interacting"])
+def test_netcdf_topography_solves_as_the_npy_heights(tmp_path, model):
+    """A NetCDF topography written by SurfaceTopography (heights in µm, periodic flag,
+    physical sizes in its attributes) solves to the same curve as the same heights in
+    metres from .npy with the sizes and periodicity given in the scene (1e-12)."""
+    st = surface_topography()
+    h_um = reference().heights * 1e6
+    lx_um, ly_um = 1000.0, 1000.0
+    st.Topography(h_um, (lx_um, ly_um), unit="um", periodic=True).to_netcdf(str(tmp_path / "topo.nc"))
+    np.save(tmp_path / "heights.npy", h_um * 1e-6)
+    from_nc = netcdf_scene(tmp_path, 'file = "topo.nc"', model)
+    from_npy = netcdf_scene(
+        tmp_path,
+        f'file = "heights.npy"\nsize = [{lx_um * 1e-6!r}, {ly_um * 1e-6!r}]\nperiodic = true',
+        model,
+    )
+    s_nc, s_npy = from_nc.surface(), from_npy.surface()
+    assert s_nc.periodic and s_nc.shape == s_npy.shape
+    assert s_nc.extent == s_npy.extent
+    assert np.array_equal(s_nc.heights, s_npy.heights)
+    a, b = strata.solve(from_nc), strata.solve(from_npy)
+    for col in ("delta", "gap", "mean_pressure", "area_fraction", "stiffness"):
+        x, y = getattr(a, col), getattr(b, col)
+        assert np.allclose(x, y, rtol=1e-12, atol=0), (col, x, y)
+    assert a.contacts.tolist() == b.contacts.tolist()
+    assert (a.mean_pressure > 0).all()
+
+
+def test_netcdf_topography_read_directly(tmp_path):
+    """Surface.read of SurfaceTopography's file: unit, sizes and periodic flag honoured;
+    a size given beside the file's, or another height unit, is refused."""
+    st = surface_topography()
+    h = reference().heights
+    st.Topography(h * 1e9, (2e6, 1e6), unit="nm", periodic=False).to_netcdf(str(tmp_path / "t.nc"))
+    s = strata.Surface.read(tmp_path / "t.nc")
+    assert not s.periodic
+    assert np.array_equal(s.heights, h * 1e9 * 1e-9)
+    assert s.extent == (2e6 * 1e-9, 1e6 * 1e-9)
+    with pytest.raises(strata.SurfaceError, match="physical sizes"):
+        strata.Surface.read(tmp_path / "t.nc", size=1e-3)
+    with pytest.raises(strata.SurfaceError, match="height_unit"):
+        strata.Surface.read(tmp_path / "t.nc", height_unit="um")

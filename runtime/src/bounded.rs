@@ -34,6 +34,9 @@
 
 use thiserror::Error;
 
+/// The product y = A x, or an error of the caller's.
+type Apply<'a, E> = dyn FnMut(&[f64], &mut [f64]) -> Result<(), E> + 'a;
+
 /// MPRGP's proportioning constant Γ.
 const GAMMA: f64 = 1.0;
 
@@ -85,7 +88,7 @@ pub struct Outcome {
 
 /// g = A x − b.
 fn exact<E: std::fmt::Display>(
-    apply: &mut dyn FnMut(&[f64], &mut [f64]) -> Result<(), E>,
+    apply: &mut Apply<'_, E>,
     b: &[f64],
     x: &[f64],
     g: &mut [f64],
@@ -149,7 +152,7 @@ impl Mprgp {
     /// A x − b of the solution. `apply(v, out)` writes A v.
     pub fn solve<E: std::fmt::Display>(
         &self,
-        apply: &mut dyn FnMut(&[f64], &mut [f64]) -> Result<(), E>,
+        apply: &mut Apply<'_, E>,
         b: &[f64],
         x: &mut [f64],
         g: &mut [f64],
@@ -203,7 +206,7 @@ impl Mprgp {
                 apply(&dir, &mut ad).map_err(BoundedError::Operator)?;
                 products += 1;
                 let dad = dot(&dir, &ad);
-                if !(dad > 0.0) {
+                if dad.is_nan() || dad <= 0.0 {
                     // A direction in A's null space (a zero-mean mode): project instead.
                     self.projected_step(x, &phi);
                     exact(apply, b, x, g, &mut products)?;
@@ -268,7 +271,7 @@ impl Mprgp {
 /// An upper estimate of ‖A‖ (its largest eigenvalue): 40 power iterations from a
 /// smooth positive start, times 1.25.
 pub fn norm_estimate<E: std::fmt::Display>(
-    apply: &mut dyn FnMut(&[f64], &mut [f64]) -> Result<(), E>,
+    apply: &mut Apply<'_, E>,
     n: usize,
 ) -> Result<f64, BoundedError<E>> {
     let mut v: Vec<f64> = (0..n)
@@ -278,7 +281,7 @@ pub fn norm_estimate<E: std::fmt::Display>(
     let mut lambda = 0.0;
     for _ in 0..40 {
         let norm = dot(&v, &v).sqrt();
-        if !(norm > 0.0) {
+        if norm.is_nan() || norm <= 0.0 {
             break;
         }
         v.iter_mut().for_each(|x| *x /= norm);
@@ -312,14 +315,14 @@ mod tests {
             }
         };
         let mut apply = |x: &[f64], y: &mut [f64]| -> Result<(), String> {
-            for i in 0..n {
-                y[i] = (0..n).map(|j| a(i, j) * x[j]).sum();
+            for (i, yi) in y.iter_mut().enumerate().take(n) {
+                *yi = (0..n).map(|j| a(i, j) * x[j]).sum();
             }
             Ok(())
         };
         let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.3).sin() * 2.0).collect();
         let norm = norm_estimate(&mut apply, n).unwrap();
-        assert!(norm >= 4.4 && norm < 6.0, "{norm}");
+        assert!((4.4..6.0).contains(&norm), "{norm}");
         let m = Mprgp {
             upper: 0.5,
             alpha: 1.0 / norm,

@@ -535,7 +535,8 @@ fn compare_scene(
             },
             !a.no_plots,
             &scene.surface,
-        );
+        )
+        .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
         let sol = solve_scene_with_maps(&sc, path, &opts, &mut |k, n, m| maps.accept(k, n, m))
             .with_context(|| format!("scene {}: {name}", path.display()))?;
         maps.finish()?;

@@ -18,6 +18,12 @@
 //!   contact; skipped with `--no-plots`), each written as its step is solved, and
 //!   `DIR/maps/maps.csv`
 //!   (step, δ, g_n, p̄, A/A₀, contact patches, files). KK is the load step, zero-padded.
+//!   With `[output] format = ["npy", "netcdf"]` (or `"netcdf"` alone: no .npy maps)
+//!   also `DIR/maps/results_step_KK.nc`, contact.engineering's per-step `results.nc`
+//!   (NetCDF-3, 64-bit offsets): `pressure` (Pa), `contacting_points`, `gap` and
+//!   `displacement` (m) on dimensions (x, y), i.e. the .npy maps transposed, with
+//!   `mean_pressure`, `total_contact_area` and the step's summary as attributes
+//!   ([`strata_bem::netcdf`]); maps.csv then has a `netcdf_file` column.
 //!   The contact-patch count of every step is also curve.csv's `contacts` column.
 //!
 //! A non-empty DIR is refused unless `--force`; a second `strata` writing the same DIR
@@ -32,7 +38,7 @@ use std::time::Instant;
 use crate::csv_out;
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
-use crate::scene::{MapsSpec, Scene, SurfaceSpec};
+use crate::scene::{MapFormats, MapsSpec, Scene, SurfaceSpec};
 use anyhow::{Context, Result, bail};
 use strata_bem::BemSolution;
 use strata_runtime::rough::Step;
@@ -116,7 +122,8 @@ pub fn run(a: Args) -> Result<()> {
         keep_partial: true,
         ..Default::default()
     };
-    let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots, &scene.surface);
+    let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots, &scene.surface)
+        .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
     let sol = solve_scene_with_maps(&scene, &a.scene, &opts, &mut |k, n, m| maps.accept(k, n, m))
         .with_context(|| format!("scene {}", a.scene.display()))?;
     maps.finish()?;
@@ -143,17 +150,22 @@ pub fn run(a: Args) -> Result<()> {
 }
 
 /// Writes the BEM maps selected by the scene into `maps/` of an output set as they
-/// come (see the module docs): .npy maps, PNG pictures when `pictures`, and
-/// `maps.csv`. `last` keeps one step's maps in memory until the end; `all` none.
+/// come (see the module docs): .npy maps and/or NetCDF files (`[output] format`), PNG
+/// pictures when `pictures`, and `maps.csv`. `last` keeps one step's maps in memory
+/// until the end; `all` none.
 pub struct MapWriter<'a> {
     set: &'a OutputSet,
     /// Directory of the maps inside the set, with a trailing '/' (`maps/`).
     dir: String,
     which: MapsSpec,
     pictures: bool,
+    /// The files: .npy and/or NetCDF.
+    formats: MapFormats,
+    /// The hardness (Pa) of a plastic solve, for the NetCDF files' attributes.
+    hardness: Option<f64>,
     /// The scene's surface: the sample size for the pictures' axes.
     surface: &'a SurfaceSpec,
-    rows: Vec<[String; 8]>,
+    rows: Vec<Vec<String>>,
     last: Option<(usize, usize, BemSolution)>,
 }
 
@@ -180,10 +192,20 @@ impl<'a> MapWriter<'a> {
             dir: dir.to_string(),
             which,
             pictures,
+            formats: MapFormats::default(),
+            hardness: None,
             surface,
             rows: Vec::new(),
             last: None,
         }
+    }
+
+    /// The same writer with the scene's map formats (`[output] format`) and the hardness
+    /// (Pa) of a plastic solve (a NetCDF attribute).
+    pub fn with_formats(mut self, formats: MapFormats, hardness: Option<f64>) -> Self {
+        self.formats = formats;
+        self.hardness = hardness;
+        self
     }
 
     /// Takes step `k` of `n`'s maps.
@@ -209,19 +231,20 @@ impl<'a> MapWriter<'a> {
         if self.rows.is_empty() {
             anyhow::bail!("output.maps: the solution has no maps (model.kind must be \"bem\")");
         }
-        let text = csv_out::text(
-            &[
-                "step",
-                "delta",
-                "gap",
-                "mean_pressure",
-                "area_fraction",
-                "contacts",
-                "pressure_file",
-                "gap_file",
-            ],
-            &self.rows,
-        )?;
+        let mut header = vec![
+            "step",
+            "delta",
+            "gap",
+            "mean_pressure",
+            "area_fraction",
+            "contacts",
+            "pressure_file",
+            "gap_file",
+        ];
+        if self.formats.netcdf {
+            header.push("netcdf_file");
+        }
+        let text = csv_out::text(&header, &self.rows)?;
         self.set
             .write(&format!("{}maps.csv", self.dir), text.as_bytes())?;
         Ok(())
@@ -234,11 +257,16 @@ impl<'a> MapWriter<'a> {
             format!("gap_step_{k:0width$}.npy"),
         );
         let d = &self.dir;
-        m.write_maps(
-            &self.set.path(&format!("{d}{pf}"))?,
-            &self.set.path(&format!("{d}{gf}"))?,
-        )?;
-        self.rows.push([
+        let (pf, gf) = if self.formats.npy {
+            m.write_maps(
+                &self.set.path(&format!("{d}{pf}"))?,
+                &self.set.path(&format!("{d}{gf}"))?,
+            )?;
+            (pf, gf)
+        } else {
+            (String::new(), String::new())
+        };
+        let mut row = vec![
             k.to_string(),
             csv_out::num(m.approach),
             csv_out::num(m.separation),
@@ -247,7 +275,13 @@ impl<'a> MapWriter<'a> {
             m.patches.to_string(),
             pf,
             gf,
-        ]);
+        ];
+        if self.formats.netcdf {
+            let nf = format!("results_step_{k:0width$}.nc");
+            m.write_netcdf(&self.set.path(&format!("{d}{nf}"))?, k, self.hardness)?;
+            row.push(nf);
+        }
+        self.rows.push(row);
         let (n0, n1) = m.pressure.dim();
         // Pictures need the sample's size; an .x3p scene's size is known only to the file.
         let size = self.surface.first_axis_length(n0);

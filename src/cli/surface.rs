@@ -208,7 +208,7 @@ fn info(a: InfoArgs) -> Result<()> {
             },
             (None, None) => None,
         };
-        if spacing.is_none() && FileKind::of(&a.file) != FileKind::X3p {
+        if spacing.is_none() && !matches!(FileKind::of(&a.file), FileKind::X3p | FileKind::NetCdf) {
             bail!(
                 "{}: a .npy or text file needs --size L, --size LX,LY or --pixel-size DX,DY (m)",
                 a.file.display()

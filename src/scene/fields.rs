@@ -163,7 +163,8 @@ pub(super) fn lengths(v: &Value, field: &str) -> Result<(f64, Option<f64>), Scen
 }
 
 /// The lateral scale and height unit of a surface file: from `size` or `pixel_size`
-/// and `height_unit` for `.npy`/text; none of them for `.x3p` (from the file).
+/// and `height_unit` for `.npy`/text; none of them for `.x3p` (from the file); for a
+/// NetCDF topography optional (the file usually gives its sizes and unit).
 pub(super) fn file_scale(
     sf: &Table,
     kind: FileKind,
@@ -185,6 +186,17 @@ pub(super) fn file_scale(
                 field: "surface.pixel_size".into(),
                 reason: "give either size or pixel_size, not both".into(),
             });
+        }
+        // A NetCDF topography usually gives its physical sizes (the reader says when not).
+        (None, None) if kind == FileKind::NetCdf => {
+            let unit = match string(sf, "height_unit", "surface.height_unit")? {
+                None => None,
+                Some(u) => Some(HeightUnit::parse(u).ok_or_else(|| SceneError::Invalid {
+                    field: "surface.height_unit".into(),
+                    reason: format!("`{u}` is not one of \"m\", \"mm\", \"um\", \"nm\""),
+                })?),
+            };
+            return Ok((None, unit));
         }
         (None, None) => {
             return Err(SceneError::Missing(

@@ -6,7 +6,8 @@
 //! file = "stacks/paper.toml"   # or inline [[stack.layer]] / [stack.base] (+ name);
 //! table = "paper.strata"       # optional surrogate table for a layered stack
 //! [surface]
-//! file = "surface.npy"         # .x3p (ISO 25178-72), .npy (2-D f64) or a plain-text
+//! file = "surface.npy"         # .x3p (ISO 25178-72), .nc (SurfaceTopography NetCDF: sizes,
+//!                              # unit and periodic flag from the file), .npy (2-D f64) or a plain-text
 //!                              # matrix; or [surface.generate]. First array axis = x.
 //! size = 1e-3                  # .npy/text: length of the first axis (m, square pixels),
 //!                              # or size = [Lx, Ly] (m), or pixel_size = [dx, dy] (m);
@@ -29,6 +30,8 @@
 //! [output]                     # optional
 //! maps = "last"                # "none" (default) | "last" | "all" (or true = "all");
 //!                              # pressure and gap maps, model.kind = "bem" only
+//! format = ["npy", "netcdf"]   # the maps' files: "npy" (default) and/or "netcdf"
+//!                              # (contact.engineering's results.nc per step)
 //! [solver]                     # optional: the budgets and tolerances error messages
 //!                              # name (defaults of rough::Params and BemOptions)
 //! max_step_newton_steps = 20000 # I model: Newton steps per load step
@@ -118,11 +121,31 @@ pub enum MapsSpec {
     All,
 }
 
+/// The files the maps are written as (`[output] format`): a set of formats, at least one.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MapFormats {
+    /// `.npy` maps of pressure and gap (the default; the PNG pictures come either way).
+    pub npy: bool,
+    /// One NetCDF-3 file per step in contact.engineering's `results.nc` layout.
+    pub netcdf: bool,
+}
+
+impl Default for MapFormats {
+    fn default() -> Self {
+        MapFormats {
+            npy: true,
+            netcdf: false,
+        }
+    }
+}
+
 /// The optional `[output]` table.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct OutputSpec {
     /// Pressure (Pa) and gap (m) maps of the full-field solution (`model.kind = "bem"`).
     pub maps: MapsSpec,
+    /// The maps' file formats (default: `.npy` and PNG only).
+    pub format: MapFormats,
 }
 
 /// The optional `[solver]` table: budgets and tolerances of the solvers (unset: the
@@ -545,7 +568,7 @@ impl Scene {
             None => OutputSpec::default(),
             Some(_) => {
                 let ot = table(&top, "output", "output")?;
-                check_keys(ot, "output.", &["maps"], "maps")?;
+                check_keys(ot, "output.", &["maps", "format"], "maps, format")?;
                 let maps = match ot.get("maps") {
                     None | Some(Value::Boolean(false)) => MapsSpec::None,
                     Some(Value::Boolean(true)) => MapsSpec::All,
@@ -578,7 +601,56 @@ impl Scene {
                             .into(),
                     });
                 }
-                OutputSpec { maps }
+                let format = match ot.get("format") {
+                    None => MapFormats::default(),
+                    Some(v) => {
+                        let names: Vec<&Value> = match v {
+                            Value::Array(a) => a.iter().collect(),
+                            other => vec![other],
+                        };
+                        let mut f = MapFormats {
+                            npy: false,
+                            netcdf: false,
+                        };
+                        for n in names {
+                            match n.as_str() {
+                                Some("npy") => f.npy = true,
+                                Some("netcdf") => f.netcdf = true,
+                                Some(other) => {
+                                    return Err(SceneError::Invalid {
+                                        field: "output.format".into(),
+                                        reason: format!(
+                                            "`{other}` is not one of \"npy\", \"netcdf\""
+                                        ),
+                                    });
+                                }
+                                None => {
+                                    return Err(SceneError::WrongType {
+                                        field: "output.format".into(),
+                                        expected: "\"npy\", \"netcdf\" or an array of them",
+                                    });
+                                }
+                            }
+                        }
+                        if !f.npy && !f.netcdf {
+                            return Err(SceneError::Invalid {
+                                field: "output.format".into(),
+                                reason: "is empty: name \"npy\", \"netcdf\" or both".into(),
+                            });
+                        }
+                        if maps == MapsSpec::None {
+                            return Err(SceneError::Invalid {
+                                field: "output.format".into(),
+                                reason:
+                                    "chooses the files of the maps, but output.maps is \"none\" \
+                                         (set maps = \"last\" or \"all\")"
+                                        .into(),
+                            });
+                        }
+                        f
+                    }
+                };
+                OutputSpec { maps, format }
             }
         };
         if let Some(cs) = &counter.surface
@@ -854,7 +926,15 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
             let f = string(sf, "file", "surface.file")?.unwrap_or_default();
             let p = existing_file(dir, "surface.file", f, "")?;
             let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
-            let periodic = periodic.unwrap_or(false);
+            // A NetCDF topography's own periodic flag is the default (SurfaceTopography).
+            let periodic = periodic
+                .or_else(|| {
+                    (FileKind::of(&p) == FileKind::NetCdf)
+                        .then(|| strata_runtime::surface::netcdf::netcdf_periodic(&p).ok())
+                        .flatten()
+                        .flatten()
+                })
+                .unwrap_or(false);
             // Measured files: the least-squares plane is removed unless asked otherwise;
             // a periodic sample has no tilt to remove (a plane is not periodic).
             let detrend = match string(sf, "detrend", "surface.detrend")? {
@@ -1104,6 +1184,31 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         assert_eq!(parse(&maps("true")).unwrap().output.maps, MapsSpec::All);
         assert!(err(&maps("\"some\"")).contains("output.maps"));
         assert!(err(&maps("3")).contains("output.maps"));
+        // [output] format: the maps' files
+        assert_eq!(
+            parse(&maps("\"last\"")).unwrap().output.format,
+            MapFormats::default()
+        );
+        let fmt = |f: &str| format!("{bem}\n[output]\nmaps = \"all\"\nformat = {f}\n");
+        assert_eq!(
+            parse(&fmt("[\"npy\", \"netcdf\"]")).unwrap().output.format,
+            MapFormats {
+                npy: true,
+                netcdf: true
+            }
+        );
+        assert_eq!(
+            parse(&fmt("\"netcdf\"")).unwrap().output.format,
+            MapFormats {
+                npy: false,
+                netcdf: true
+            }
+        );
+        assert!(err(&fmt("[\"hdf5\"]")).contains("output.format"));
+        assert!(err(&fmt("[]")).contains("empty"));
+        assert!(err(&fmt("[3]")).contains("output.format"));
+        let no_maps = format!("{bem}\n[output]\nformat = \"netcdf\"\n");
+        assert!(err(&no_maps).contains("output.maps"));
         assert!(err(&format!("{bem}\n[output]\ncolour = 1\n")).contains("output.colour"));
         // [solver]
         let solver = |body: &str| format!("{GOOD}\n[solver]\n{body}\n");

@@ -26,6 +26,7 @@ mod limits;
 mod maps;
 mod measured_law;
 mod module_cycles;
+mod netcdf_surface;
 mod outputs;
 mod plastic;
 mod progress;

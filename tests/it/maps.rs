@@ -210,3 +210,165 @@ fn no_maps_by_default_and_refused_for_asperity_models() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("output.maps"));
 }
+
+/// A global attribute of a NetCDF file as f64 (double or int).
+fn nc_attr_f64(set: &netcdf3::DataSet, name: &str) -> f64 {
+    let a = set
+        .get_global_attr(name)
+        .unwrap_or_else(|| panic!("no attribute {name}"));
+    a.get_f64()
+        .map(|v| v[0])
+        .or_else(|| a.get_i32().map(|v| f64::from(v[0])))
+        .unwrap_or_else(|| panic!("attribute {name}: not a number"))
+}
+
+/// A text attribute (global when `var` is None).
+fn nc_text(set: &netcdf3::DataSet, var: Option<&str>, name: &str) -> String {
+    let a = match var {
+        None => set.get_global_attr(name),
+        Some(v) => set.get_var_attr(v, name),
+    }
+    .unwrap_or_else(|| panic!("no attribute {var:?}.{name}"));
+    a.get_as_string()
+        .unwrap_or_else(|| panic!("{var:?}.{name}: not text"))
+}
+
+#[test]
+fn netcdf_maps_are_the_npy_maps_in_contact_engineering_layout() {
+    let d = dir("netcdf");
+    let sc = scene(
+        &d,
+        "bem",
+        "[output]\nmaps = \"all\"\nformat = [\"npy\", \"netcdf\"]",
+    );
+    let out = d.join("out");
+    let o = solve(&sc, &out, &["--no-plots"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = curve(&out);
+    let index = std::fs::read_to_string(out.join("maps/maps.csv")).unwrap();
+    assert!(
+        index
+            .lines()
+            .next()
+            .unwrap()
+            .ends_with(",gap_file,netcdf_file"),
+        "{index}"
+    );
+    for (k, r) in rows.iter().enumerate() {
+        let name = format!("results_step_{k:02}.nc");
+        assert!(index.lines().nth(k + 1).unwrap().ends_with(&name));
+        let p = read_heights_npy(&out.join(format!("maps/pressure_step_{k:02}.npy"))).unwrap();
+        let g = read_heights_npy(&out.join(format!("maps/gap_step_{k:02}.npy"))).unwrap();
+        let path = out.join(format!("maps/{name}"));
+        let mut f = netcdf3::FileReader::open(&path).unwrap();
+        let vars = f.read_all_vars().unwrap();
+        let (set, version) = f.close();
+        // contact.engineering writes NETCDF3_64BIT (CDF-2).
+        assert_eq!(version, netcdf3::Version::Offset64Bit);
+        assert_eq!(set.dim_names(), ["x", "y"]);
+        assert_eq!(set.dim_size("x"), Some(N));
+        assert_eq!(set.dim_size("y"), Some(N));
+        for v in ["pressure", "contacting_points", "gap", "displacement"] {
+            let dims: Vec<String> = set.get_var(v).unwrap().dim_names();
+            assert_eq!(dims, ["x", "y"], "{v}");
+        }
+        for (v, unit) in [
+            ("pressure", "Pa"),
+            ("gap", "m"),
+            ("displacement", "m"),
+            ("contacting_points", "1"),
+            ("x", "m"),
+            ("y", "m"),
+        ] {
+            assert_eq!(nc_text(&set, Some(v), "units"), unit, "{v}");
+        }
+        assert_eq!(nc_text(&set, Some("contacting_points"), "dtype"), "bool");
+        // (x, y): element [i, j] is the .npy map's row j, column i — bit for bit.
+        let field = |v: &str| vars[v].get_f64().unwrap().to_vec();
+        let transposed =
+            |m: &ndarray::Array2<f64>| -> Vec<u64> { m.t().iter().map(|v| v.to_bits()).collect() };
+        let bits = |v: Vec<f64>| -> Vec<u64> { v.iter().map(|v| v.to_bits()).collect() };
+        assert_eq!(
+            bits(field("pressure")),
+            transposed(&p),
+            "step {k}: pressure"
+        );
+        assert_eq!(bits(field("gap")), transposed(&g), "step {k}: gap");
+        let mask: Vec<i8> = p.t().iter().map(|&v| i8::from(v > 0.0)).collect();
+        assert_eq!(vars["contacting_points"].get_i8().unwrap(), &mask[..]);
+        // The summary: contact.engineering's attributes are curve.csv's step.
+        let nn = (N * N) as f64;
+        assert!((nc_attr_f64(&set, "mean_pressure") / r[2] - 1.0).abs() <= 1e-15);
+        assert_eq!(nc_attr_f64(&set, "total_contact_area"), r[4]);
+        assert!((nc_attr_f64(&set, "approach") / r[0] - 1.0).abs() <= 1e-15);
+        assert!((nc_attr_f64(&set, "separation") / r[1] - 1.0).abs() <= 1e-15);
+        assert_eq!(nc_attr_f64(&set, "contact_patches"), r[5]);
+        assert_eq!(nc_attr_f64(&set, "step"), k as f64);
+        assert_eq!(nc_text(&set, None, "type"), "periodic");
+        assert_eq!(nc_text(&set, None, "mean_pressure_units"), "Pa");
+        // The deflection on an elastic base: zero mean (the bem module's convention).
+        let w = field("displacement");
+        let w_mean = w.iter().sum::<f64>() / nn;
+        assert!(
+            w_mean.abs() <= 1e-12 * 3.4e-6,
+            "step {k}: mean w {w_mean:e}"
+        );
+        assert_eq!(nc_attr_f64(&set, "mean_deflection"), 0.0);
+        let x = field("x");
+        assert_eq!(x.len(), N);
+        assert_eq!(x[1], 1e-3 / N as f64);
+    }
+    // The default files are untouched by the NetCDF ones: the same bytes as without.
+    let plain = d.join("plain");
+    let o = solve(
+        &scene(&d, "bem", "[output]\nmaps = \"all\""),
+        &plain,
+        &["--no-plots"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "curve.csv",
+        "maps/pressure_step_01.npy",
+        "maps/gap_step_02.npy",
+    ] {
+        assert_eq!(
+            std::fs::read(out.join(f)).unwrap(),
+            std::fs::read(plain.join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    // NetCDF alone: no .npy maps.
+    let only = d.join("only");
+    let o = solve(
+        &scene(&d, "bem", "[output]\nmaps = \"last\"\nformat = \"netcdf\""),
+        &only,
+        &["--no-plots"],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut names: Vec<String> = std::fs::read_dir(only.join("maps"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["maps.csv", "results_step_02.nc"]);
+}
+
+/// Writes a BEM run with NetCDF maps for tests/python/run.sh, which opens them with
+/// xarray (`tests/python/netcdf_xarray.py`): `$STRATA_PY_REF/netcdf/out`.
+#[test]
+#[ignore = "run by tests/python/run.sh (xarray reads the NetCDF maps)"]
+fn write_netcdf_for_xarray() {
+    let root = PathBuf::from(
+        std::env::var("STRATA_PY_REF").expect("STRATA_PY_REF (set by tests/python/run.sh)"),
+    )
+    .join("netcdf");
+    let _ = std::fs::remove_dir_all(&root);
+    std::fs::create_dir_all(&root).unwrap();
+    let sc = scene(
+        &root,
+        "bem",
+        "[output]\nmaps = \"all\"\nformat = [\"npy\", \"netcdf\"]",
+    );
+    let o = solve(&sc, &root.join("out"), &["--no-plots"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}

@@ -6,6 +6,7 @@
 #     plastic system on a half-space, loading and unloading, strata's [plasticity]) and
 #   * ContactMechanics 1.8 FreeFFTElasticHalfSpace (the surface as an isolated,
 #     non-periodic sample on a half-space, equal approach),
+# and opens strata's NetCDF maps with xarray (tests/python/netcdf_xarray.py),
 # on strata's generated paper-like surface (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm),
 # written to .npy by the ignored Rust test `write_cross_check_surface`: nothing outside the
 # repository is needed. Tolerances (tests/it/bem_reference.rs): 1e-4 in mean pressure,
@@ -82,6 +83,9 @@ done
 [ -z "$failed" ] || fail "tests/python/compare.py failed for:$failed (logs above)"
 t_py=$(date +%s)
 cargo test --workspace --test it -- --ignored bem_reference::python_ --nocapture
+# strata's NetCDF maps (contact.engineering's results.nc) opened with xarray (issue 36).
+cargo test --workspace --test it -- --ignored --exact maps::write_netcdf_for_xarray
+"$VENV/bin/python" tests/python/netcdf_xarray.py "$STRATA_PY_REF/netcdf/out"
 t_end=$(date +%s)
 echo "python cross-checks passed: venv $((t_pip - t_start)) s, surface (cargo) $((t_surf - t_pip)) s, Python solvers $((t_py - t_surf)) s, strata comparison $((t_end - t_py)) s, total $((t_end - t_start)) s"
 

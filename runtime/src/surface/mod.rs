@@ -42,6 +42,8 @@
 mod form;
 #[cfg(feature = "spectral")]
 mod generate;
+#[cfg(feature = "netcdf")]
+pub mod netcdf;
 mod read;
 #[cfg(feature = "spectral")]
 mod spectrum;

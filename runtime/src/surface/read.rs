@@ -1,5 +1,6 @@
-//! File readers: [`Surface::read`] by extension (`.x3p`, `.npy`, else text), the
-//! `.npy` (feature `npy`) and plain-text readers, and the `.npy` writer.
+//! File readers: [`Surface::read`] by extension (`.x3p`, `.npy`, `.nc`, else text), the
+//! `.npy` (feature `npy`), SurfaceTopography NetCDF (feature `netcdf`) and plain-text
+//! readers, and the `.npy` writer.
 
 use std::path::Path;
 
@@ -78,6 +79,8 @@ pub struct ReadOptions {
 pub enum FileKind {
     X3p,
     Npy,
+    /// SurfaceTopography's NetCDF-3 topography (`.nc`; feature `netcdf`).
+    NetCdf,
     Text,
 }
 
@@ -90,6 +93,7 @@ impl FileKind {
         match ext.as_str() {
             "x3p" => FileKind::X3p,
             "npy" => FileKind::Npy,
+            "nc" => FileKind::NetCdf,
             _ => FileKind::Text,
         }
     }
@@ -107,8 +111,10 @@ fn format_err(path: &Path, e: SurfaceError) -> SurfaceError {
 
 impl Surface {
     /// Reads a height map by extension: `.x3p` (feature `x3p`; pixel sizes, offsets
-    /// and metres from the file), `.npy` (feature `npy`) or a text matrix, both in
-    /// `height_unit` with the given spacing. Then checks (or repairs) invalid points
+    /// and metres from the file), SurfaceTopography's `.nc` (feature `netcdf`; physical
+    /// sizes, unit and periodic flag from the file when it gives them: a file flagged
+    /// periodic is read as periodic, and then not detrended), `.npy` (feature `npy`) or a
+    /// text matrix, both in `height_unit` with the given spacing. Then checks (or repairs) invalid points
     /// and spikes, and removes the form `detrend` (refused on a periodic sample). What
     /// was done is in [`Surface::log`] and [`Surface::form`], a form that dominates the
     /// heights is in [`Surface::warnings`] (module `form`); errors name the file (and
@@ -122,8 +128,29 @@ impl Surface {
             )));
         }
         let kind = FileKind::of(path);
+        let mut periodic = opts.periodic;
+        let mut detrend = opts.detrend;
         let (z, n0, n1, spacing, mut log, warnings) = match kind {
             FileKind::X3p => read_x3p_raw(path, opts)?,
+            FileKind::NetCdf => {
+                let (raw, file_periodic) = read_netcdf_raw(path, opts)?;
+                if file_periodic && !periodic {
+                    periodic = true;
+                    if detrend != Detrend::None {
+                        detrend = Detrend::None;
+                        let mut raw = raw;
+                        raw.4.push(
+                            "not detrended: the file says periodic (a tilt or a curvature is not periodic)"
+                                .into(),
+                        );
+                        raw
+                    } else {
+                        raw
+                    }
+                } else {
+                    raw
+                }
+            }
             FileKind::Npy | FileKind::Text => {
                 let spacing = opts.spacing.ok_or_else(|| SurfaceError::Format {
                     path: path.display().to_string(),
@@ -153,7 +180,7 @@ impl Surface {
                 (z, n0, n1, spacing, vec![line], Vec::new())
             }
         };
-        let mut s = Surface::measured_with(z, n0, n1, spacing, opts.periodic, opts.repair)
+        let mut s = Surface::measured_with(z, n0, n1, spacing, periodic, opts.repair)
             .map_err(|e| format_err(path, e))?;
         if s.repaired > 0 {
             log.push(format!(
@@ -163,7 +190,7 @@ impl Surface {
         }
         s.log = log;
         s.warnings = warnings;
-        match opts.detrend {
+        match detrend {
             Detrend::None => s.warnings.extend(s.kept_form_warning()),
             kind => {
                 let form = s.detrend(kind);
@@ -346,6 +373,110 @@ fn read_x3p_raw(path: &Path, opts: &ReadOptions) -> Result<Raw, SurfaceError> {
 fn read_x3p_raw(path: &Path, _: &ReadOptions) -> Result<Raw, SurfaceError> {
     Err(SurfaceError::Unsupported(format!(
         "{}: .x3p files need the runtime feature `x3p`",
+        path.display()
+    )))
+}
+
+/// Metres per unit of a SurfaceTopography unit string.
+#[cfg(feature = "netcdf")]
+fn unit_metres(u: &str) -> Option<f64> {
+    Some(match u {
+        "m" => 1.0,
+        "cm" => 1e-2,
+        "mm" => 1e-3,
+        "um" | "µm" | "μm" | "micron" => 1e-6,
+        "nm" => 1e-9,
+        "pm" => 1e-12,
+        "A" | "Å" | "angstrom" => 1e-10,
+        "km" => 1e3,
+        _ => return None,
+    })
+}
+
+/// A SurfaceTopography NetCDF file: heights in metres, the spacing from the file's
+/// lengths (or the options when it has none), and its periodic flag.
+#[cfg(feature = "netcdf")]
+fn read_netcdf_raw(path: &Path, opts: &ReadOptions) -> Result<(Raw, bool), SurfaceError> {
+    regular_file(path)?;
+    let refuse = |message: String| SurfaceError::Format {
+        path: path.display().to_string(),
+        message,
+    };
+    let t = super::netcdf::read_netcdf_topography(path)?;
+    let mut log = vec![format!(
+        "NetCDF topography (SurfaceTopography layout): {}×{} points, heights(x, y)",
+        t.n0, t.n1
+    )];
+    let f = match &t.unit {
+        Some(u) => {
+            let f = unit_metres(u).ok_or_else(|| {
+                refuse(format!(
+                    "unit `{u}` is not one of m, cm, mm, um (µm), nm, pm, A (Å), km"
+                ))
+            })?;
+            if let Some(h) = opts.height_unit
+                && h.metres() != f
+            {
+                return Err(refuse(format!(
+                    "the file gives its unit (`{u}`): do not set height_unit (\"{}\")",
+                    h.name()
+                )));
+            }
+            log.push(format!(
+                "heights and lengths in {u} (the file's unit), converted to metres (× {f:e})"
+            ));
+            f
+        }
+        None => {
+            let unit = opts.height_unit.unwrap_or_default();
+            log.push(format!(
+                "the file names no unit: heights read in {} (height_unit), converted to metres (× {:e})",
+                unit.name(),
+                unit.metres()
+            ));
+            unit.metres()
+        }
+    };
+    let spacing = match (t.lengths, opts.spacing) {
+        (Some(_), Some(_)) => {
+            return Err(refuse(
+                "the file gives its physical sizes (`length` of x and y): do not set size or pixel_size"
+                    .into(),
+            ));
+        }
+        (Some((lx, ly)), None) => {
+            log.push(format!(
+                "physical sizes {:e} × {:e} m (the file's `length` of x and y)",
+                lx * f,
+                ly * f
+            ));
+            Spacing::Extent(lx * f, ly * f)
+        }
+        (None, Some(s)) => s,
+        (None, None) => {
+            return Err(refuse(
+                "the file gives no physical sizes (no `length` of x and y): give size = L, \
+                 size = [Lx, Ly] or pixel_size = [dx, dy] (m)"
+                    .into(),
+            ));
+        }
+    };
+    let periodic = t.periodic.unwrap_or(false);
+    match t.periodic {
+        Some(p) => log.push(format!("periodic = {p} (the file's flag)")),
+        None => log.push("the file has no periodic flag".into()),
+    }
+    let mut z = t.heights;
+    if f != 1.0 {
+        z.iter_mut().for_each(|v| *v *= f);
+    }
+    Ok(((z, t.n0, t.n1, spacing, log, Vec::new()), periodic))
+}
+
+#[cfg(not(feature = "netcdf"))]
+fn read_netcdf_raw(path: &Path, _: &ReadOptions) -> Result<(Raw, bool), SurfaceError> {
+    Err(SurfaceError::Unsupported(format!(
+        "{}: NetCDF (.nc) files need the runtime feature `netcdf`",
         path.display()
     )))
 }
