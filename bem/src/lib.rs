@@ -93,6 +93,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod cg;
+pub mod conduction;
 mod error;
 pub mod influence;
 mod iteration;
@@ -108,6 +109,7 @@ mod state;
 mod tests;
 mod update;
 
+pub use conduction::{Conductance, ConductanceOptions, ConductanceSolver, Conductor};
 pub use error::BemError;
 pub use maps::{BemSolution, count_patches, read_heights_npy, resample_rect, resample_spectral};
 pub use ndarray::Array2;
