@@ -1,0 +1,204 @@
+//! The interface conductance of the BEM's contact sets (issue 34, physics.md §6.2):
+//! `[conductance]` scenes through `strata solve`, and one spot on a layered stack against
+//! the Fredholm spot solver of `strata conductance` (an independent method: dual
+//! integral equations in Hankel space against CG on a pixel set in Fourier space).
+
+use strata_bem::{ConductanceOptions, ConductanceSolver, Conductor, Geometry};
+use strata_runtime::Stack;
+use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
+use strata_runtime::stack::{Base, BaseConduction, Conductivity, Layer};
+use strata_tablegen::spot::Spot;
+
+use crate::support::{fresh_dir, repo, stderr_of};
+
+const SCENE: &str = "[stack]\nfile = \"STACK\"\n[surface]\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                     fractal_dimension = 2.4\nk_min = 2\nk_max = 10\nrms = 3.4e-6\nseed = 5\n\
+                     [model]\nkind = \"bem\"\n[load]\napproach = { from = 1e-6, to = 7e-6, steps = 4 }\n";
+
+fn scene_text(extra: &str) -> String {
+    let stack = repo().join("tables/stacks/coating-on-steel-conducting.toml");
+    format!(
+        "{}{extra}",
+        SCENE.replace("STACK", &stack.display().to_string())
+    )
+}
+
+fn solve(
+    dir: &std::path::Path,
+    name: &str,
+    text: &str,
+) -> (std::process::Output, std::path::PathBuf) {
+    let scene = dir.join(format!("{name}.toml"));
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join(name);
+    let o = crate::support::strata_in(dir)
+        .args(["solve", "-q", "--no-plots", "--force"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    (o, out)
+}
+
+const HEADER: &str =
+    "delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid";
+
+/// `[conductance]` through `strata solve`: the `conductance` column (after
+/// `plastic_area_fraction` when both are asked for), curve.json's per-step values and
+/// summary; the mechanics are the scene's without it, byte for byte; the conductance
+/// grows with the load and a conducting flat conducts less than a perfect one.
+#[test]
+fn conductance_scenes_through_solve() {
+    let d = fresh_dir("conductance_bem", "scenes");
+    let flat = "[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n";
+    let (o, out) = solve(
+        &d,
+        "thermal",
+        &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}")),
+    );
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
+    assert!(csv.starts_with(&format!("{HEADER},conductance\n")), "{csv}");
+    let (o0, plain) = solve(&d, "plain", &scene_text(flat));
+    assert!(o0.status.success(), "{}", stderr_of(&o0));
+    let plain_csv = std::fs::read_to_string(plain.join("curve.csv")).unwrap();
+    assert!(plain_csv.starts_with(&format!("{HEADER}\n")));
+    // the mechanics unchanged: every line is the plain one plus the conductance
+    let mut h = Vec::new();
+    for (a, b) in csv.lines().zip(plain_csv.lines()).skip(1) {
+        let (head, last) = a.rsplit_once(',').unwrap();
+        assert_eq!(head, b);
+        h.push(last.parse::<f64>().unwrap());
+    }
+    assert_eq!(h.len(), 4);
+    assert!(h.windows(2).all(|w| w[1] > w[0] && w[0] > 0.0), "{h:?}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap()).unwrap();
+    assert_eq!(json["conductance"]["kind"], "thermal");
+    assert_eq!(json["conductance"]["units"]["conductance"], "W/(m^2 K)");
+    assert_eq!(json["steps"][3]["conductance"].as_f64().unwrap(), h[3]);
+    assert!(json["steps"][3]["conductance_iterations"].as_u64().unwrap() > 0);
+    assert!(json.get("conductance_steps").is_none());
+    let plain_json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(plain.join("curve.json")).unwrap()).unwrap();
+    assert!(plain_json.get("conductance").is_none());
+    assert!(plain_json["steps"][0].get("conductance").is_none());
+    // a perfect counterface conducts better; electrical uses the other conductivities
+    let (o, perfect) = solve(
+        &d,
+        "perfect",
+        &scene_text(
+            "[conductance]\nkind = \"electrical\"\n[counterface]\nconduction = \"perfect\"\n",
+        ),
+    );
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(perfect.join("curve.json")).unwrap())
+            .unwrap();
+    assert_eq!(json["conductance"]["units"]["conductance"], "S/m^2");
+    assert!(json["steps"][3]["conductance"].as_f64().unwrap() > 1e3 * h[3]);
+    // with plasticity: both columns, plastic_area_fraction first
+    let (o, both) = solve(
+        &d,
+        "both",
+        &scene_text(&format!(
+            "[plasticity]\nhardness = 5e9\n[conductance]\nkind = \"thermal\"\n{flat}"
+        )),
+    );
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let csv = std::fs::read_to_string(both.join("curve.csv")).unwrap();
+    assert!(
+        csv.starts_with(&format!("{HEADER},plastic_area_fraction,conductance\n")),
+        "{csv}"
+    );
+    // refusals name the field
+    let (o, _) = solve(
+        &d,
+        "missing",
+        &scene_text("[conductance]\nkind = \"thermal\"\n"),
+    );
+    assert!(!o.status.success());
+    assert!(
+        stderr_of(&o).contains("counterface.thermal_conductivity"),
+        "{}",
+        stderr_of(&o)
+    );
+    let (o, _) = solve(
+        &d,
+        "nmodel",
+        &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}"))
+            .replace("kind = \"bem\"", "kind = \"independent\""),
+    );
+    assert!(!o.status.success());
+    assert!(stderr_of(&o).contains("conductance"), "{}", stderr_of(&o));
+}
+
+/// One isothermal disc on a two-layer conductor over an isothermal sink, in a periodic
+/// cell of side L = 8a: the BEM against the Fredholm spot solver G(a) = 4k₁aψ(a).
+/// The sink confines each spot's field to ~ its depth H = a, so the images add only
+/// e^{−πL/(2H)} ≈ 4e-6 and the cell's one correction is the excluded k = 0 term:
+/// 1/G_cell = 1/G(a) − (Σhᵢ/kᵢ)/L². With a the radius of the disc's pixel area the
+/// error is first order in the pixel and halves with each grid doubling.
+#[test]
+fn one_spot_on_a_layered_stack_matches_the_spot_solver() {
+    let a = 1e-4;
+    let l = 8.0 * a;
+    let k = |v: f64| Conductivity {
+        thermal: Some(v),
+        electrical: None,
+    };
+    let layer = |h: f64| Layer {
+        thickness: h,
+        young: 1e9,
+        poisson: 0.3,
+    };
+    let stack = Stack::new(vec![layer(0.5 * a), layer(0.5 * a)], Base::Rigid)
+        .unwrap()
+        .with_conduction(
+            vec![k(2.0), k(20.0)],
+            Conductivity::default(),
+            BaseConduction::Isothermal,
+        )
+        .unwrap();
+    let cc = ConductionCompliance::new(&stack, ConductionKind::Thermal).unwrap();
+    let spot = Spot::new(&stack, ConductionKind::Thermal).unwrap();
+    let mut errors = Vec::new();
+    for n in [64, 128, 256] {
+        let s = ConductanceSolver::new(
+            n,
+            n,
+            Geometry::square(l),
+            Conductor::Layered(&cc),
+            Conductor::Perfect,
+            ConductanceOptions::default(),
+        )
+        .unwrap();
+        let dx = l / n as f64;
+        let c = (n as f64 - 1.0) / 2.0;
+        let set: Vec<bool> = (0..n * n)
+            .map(|i| ((i / n) as f64 - c).hypot((i % n) as f64 - c) * dx <= a)
+            .collect();
+        let pts = set.iter().filter(|&&v| v).count() as f64;
+        let a_eq = (pts / std::f64::consts::PI).sqrt() * dx;
+        let g_bem = s.solve(&set).unwrap().conductance * l * l;
+        let g_spot = spot.conductance(a_eq).unwrap().conductance;
+        let g_cell = 1.0 / (1.0 / g_spot - cc.series_resistance() / (l * l));
+        let e = g_bem / g_cell - 1.0;
+        eprintln!(
+            "layered spot a/dx {}: BEM {g_bem:e} vs spot solver {g_cell:e} (ψ = {:.6}): {e:.3e}",
+            a / dx,
+            g_spot / (4.0 * 2.0 * a_eq)
+        );
+        errors.push(e);
+    }
+    for w in errors.windows(2) {
+        let ratio = w[0] / w[1];
+        assert!((1.8..2.2).contains(&ratio), "{errors:?}");
+    }
+    let last = errors[errors.len() - 1];
+    assert!(last.abs() < 0.02, "{errors:?}");
+    // measured: −2.95e-2, −1.46e-2, −7.03e-3 at a/dx = 8, 16, 32; extrapolated 5.5e-4
+    let extrapolated = 2.0 * errors[2] - errors[1];
+    assert!(extrapolated.abs() < 5e-3, "{errors:?}");
+}
