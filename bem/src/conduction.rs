@@ -85,7 +85,7 @@ pub struct ConductanceOptions {
 impl Default for ConductanceOptions {
     fn default() -> Self {
         ConductanceOptions {
-            tolerance: 1e-12,
+            tolerance: 1e-10,
             max_iterations: 10_000,
             preconditioner: true,
         }

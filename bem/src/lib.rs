@@ -85,6 +85,12 @@
 //! contact set, 4-connected, wrapped on a periodic cell), the mean gap, the approach,
 //! and the pressure and gap maps (writable as .npy with [`BemSolution::write_maps`]).
 //!
+//! # Conduction ([`conduction`])
+//! The interface conductance of a solved contact set (physics.md §6.2): with a unit
+//! temperature (potential) jump on the set, (C_A + C_B) q = 1 there, q = 0 elsewhere,
+//! C_X = S_th,X/(k₁,X|k|), the k = 0 mode excluded; h_c = mean(q)
+//! ([`ConductanceSolver`], periodic cells).
+//!
 //! Memory is estimated before the grids are allocated and checked against
 //! [`strata_runtime::resources`] ([`BemSolver::memory_needed`]).
 

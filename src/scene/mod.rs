@@ -37,6 +37,13 @@
 //! max_pressure_iterations = 200 # N and I models: solves per mean pressure
 //! bem_max_iterations = 20000   # BEM: iterations per solve
 //! bem_tolerance = 1e-10        # BEM: convergence tolerance
+//! [conductance]                # optional (model.kind = "bem", periodic surface): the
+//! kind = "thermal"             # interface conductance h_c of every step (physics.md §6.2),
+//!                              # "thermal" (W/(m²·K)) or "electrical" (S/m²); both bodies
+//!                              # must conduct: the stack's conductivities, and the
+//!                              # counterface's: [counterface] thermal_conductivity = 50
+//!                              # (a rigid flat as a conducting half-space), conduction =
+//!                              # "perfect", or an elastic counterface's own stack
 //! ```
 //!
 //! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
