@@ -450,6 +450,29 @@ pub fn solve_surface_with_maps(
     });
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
+    if let Some(spec) = &scene.conductance {
+        // physics.md §6.2: the N model's spots conduct in parallel, each body in series
+        log!(
+            quiet,
+            "conductance: {} conductance of the spots in parallel (Σ G(a)/A0, G = 4k1·a·ψ(a) per body, bodies in series; {}; no interactions)",
+            spec.kind.name(),
+            counterface_conduction(spec)
+        );
+        let h = crate::spots::SpotSum::new(scene, spec)?
+            .conductances(&steps, rc.area())
+            .context("[conductance]")?;
+        meta["conductance"] = conductance_meta(scene, spec);
+        meta["conductance"]["definition"] = serde_json::json!(
+            "N model: h_c = sum of the spots' conductances G(a_i) / A0, G = 4 k1 a psi(a) per body (an \
+             isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
+             in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
+        );
+        meta["conductance_steps"] = serde_json::Value::Array(
+            h.iter()
+                .map(|h| serde_json::json!({ "conductance": h }))
+                .collect(),
+        );
+    }
     if let Some(f) = &failed {
         meta["partial"] = serde_json::json!({
             "failed_step": f.step, "delta": f.delta, "error": f.error,

@@ -15,6 +15,7 @@ pub mod output_set;
 pub mod plot;
 pub mod progress;
 pub mod scene;
+pub mod spots;
 pub mod stdio;
 pub mod study;
 pub mod threads;

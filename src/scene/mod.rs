@@ -37,7 +37,8 @@
 //! max_pressure_iterations = 200 # N and I models: solves per mean pressure
 //! bem_max_iterations = 20000   # BEM: iterations per solve
 //! bem_tolerance = 1e-10        # BEM: convergence tolerance
-//! [conductance]                # optional (model.kind = "bem", periodic surface): the
+//! [conductance]                # optional (model.kind = "bem" on a periodic surface, or
+//!                              # "independent": Σ of the spots' conductances): the
 //! kind = "thermal"             # interface conductance h_c of every step (physics.md §6.2),
 //!                              # "thermal" (W/(m²·K)) or "electrical" (S/m²); both bodies
 //!                              # must conduct: the stack's conductivities, and the
@@ -898,7 +899,7 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
 /// bodies must conduct: every layer (and a half-space base) of the first body, and the
 /// counterface (a rigid flat's `thermal_conductivity`/`electrical_conductivity` or
 /// `conduction = "perfect"`; an elastic one's stack, or `"perfect"`); each missing
-/// property is named. Solved by the periodic BEM in this version.
+/// property is named. Solved by the periodic BEM and the N model in this version.
 fn parse_conductance(
     top: &Table,
     counter: &CounterfaceSpec,
@@ -926,20 +927,21 @@ fn parse_conductance(
             ));
         }
     };
-    if model != ModelKind::Bem {
+    if model == ModelKind::Interacting {
         return Err(SceneError::Invalid {
             field: "conductance".into(),
-            reason: "the interface conductance is solved by the BEM in this version \
-                     (model.kind = \"bem\"); the N and I models follow"
+            reason: "the I model's thermal interactions between the spots are not solved in this \
+                     version: use model.kind = \"bem\" (the full field) or \"independent\" (the \
+                     N model: the spots in parallel, no interactions)"
                 .into(),
         });
     }
-    if !surface.read.periodic {
+    if model == ModelKind::Bem && !surface.read.periodic {
         return Err(SceneError::Invalid {
             field: "conductance".into(),
             reason: "the BEM's conduction solve is periodic only in this version (the \
                      free-boundary conduction kernel is not built): use a periodic surface \
-                     (surface.periodic = true, or a generated one)"
+                     (surface.periodic = true, or a generated one), or model.kind = \"independent\""
                 .into(),
         });
     }
@@ -1469,7 +1471,14 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
             &format!("{c}\n[counterface]\nconduction = \"cold\""),
         ));
         assert!(e.contains("counterface.conduction"), "{e}");
-        // the asperity models: not yet
+        // the N model sums the spots; the I model: not yet
+        assert!(
+            parse(&with(
+                &conducting.replace("\"bem\"", "\"independent\""),
+                &format!("{c}\n[counterface]\nconduction = \"perfect\""),
+            ))
+            .is_ok()
+        );
         let e = err(&with(
             &conducting.replace("\"bem\"", "\"interacting\""),
             &format!("{c}\n[counterface]\nconduction = \"perfect\""),

@@ -47,7 +47,8 @@ const HEADER: &str =
 /// `[conductance]` through `strata solve`: the `conductance` column (after
 /// `plastic_area_fraction` when both are asked for), curve.json's per-step values and
 /// summary; the mechanics are the scene's without it, byte for byte; the conductance
-/// grows with the load and a conducting flat conducts less than a perfect one.
+/// grows with the load and a conducting flat conducts less than a perfect one; the I
+/// model and a missing counterface conduction are refused by name.
 #[test]
 fn conductance_scenes_through_solve() {
     let d = fresh_dir("conductance_bem", "scenes");
@@ -126,9 +127,9 @@ fn conductance_scenes_through_solve() {
     );
     let (o, _) = solve(
         &d,
-        "nmodel",
+        "imodel",
         &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}"))
-            .replace("kind = \"bem\"", "kind = \"independent\""),
+            .replace("kind = \"bem\"", "kind = \"interacting\""),
     );
     assert!(!o.status.success());
     assert!(stderr_of(&o).contains("conductance"), "{}", stderr_of(&o));
@@ -201,4 +202,79 @@ fn one_spot_on_a_layered_stack_matches_the_spot_solver() {
     // measured: −2.95e-2, −1.46e-2, −7.03e-3 at a/dx = 8, 16, 32; extrapolated 5.5e-4
     let extrapolated = 2.0 * errors[2] - errors[1];
     assert!(extrapolated.abs() < 5e-3, "{errors:?}");
+}
+
+/// The N model's conductance (`model.kind = "independent"`): Σ G(aᵢ)/A₀ over its own
+/// contact radii, each spot's G with both bodies in series, checked against direct
+/// spot solves (homogeneous: 4k_s a exactly; the coated steel: the Fredholm ψ at every
+/// radius, against the interpolated table); and beside the BEM on the same scene.
+#[test]
+fn n_model_sums_the_spots() {
+    use strata::engine::{EngineOptions, solve_scene};
+    use strata::scene::Scene;
+    use strata::spots::SpotSum;
+    let d = fresh_dir("conductance_bem", "nmodel");
+    let opts = EngineOptions {
+        quiet: true,
+        cache_dir: Some(d.join("cache")),
+        ..Default::default()
+    };
+    let flat = "[conductance]\nkind = \"thermal\"\n[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n";
+    let homogeneous = "[stack]\n[[stack.layer]]\nthickness = 1e-4\nyoung = 2e11\npoisson = 0.3\n\
+                       thermal_conductivity = 30\n[stack.base]\nkind = \"elastic\"\nyoung = 2e11\n\
+                       poisson = 0.3\nthermal_conductivity = 30\n";
+    let coated = format!(
+        "[stack]\nfile = \"{}\"\n",
+        repo()
+            .join("tables/stacks/coating-on-steel-conducting.toml")
+            .display()
+    );
+    let rest = SCENE.split_once("[surface]").unwrap().1;
+    for (name, stack) in [("homogeneous", homogeneous.to_string()), ("coated", coated)] {
+        let mut h = Vec::new();
+        for model in ["independent", "bem"] {
+            let text = format!("{stack}[surface]{rest}{flat}")
+                .replace("kind = \"bem\"", &format!("kind = \"{model}\""));
+            let path = d.join(format!("{name}-{model}.toml"));
+            std::fs::write(&path, &text).unwrap();
+            let scene = Scene::from_file(&path).unwrap();
+            let sol = solve_scene(&scene, &path, &opts).unwrap();
+            let hc: Vec<f64> = sol.meta["conductance_steps"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|s| s["conductance"].as_f64().unwrap())
+                .collect();
+            if model == "independent" {
+                let area = sol.meta["nominal_area"].as_f64().unwrap();
+                let sum = SpotSum::new(&scene, scene.conductance.as_ref().unwrap()).unwrap();
+                let mut worst: f64 = 0.0;
+                for (s, &got) in sol.steps.iter().zip(&hc) {
+                    let direct: f64 = s
+                        .radii
+                        .iter()
+                        .filter(|&&a| a > 0.0)
+                        .map(|&a| {
+                            if name == "homogeneous" {
+                                4.0 * a / (1.0 / 30.0 + 1.0 / 50.0)
+                            } else {
+                                sum.direct(a).unwrap()
+                            }
+                        })
+                        .sum::<f64>()
+                        / area;
+                    worst = worst.max((got / direct - 1.0).abs());
+                }
+                eprintln!("N model {name}: Σ G(a)/A0 vs direct spot solves: {worst:.2e}");
+                // homogeneous: round-off; coated: the ψ table's interpolation (≤ 5e-6)
+                assert!(worst < 5e-5, "{name}: {worst}");
+            }
+            h.push(hc);
+        }
+        // beside the BEM (64², not a check of either): the same order, N below
+        for (n, b) in h[0].iter().zip(&h[1]) {
+            eprintln!("{name}: N model {n:e} BEM {b:e}: N/BEM {:.3}", n / b);
+            assert!(*n > 0.2 * b && *n < 5.0 * b, "{name}: {n} vs {b}");
+        }
+    }
 }
