@@ -685,7 +685,7 @@ mod tests {
             s.solve(&vec![true; n * n]).unwrap().conductance,
             f64::INFINITY
         );
-        assert!(s.solve(&vec![true; 10]).is_err());
+        assert!(s.solve(&[true; 10]).is_err());
         let set: Vec<bool> = waves(n).iter().map(|&z| z > 0.8e-6).collect();
         let a = s.solve(&set).unwrap();
         let b = mk(false).solve(&set).unwrap();

@@ -5,7 +5,7 @@ use strata_runtime::stack::StackError;
 use strata_runtime::surface::SurfaceError;
 use thiserror::Error;
 
-/// Errors of scene reading and validation. Each names the field; [`Scene::from_file`]
+/// Errors of scene reading and validation. Each names the field; [`Scene::from_file`](super::Scene::from_file)
 /// adds the scene file ([`SceneError::InFile`]).
 #[derive(Debug, Error)]
 pub enum SceneError {
