@@ -278,3 +278,99 @@ fn n_model_sums_the_spots() {
         }
     }
 }
+
+/// `strata law --format all` of a `[conductance]` scene (BEM and N model): the
+/// `*GAP CONDUCTANCE, PRESSURE` block after the pressure-overclosure table (first line
+/// `0., 0.`, pressures strictly increasing and equal to the table's, conductances those
+/// of the JSON's samples), nothing of it without `[conductance]`; CalculiX 2.20 reads
+/// the deck with the block (a warning for the PRESSURE parameter, no error).
+#[test]
+fn law_writes_gap_conductance() {
+    let d = fresh_dir("conductance_bem", "law");
+    let flat = "[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n";
+    for model in ["bem", "independent"] {
+        let scene = d.join(format!("{model}.toml"));
+        std::fs::write(
+            &scene,
+            scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}"))
+                .replace("kind = \"bem\"", &format!("kind = \"{model}\"")),
+        )
+        .unwrap();
+        let o = crate::support::strata_in(&d)
+            .args(["law", "-q"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(d.join(model))
+            .args(["--format", "all", "--samples", "8"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", stderr_of(&o));
+        let inp = std::fs::read_to_string(d.join(format!("{model}.inp"))).unwrap();
+        let (table, gap) = inp.split_once("*GAP CONDUCTANCE, PRESSURE\n").unwrap();
+        assert!(table.contains("*SURFACE BEHAVIOR"));
+        let read =
+            |l: &str| -> Vec<f64> { l.split(',').map(|x| x.trim().parse().unwrap()).collect() };
+        let lines: Vec<Vec<f64>> = gap.lines().map(read).collect();
+        assert_eq!(lines[0], vec![0.0, 0.0]);
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(d.join(format!("{model}.json"))).unwrap(),
+        )
+        .unwrap();
+        let law = json["law"].as_array().unwrap();
+        assert_eq!(lines.len(), law.len(), "{model}");
+        assert_eq!(json["units"]["conductance"], "W/(m^2 K)");
+        for (l, s) in lines.iter().zip(law).skip(1) {
+            let (h, p) = (
+                s["conductance"].as_f64().unwrap(),
+                s["mean_pressure"].as_f64().unwrap(),
+            );
+            assert!((l[0] / h - 1.0).abs() < 1e-13 && (l[1] / p - 1.0).abs() < 1e-13);
+        }
+        assert!(
+            lines
+                .windows(2)
+                .all(|w| w[1][1] > w[0][1] && w[1][0] > w[0][0])
+        );
+        if model == "bem"
+            && let Some(ccx) =
+                crate::tools::optional_tool("ccx", "-v", "apt-get install calculix-ccx")
+        {
+            let run = d.join("ccx");
+            std::fs::create_dir_all(&run).unwrap();
+            std::fs::copy(
+                repo().join("examples/calculix/rough_block.inp"),
+                run.join("rough_block.inp"),
+            )
+            .unwrap();
+            std::fs::write(run.join("law.inp"), &inp).unwrap();
+            let o = std::process::Command::new(ccx)
+                .args(["-i", "rough_block"])
+                .current_dir(&run)
+                .output()
+                .unwrap();
+            let log = String::from_utf8_lossy(&o.stdout);
+            assert!(o.status.success() && !log.contains("*ERROR"), "{log}");
+            assert!(
+                log.contains("parameter not recognized:\n          PRESSURE"),
+                "{log}"
+            );
+        }
+    }
+    // without [conductance]: no block
+    let scene = d.join("plain.toml");
+    std::fs::write(&scene, scene_text(flat)).unwrap();
+    let o = crate::support::strata_in(&d)
+        .args(["law", "-q"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("plain.inp"))
+        .args(["--samples", "8"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    assert!(
+        !std::fs::read_to_string(d.join("plain.inp"))
+            .unwrap()
+            .contains("GAP")
+    );
+}
