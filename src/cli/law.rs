@@ -147,7 +147,7 @@ impl SampledLaw {
         let mut last = f64::NEG_INFINITY;
         for ((_, p, _, _), &hc) in self.law.samples().zip(h) {
             // strictly increasing pressures; an infinite h_c (full contact) ends the table
-            if !(p > last) || !hc.is_finite() {
+            if p.is_nan() || p <= last || !hc.is_finite() {
                 continue;
             }
             last = p;
