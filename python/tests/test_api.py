@@ -272,11 +272,11 @@ kind = "thermal"
 [counterface]
 """
     perfect = strata.Scene.from_toml(text + 'conduction = "perfect"\n', tmp_path).solve()
-    h = perfect["conductance"]
+    h = perfect.conductance
     assert h.shape == (3,) and (h > 0).all() and (np.diff(h) > 0).all()
-    assert perfect["meta"]["conductance"]["kind"] == "thermal"
+    assert perfect.meta["conductance"]["kind"] == "thermal"
     flat = strata.Scene.from_toml(text + "thermal_conductivity = 30\n", tmp_path).solve()
     # k_s = 15 against 30: half the conductance on the same contact sets
-    np.testing.assert_allclose(flat["conductance"], h / 2, rtol=1e-8)
+    np.testing.assert_allclose(flat.conductance, h / 2, rtol=1e-8)
     plain = strata.Scene.from_toml(text.replace('[conductance]\nkind = "thermal"\n', ""), tmp_path).solve()
-    assert "conductance" not in plain
+    assert plain.conductance is None
