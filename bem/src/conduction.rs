@@ -41,12 +41,21 @@
 //! unbounded layered conductor) is not built in this version
 //! ([`BemError::ConductionNonPeriodic`]).
 
+use rayon::prelude::*;
 use strata_runtime::conduction::ConductionCompliance;
 use strata_runtime::fft::Fft2Work;
 
 use crate::BemError;
 use crate::operator::Operator;
 use crate::solver::Geometry;
+
+/// Points per parallel chunk of the vector passes.
+const CHUNK: usize = 4096;
+
+/// The sum of per-chunk partial sums in chunk order (deterministic).
+fn ordered_sum(parts: Vec<f64>) -> f64 {
+    parts.iter().sum()
+}
 
 /// One body's conduction as the interface sees it.
 #[derive(Debug, Clone, Copy)]
@@ -280,13 +289,6 @@ impl ConductanceSolver {
             });
         }
         let mut work = self.op.work();
-        let mask = |v: &mut [f64]| {
-            for (x, &c) in v.iter_mut().zip(contact) {
-                if !c {
-                    *x = 0.0;
-                }
-            }
-        };
         let dot = |a: &[f64], b: &[f64]| -> f64 { a.iter().zip(b).map(|(x, y)| x * y).sum() };
         let b_norm = (set as f64).sqrt();
         let mut q = vec![0.0; n];
@@ -310,23 +312,40 @@ impl ConductanceSolver {
         let mut res = residual(&q, &mut kq, &mut r, &mut work)?;
         let tol = self.options.tolerance;
         let mut z = vec![0.0; n];
+        // z = P_I M⁻¹ r (or r), returning Σ r z: one fused pass after the product.
         let precondition = |r: &[f64], z: &mut [f64], work: &mut Fft2Work| {
-            match &self.precond {
-                Some(m) => {
-                    m.apply(r, z, false, work)?;
-                    mask(z);
-                }
-                None => z.copy_from_slice(r),
+            if let Some(m) = &self.precond {
+                m.apply(r, z, false, work)?;
+            } else {
+                z.copy_from_slice(r);
             }
-            Ok::<(), BemError>(())
+            Ok::<f64, BemError>(ordered_sum(
+                z.par_chunks_mut(CHUNK)
+                    .zip(r.par_chunks(CHUNK))
+                    .zip(contact.par_chunks(CHUNK))
+                    .map(|((z, r), c)| {
+                        let mut s = 0.0;
+                        for j in 0..z.len() {
+                            if c[j] {
+                                s += r[j] * z[j];
+                            } else {
+                                z[j] = 0.0;
+                            }
+                        }
+                        s
+                    })
+                    .collect(),
+            ))
         };
         let mut iterations = 0;
         // Restarted CG: the recursive residual is checked against the true one before
         // acceptance; a mismatch (round-off on long runs) restarts from the true one.
+        // Each iteration: two products (K d, and the preconditioner's) and four fused
+        // passes; the partial sums are added in a fixed order (the same result on any
+        // number of threads).
         'outer: while res > tol {
-            precondition(&r, &mut z, &mut work)?;
+            let mut rz = precondition(&r, &mut z, &mut work)?;
             let mut d = z.clone();
-            let mut rz = dot(&r, &z);
             let mut kd = vec![0.0; n];
             loop {
                 if iterations >= self.options.max_iterations {
@@ -338,28 +357,59 @@ impl ConductanceSolver {
                 }
                 iterations += 1;
                 self.op.apply(&d, &mut kd, false, &mut work)?;
-                mask(&mut kd);
-                let dkd = dot(&d, &kd);
+                // kd ← P_I K d, with Σ d·kd
+                let dkd = ordered_sum(
+                    kd.par_chunks_mut(CHUNK)
+                        .zip(d.par_chunks(CHUNK))
+                        .zip(contact.par_chunks(CHUNK))
+                        .map(|((k, d), c)| {
+                            let mut s = 0.0;
+                            for j in 0..k.len() {
+                                if c[j] {
+                                    s += d[j] * k[j];
+                                } else {
+                                    k[j] = 0.0;
+                                }
+                            }
+                            s
+                        })
+                        .collect(),
+                );
                 if !(dkd > 0.0 && dkd.is_finite()) {
                     return Err(BemError::NonFinite(iterations));
                 }
                 let alpha = rz / dkd;
-                for i in 0..n {
-                    q[i] += alpha * d[i];
-                    r[i] -= alpha * kd[i];
-                }
-                let rec = dot(&r, &r).sqrt() / b_norm;
-                if rec <= tol {
+                // q += α d, r −= α kd, with Σ r²
+                let rr = ordered_sum(
+                    q.par_chunks_mut(CHUNK)
+                        .zip(r.par_chunks_mut(CHUNK))
+                        .zip(d.par_chunks(CHUNK))
+                        .zip(kd.par_chunks(CHUNK))
+                        .map(|(((q, r), d), k)| {
+                            let mut s = 0.0;
+                            for j in 0..q.len() {
+                                q[j] += alpha * d[j];
+                                r[j] -= alpha * k[j];
+                                s += r[j] * r[j];
+                            }
+                            s
+                        })
+                        .collect(),
+                );
+                if rr.sqrt() / b_norm <= tol {
                     res = residual(&q, &mut kq, &mut r, &mut work)?;
                     continue 'outer;
                 }
-                precondition(&r, &mut z, &mut work)?;
-                let rz_new = dot(&r, &z);
+                let rz_new = precondition(&r, &mut z, &mut work)?;
                 let beta = rz_new / rz;
                 rz = rz_new;
-                for i in 0..n {
-                    d[i] = z[i] + beta * d[i];
-                }
+                d.par_chunks_mut(CHUNK)
+                    .zip(z.par_chunks(CHUNK))
+                    .for_each(|(d, z)| {
+                        for j in 0..d.len() {
+                            d[j] = z[j] + beta * d[j];
+                        }
+                    });
             }
         }
         let conductance = q.iter().sum::<f64>() / n as f64;
