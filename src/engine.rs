@@ -450,7 +450,9 @@ pub fn solve_surface_with_maps(
     });
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
-    if let Some(spec) = &scene.conductance {
+    // the N model only (the I model's thermal interactions are not solved: `compare`
+    // runs it on a [conductance] scene for the mechanics alone)
+    if let (Some(spec), Model::Independent) = (&scene.conductance, model) {
         // physics.md §6.2: the N model's spots conduct in parallel, each body in series
         log!(
             quiet,

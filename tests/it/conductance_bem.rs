@@ -374,3 +374,42 @@ fn law_writes_gap_conductance() {
             .contains("GAP")
     );
 }
+
+/// `strata compare` on a `[conductance]` scene: conductance.csv (the N model's h_c at
+/// every BEM step's separation against the BEM's) and a section in compare.md.
+#[test]
+fn compare_reports_conductance() {
+    let d = fresh_dir("conductance_bem", "compare");
+    let scene = d.join("scene.toml");
+    std::fs::write(
+        &scene,
+        scene_text("[conductance]\nkind = \"thermal\"\n[counterface]\nthermal_conductivity = 50\n"),
+    )
+    .unwrap();
+    let o = crate::support::strata_in(&d)
+        .args(["compare", "-q", "--no-plots"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("out"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let csv = std::fs::read_to_string(d.join("out/conductance.csv")).unwrap();
+    assert!(
+        csv.starts_with("step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n\n")
+    );
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 4);
+    for r in &rows {
+        assert!(
+            r[3] > 0.0 && r[4] > 0.0 && r[5].is_finite() && r[5].abs() < 1.0,
+            "{r:?}"
+        );
+    }
+    let md = std::fs::read_to_string(d.join("out/compare.md")).unwrap();
+    assert!(md.contains("## Interface conductance"), "{md}");
+}
