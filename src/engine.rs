@@ -12,9 +12,15 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::progress;
-use crate::scene::{LoadSpec, ModelKind, Scene, SurfaceSource};
+use crate::scene::{
+    ConductanceSpec, CounterfaceConduction, LoadSpec, ModelKind, Scene, SurfaceSource,
+};
 use anyhow::{Context, Result, bail};
-use strata_bem::{BemLoad, BemOptions, BemSolution, BemSolver, Geometry};
+use strata_bem::{
+    BemLoad, BemOptions, BemSolution, BemSolver, ConductanceOptions, ConductanceSolver, Conductor,
+    Geometry,
+};
+use strata_runtime::conduction::ConductionKind;
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;
 use strata_runtime::rough::{Images, Model, RoughContact, RoughError, Step};
@@ -447,6 +453,31 @@ pub fn solve_surface_with_maps(
     });
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
+    // the N model only (the I model's thermal interactions are not solved: `compare`
+    // runs it on a [conductance] scene for the mechanics alone)
+    if let (Some(spec), Model::Independent) = (&scene.conductance, model) {
+        // physics.md §6.2: the N model's spots conduct in parallel, each body in series
+        log!(
+            quiet,
+            "conductance: {} conductance of the spots in parallel (Σ G(a)/A0, G = 4k1·a·ψ(a) per body, bodies in series; {}; no interactions)",
+            spec.kind.name(),
+            counterface_conduction(spec)
+        );
+        let h = crate::spots::SpotSum::new(scene, spec)?
+            .conductances(&steps, rc.area())
+            .context("[conductance]")?;
+        meta["conductance"] = conductance_meta(scene, spec);
+        meta["conductance"]["definition"] = serde_json::json!(
+            "N model: h_c = sum of the spots' conductances G(a_i) / A0, G = 4 k1 a psi(a) per body (an \
+             isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
+             in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
+        );
+        meta["conductance_steps"] = serde_json::Value::Array(
+            h.iter()
+                .map(|h| serde_json::json!({ "conductance": h }))
+                .collect(),
+        );
+    }
     if let Some(f) = &failed {
         meta["partial"] = serde_json::json!({
             "failed_step": f.step, "delta": f.delta, "error": f.error,
@@ -660,6 +691,12 @@ fn solve_bem(
         None => None,
     };
     let mut plastic_steps = Vec::new();
+    let conduction = match &scene.conductance {
+        Some(spec) => Some(conductance_solver(scene, spec, (n0, n1), geometry, quiet)?),
+        None => None,
+    };
+    let mut conductance_steps = Vec::new();
+    let mut flux: Option<Vec<f64>> = None;
     for (k, (name, load)) in loads.into_iter().enumerate() {
         let (sol, next, dd) = if let Some(path) = plastic.as_mut() {
             // the tangent from a copy of the path: the state is advanced by `step` only
@@ -704,6 +741,19 @@ fn solve_bem(
         st.stiffness = (next.total_load - sol.total_load) / dd;
         st.iterations = sol.iterations;
         steps.push(st);
+        if let Some(cs) = &conduction {
+            // physics.md §6.2: a unit jump on this step's contact set (p > 0)
+            let set: Vec<bool> = flat.iter().map(|&p| p > 0.0).collect();
+            let h = cs
+                .solve_from(&set, flux.as_deref())
+                .with_context(|| format!("{name}: conductance"))?;
+            conductance_steps.push(serde_json::json!({
+                "conductance": h.conductance,
+                "conductance_iterations": h.iterations,
+                "conductance_residual": h.residual,
+            }));
+            flux = h.conductance.is_finite().then_some(h.flux);
+        }
         warm = Some(flat);
         maps(k, total, sol)?;
         if let Some(b) = &bar {
@@ -743,6 +793,10 @@ fn solve_bem(
         });
         meta["plastic_steps"] = serde_json::Value::Array(plastic_steps);
     }
+    if let Some(spec) = &scene.conductance {
+        meta["conductance"] = conductance_meta(scene, spec);
+        meta["conductance_steps"] = serde_json::Value::Array(conductance_steps);
+    }
     Ok(SceneSolution {
         steps,
         meta,
@@ -762,6 +816,12 @@ fn solve_independent_plastic(
     opts: &EngineOptions,
     hardness: f64,
 ) -> Result<SceneSolution> {
+    if scene.conductance.is_some() {
+        bail!(
+            "[conductance] with [plasticity] is solved by the BEM in this version (model.kind = \"bem\"); \
+             the capped N model gives no spot conductances yet"
+        );
+    }
     let quiet = opts.quiet;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
@@ -882,6 +942,73 @@ fn solve_independent_plastic(
         meta,
         seconds,
         failed: None,
+    })
+}
+
+/// The conduction solver of a `[conductance]` scene on the BEM's periodic grid
+/// (physics.md §6.2): the first body's conduction compliance and the counterface's.
+fn conductance_solver(
+    scene: &Scene,
+    spec: &ConductanceSpec,
+    (n0, n1): (usize, usize),
+    geometry: Geometry,
+    quiet: bool,
+) -> Result<ConductanceSolver> {
+    let body = spec.body(&scene.stack)?;
+    let other = spec.counterface_stack(&scene.stack)?;
+    let b = match (spec.counterface, &other) {
+        (CounterfaceConduction::Perfect, _) => Conductor::Perfect,
+        (CounterfaceConduction::HalfSpace(k), _) => Conductor::HalfSpace(k),
+        (CounterfaceConduction::Stack, Some(c)) => Conductor::Layered(c),
+        (CounterfaceConduction::Stack, None) => bail!("counterface: internal error (no stack)"),
+    };
+    log!(
+        quiet,
+        "conductance: {} interface conductance per nominal area on each step's contact set ({}; k = 0 mode excluded)",
+        spec.kind.name(),
+        counterface_conduction(spec)
+    );
+    ConductanceSolver::new(
+        n0,
+        n1,
+        geometry,
+        Conductor::Layered(&body),
+        b,
+        ConductanceOptions::default(),
+    )
+    .context("[conductance]")
+}
+
+/// The counterface's conduction in words.
+fn counterface_conduction(spec: &ConductanceSpec) -> String {
+    match spec.counterface {
+        CounterfaceConduction::Perfect => "the counterface a perfect conductor".into(),
+        CounterfaceConduction::HalfSpace(k) => format!(
+            "the rigid counterface a conducting half-space, {k:e} {}",
+            spec.kind.conductivity_unit()
+        ),
+        CounterfaceConduction::Stack => "the counterface conducting through its stack".into(),
+    }
+}
+
+/// curve.json's `conductance` entry: kind, unit, definition, the counterface.
+fn conductance_meta(scene: &Scene, spec: &ConductanceSpec) -> serde_json::Value {
+    let unit = match spec.kind {
+        ConductionKind::Thermal => "W/(m^2 K)",
+        ConductionKind::Electrical => "S/m^2",
+    };
+    let top = spec
+        .body(&scene.stack)
+        .map(|c| c.top_conductivity())
+        .unwrap_or(f64::NAN);
+    serde_json::json!({
+        "kind": spec.kind.name(),
+        "counterface": counterface_conduction(spec),
+        "top_conductivity": top,
+        "definition": "interface (constriction) conductance per nominal area h_c = mean(q)/dT for a uniform \
+                       jump dT on the contact set (p > 0) and no flux elsewhere, the k = 0 mode (the bulk \
+                       1-D resistance of both bodies) excluded (physics.md 6.2); infinite (null) at full contact",
+        "units": {"conductance": unit, "top_conductivity": spec.kind.conductivity_unit()},
     })
 }
 

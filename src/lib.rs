@@ -17,6 +17,7 @@ pub mod plot;
 pub mod progress;
 pub mod sampled_law;
 pub mod scene;
+pub mod spots;
 pub mod stdio;
 pub mod study;
 pub mod threads;

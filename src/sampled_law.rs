@@ -5,7 +5,10 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, bail};
-use strata_runtime::interface::{InterfaceLaw, MAX_SAMPLES, SampleOptions, sample_gaps};
+use strata_runtime::conduction::ConductionKind;
+use strata_runtime::interface::{
+    InterfaceLaw, MAX_SAMPLES, SampleOptions, abaqus_real, sample_gaps,
+};
 use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::Surface;
 
@@ -31,6 +34,9 @@ pub struct SampledLaw {
     pub surface: serde_json::Value,
     /// The surface's warnings (plausibility, a form that dominates the heights).
     pub warnings: Vec<String>,
+    /// With `[conductance]`: the interface conductance h_c (W/(m²·K) or S/m²) at each
+    /// sample, in the order of [`InterfaceLaw::samples`] (0 at first contact).
+    pub conductance: Option<(ConductionKind, Vec<f64>)>,
 }
 
 impl SampledLaw {
@@ -42,7 +48,44 @@ impl SampledLaw {
             format!("scene: {scene}"),
             format!("model: {}", self.model),
             format!("solid: {}", self.solid),
-        ])
+        ]) + &self.gap_conductance_block()
+    }
+
+    /// With `[conductance]`: the `*GAP CONDUCTANCE, PRESSURE` block (data lines
+    /// `conductance, pressure`, pressure strictly increasing from the first line
+    /// `0., 0.`) with its `**` comments; empty otherwise.
+    pub fn gap_conductance_block(&self) -> String {
+        let Some((kind, h)) = &self.conductance else {
+            return String::new();
+        };
+        let unit = match kind {
+            ConductionKind::Thermal => "W/(m^2 K)",
+            ConductionKind::Electrical => "S/m^2",
+        };
+        let mut s = format!(
+            "** strata law: {} gap conductance of the rough interface against contact pressure.\n\
+             ** conductance = h_c, the interface (constriction) conductance per nominal area ({unit}):\n\
+             **   a uniform jump dT on the contact spots, no flux elsewhere, h_c = mean flux / dT;\n\
+             **   the bulk 1-D resistance of both bodies is excluded (the FE mesh carries it).\n\
+             ** pressure = mean (nominal) contact pressure p = P/A0 (Pa), the same as in the table\n\
+             **   above; h_c was solved at the same samples. Between lines linear interpolation.\n\
+             ** Data lines: conductance, pressure. Abaqus: PRESSURE makes the second field the\n\
+             **   contact pressure (else a clearance). CalculiX 2.20 warns \"parameter not\n\
+             **   recognized: PRESSURE\" and reads the lines as its one form, conductance,\n\
+             **   contact pressure[, temperature] (CalculiX manual, *GAP CONDUCTANCE).\n\
+             *GAP CONDUCTANCE, PRESSURE\n",
+            kind.name()
+        );
+        let mut last = f64::NEG_INFINITY;
+        for ((_, p, _, _), &hc) in self.law.samples().zip(h) {
+            // strictly increasing pressures; an infinite h_c (full contact) ends the table
+            if p.is_nan() || p <= last || !hc.is_finite() {
+                continue;
+            }
+            last = p;
+            s.push_str(&format!("{}, {}\n", abaqus_real(hc), abaqus_real(p)));
+        }
+        s
     }
 }
 
@@ -141,6 +184,7 @@ fn solve_asperities(
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
     let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
+    let keep = scene.conductance.is_some().then(|| surface.clone());
     let law = law_for(scene, path, opts)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
     let g0 = rc.top_to_mean();
@@ -165,6 +209,20 @@ fn solve_asperities(
             "sampling the load curve"
         },
     )?;
+    let conductance = match (&scene.conductance, keep) {
+        (Some(spec), Some(surface)) => {
+            // the N model's conductance at the law's own separations
+            let mut at = scene.clone();
+            at.load = LoadSpec::Separations(il.samples().map(|s| s.0).collect());
+            let quiet = EngineOptions {
+                quiet: true,
+                ..opts.clone()
+            };
+            let sol = solve_surface(&at, path, surface, &quiet).context("[conductance]")?;
+            Some((spec.kind, conductance_steps(&sol.meta)))
+        }
+        _ => None,
+    };
     Ok(SampledLaw {
         law: il,
         model: describe(Some(model)),
@@ -173,7 +231,21 @@ fn solve_asperities(
         nominal_area: rc.area(),
         surface: surface_json,
         warnings,
+        conductance,
     })
+}
+
+/// The per-step conductances of a solution's meta (`conductance_steps`); an infinite
+/// one (full contact, `null`) as ∞.
+fn conductance_steps(meta: &serde_json::Value) -> Vec<f64> {
+    meta["conductance_steps"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 fn solid(scene: &Scene) -> String {
@@ -260,6 +332,13 @@ fn solve_bem(
                 .collect()
         })
         .unwrap_or_default();
+    let conductance = scene.conductance.as_ref().map(|spec| {
+        let mut h = conductance_steps(&sol.meta);
+        if let Some(first) = h.first_mut() {
+            *first = 0.0; // first contact: one grid point, no area
+        }
+        (spec.kind, h)
+    });
     Ok(SampledLaw {
         law: il,
         model: describe(None),
@@ -268,5 +347,6 @@ fn solve_bem(
         nominal_area: area,
         surface: sol.meta["surface"].clone(),
         warnings,
+        conductance,
     })
 }

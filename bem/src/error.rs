@@ -63,6 +63,15 @@ pub enum BemError {
     Memory(ResourceError),
     #[error("BEM: internal FFT error: {0}")]
     Fft(String),
+    /// The conduction set-up (physics.md §6.2) is invalid.
+    #[error("conduction: {0}")]
+    Conduction(String),
+    /// The interface conductance of a non-periodic sample.
+    #[error(
+        "conduction: the interface conductance is solved on periodic cells only in this version \
+         (the free-boundary conduction kernel is not built); use a periodic surface"
+    )]
+    ConductionNonPeriodic,
     #[error("cannot read {path}: {message}")]
     Read { path: String, message: String },
     #[error("cannot write {path}: {message}")]

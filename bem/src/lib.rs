@@ -87,6 +87,12 @@
 //! [`BemSolution::write_maps`], and as contact.engineering's NetCDF `results.nc` with
 //! [`BemSolution::write_netcdf`]).
 //!
+//! # Conduction ([`conduction`])
+//! The interface conductance of a solved contact set (physics.md §6.2): with a unit
+//! temperature (potential) jump on the set, (C_A + C_B) q = 1 there, q = 0 elsewhere,
+//! C_X = S_th,X/(k₁,X|k|), the k = 0 mode excluded; h_c = mean(q)
+//! ([`ConductanceSolver`], periodic cells).
+//!
 //! Memory is estimated before the grids are allocated and checked against
 //! [`strata_runtime::resources`] ([`BemSolver::memory_needed`]).
 
@@ -95,6 +101,7 @@
 #![allow(clippy::needless_range_loop)]
 
 mod cg;
+pub mod conduction;
 mod error;
 pub mod influence;
 mod iteration;
@@ -111,6 +118,7 @@ mod state;
 mod tests;
 mod update;
 
+pub use conduction::{Conductance, ConductanceOptions, ConductanceSolver, Conductor};
 pub use error::BemError;
 pub use maps::{BemSolution, count_patches, read_heights_npy, resample_rect, resample_spectral};
 pub use ndarray::Array2;

@@ -246,7 +246,8 @@ impl PyScene {
     /// Solves the load curve with the scene's model, by the engine of `strata solve`:
     /// returns a dict of numpy arrays with the columns of curve.csv (delta, gap,
     /// mean_pressure, pressure_ratio, area_fraction, contacts, stiffness) plus load,
-    /// kkt_residual (NaN where none), valid, and `meta` (curve.json's summary).
+    /// kkt_residual (NaN where none), valid, and `meta` (curve.json's summary); a scene
+    /// with `[conductance]` adds `conductance` (h_c per step, W/(m²·K) or S/m²).
     /// maps ("none", "last", "all"; BEM only) adds the pressure (Pa) and gap (m) maps.
     /// Releases the GIL; progress=True prints progress and log lines on stderr.
     #[pyo3(signature = (progress=false, cache_dir=None, maps="none", table=None))]
@@ -296,6 +297,14 @@ impl PyScene {
             })
         })?;
         let out = curve_dict(py, &sol.steps)?;
+        // [conductance]: h_c per step (W/(m²·K) or S/m²; inf at full contact)
+        if let Some(cs) = sol.meta["conductance_steps"].as_array() {
+            let h: Vec<f64> = cs
+                .iter()
+                .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
+                .collect();
+            out.set_item("conductance", h.into_pyarray(py))?;
+        }
         out.set_item("meta", crate::conv::json_to_py(py, &sol.meta)?)?;
         let list = PyList::empty(py);
         for (k, m) in kept {

@@ -237,3 +237,46 @@ def test_counterface_pair_equals_composite_half_space():
     with pytest.raises(strata.SceneError, match="counterface_surface"):
         small = strata.Surface.generate(size=1e-3, grid=32, fractal_dimension=2.4, k_min=2, k_max=8, rms=1e-6, seed=6)
         strata.Scene(steel, z, model="bem", load=load, counterface=alu, counterface_surface=small)
+
+
+def test_conductance_from_scene_toml(tmp_path):
+    """A scene with [conductance] adds h_c per step (W/(m²·K)), growing with the load;
+    Barber's analogy makes two homogeneous bodies' h_c proportional to k_s."""
+    text = """
+[stack]
+[[stack.layer]]
+thickness = 1e-4
+young = 2e11
+poisson = 0.3
+thermal_conductivity = 30
+[stack.base]
+kind = "elastic"
+young = 2e11
+poisson = 0.3
+thermal_conductivity = 30
+[surface]
+[surface.generate]
+size = 1e-3
+grid = 32
+fractal_dimension = 2.4
+k_min = 2
+k_max = 8
+rms = 1e-6
+seed = 3
+[model]
+kind = "bem"
+[load]
+approach = { from = 5e-7, to = 1.5e-6, steps = 3 }
+[conductance]
+kind = "thermal"
+[counterface]
+"""
+    perfect = strata.Scene.from_toml(text + 'conduction = "perfect"\n', tmp_path).solve()
+    h = perfect.conductance
+    assert h.shape == (3,) and (h > 0).all() and (np.diff(h) > 0).all()
+    assert perfect.meta["conductance"]["kind"] == "thermal"
+    flat = strata.Scene.from_toml(text + "thermal_conductivity = 30\n", tmp_path).solve()
+    # k_s = 15 against 30: half the conductance on the same contact sets
+    np.testing.assert_allclose(flat.conductance, h / 2, rtol=1e-8)
+    plain = strata.Scene.from_toml(text.replace('[conductance]\nkind = "thermal"\n', ""), tmp_path).solve()
+    assert plain.conductance is None

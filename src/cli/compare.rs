@@ -28,7 +28,11 @@
 //!   `strata solve` curve.csv of each model);
 //! - plots `pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `area_pressure.svg`
 //!   (A/A₀ against p_n/E*₁), the three models (skipped with `--no-plots`);
-//! - BEM maps under `maps/` when the scene asks for them (`[output] maps`).
+//! - BEM maps under `maps/` when the scene asks for them (`[output] maps`);
+//! - with `[conductance]` in the scene: `conductance.csv`
+//!   (`step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n`, the N
+//!   model's h_c at each BEM step's separation) and a conductance section in
+//!   `compare.md` (the I model's thermal interactions are not solved yet).
 //!
 //! With several scenes, DIR also gets `compare.md` (every scene's summary), and plots
 //! of all scenes together: `pressure_gap.svg`, `area_pressure.svg` (N, I, BEM: the
@@ -88,6 +92,8 @@ const MODELS: [(&str, &str); 3] = [
 pub struct ModelRun {
     pub steps: Vec<Step>,
     pub seconds: f64,
+    /// With `[conductance]`: h_c per step (N model and BEM; `None` otherwise).
+    pub conductance: Option<Vec<f64>>,
 }
 
 /// One row of compare.csv (see the module docs); NaN = outside the model's range.
@@ -293,6 +299,98 @@ fn stats_cells(s: Option<(f64, f64, usize)>) -> String {
         Some((max, med, n)) => format!("{:.2} % | {:.2} % | {n}", 100.0 * max, 100.0 * med),
         None => "— | — | 0".into(),
     }
+}
+
+/// One row of conductance.csv: (separation g_k, p_BEM, h_BEM, h_N at g_k, h_N/h_BEM − 1).
+pub type ConductanceRow = (f64, f64, f64, f64, f64);
+
+/// With `[conductance]`: the N model's h_c at each BEM step's separation (its own step
+/// of equal separation, else ln h linear in g between its steps, as the pressure) against
+/// the BEM's. `scale` = z_M − z̄ (m).
+pub fn conductance_rows(
+    n: &[Step],
+    h_n: &[f64],
+    bem: &[Step],
+    h_bem: &[f64],
+    scale: f64,
+) -> Vec<ConductanceRow> {
+    // the N model's conductances in the place of its pressures
+    let as_p: Vec<Step> = n
+        .iter()
+        .zip(h_n)
+        .map(|(s, &h)| {
+            let mut st = Step::default();
+            st.gap = s.gap;
+            st.mean_pressure = h;
+            st
+        })
+        .collect();
+    bem.iter()
+        .zip(h_bem)
+        .map(|(b, &hb)| {
+            let (hn, _) = pressure_at_separation(&as_p, b.gap, scale);
+            let rel = if hb > 0.0 && hb.is_finite() {
+                hn / hb - 1.0
+            } else {
+                f64::NAN
+            };
+            (b.gap, b.mean_pressure, hb, hn, rel)
+        })
+        .collect()
+}
+
+/// conductance.csv: `step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n`
+/// (m, Pa, W/(m²·K) or S/m², signed).
+pub fn conductance_csv(rows: &[ConductanceRow]) -> Result<String> {
+    Ok(csv_out::text(
+        &[
+            "step",
+            "separation",
+            "p_bem",
+            "conductance_bem",
+            "conductance_n",
+            "rel_conductance_n",
+        ],
+        rows.iter().enumerate().map(|(k, r)| {
+            vec![
+                k.to_string(),
+                num(r.0),
+                num(r.1),
+                num(r.2),
+                num(r.3),
+                num(r.4),
+            ]
+        }),
+    )?)
+}
+
+/// The conductance section of compare.md.
+fn conductance_report(rows: &[ConductanceRow]) -> String {
+    let mut s = format!(
+        "\n## Interface conductance (physics.md §6.2)\n\n\
+         N model (the spots in parallel, no thermal interactions) against the BEM at equal \
+         separation; the I model's thermal interactions are not solved in this version. \
+         {}\n\n\
+         | step | g_n (µm) | h_BEM | h_N | h_N/h_BEM − 1 |\n|---:|---:|---:|---:|---:|\n",
+        match abs_stats(rows.iter().map(|r| r.4)) {
+            Some((max, med, n)) => format!(
+                "max \\|h_N/h_BEM − 1\\| = {:.2} %, median {:.2} % over {n} steps.",
+                100.0 * max,
+                100.0 * med
+            ),
+            None => "No step to compare.".into(),
+        }
+    );
+    for (k, r) in rows.iter().enumerate() {
+        s.push_str(&format!(
+            "| {k} | {:.3} | {:.4e} | {:.4e} | {} |\n",
+            r.0 * 1e6,
+            r.2,
+            r.3,
+            pct(r.4)
+        ));
+    }
+    s
 }
 
 /// One compared scene, for the reports and combined plots.
@@ -553,9 +651,15 @@ fn compare_scene(
             scale = sol.meta["z_max_minus_mean"].as_f64().unwrap_or(f64::NAN);
             e_star = sol.meta["e_star_1"].as_f64().unwrap_or(f64::NAN);
         }
+        let conductance = sol.meta["conductance_steps"].as_array().map(|a| {
+            a.iter()
+                .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
+                .collect()
+        });
         runs.push(ModelRun {
             steps: sol.steps,
             seconds: sol.seconds,
+            conductance,
         });
     }
     let rows = compare_rows(&runs[0].steps, &runs[1].steps, &runs[2].steps, scale);
@@ -582,7 +686,16 @@ fn compare_scene(
         &format!("{dir}compare.csv"),
         compare_csv(&c.rows)?.as_bytes(),
     )?;
-    set.write(&format!("{dir}compare.md"), report(&c, heading).as_bytes())?;
+    let mut md = report(&c, heading);
+    if let (Some(n), Some(b)) = (&c.runs[0].conductance, &c.runs[2].conductance) {
+        let rows = conductance_rows(&c.runs[0].steps, n, &c.runs[2].steps, b, scale);
+        set.write(
+            &format!("{dir}conductance.csv"),
+            conductance_csv(&rows)?.as_bytes(),
+        )?;
+        md.push_str(&conductance_report(&rows));
+    }
+    set.write(&format!("{dir}compare.md"), md.as_bytes())?;
     if !a.no_plots
         && c.runs
             .iter()

@@ -17,6 +17,10 @@
 //!   separations where the model is outside its validity;
 //! - `all`: FILE's stem with `.csv`, `.json` and `.inp`.
 //!
+//! With `[conductance]` in the scene (BEM or N model) the JSON gains each sample's
+//! interface conductance h_c (physics.md §6.2) and the `.inp` a `*GAP CONDUCTANCE,
+//! PRESSURE` block after the table ([`SampledLaw::gap_conductance_block`]).
+//!
 //! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
 //! (default: the smallest separation the scene's `[load]` reaches; for
 //! `mean_pressures`, the separation of the largest one). The law between samples is the
@@ -33,6 +37,7 @@ use std::time::Instant;
 
 use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
+use strata_runtime::conduction::ConductionKind;
 
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
@@ -142,6 +147,18 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
                   "area_fraction": "1", "dp_dg": "Pa/m", "nominal_area": "m^2", "e_star_1": "Pa"},
         "law": law,
     });
+    let mut v = v;
+    if let Some((kind, h)) = &s.conductance {
+        // [conductance]: h_c per sample (null where infinite: full contact)
+        for (entry, &hc) in v["law"].as_array_mut().into_iter().flatten().zip(h) {
+            entry["conductance"] = serde_json::json!(hc);
+        }
+        v["units"]["conductance"] = serde_json::json!(match kind {
+            ConductionKind::Thermal => "W/(m^2 K)",
+            ConductionKind::Electrical => "S/m^2",
+        });
+        v["conductance_kind"] = serde_json::json!(kind.name());
+    }
     Ok(serde_json::to_string_pretty(&v)?)
 }
 

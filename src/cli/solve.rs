@@ -5,7 +5,10 @@
 //! - `DIR/curve.csv`, header exactly
 //!   `delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid`
 //!   (SI: δ and g_n in m, p_n in Pa, p_n/E*₁ and A/A₀ dimensionless, stiffness dP/dδ
-//!   of the whole sample in N/m; valid 1/0: inside the model's validity);
+//!   of the whole sample in N/m; valid 1/0: inside the model's validity), followed by
+//!   `plastic_area_fraction` for a scene with `[plasticity]` and `conductance` (h_c,
+//!   W/(m²·K) or S/m², empty where infinite: full contact) for a scene with
+//!   `[conductance]`, in that order;
 //! - `DIR/curve.json`: the same per step plus the KKT residual, the validity and its
 //!   reasons, the scene summary and which effects were simulated;
 //! - `DIR/pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `DIR/area_pressure.svg`
@@ -89,15 +92,16 @@ pub fn curve_csv(steps: &[Step]) -> Result<String> {
     )?)
 }
 
-/// curve.csv with the `plastic_area_fraction` column after `valid` (scenes with
-/// `[plasticity]`).
-pub fn curve_csv_plastic(steps: &[Step], plastic: &[f64]) -> Result<String> {
+/// curve.csv with extra columns after `valid`, in the order given (scenes with
+/// `[plasticity]`: `plastic_area_fraction`; with `[conductance]`: `conductance`; both
+/// in that order). Each column holds one value per step.
+pub fn curve_csv_extra(steps: &[Step], extra: &[(&str, Vec<f64>)]) -> Result<String> {
     let mut header: Vec<&str> = CURVE_HEADER.to_vec();
-    header.push("plastic_area_fraction");
+    header.extend(extra.iter().map(|(name, _)| *name));
     Ok(csv_out::text(
         &header,
-        steps.iter().zip(plastic).map(|(st, pl)| {
-            vec![
+        steps.iter().enumerate().map(|(i, st)| {
+            let mut row = vec![
                 csv_out::num(st.delta),
                 csv_out::num(st.gap),
                 csv_out::num(st.mean_pressure),
@@ -106,8 +110,13 @@ pub fn curve_csv_plastic(steps: &[Step], plastic: &[f64]) -> Result<String> {
                 st.contacts.to_string(),
                 csv_out::num(st.stiffness),
                 u8::from(st.validity.is_valid()).to_string(),
-                csv_out::num(*pl),
-            ]
+            ];
+            row.extend(
+                extra
+                    .iter()
+                    .map(|(_, v)| csv_out::num(v.get(i).copied().unwrap_or(f64::NAN))),
+            );
+            row
         }),
     )?)
 }
@@ -353,28 +362,42 @@ pub fn write_outputs(
 ) -> Result<()> {
     meta["steps"] = steps_json(steps);
     // With [plasticity]: each step's plastic quantities in curve.json and the
-    // plastic_area_fraction column in curve.csv (only then: a scene's outputs carry only
-    // the effects it asked for).
-    let plastic = meta
-        .as_object_mut()
-        .and_then(|m| m.remove("plastic_steps"))
-        .and_then(|v| v.as_array().cloned());
-    let csv = match &plastic {
-        None => curve_csv(steps)?,
-        Some(ps) => {
-            if let Some(arr) = meta["steps"].as_array_mut() {
-                for (s, p) in arr.iter_mut().zip(ps) {
-                    if let (Some(s), Some(p)) = (s.as_object_mut(), p.as_object()) {
-                        s.extend(p.clone());
-                    }
+    // plastic_area_fraction column in curve.csv; with [conductance]: each step's
+    // conductance and the conductance column after it (only then: a scene's outputs
+    // carry only the effects it asked for).
+    let mut extra: Vec<(&str, Vec<f64>)> = Vec::new();
+    for (key, column) in [
+        ("plastic_steps", "plastic_area_fraction"),
+        ("conductance_steps", "conductance"),
+    ] {
+        let Some(per_step) = meta
+            .as_object_mut()
+            .and_then(|m| m.remove(key))
+            .and_then(|v| v.as_array().cloned())
+        else {
+            continue;
+        };
+        if let Some(arr) = meta["steps"].as_array_mut() {
+            for (s, p) in arr.iter_mut().zip(&per_step) {
+                if let (Some(s), Some(p)) = (s.as_object_mut(), p.as_object()) {
+                    s.extend(p.clone());
                 }
             }
-            let fractions: Vec<f64> = ps
-                .iter()
-                .map(|p| p["plastic_area_fraction"].as_f64().unwrap_or(f64::NAN))
-                .collect();
-            curve_csv_plastic(steps, &fractions)?
         }
+        let values: Vec<f64> = per_step
+            .iter()
+            .map(|p| match &p[column] {
+                // an infinite conductance (full contact) is null in JSON
+                serde_json::Value::Null if column == "conductance" => f64::INFINITY,
+                v => v.as_f64().unwrap_or(f64::NAN),
+            })
+            .collect();
+        extra.push((column, values));
+    }
+    let csv = if extra.is_empty() {
+        curve_csv(steps)?
+    } else {
+        curve_csv_extra(steps, &extra)?
     };
     set.write("curve.csv", csv.as_bytes())?;
     set.write(

@@ -5,9 +5,8 @@ use strata_runtime::stack::StackError;
 use strata_runtime::surface::SurfaceError;
 use thiserror::Error;
 
-/// Errors of scene reading and validation. Each names the field;
-/// [`Scene::from_file`](crate::scene::Scene::from_file) adds the scene file
-/// ([`SceneError::InFile`]).
+/// Errors of scene reading and validation. Each names the field; [`Scene::from_file`](super::Scene::from_file)
+/// adds the scene file ([`SceneError::InFile`]).
 #[derive(Debug, Error)]
 pub enum SceneError {
     #[error("cannot read scene {path}: {message}")]

@@ -40,6 +40,14 @@
 //! max_pressure_iterations = 200 # N and I models: solves per mean pressure
 //! bem_max_iterations = 20000   # BEM: iterations per solve
 //! bem_tolerance = 1e-10        # BEM: convergence tolerance
+//! [conductance]                # optional (model.kind = "bem" on a periodic surface, or
+//!                              # "independent": Σ of the spots' conductances): the
+//! kind = "thermal"             # interface conductance h_c of every step (physics.md §6.2),
+//!                              # "thermal" (W/(m²·K)) or "electrical" (S/m²); both bodies
+//!                              # must conduct: the stack's conductivities, and the
+//!                              # counterface's: [counterface] thermal_conductivity = 50
+//!                              # (a rigid flat as a conducting half-space), conduction =
+//!                              # "perfect", or an elastic counterface's own stack
 //! ```
 //!
 //! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
@@ -49,8 +57,9 @@ use std::path::{Path, PathBuf};
 use toml::{Table, Value};
 
 use strata_bem::BemOptions;
+use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
 use strata_runtime::rough::{Images, Params};
-use strata_runtime::stack::Stack;
+use strata_runtime::stack::{Conductivity, Stack};
 use strata_runtime::surface::{
     Detrend, FileKind, GenerateParams, ReadOptions, Repair, Spacing, Surface,
 };
@@ -269,6 +278,66 @@ pub struct Scene {
     /// `[load] unload = true`: after the loading steps, the same steps back in reverse
     /// (a return path; with plasticity it follows the flattened surface).
     pub unload: bool,
+    /// The optional `[conductance]` table: the interface conductance per nominal area
+    /// of every step (physics.md §6.2). Absent: nothing of conduction is computed.
+    pub conductance: Option<ConductanceSpec>,
+}
+
+/// `[conductance]`: the interface conductance h_c per nominal area (physics.md §6.2),
+/// with the conduction of both bodies read and checked when the scene is read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConductanceSpec {
+    /// `kind = "thermal"` (h_c in W/(m²·K)) or `"electrical"` (S/m²).
+    pub kind: ConductionKind,
+    /// How the counterface conducts.
+    pub counterface: CounterfaceConduction,
+}
+
+/// The counterface's conduction (`[counterface]` keys `conduction`,
+/// `thermal_conductivity`, `electrical_conductivity`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CounterfaceConduction {
+    /// `conduction = "perfect"`: a perfect conductor (C_th,B = 0).
+    Perfect,
+    /// The rigid flat as a conducting half-space of this conductivity (W/(m·K) or S/m):
+    /// C_th,B = 1/(k_B |k|).
+    HalfSpace(f64),
+    /// The elastic counterface stack's own conductivities ([`Stack::counterface`]).
+    Stack,
+}
+
+impl ConductanceSpec {
+    /// The conduction compliance of the first body of `stack` (its counterface not
+    /// included) for this kind.
+    pub fn body(&self, stack: &Stack) -> Result<ConductionCompliance, SceneError> {
+        ConductionCompliance::new(&stack.body(), self.kind).map_err(|e| SceneError::Invalid {
+            field: "stack".into(),
+            reason: format!(
+                "{e}; [conductance] kind = \"{}\" needs it",
+                self.kind.name()
+            ),
+        })
+    }
+
+    /// The conduction compliance of the elastic counterface of `stack`
+    /// ([`CounterfaceConduction::Stack`]; `None` otherwise).
+    pub fn counterface_stack(
+        &self,
+        stack: &Stack,
+    ) -> Result<Option<ConductionCompliance>, SceneError> {
+        match (self.counterface, stack.counterface()) {
+            (CounterfaceConduction::Stack, Some(c)) => ConductionCompliance::new(c, self.kind)
+                .map(Some)
+                .map_err(|e| SceneError::Invalid {
+                    field: "counterface".into(),
+                    reason: format!(
+                        "{e}; [conductance] kind = \"{}\" needs it (or counterface.conduction = \"perfect\")",
+                        self.kind.name()
+                    ),
+                }),
+            _ => Ok(None),
+        }
+    }
 }
 
 /// `[plasticity]`: elastic–perfectly plastic asperity tips, the contact pressure capped
@@ -370,8 +439,9 @@ impl Scene {
                 "solver",
                 "counterface",
                 "plasticity",
+                "conductance",
             ],
-            "stack, surface, model, load, output, solver, counterface, plasticity",
+            "stack, surface, model, load, output, solver, counterface, plasticity, conductance",
         )?;
         // [stack]
         let st = table(&top, "stack", "stack")?;
@@ -689,7 +759,9 @@ impl Scene {
                     .into(),
             });
         }
+        let conductance = parse_conductance(&top, &counter, &stack, kind, &surface)?;
         Ok(Scene {
+            conductance,
             plasticity,
             unload,
             stack,
@@ -735,6 +807,10 @@ struct CounterfaceSpec {
     file: Option<PathBuf>,
     table: Option<PathBuf>,
     surface: Option<SurfaceSpec>,
+    /// `conduction = "perfect"` or `"half-space"` (`None`: not given).
+    conduction: Option<String>,
+    /// A rigid flat's conductivities (`thermal_conductivity`, `electrical_conductivity`).
+    conductivity: Conductivity,
 }
 
 /// `[counterface]`: `kind = "rigid"` (the default when absent) or an elastic stack
@@ -749,8 +825,20 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
     check_keys(
         ct,
         "counterface.",
-        &["kind", "file", "table", "name", "layer", "base", "surface"],
-        "kind, file, table, name, layer, base, surface",
+        &[
+            "kind",
+            "file",
+            "table",
+            "name",
+            "layer",
+            "base",
+            "surface",
+            "conduction",
+            "thermal_conductivity",
+            "electrical_conductivity",
+        ],
+        "kind, file, table, name, layer, base, surface, conduction, thermal_conductivity, \
+         electrical_conductivity",
     )?;
     let has_stack = ["file", "name", "layer", "base"]
         .iter()
@@ -766,7 +854,51 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
             });
         }
     };
-    let mut spec = CounterfaceSpec::default();
+    let mut spec = CounterfaceSpec {
+        conduction: match string(ct, "conduction", "counterface.conduction")? {
+            None => None,
+            Some(c @ ("perfect" | "half-space")) => Some(c.to_string()),
+            Some(other) => {
+                return Err(SceneError::Invalid {
+                    field: "counterface.conduction".into(),
+                    reason: format!("`{other}` is not one of \"perfect\", \"half-space\""),
+                });
+            }
+        },
+        ..Default::default()
+    };
+    for (key, slot) in [
+        ("thermal_conductivity", &mut spec.conductivity.thermal),
+        ("electrical_conductivity", &mut spec.conductivity.electrical),
+    ] {
+        if ct.contains_key(key) {
+            let field = format!("counterface.{key}");
+            if !rigid {
+                return Err(SceneError::Invalid {
+                    field,
+                    reason: "an elastic counterface gives its conductivities per \
+                             [[counterface.layer]] and [counterface.base], as a stack does"
+                        .into(),
+                });
+            }
+            let k = positive(ct, key, &field)?;
+            if !(1e-30..=1e30).contains(&k) {
+                return Err(SceneError::Invalid {
+                    field,
+                    reason: format!("{k} must lie in [1e-30, 1e30]"),
+                });
+            }
+            *slot = Some(k);
+        }
+    }
+    if !rigid && spec.conduction.as_deref() == Some("half-space") {
+        return Err(SceneError::Invalid {
+            field: "counterface.conduction".into(),
+            reason: "\"half-space\" describes a rigid flat (counterface.kind = \"rigid\"); an \
+                     elastic counterface conducts through its own stack, or give \"perfect\""
+                .into(),
+        });
+    }
     if rigid {
         for k in ["file", "name", "layer", "base", "table"] {
             if ct.contains_key(k) {
@@ -804,7 +936,7 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
                     ));
                 }
                 let mut inline = ct.clone();
-                for k in ["kind", "table", "surface"] {
+                for k in ["kind", "table", "surface", "conduction"] {
                     inline.remove(k);
                 }
                 Stack::from_toml_table(&inline).map_err(|e| SceneError::Invalid {
@@ -832,6 +964,97 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
         spec.surface = Some(parse_surface(&fake, dir).map_err(in_counterface)?);
     }
     Ok(spec)
+}
+
+/// `[conductance]` (absent: `None`): `kind = "thermal"` or `"electrical"`. The scene's
+/// bodies must conduct: every layer (and a half-space base) of the first body, and the
+/// counterface (a rigid flat's `thermal_conductivity`/`electrical_conductivity` or
+/// `conduction = "perfect"`; an elastic one's stack, or `"perfect"`); each missing
+/// property is named. Solved by the periodic BEM and the N model in this version.
+fn parse_conductance(
+    top: &Table,
+    counter: &CounterfaceSpec,
+    stack: &Stack,
+    model: ModelKind,
+    surface: &SurfaceSpec,
+) -> Result<Option<ConductanceSpec>, SceneError> {
+    if !top.contains_key("conductance") {
+        return Ok(None);
+    }
+    let ct = table(top, "conductance", "conductance")?;
+    check_keys(ct, "conductance.", &["kind"], "kind")?;
+    let kind = match string(ct, "kind", "conductance.kind")? {
+        Some("thermal") => ConductionKind::Thermal,
+        Some("electrical") => ConductionKind::Electrical,
+        Some(other) => {
+            return Err(SceneError::Invalid {
+                field: "conductance.kind".into(),
+                reason: format!("`{other}` is not one of \"thermal\", \"electrical\""),
+            });
+        }
+        None => {
+            return Err(SceneError::Missing(
+                "conductance.kind (\"thermal\" or \"electrical\")".into(),
+            ));
+        }
+    };
+    if model == ModelKind::Interacting {
+        return Err(SceneError::Invalid {
+            field: "conductance".into(),
+            reason: "the I model's thermal interactions between the spots are not solved in this \
+                     version: use model.kind = \"bem\" (the full field) or \"independent\" (the \
+                     N model: the spots in parallel, no interactions)"
+                .into(),
+        });
+    }
+    if model == ModelKind::Bem && !surface.read.periodic {
+        return Err(SceneError::Invalid {
+            field: "conductance".into(),
+            reason: "the BEM's conduction solve is periodic only in this version (the \
+                     free-boundary conduction kernel is not built): use a periodic surface \
+                     (surface.periodic = true, or a generated one), or model.kind = \"independent\""
+                .into(),
+        });
+    }
+    let pick = |c: &Conductivity| match kind {
+        ConductionKind::Thermal => c.thermal,
+        ConductionKind::Electrical => c.electrical,
+    };
+    let perfect = counter.conduction.as_deref() == Some("perfect");
+    let counterface = if stack.counterface().is_some() {
+        if perfect {
+            CounterfaceConduction::Perfect
+        } else {
+            CounterfaceConduction::Stack
+        }
+    } else {
+        match (perfect, pick(&counter.conductivity)) {
+            (true, Some(_)) => {
+                return Err(SceneError::Invalid {
+                    field: format!("counterface.{}", kind.field()),
+                    reason: "a perfect conductor (counterface.conduction = \"perfect\") has no \
+                             conductivity: give one or the other"
+                        .into(),
+                });
+            }
+            (true, None) => CounterfaceConduction::Perfect,
+            (false, Some(k)) => CounterfaceConduction::HalfSpace(k),
+            (false, None) => {
+                return Err(SceneError::Missing(format!(
+                    "counterface.{} ({}; the rigid flat as a conducting half-space) or \
+                     counterface.conduction = \"perfect\": [conductance] kind = \"{}\" needs the \
+                     counterface's conduction",
+                    kind.field(),
+                    kind.conductivity_unit(),
+                    kind.name()
+                )));
+            }
+        }
+    };
+    let spec = ConductanceSpec { kind, counterface };
+    spec.body(stack)?;
+    spec.counterface_stack(stack)?;
+    Ok(Some(spec))
 }
 
 /// A `[surface]` error re-labelled as one of `[counterface.surface]`.
@@ -1239,5 +1462,131 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         assert!(err(&format!("solver = 1\n{GOOD}")).contains("`solver` must be a table"));
         let asperity = format!("{GOOD}\n[output]\nmaps = \"all\"\n");
         assert!(err(&asperity).contains("output.maps") && err(&asperity).contains("bem"));
+    }
+
+    /// `[conductance]`: the kinds, the counterface's conduction, and every missing
+    /// property named (layer/base and field).
+    #[test]
+    fn conductance_table() {
+        let bem = GOOD.replace("\"interacting\"", "\"bem\"");
+        assert_eq!(parse(&bem).unwrap().conductance, None);
+        let conducting = bem.replace(
+            "poisson = 0.15\n",
+            "poisson = 0.15\nthermal_conductivity = 0.3\n",
+        );
+        let conducting = conducting.replace(
+            "kind = \"rigid\"\n",
+            "kind = \"rigid\"\nconduction = \"isothermal\"\n",
+        );
+        let with = |scene: &str, extra: &str| format!("{scene}\n{extra}\n");
+        let c = "[conductance]\nkind = \"thermal\"";
+        // a rigid flat: a conducting half-space or a perfect conductor, never implied
+        let s = parse(&with(
+            &conducting,
+            &format!("{c}\n[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50"),
+        ))
+        .unwrap();
+        let spec = s.conductance.unwrap();
+        assert_eq!(spec.kind, ConductionKind::Thermal);
+        assert_eq!(spec.counterface, CounterfaceConduction::HalfSpace(50.0));
+        assert_eq!(spec.body(&s.stack).unwrap().top_conductivity(), 0.3);
+        let s = parse(&with(
+            &conducting,
+            &format!("{c}\n[counterface]\nconduction = \"perfect\""),
+        ))
+        .unwrap();
+        assert_eq!(
+            s.conductance.unwrap().counterface,
+            CounterfaceConduction::Perfect
+        );
+        let e = err(&with(&conducting, c));
+        assert!(
+            e.contains("counterface.thermal_conductivity") && e.contains("\"perfect\""),
+            "{e}"
+        );
+        // missing on the first body: the layer and the property
+        let e = err(&with(
+            &bem,
+            &format!("{c}\n[counterface]\nconduction = \"perfect\""),
+        ));
+        assert!(
+            e.contains("`stack`") && e.contains("layer 1: missing `thermal_conductivity`"),
+            "{e}"
+        );
+        let e = err(&with(
+            &conducting,
+            "[conductance]\nkind = \"electrical\"\n[counterface]\nconduction = \"perfect\"",
+        ));
+        assert!(
+            e.contains("layer 1: missing `electrical_conductivity`"),
+            "{e}"
+        );
+        // an elastic counterface conducts through its own stack
+        let elastic = "[counterface]\n[[counterface.layer]]\nthickness = 1e-4\nyoung = 2e11\n\
+                       poisson = 0.3\nthermal_conductivity = 40\n[counterface.base]\nkind = \"rigid\"\n\
+                       conduction = \"isothermal\"";
+        let s = parse(&with(&conducting, &format!("{c}\n{elastic}"))).unwrap();
+        let spec = s.conductance.unwrap();
+        assert_eq!(spec.counterface, CounterfaceConduction::Stack);
+        let cf = spec.counterface_stack(&s.stack).unwrap().unwrap();
+        assert_eq!(cf.top_conductivity(), 40.0);
+        let e = err(&with(
+            &conducting,
+            &format!(
+                "{c}\n{}",
+                elastic.replace("thermal_conductivity = 40\n", "")
+            ),
+        ));
+        assert!(
+            e.contains("`counterface`") && e.contains("layer 1: missing `thermal_conductivity`"),
+            "{e}"
+        );
+        let perfect = elastic.replace("thermal_conductivity = 40\n", "").replace(
+            "[counterface]\n",
+            "[counterface]\nconduction = \"perfect\"\n",
+        );
+        let s = parse(&with(&conducting, &format!("{c}\n{perfect}"))).unwrap();
+        assert_eq!(
+            s.conductance.unwrap().counterface,
+            CounterfaceConduction::Perfect
+        );
+        // fields named
+        let e = err(&with(&conducting, "[conductance]\nkind = \"magnetic\""));
+        assert!(e.contains("conductance.kind"), "{e}");
+        let e = err(&with(&conducting, "[conductance]\n"));
+        assert!(e.contains("conductance.kind"), "{e}");
+        let e = err(&with(
+            &conducting,
+            "[conductance]\nkind = \"thermal\"\ncolour = 1",
+        ));
+        assert!(e.contains("conductance.colour"), "{e}");
+        let e = err(&with(
+            &conducting,
+            &format!("{c}\n[counterface]\nconduction = \"perfect\"\nthermal_conductivity = 3"),
+        ));
+        assert!(e.contains("counterface.thermal_conductivity"), "{e}");
+        let e = err(&with(
+            &conducting,
+            &format!("{c}\n[counterface]\nthermal_conductivity = -3"),
+        ));
+        assert!(e.contains("counterface.thermal_conductivity"), "{e}");
+        let e = err(&with(
+            &conducting,
+            &format!("{c}\n[counterface]\nconduction = \"cold\""),
+        ));
+        assert!(e.contains("counterface.conduction"), "{e}");
+        // the N model sums the spots; the I model: not yet
+        assert!(
+            parse(&with(
+                &conducting.replace("\"bem\"", "\"independent\""),
+                &format!("{c}\n[counterface]\nconduction = \"perfect\""),
+            ))
+            .is_ok()
+        );
+        let e = err(&with(
+            &conducting.replace("\"bem\"", "\"interacting\""),
+            &format!("{c}\n[counterface]\nconduction = \"perfect\""),
+        ));
+        assert!(e.contains("`conductance`") && e.contains("bem"), "{e}");
     }
 }

@@ -15,6 +15,7 @@ mod compliance_cli;
 mod compliance_hard_cases;
 mod compliance_second_method;
 mod conductance;
+mod conductance_bem;
 mod counterface;
 mod docs;
 mod errors;

@@ -25,7 +25,8 @@ class Curve:
     contact, or contact patches for the BEM), ``stiffness`` dP/d(delta) of the
     sample (N/m) and ``valid`` (inside the asperity model's validity; 1/0 in the
     file). Then ``load`` P (N), ``kkt_residual`` (I model; NaN otherwise), ``meta`` (curve.json's summary)
-    and ``maps`` (BEM pressure/gap maps when asked).
+    and ``maps`` (BEM pressure/gap maps when asked); ``conductance``: the interface conductance
+    h_c per step (W/(m²·K) or S/m²) of a scene with ``[conductance]``, else None.
     """
 
     delta: np.ndarray
@@ -40,6 +41,7 @@ class Curve:
     valid: np.ndarray
     meta: Dict[str, Any] = field(default_factory=dict)
     maps: List[Dict[str, Any]] = field(default_factory=list)
+    conductance: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         return len(self.delta)

@@ -1,0 +1,776 @@
+//! Interface conductance of a solved contact set (physics.md §6.2): heat (or current)
+//! through the contact spots of a periodic cell.
+//!
+//! # Equations
+//! Each body X (A: the rough body, B: the counterface) answers a surface flux q into it
+//! (W/m², or A/m²) with the surface temperature (potential) T̂_X(k) = C_X(|k|) q̂(k),
+//!
+//! ```text
+//!   C_X(|k|) = S_th,X(|k|) / (k₁,X |k|)   (m²·K/W, or m²·Ω),
+//! ```
+//!
+//! S_th,X from [`ConductionCompliance::s`] (≡ 1 on a homogeneous conductor), k₁,X its
+//! top conductivity; a perfect conductor has C ≡ 0 and a rigid conducting half-space of
+//! conductivity k has C = 1/(k|k|). Temperatures are continuous across the contact set
+//! I, and no flux crosses the rest of the interface, so with a uniform jump ΔT imposed
+//! on I the flux solves
+//!
+//! ```text
+//!   Σ_{k ≠ 0} (C_A + C_B)(|k|) q̂(k) e^{ik·x} = ΔT   on I,   q = 0 off I,
+//!   h_c = mean(q) / ΔT   (W/(m²·K), or S/m²),
+//! ```
+//!
+//! the k = 0 mode excluded: it is the bulk 1-D resistance of both bodies (Σ hᵢ/kᵢ on an
+//! isothermal sink, unbounded on a half-space), which perfect contact has too, so 1/h_c
+//! is the constriction resistance alone, in series with it. Barber's analogy is exact on
+//! the grid: for homogeneous bodies C_A + C_B = E*/(2k_s) · 2/(E*|k|) with
+//! 1/k_s = 1/k_A + 1/k_B, so h_c = 2k_s (dP/dδ)/(E* A₀) with dP/dδ the stiffness at
+//! fixed contact set of the zero-mean elastic operator.
+//!
+//! # Method
+//! The operator restricted to I is symmetric positive definite (its null space, the
+//! uniform field, is not supported on a proper subset of the grid): conjugate gradients
+//! on I, one FFT convolution per iteration, preconditioned by the inverse operator
+//! restricted to I (y = P_I K̂⁻¹ P_I r, Vollebregt's choice for the elastic problem),
+//! which keeps the iteration count small on large grids. Convergence:
+//! ‖K q − ΔT‖₂ on I ≤ `tolerance` · ‖ΔT‖₂ (the final residual recomputed from q).
+//! An empty set gives h_c = 0; the whole grid in contact gives h_c = ∞ (no
+//! constriction left).
+//!
+//! Only periodic cells: the free-boundary conduction kernel (a pixel's temperature on an
+//! unbounded layered conductor) is not built in this version
+//! ([`BemError::ConductionNonPeriodic`]).
+
+use rayon::prelude::*;
+use strata_runtime::conduction::ConductionCompliance;
+use strata_runtime::fft::Fft2Work;
+
+use crate::BemError;
+use crate::operator::Operator;
+use crate::solver::Geometry;
+
+/// Points per parallel chunk of the vector passes.
+const CHUNK: usize = 4096;
+
+/// The sum of per-chunk partial sums in chunk order (deterministic).
+fn ordered_sum(parts: Vec<f64>) -> f64 {
+    parts.iter().sum()
+}
+
+/// One body's conduction as the interface sees it.
+#[derive(Debug, Clone, Copy)]
+pub enum Conductor<'a> {
+    /// A perfect conductor: C ≡ 0 (no temperature rise).
+    Perfect,
+    /// A homogeneous conducting half-space of conductivity k (W/(m·K) or S/m):
+    /// C = 1/(k|k|) (a rigid flat that conducts).
+    HalfSpace(f64),
+    /// A layered conductor: C = S_th/(k₁|k|).
+    Layered(&'a ConductionCompliance),
+}
+
+impl Conductor<'_> {
+    /// C(|k|) (m²·K/W, or m²·Ω) at wavenumber k > 0 (rad/m).
+    pub fn compliance(&self, k: f64) -> f64 {
+        match self {
+            Conductor::Perfect => 0.0,
+            Conductor::HalfSpace(c) => 1.0 / (c * k),
+            Conductor::Layered(c) => c.s(k) / (c.top_conductivity() * k),
+        }
+    }
+}
+
+/// Settings of the conduction solve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConductanceOptions {
+    /// Relative residual ‖K q − ΔT‖₂/‖ΔT‖₂ on the contact set, in (0, 1).
+    pub tolerance: f64,
+    /// Iteration cap; exceeding it is [`BemError::NotConverged`].
+    pub max_iterations: usize,
+    /// Precondition with the inverse operator on the contact set.
+    pub preconditioner: bool,
+}
+
+impl Default for ConductanceOptions {
+    fn default() -> Self {
+        ConductanceOptions {
+            tolerance: 1e-10,
+            max_iterations: 10_000,
+            preconditioner: true,
+        }
+    }
+}
+
+/// The result of one conduction solve with ΔT = 1 K (or 1 V).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Conductance {
+    /// h_c = mean(q)/ΔT (W/(m²·K), or S/m²); 0 on an empty set, ∞ on full contact.
+    pub conductance: f64,
+    /// The flux q per unit ΔT (W/(m²·K), or S/m²), row-major ny × nx, 0 off the set.
+    pub flux: Vec<f64>,
+    /// CG iterations.
+    pub iterations: usize,
+    /// Final relative residual ‖K q − ΔT‖₂/‖ΔT‖₂ on the set (recomputed).
+    pub residual: f64,
+}
+
+/// The conduction operator (C_A + C_B without its k = 0 mode) of one periodic grid,
+/// built once and solved on any number of contact sets.
+pub struct ConductanceSolver {
+    ny: usize,
+    nx: usize,
+    op: Operator,
+    precond: Option<Operator>,
+    options: ConductanceOptions,
+}
+
+impl std::fmt::Debug for ConductanceSolver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("ConductanceSolver")
+            .field("grid", &(self.ny, self.nx))
+            .field("options", &self.options)
+            .finish_non_exhaustive()
+    }
+}
+
+impl ConductanceSolver {
+    /// The two bodies `a` and `b` on the periodic ny × nx grid of `geometry` (row index
+    /// = y). Refuses a non-periodic geometry and two perfect conductors.
+    pub fn new(
+        ny: usize,
+        nx: usize,
+        geometry: Geometry,
+        a: Conductor<'_>,
+        b: Conductor<'_>,
+        options: ConductanceOptions,
+    ) -> Result<Self, BemError> {
+        if matches!((a, b), (Conductor::Perfect, Conductor::Perfect)) {
+            return Err(BemError::Conduction(
+                "both bodies are perfect conductors: no constriction resistance".into(),
+            ));
+        }
+        for c in [a, b] {
+            if let Conductor::HalfSpace(k) = c
+                && !(k.is_finite() && k > 0.0)
+            {
+                return Err(BemError::Conduction(format!(
+                    "a conductivity must be finite and > 0, got {k}"
+                )));
+            }
+        }
+        Self::with_compliance(
+            ny,
+            nx,
+            geometry,
+            |k| a.compliance(k) + b.compliance(k),
+            options,
+        )
+    }
+
+    /// Any compliance C(|k|) (m²·K/W; finite and > 0 for k > 0) on the periodic ny × nx
+    /// grid of `geometry`, evaluated once per distinct wavevector (i ≤ nx/2, j ≤ ny/2).
+    /// With C = 2/(E*|k|) this is the zero-mean elastic operator: its "conductance" is
+    /// then the stiffness at fixed contact set per nominal area, (dP/dδ)/A₀ (Pa/m).
+    pub fn with_compliance(
+        ny: usize,
+        nx: usize,
+        geometry: Geometry,
+        compliance: impl Fn(f64) -> f64,
+        options: ConductanceOptions,
+    ) -> Result<Self, BemError> {
+        if !geometry.periodic {
+            return Err(BemError::ConductionNonPeriodic);
+        }
+        for (what, value) in [("Lx", geometry.lx), ("Ly", geometry.ly)] {
+            if !(value.is_finite() && value > 0.0) {
+                return Err(BemError::Size { what, value });
+            }
+        }
+        if ny < 4 || nx < 4 {
+            return Err(BemError::Grid { rows: ny, cols: nx });
+        }
+        if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
+            return Err(BemError::Tolerance(options.tolerance));
+        }
+        if options.max_iterations == 0 {
+            return Err(BemError::MaxIterations);
+        }
+        let (hx, hy) = (nx / 2, ny / 2);
+        let (dkx, dky) = (
+            std::f64::consts::TAU / geometry.lx,
+            std::f64::consts::TAU / geometry.ly,
+        );
+        let square = nx == ny && geometry.lx == geometry.ly;
+        let mut tab = vec![f64::NAN; (hx + 1) * (hy + 1)];
+        for i in 0..=hx {
+            for j in 0..=hy {
+                if i == 0 && j == 0 {
+                    continue;
+                }
+                if square && j < i {
+                    tab[i * (hy + 1) + j] = tab[j * (hy + 1) + i];
+                    continue;
+                }
+                let k = (dkx * i as f64).hypot(dky * j as f64);
+                let c = compliance(k);
+                if !(c.is_finite() && c > 0.0) {
+                    return Err(BemError::Conduction(format!(
+                        "the conduction compliance C(|k| = {k:e} 1/m) = {c} is not finite and positive"
+                    )));
+                }
+                tab[i * (hy + 1) + j] = c;
+            }
+        }
+        let op = Operator::periodic(ny, nx, 0.0, |i, j| Ok(tab[i * (hy + 1) + j]))?;
+        let precond = if options.preconditioner {
+            op.inverse()
+        } else {
+            None
+        };
+        Ok(ConductanceSolver {
+            ny,
+            nx,
+            op,
+            precond,
+            options,
+        })
+    }
+
+    /// Grid (ny, nx).
+    pub fn shape(&self) -> (usize, usize) {
+        (self.ny, self.nx)
+    }
+
+    /// Solves on the contact set `contact` (row-major ny × nx, true in contact) with a
+    /// unit jump; see the module docs.
+    pub fn solve(&self, contact: &[bool]) -> Result<Conductance, BemError> {
+        self.solve_from(contact, None)
+    }
+
+    /// [`Self::solve`] started from `initial` (a flux per unit ΔT, e.g. the previous
+    /// step's; taken on the set only).
+    pub fn solve_from(
+        &self,
+        contact: &[bool],
+        initial: Option<&[f64]>,
+    ) -> Result<Conductance, BemError> {
+        let n = self.ny * self.nx;
+        if contact.len() != n {
+            return Err(BemError::Conduction(format!(
+                "the contact set has {} points, the grid {}×{}",
+                contact.len(),
+                self.ny,
+                self.nx
+            )));
+        }
+        if let Some(x0) = initial
+            && x0.len() != n
+        {
+            return Err(BemError::Initial {
+                expected: n,
+                got: x0.len(),
+            });
+        }
+        let set = contact.iter().filter(|&&c| c).count();
+        if set == 0 {
+            return Ok(Conductance {
+                conductance: 0.0,
+                flux: vec![0.0; n],
+                iterations: 0,
+                residual: 0.0,
+            });
+        }
+        if set == n {
+            return Ok(Conductance {
+                conductance: f64::INFINITY,
+                flux: vec![f64::INFINITY; n],
+                iterations: 0,
+                residual: 0.0,
+            });
+        }
+        let mut work = self.op.work();
+        let dot = |a: &[f64], b: &[f64]| -> f64 { a.iter().zip(b).map(|(x, y)| x * y).sum() };
+        let b_norm = (set as f64).sqrt();
+        let mut q = vec![0.0; n];
+        if let Some(x0) = initial {
+            for i in 0..n {
+                if contact[i] && x0[i].is_finite() {
+                    q[i] = x0[i];
+                }
+            }
+        }
+        // r = 1 − K q on the set.
+        let mut kq = vec![0.0; n];
+        let mut r = vec![0.0; n];
+        let residual = |q: &[f64], kq: &mut [f64], r: &mut [f64], work: &mut Fft2Work| {
+            self.op.apply(q, kq, false, work)?;
+            for i in 0..n {
+                r[i] = if contact[i] { 1.0 - kq[i] } else { 0.0 };
+            }
+            Ok::<f64, BemError>(dot(r, r).sqrt() / b_norm)
+        };
+        let mut res = residual(&q, &mut kq, &mut r, &mut work)?;
+        let tol = self.options.tolerance;
+        let mut z = vec![0.0; n];
+        // z = P_I M⁻¹ r (or r), returning Σ r z: one fused pass after the product.
+        let precondition = |r: &[f64], z: &mut [f64], work: &mut Fft2Work| {
+            if let Some(m) = &self.precond {
+                m.apply(r, z, false, work)?;
+            } else {
+                z.copy_from_slice(r);
+            }
+            Ok::<f64, BemError>(ordered_sum(
+                z.par_chunks_mut(CHUNK)
+                    .zip(r.par_chunks(CHUNK))
+                    .zip(contact.par_chunks(CHUNK))
+                    .map(|((z, r), c)| {
+                        let mut s = 0.0;
+                        for j in 0..z.len() {
+                            if c[j] {
+                                s += r[j] * z[j];
+                            } else {
+                                z[j] = 0.0;
+                            }
+                        }
+                        s
+                    })
+                    .collect(),
+            ))
+        };
+        let mut iterations = 0;
+        // Restarted CG: the recursive residual is checked against the true one before
+        // acceptance; a mismatch (round-off on long runs) restarts from the true one.
+        // Each iteration: two products (K d, and the preconditioner's) and four fused
+        // passes; the partial sums are added in a fixed order (the same result on any
+        // number of threads).
+        'outer: while res > tol {
+            let mut rz = precondition(&r, &mut z, &mut work)?;
+            let mut d = z.clone();
+            let mut kd = vec![0.0; n];
+            loop {
+                if iterations >= self.options.max_iterations {
+                    return Err(BemError::NotConverged {
+                        iterations,
+                        error: res,
+                        tolerance: tol,
+                    });
+                }
+                iterations += 1;
+                self.op.apply(&d, &mut kd, false, &mut work)?;
+                // kd ← P_I K d, with Σ d·kd
+                let dkd = ordered_sum(
+                    kd.par_chunks_mut(CHUNK)
+                        .zip(d.par_chunks(CHUNK))
+                        .zip(contact.par_chunks(CHUNK))
+                        .map(|((k, d), c)| {
+                            let mut s = 0.0;
+                            for j in 0..k.len() {
+                                if c[j] {
+                                    s += d[j] * k[j];
+                                } else {
+                                    k[j] = 0.0;
+                                }
+                            }
+                            s
+                        })
+                        .collect(),
+                );
+                if !(dkd > 0.0 && dkd.is_finite()) {
+                    return Err(BemError::NonFinite(iterations));
+                }
+                let alpha = rz / dkd;
+                // q += α d, r −= α kd, with Σ r²
+                let rr = ordered_sum(
+                    q.par_chunks_mut(CHUNK)
+                        .zip(r.par_chunks_mut(CHUNK))
+                        .zip(d.par_chunks(CHUNK))
+                        .zip(kd.par_chunks(CHUNK))
+                        .map(|(((q, r), d), k)| {
+                            let mut s = 0.0;
+                            for j in 0..q.len() {
+                                q[j] += alpha * d[j];
+                                r[j] -= alpha * k[j];
+                                s += r[j] * r[j];
+                            }
+                            s
+                        })
+                        .collect(),
+                );
+                if rr.sqrt() / b_norm <= tol {
+                    res = residual(&q, &mut kq, &mut r, &mut work)?;
+                    continue 'outer;
+                }
+                let rz_new = precondition(&r, &mut z, &mut work)?;
+                let beta = rz_new / rz;
+                rz = rz_new;
+                d.par_chunks_mut(CHUNK)
+                    .zip(z.par_chunks(CHUNK))
+                    .for_each(|(d, z)| {
+                        for j in 0..d.len() {
+                            d[j] = z[j] + beta * d[j];
+                        }
+                    });
+            }
+        }
+        let conductance = q.iter().sum::<f64>() / n as f64;
+        if !conductance.is_finite() {
+            return Err(BemError::NonFinite(iterations));
+        }
+        Ok(Conductance {
+            conductance,
+            flux: q,
+            iterations,
+            residual: res,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::{BemLoad, BemOptions, BemSolver};
+    use ndarray::Array2;
+    use strata_runtime::conduction::ConductionKind;
+    use strata_runtime::stack::{Base, BaseConduction, Conductivity, Layer, Stack};
+
+    fn thermal(k: f64) -> Conductivity {
+        Conductivity {
+            thermal: Some(k),
+            electrical: None,
+        }
+    }
+
+    fn tight() -> ConductanceOptions {
+        ConductanceOptions {
+            tolerance: 1e-13,
+            ..Default::default()
+        }
+    }
+
+    /// A disc of radius `a` (m) centred in the n × n cell of side `l`.
+    fn disc(n: usize, l: f64, a: f64) -> Vec<bool> {
+        let dx = l / n as f64;
+        let c = (n as f64 - 1.0) / 2.0;
+        (0..n * n)
+            .map(|i| {
+                let (y, x) = ((i / n) as f64 - c, (i % n) as f64 - c);
+                (x * x + y * y).sqrt() * dx <= a
+            })
+            .collect()
+    }
+
+    /// A periodic rough surface (a few waves), n × n, heights in m.
+    fn waves(n: usize) -> Array2<f64> {
+        let t = std::f64::consts::TAU / n as f64;
+        Array2::from_shape_fn((n, n), |(i, j)| {
+            let (y, x) = (i as f64 * t, j as f64 * t);
+            1e-6 * ((x + 0.3).cos()
+                + 0.7 * (2.0 * y - 1.0).cos()
+                + 0.4 * (3.0 * x + 2.0 * y).sin()
+                + 0.25 * (5.0 * x - 4.0 * y + 0.5).cos()
+                + 0.15 * (7.0 * y + 3.0 * x).sin())
+        })
+    }
+
+    /// The zero-mean periodic kernel 2/(E*|k|) in real space by a direct (slow) Fourier
+    /// sum, the dense matrix on the set and its Cholesky solve with a unit right-hand
+    /// side: (dP/dδ)/A₀ at fixed contact set, independent of the FFT and the CG.
+    fn dense_stiffness(n: usize, l: f64, e_star: f64, set: &[bool]) -> f64 {
+        let dk = std::f64::consts::TAU / l;
+        let idx: Vec<usize> = (0..n * n).filter(|&i| set[i]).collect();
+        let mut g = vec![0.0; n * n];
+        for dy in 0..n {
+            for dx in 0..n {
+                let mut s = 0.0;
+                for ky in 0..n {
+                    for kx in 0..n {
+                        if kx == 0 && ky == 0 {
+                            continue;
+                        }
+                        let fy = if ky <= n / 2 {
+                            ky as f64
+                        } else {
+                            ky as f64 - n as f64
+                        };
+                        let fx = if kx <= n / 2 {
+                            kx as f64
+                        } else {
+                            kx as f64 - n as f64
+                        };
+                        let k = dk * fx.hypot(fy);
+                        let ph =
+                            std::f64::consts::TAU * (fx * dx as f64 + fy * dy as f64) / n as f64;
+                        s += 2.0 / (e_star * k) * ph.cos();
+                    }
+                }
+                g[dy * n + dx] = s / (n * n) as f64;
+            }
+        }
+        let m = idx.len();
+        let mut a = vec![0.0; m * m];
+        for (r, &i) in idx.iter().enumerate() {
+            for (c, &j) in idx.iter().enumerate() {
+                let dy = ((i / n) + n - (j / n)) % n;
+                let dx = ((i % n) + n - (j % n)) % n;
+                a[r * m + c] = g[dy * n + dx];
+            }
+        }
+        // Cholesky A = L Lᵀ in place (lower triangle), then L Lᵀ p = 1.
+        for j in 0..m {
+            let mut d = a[j * m + j];
+            for k in 0..j {
+                d -= a[j * m + k] * a[j * m + k];
+            }
+            assert!(d > 0.0, "not positive definite at {j}");
+            let d = d.sqrt();
+            a[j * m + j] = d;
+            for i in j + 1..m {
+                let mut s = a[i * m + j];
+                for k in 0..j {
+                    s -= a[i * m + k] * a[j * m + k];
+                }
+                a[i * m + j] = s / d;
+            }
+        }
+        let mut y = vec![1.0; m];
+        for i in 0..m {
+            for k in 0..i {
+                y[i] -= a[i * m + k] * y[k];
+            }
+            y[i] /= a[i * m + i];
+        }
+        for i in (0..m).rev() {
+            for k in i + 1..m {
+                y[i] -= a[k * m + i] * y[k];
+            }
+            y[i] /= a[i * m + i];
+        }
+        y.iter().sum::<f64>() / (n * n) as f64
+    }
+
+    /// Barber's analogy on the BEM's own contact set: two homogeneous bodies,
+    /// h_c = 2 k_s (dP/dδ)/(E* A₀), 1/k_s = 1/k_A + 1/k_B, with dP/dδ at fixed contact set
+    /// from a dense Cholesky solve of the real-space elastic kernel.
+    #[test]
+    fn barber_analogy_on_the_bem_contact_set() {
+        let (n, l) = (32, 1e-3);
+        let (ea, eb) = (2e11, 7e10);
+        let stack = Stack::half_space(ea, 0.3)
+            .unwrap()
+            .against(Stack::half_space(eb, 0.25).unwrap())
+            .unwrap();
+        let e_star = stack.contact_modulus();
+        let bem = BemSolver::new(&waves(n), l, &stack, BemOptions::default()).unwrap();
+        let sol = bem.solve(BemLoad::MeanPressure(1e8)).unwrap();
+        let set: Vec<bool> = sol.pressure.iter().map(|&p| p > 0.0).collect();
+        let count = set.iter().filter(|&&c| c).count();
+        assert!(count > 50 && count < n * n / 2, "{count}");
+        let stiffness = dense_stiffness(n, l, e_star, &set);
+        let g = Geometry::square(l);
+        let (ka, kb) = (50.0, 15.0);
+        let ks = 1.0 / (1.0 / ka + 1.0 / kb);
+        for (a, b, k) in [
+            (Conductor::HalfSpace(ka), Conductor::HalfSpace(kb), ks),
+            (Conductor::HalfSpace(ka), Conductor::Perfect, ka),
+            (Conductor::Perfect, Conductor::HalfSpace(kb), kb),
+        ] {
+            let s = ConductanceSolver::new(n, n, g, a, b, tight()).unwrap();
+            let h = s.solve(&set).unwrap();
+            let barber = 2.0 * k * stiffness / e_star;
+            let rel = (h.conductance - barber).abs() / barber;
+            eprintln!(
+                "barber: h_c {:e} vs {barber:e}: {rel:.2e} ({} iterations)",
+                h.conductance, h.iterations
+            );
+            assert!(rel < 1e-10, "{rel}");
+        }
+        // A layered body of uniform conductivity is the same conductor.
+        let layered = Stack::new(
+            vec![Layer {
+                thickness: 1e-5,
+                young: 1e9,
+                poisson: 0.3,
+            }],
+            Base::Elastic {
+                young: 1e9,
+                poisson: 0.3,
+            },
+        )
+        .unwrap()
+        .with_conduction(vec![thermal(ka)], thermal(ka), BaseConduction::HalfSpace)
+        .unwrap();
+        let cc = ConductionCompliance::new(&layered, ConductionKind::Thermal).unwrap();
+        let s = ConductanceSolver::new(
+            n,
+            n,
+            g,
+            Conductor::Layered(&cc),
+            Conductor::HalfSpace(kb),
+            tight(),
+        )
+        .unwrap();
+        let h = s.solve(&set).unwrap().conductance;
+        let barber = 2.0 * ks * stiffness / e_star;
+        assert!((h - barber).abs() < 1e-10 * barber, "{h} {barber}");
+    }
+
+    /// One isothermal disc in a large periodic cell on a homogeneous half-space (the
+    /// other side perfect): G = 4ka, with the cell's first-order correction
+    /// 1/G = 1/(4ka) + Z/(2πkL), Z = 4ζ(1/2)β(1/2) = −3.900265 (the zero-mean lattice
+    /// sum of the images), a the radius of the disc's pixel area. The error is first
+    /// order in the pixel, e ≈ −0.17 dx/a (measured 4.22e-2, 2.08e-2, 1.05e-2, 5.31e-3
+    /// at a/dx = 4 … 32), and its Richardson extrapolation 2e(2n) − e(n) is ~1.5e-4 (the
+    /// cell's O((a/L)³) term).
+    #[test]
+    fn one_spot_in_a_periodic_cell_is_4ka() {
+        let (l, k) = (1e-3, 20.0);
+        let z = -3.900_264_920_001_955;
+        let a = l / 16.0;
+        let mut errors = Vec::new();
+        for n in [64, 128, 256, 512] {
+            let s = ConductanceSolver::new(
+                n,
+                n,
+                Geometry::square(l),
+                Conductor::HalfSpace(k),
+                Conductor::Perfect,
+                ConductanceOptions::default(),
+            )
+            .unwrap();
+            let set = disc(n, l, a);
+            let pts = set.iter().filter(|&&c| c).count() as f64;
+            let a_eq = (pts / std::f64::consts::PI).sqrt() * l / n as f64;
+            let h = s.solve(&set).unwrap();
+            let g = h.conductance * l * l;
+            let exact = 1.0 / (1.0 / (4.0 * k * a_eq) + z / (std::f64::consts::TAU * k * l));
+            let e = g / exact - 1.0;
+            let a_dx = a * n as f64 / l;
+            eprintln!(
+                "spot a/dx {a_dx}: G {g:e} vs {exact:e}: {e:.3e} ({} iterations)",
+                h.iterations
+            );
+            assert!(e < 0.0 && -e * a_dx < 0.2, "a/dx {a_dx}: {e}");
+            errors.push(e);
+        }
+        for w in errors.windows(2) {
+            let ratio = w[0] / w[1];
+            assert!((1.9..2.1).contains(&ratio), "{errors:?}");
+            let extrapolated = 2.0 * w[1] - w[0];
+            assert!(extrapolated.abs() < 2e-3, "{errors:?}");
+        }
+    }
+
+    /// A thin resistive layer (h ≪ pixel) on a far better conductor: the kernel is
+    /// h/k₁ at every wavevector, and with the k = 0 mode excluded the conductance is the
+    /// layer's 1-D conductance over the contact, h_c = (k₁/h) φ/(1 − φ) (φ = A/A₀): in
+    /// series with the excluded bulk term h/k₁ the total is the 1-D series resistance
+    /// h/(k₁φ), → h/k₁ as the contact becomes full.
+    #[test]
+    fn thin_resistive_layer_is_one_dimensional() {
+        let (n, l) = (64, 1e-3);
+        let h1 = l / n as f64 / 100.0;
+        let (k1, kb) = (0.2, 2e5);
+        let stack = Stack::new(
+            vec![Layer {
+                thickness: h1,
+                young: 1e9,
+                poisson: 0.3,
+            }],
+            Base::Rigid,
+        )
+        .unwrap()
+        .with_conduction(vec![thermal(k1)], thermal(kb), BaseConduction::HalfSpace)
+        .unwrap();
+        let cc = ConductionCompliance::new(&stack, ConductionKind::Thermal).unwrap();
+        let s = ConductanceSolver::new(
+            n,
+            n,
+            Geometry::square(l),
+            Conductor::Layered(&cc),
+            Conductor::Perfect,
+            ConductanceOptions::default(),
+        )
+        .unwrap();
+        let z = waves(n);
+        for level in [-1.5e-6, -0.5e-6, 0.5e-6, 1.5e-6] {
+            let set: Vec<bool> = z.iter().map(|&v| v > level).collect();
+            let phi = set.iter().filter(|&&c| c).count() as f64 / (n * n) as f64;
+            let h = s.solve(&set).unwrap();
+            let one_d = k1 / h1 * phi / (1.0 - phi);
+            let rel = h.conductance / one_d - 1.0;
+            eprintln!(
+                "thin layer φ = {phi:.3}: h_c {:e} vs 1-D {one_d:e}: {rel:.3e}",
+                h.conductance
+            );
+            // measured 3e-4 … 6e-4 (tanh(|k|h) ≠ |k|h, k₁/k_b ≠ 0)
+            assert!(rel.abs() < 5e-3, "φ = {phi}: {rel}");
+            // the total resistance: the layer's 1-D resistance over the contact area
+            let total = 1.0 / h.conductance + h1 / k1;
+            assert!((total * k1 * phi / h1 - 1.0).abs() < 5e-3);
+        }
+    }
+
+    /// Edge cases and refusals; the preconditioned, plain and warm-started solves agree.
+    #[test]
+    fn edge_cases_and_variants() {
+        let (n, l) = (32, 1e-3);
+        let g = Geometry::square(l);
+        let mk = |pc: bool| {
+            ConductanceSolver::new(
+                n,
+                n,
+                g,
+                Conductor::HalfSpace(3.0),
+                Conductor::HalfSpace(7.0),
+                ConductanceOptions {
+                    preconditioner: pc,
+                    ..tight()
+                },
+            )
+            .unwrap()
+        };
+        let s = mk(true);
+        assert_eq!(s.solve(&vec![false; n * n]).unwrap().conductance, 0.0);
+        assert_eq!(
+            s.solve(&vec![true; n * n]).unwrap().conductance,
+            f64::INFINITY
+        );
+        assert!(s.solve(&[true; 10]).is_err());
+        let set: Vec<bool> = waves(n).iter().map(|&z| z > 0.8e-6).collect();
+        let a = s.solve(&set).unwrap();
+        let b = mk(false).solve(&set).unwrap();
+        assert!((a.conductance / b.conductance - 1.0).abs() < 1e-11);
+        let c = s.solve_from(&set, Some(&a.flux)).unwrap();
+        assert!(c.iterations <= 1 && (c.conductance / a.conductance - 1.0).abs() < 1e-11);
+        assert!(a.residual <= 1e-13 && a.flux.iter().all(|q| q.is_finite()));
+        let free = Geometry {
+            periodic: false,
+            ..g
+        };
+        let e = ConductanceSolver::new(
+            n,
+            n,
+            free,
+            Conductor::HalfSpace(3.0),
+            Conductor::Perfect,
+            tight(),
+        )
+        .unwrap_err();
+        assert_eq!(e, BemError::ConductionNonPeriodic);
+        assert!(
+            ConductanceSolver::new(n, n, g, Conductor::Perfect, Conductor::Perfect, tight())
+                .is_err()
+        );
+        assert!(
+            ConductanceSolver::new(
+                n,
+                n,
+                g,
+                Conductor::HalfSpace(-1.0),
+                Conductor::Perfect,
+                tight()
+            )
+            .is_err()
+        );
+    }
+}
