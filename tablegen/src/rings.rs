@@ -58,7 +58,7 @@ pub fn disc_response(r: f64, c: f64) -> f64 {
 }
 
 /// The ring influence matrix M (row-major, `mids.len()` × (`edges.len()` − 1)): the
-/// response at each mid-radius to a unit load on each ring [edges[j], edges[j+1]], on
+/// response at each mid-radius to a unit load on each ring `[edges[j], edges[j+1]]`, on
 /// the body whose k(ρ) = S − 1 is `k` (None: a homogeneous half-space). `h` (m) is the
 /// length on which k decays (the thinnest top layer); the ρ-rule has panels of width
 /// min(h/4, 1/r_max)⁻¹ … up to 25/h, 16 Gauss–Legendre nodes each, graded

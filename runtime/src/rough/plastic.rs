@@ -101,7 +101,7 @@ impl PlasticResponse {
 
     /// The response of a summit of radius `radius` (m) at interference `delta` (m).
     pub fn at(&self, delta: f64, radius: f64) -> CappedContact {
-        if !(delta > 0.0) {
+        if delta.is_nan() || delta <= 0.0 {
             return CappedContact {
                 a: 0.0,
                 force: 0.0,
