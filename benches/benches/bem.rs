@@ -26,6 +26,8 @@
 //!   0.5·(z_M − z̄) (tolerances 1e-8, 1e-10); the two-layer stack at approach 5 µm.
 //! * `bem_curve_512`: the 20-step load curve at 512² on the paper's E2/E1 = 5 stack
 //!   (the `fig15-18-E2E1-5` scene's surface, approaches 1.3…9.8 µm), warm-started.
+//! * `bem_plastic_512` (printed): one 512² step elastic and capped by a hardness, side by
+//!   side (`plastic_table`).
 //! * `bem_vs_tamaas` (printed, with `STRATA_TAMAAS_DIR`): per n = 512, 2048 writes the
 //!   generated surface to `DIR/surface_n.npy`, times one cold load step under mean-
 //!   pressure (p̄ = 0.005 E*) and mean-gap (0.5·(z_M − z̄)) control on the half-space
@@ -569,5 +571,61 @@ fn vs_tamaas(_c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, floor_table, vs_tamaas, fft_and_iteration, steps);
+/// `bem_plastic_512` (printed, one run): one 512² load step on the shared surface
+/// (`tests/reference/surface_km10.npy`) on the half-space (E = 4 GPa, ν = 0.15) at
+/// mean gap 0.5·(z_M − z̄), elastic (the default preconditioned iteration) and capped at
+/// H = 0.2 and 0.05 GPa (a fresh `PlasticPath`: active-set steps on the elastic
+/// iteration, then the bounded MPRGP check), timed alternately (best of 5 each), with
+/// the plastic fraction, the operator products and the ratio plastic/elastic.
+fn plastic_table(_: &mut Criterion) {
+    if !filter_matches("plastic") {
+        return;
+    }
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reference");
+    let z =
+        read_heights_npy(&dir.join("surface_km10.npy")).expect("tests/reference/surface_km10.npy");
+    let half = Stack::half_space(4e9, 0.15).expect("stack");
+    let solver = BemSolver::new(&z, 1e-3, &half, BemOptions::default()).expect("solver");
+    let load = BemLoad::MeanGap(0.5 * solver.max_separation());
+    let best = |f: &mut dyn FnMut() -> (f64, usize, f64)| {
+        let mut t = f64::INFINITY;
+        let mut out = (0.0, 0, 0.0);
+        for _ in 0..5 {
+            let t0 = Instant::now();
+            out = f();
+            t = t.min(t0.elapsed().as_secs_f64());
+        }
+        (t, out)
+    };
+    println!(
+        "| H (GPa) | elastic (s) | plastic (s) | plastic / elastic | plastic area / contact area | products elastic / plastic |"
+    );
+    println!("|---|---|---|---|---|---|");
+    for h in [0.2e9, 0.05e9] {
+        let (te, (_, pe, _)) = best(&mut || {
+            let s = solver.solve(load).expect("elastic");
+            (s.area_fraction, s.products, 0.0)
+        });
+        let (tp, (a, pp, frac)) = best(&mut || {
+            let mut path = strata_bem::PlasticPath::new(&solver, h).expect("path");
+            let (s, info) = path.step(load).expect("plastic");
+            (s.area_fraction, s.products, info.plastic_area_fraction)
+        });
+        println!(
+            "| {:.2} | {te:.3} | {tp:.3} | {:.1} | {:.1} % | {pe} / {pp} |",
+            h / 1e9,
+            tp / te,
+            100.0 * frac / a.max(f64::MIN_POSITIVE)
+        );
+    }
+}
+
+criterion_group!(
+    benches,
+    floor_table,
+    vs_tamaas,
+    fft_and_iteration,
+    steps,
+    plastic_table
+);
 criterion_main!(benches);
