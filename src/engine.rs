@@ -435,22 +435,15 @@ pub fn solve_surface_with_maps(
             "I model: largest KKT residual {w:.2e} (relative to the largest interference)"
         );
     }
-    let meta = serde_json::json!({
-        "scene": scene_path.display().to_string(),
-        "model": effects,
-        "model_short": model_short(model),
-        "stack": stack_description(&scene.stack),
-        "solid": layered,
-        "e_star_1": law.e_star(),
-        "nominal_area": rc.area(),
-        "summits": rc.summits().len(),
-        "z_max_minus_mean": rc.top_to_mean(),
-        "surface": surface_json,
-        "warnings": warnings,
-        "seconds": seconds,
-        "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",
-                  "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
-    });
+    let meta = asperity_meta(
+        scene,
+        scene_path,
+        (&effects, &model_short(model), layered),
+        law.e_star(),
+        &rc,
+        (surface_json, warnings),
+        seconds,
+    );
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
     // the N model only (the I model's thermal interactions are not solved: `compare`
@@ -914,22 +907,19 @@ fn solve_independent_plastic(
         steps.push(s);
     }
     let seconds = t0.elapsed().as_secs_f64();
-    let mut meta = serde_json::json!({
-        "scene": scene_path.display().to_string(),
-        "model": "independent asperities (N model) with capped tips",
-        "model_short": model_short(Model::Independent),
-        "stack": stack_description(&scene.stack),
-        "solid": "the capped asperity's response table (ring solves in physical space)",
-        "e_star_1": scene.stack.contact_modulus(),
-        "nominal_area": rc.area(),
-        "summits": rc.summits().len(),
-        "z_max_minus_mean": rc.top_to_mean(),
-        "surface": surface_json,
-        "warnings": warnings,
-        "seconds": seconds,
-        "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",
-                  "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
-    });
+    let mut meta = asperity_meta(
+        scene,
+        scene_path,
+        (
+            "independent asperities (N model) with capped tips",
+            &model_short(Model::Independent),
+            "the capped asperity's response table (ring solves in physical space)",
+        ),
+        scene.stack.contact_modulus(),
+        &rc,
+        (surface_json, warnings),
+        seconds,
+    );
     add_counterface_meta(&mut meta, scene);
     meta["plasticity"] = serde_json::json!({
         "hardness": hardness,
@@ -1009,6 +999,36 @@ fn conductance_meta(scene: &Scene, spec: &ConductanceSpec) -> serde_json::Value 
                        jump dT on the contact set (p > 0) and no flux elsewhere, the k = 0 mode (the bulk \
                        1-D resistance of both bodies) excluded (physics.md 6.2); infinite (null) at full contact",
         "units": {"conductance": unit, "top_conductivity": spec.kind.conductivity_unit()},
+    })
+}
+
+/// curve.json's summary of an asperity-model solve: the scene, (model, its short name,
+/// the solid) in words, E*, the sample (area, summits, z_M − z̄), the surface and its
+/// warnings, the time and the units.
+fn asperity_meta(
+    scene: &Scene,
+    scene_path: &Path,
+    (model, short, solid): (&str, &str, &str),
+    e_star: f64,
+    rc: &RoughContact<'_>,
+    (surface_json, warnings): (serde_json::Value, Vec<String>),
+    seconds: f64,
+) -> serde_json::Value {
+    serde_json::json!({
+        "scene": scene_path.display().to_string(),
+        "model": model,
+        "model_short": short,
+        "stack": stack_description(&scene.stack),
+        "solid": solid,
+        "e_star_1": e_star,
+        "nominal_area": rc.area(),
+        "summits": rc.summits().len(),
+        "z_max_minus_mean": rc.top_to_mean(),
+        "surface": surface_json,
+        "warnings": warnings,
+        "seconds": seconds,
+        "units": {"delta": "m", "gap": "m", "mean_pressure": "Pa", "pressure_ratio": "1",
+                  "area_fraction": "1", "stiffness": "N/m (dP/dδ of the sample)"},
     })
 }
 

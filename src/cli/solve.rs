@@ -75,21 +75,7 @@ pub use crate::csv_out::CURVE_HEADER;
 /// curve.csv text: the fixed header, full precision; `valid` is 1 where the step is
 /// inside the model's validity (curve.json's `validity` says why not), else 0.
 pub fn curve_csv(steps: &[Step]) -> Result<String> {
-    Ok(csv_out::text(
-        &CURVE_HEADER,
-        steps.iter().map(|st| {
-            [
-                csv_out::num(st.delta),
-                csv_out::num(st.gap),
-                csv_out::num(st.mean_pressure),
-                csv_out::num(st.pressure_ratio),
-                csv_out::num(st.area_fraction),
-                st.contacts.to_string(),
-                csv_out::num(st.stiffness),
-                u8::from(st.validity.is_valid()).to_string(),
-            ]
-        }),
-    )?)
+    curve_csv_extra(steps, &[])
 }
 
 /// curve.csv with extra columns after `valid`, in the order given (scenes with

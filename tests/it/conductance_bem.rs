@@ -23,23 +23,7 @@ fn scene_text(extra: &str) -> String {
     )
 }
 
-fn solve(
-    dir: &std::path::Path,
-    name: &str,
-    text: &str,
-) -> (std::process::Output, std::path::PathBuf) {
-    let scene = dir.join(format!("{name}.toml"));
-    std::fs::write(&scene, text).unwrap();
-    let out = dir.join(name);
-    let o = crate::support::strata_in(dir)
-        .args(["solve", "-q", "--no-plots", "--force"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    (o, out)
-}
+use crate::support::solve_text as solve;
 
 const HEADER: &str =
     "delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid";

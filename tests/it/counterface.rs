@@ -244,12 +244,7 @@ fn solve(cache: &Path, scene: &Path, out: &Path) -> String {
     std::fs::read_to_string(out.join("curve.csv")).unwrap()
 }
 
-fn curve(text: &str) -> Vec<Vec<f64>> {
-    text.lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect()
-}
+use crate::support::csv_rows as curve;
 
 /// The three models on a steel/aluminium pair against the composite half-space, through
 /// scenes: every column within 1e-10 (the BEM 1e-12).
@@ -707,4 +702,58 @@ fn rigid_counterface_is_the_default() {
         solve(&d, &a, &d.join("none")),
         solve(&d, &b, &d.join("rigid"))
     );
+}
+
+/// Hard cases: the paper's stack against half-spaces 1e-4 and 1e4 times its top modulus
+/// and a ν = 0.5 layer on a ν = 0.5 base: the pair's S finite and positive for ρh₁ from
+/// 1e-4 to 1e4 with S(∞) = 1, the contact modulus between 0 and the softer body's, and
+/// the full asperity finite with its force below the rigid-flat one.
+#[test]
+fn extreme_pairs_stay_finite() {
+    let paper = stack("paper-two-layer.toml");
+    let incompressible = Stack::new(
+        vec![strata_runtime::Layer {
+            thickness: 1e-5,
+            young: 1e6,
+            poisson: 0.5,
+        }],
+        strata_runtime::Base::Elastic {
+            young: 1e9,
+            poisson: 0.5,
+        },
+    )
+    .unwrap();
+    let rigid = Asperity::new(&paper, Options::default())
+        .unwrap()
+        .paraboloid_at_delta(1e-6, 1e-4)
+        .unwrap();
+    for c in [
+        Stack::half_space(4e5, 0.5).unwrap(),
+        Stack::half_space(4e13, 0.3).unwrap(),
+        incompressible,
+    ] {
+        let pair = paper.clone().against(c.clone()).unwrap();
+        let e = pair.contact_modulus();
+        let softer = paper
+            .top_plane_strain_modulus()
+            .min(c.top_plane_strain_modulus());
+        assert!(e > 0.0 && e <= softer, "{e} vs {softer}");
+        let comp = Compliance::new(&pair);
+        for i in 0..=80 {
+            let rho = 10f64.powf(-4.0 + 0.1 * i as f64) / 1e-4;
+            let s = comp.s(rho);
+            assert!(s.is_finite() && s > 0.0, "{c:?}: S({rho}) = {s}");
+        }
+        assert_eq!(comp.s(f64::INFINITY), 1.0);
+        let a = Asperity::new(&pair, Options::default())
+            .unwrap()
+            .paraboloid_at_delta(1e-6, 1e-4)
+            .unwrap();
+        assert!(
+            a.force.is_finite() && a.force > 0.0 && a.force <= rigid.force * (1.0 + 1e-9),
+            "{c:?}: {} vs rigid {}",
+            a.force,
+            rigid.force
+        );
+    }
 }

@@ -205,30 +205,9 @@ fn scene_text(extra: &str) -> String {
     )
 }
 
-fn solve(
-    dir: &std::path::Path,
-    name: &str,
-    text: &str,
-) -> (std::process::Output, std::path::PathBuf) {
-    let scene = dir.join(format!("{name}.toml"));
-    std::fs::write(&scene, text).unwrap();
-    let out = dir.join(name);
-    let o = crate::support::strata_in(dir)
-        .args(["solve", "-q", "--no-plots", "--force"])
-        .arg(&scene)
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    (o, out)
-}
+use crate::support::solve_text as solve;
 
-fn rows(csv: &str) -> Vec<Vec<f64>> {
-    csv.lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect()
-}
+use crate::support::csv_rows as rows;
 
 /// `[plasticity] hardness` and `[load] unload = true` through `strata solve`: the
 /// plastic_area_fraction column, the return path (2n − 1 steps, unloading below

@@ -198,3 +198,29 @@ pub fn rectangular_cosines(n0: usize, n1: usize, dx: f64, dy: f64) -> Vec<f64> {
         .collect();
     z
 }
+
+/// Writes `text` as `DIR/NAME.toml` and runs `strata solve -q --no-plots --force` on it
+/// into `DIR/NAME` (the table cache in DIR): the output and the output directory.
+#[allow(dead_code)]
+pub fn solve_text(dir: &Path, name: &str, text: &str) -> (std::process::Output, PathBuf) {
+    let scene = dir.join(format!("{name}.toml"));
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.join(name);
+    let o = strata_in(dir)
+        .args(["solve", "-q", "--no-plots", "--force"])
+        .arg(&scene)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    (o, out)
+}
+
+/// The numbers of a CSV text below its header line, row by row.
+#[allow(dead_code)]
+pub fn csv_rows(text: &str) -> Vec<Vec<f64>> {
+    text.lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect()
+}
