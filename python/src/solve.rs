@@ -38,9 +38,11 @@ use crate::table::table_arg;
 /// "bem_max_iterations": n, "bem_tolerance": x}); counterface a strata.Stack (or a stack
 /// file path) pressed against the first body instead of a rigid flat (the two compliances
 /// add, physics.md §6.1) and counterface_surface its rough strata.Surface, heights as seen
-/// from the first body on the same grid (added to `surface`). Fields are validated as
-/// in a scene file, and errors (strata.SceneError) name them (`load.approach.steps`,
-/// `model.images`, `counterface.base`, ...).
+/// from the first body on the same grid (added to `surface`); plasticity a dict as the
+/// scene's [plasticity] table ({"hardness": Pa}) and conductance one as its
+/// [conductance] table ({"kind": "thermal"}). Fields are validated as in a scene file,
+/// and errors (strata.SceneError) name them (`load.approach.steps`, `model.images`,
+/// `counterface.base`, `plasticity.hardness`, ...).
 #[pyclass(name = "Scene", module = "strata", frozen)]
 pub struct PyScene {
     scene: Scene,
@@ -129,7 +131,7 @@ const MEMORY: &str = "<python>";
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None, counterface=None, counterface_surface=None))]
+    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None, counterface=None, counterface_surface=None, plasticity=None, conductance=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         stack: &Bound<'_, PyAny>,
@@ -142,6 +144,8 @@ impl PyScene {
         solver: Option<&Bound<'_, PyAny>>,
         counterface: Option<&Bound<'_, PyAny>>,
         counterface_surface: Option<&Bound<'_, PySurface>>,
+        plasticity: Option<&Bound<'_, PyAny>>,
+        conductance: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let stack = stack_of(stack, "Scene: stack")?;
         let mut surface = surface.get().surface.clone();
@@ -177,6 +181,13 @@ impl PyScene {
         }
         if let Some(c) = counterface {
             top.insert("counterface".into(), toml::Value::Table(c.to_toml_table()));
+        }
+        // [plasticity] and [conductance] as dicts, validated as a scene file's
+        if let Some(pl) = plasticity {
+            top.insert("plasticity".into(), py_to_toml(pl, "plasticity")?);
+        }
+        if let Some(cd) = conductance {
+            top.insert("conductance".into(), py_to_toml(cd, "conductance")?);
         }
         let scene = Scene::from_table_in(top, Path::new("."), Some(memory_surface_spec(&surface)))
             .map_err(err(Kind::Scene))?;

@@ -280,3 +280,21 @@ kind = "thermal"
     np.testing.assert_allclose(flat.conductance, h / 2, rtol=1e-8)
     plain = strata.Scene.from_toml(text.replace('[conductance]\nkind = "thermal"\n', ""), tmp_path).solve()
     assert plain.conductance is None
+
+
+def test_plasticity_dict_equals_scene_file(tmp_path):
+    """Scene(..., plasticity={"hardness": H}) solves what the scene file's [plasticity]
+    table solves (BEM and N model): the same curves and plastic area fractions."""
+    z = strata.Surface.generate(size=1e-3, grid=64, fractal_dimension=2.4, k_min=2, k_max=8, rms=3e-6, seed=5)
+    half = strata.Stack.half_space(4e9, 0.15)
+    load = {"approach": {"from": 1e-6, "to": 4e-6, "steps": 3}}
+    for model in ["bem", "independent"]:
+        c = strata.Scene(half, z, model=model, load=load, plasticity={"hardness": 0.2e9}).solve()
+        e = strata.Scene(half, z, model=model, load=load).solve()
+        assert np.all(c.mean_pressure <= e.mean_pressure * (1 + 1e-12))
+        assert c.mean_pressure[-1] < e.mean_pressure[-1]
+        assert c.meta["plasticity"]["hardness"] == 0.2e9
+    with pytest.raises(strata.SceneError, match="plasticity.hardness"):
+        strata.Scene(half, z, model="bem", load=load, plasticity={"hardness": -1})
+    with pytest.raises(strata.SceneError, match="plasticity"):
+        strata.Scene(half, z, model="interacting", load=load, plasticity={"hardness": 1e9})

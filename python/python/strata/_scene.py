@@ -71,15 +71,19 @@ class Scene:
     ``counterface`` (a :class:`Stack` or stack file) presses the first body against a second
     elastic body instead of a rigid flat (the two compliances add; the pair's E* is in every
     normalisation); ``counterface_surface`` is that body's roughness, heights as seen from the
-    first body on the same grid (added to ``surface``).
+    first body on the same grid (added to ``surface``). ``plasticity`` is the scene's
+    ``[plasticity]`` table as a dict (``{"hardness": 0.4e9}``: the contact pressure capped at
+    H, BEM and N model) and ``conductance`` its ``[conductance]`` table
+    (``{"kind": "thermal"}``).
     """
 
     def __init__(self, stack, surface, model: str = "interacting", load=None, images: Optional[str] = None,
                  image_cells: Optional[int] = None, table=None, solver: Optional[Dict[str, Any]] = None,
-                 counterface=None, counterface_surface=None):
+                 counterface=None, counterface_surface=None, plasticity: Optional[Dict[str, Any]] = None,
+                 conductance: Optional[Dict[str, Any]] = None):
         cs = None if counterface_surface is None else as_surface(counterface_surface)
         self._native = _strata.Scene(stack, as_surface(surface), model, load, images, image_cells, table,
-                                     solver, counterface, cs)
+                                     solver, counterface, cs, plasticity, conductance)
 
     @classmethod
     def _wrap(cls, native) -> "Scene":

@@ -256,6 +256,8 @@ class Scene:
         solver: Optional[Dict[str, Any]] = None,
         counterface: Union[Stack, _Path, None] = None,
         counterface_surface: Optional[Surface] = None,
+        plasticity: Optional[Dict[str, Any]] = None,
+        conductance: Optional[Dict[str, Any]] = None,
     ) -> "Scene": ...
     @staticmethod
     def from_file(path: _Path) -> "Scene": ...
