@@ -37,6 +37,10 @@ pub struct SampledLaw {
     /// With `[conductance]`: the interface conductance h_c (W/(m²·K) or S/m²) at each
     /// sample, in the order of [`InterfaceLaw::samples`] (0 at first contact).
     pub conductance: Option<(ConductionKind, Vec<f64>)>,
+    /// With `[plasticity]` (BEM): the hardness (Pa) and the unloading curve from the
+    /// deepest sample back to first contact, (gap, mean pressure, area fraction) per
+    /// sample — it lies below the loading curve (the flattened tips do not spring back).
+    pub unloading: Option<(f64, Vec<(f64, f64, f64)>)>,
 }
 
 impl SampledLaw {
@@ -48,7 +52,31 @@ impl SampledLaw {
             format!("scene: {scene}"),
             format!("model: {}", self.model),
             format!("solid: {}", self.solid),
-        ]) + &self.gap_conductance_block()
+        ]) + &self.plastic_note()
+            + &self.gap_conductance_block()
+    }
+
+    /// With `[plasticity]`: `**` lines saying that the tabular law above is elastic in
+    /// Abaqus and CalculiX (unloading retraces it) while the interface's unloading
+    /// curve (in strata's CSV and JSON) lies below it; empty otherwise.
+    pub fn plastic_note(&self) -> String {
+        let Some((h, back)) = &self.unloading else {
+            return String::new();
+        };
+        let drop = back
+            .iter()
+            .zip(self.law.samples().collect::<Vec<_>>().iter().rev())
+            .map(|((_, pu, _), (_, pl, _, _))| if *pl > 0.0 { 1.0 - pu / pl } else { 0.0 })
+            .fold(0.0_f64, f64::max);
+        format!(
+            "** PLASTIC INTERFACE: the asperity tips were capped at the hardness H = {} Pa. The\n\
+             **   table above is the LOADING curve; Abaqus and CalculiX tabular laws are elastic\n\
+             **   (unloading retraces loading), while the flattened tips do not spring back: the\n\
+             **   unloading curve (strata's CSV `branch` column and JSON `unloading`) lies up to\n\
+             **   {:.1} % below it in pressure at equal separation.\n",
+            abaqus_real(*h),
+            100.0 * drop
+        )
     }
 
     /// With `[conductance]`: the `*GAP CONDUCTANCE, PRESSURE` block (data lines
@@ -183,6 +211,12 @@ fn solve_asperities(
     samples: usize,
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
+    if scene.plasticity.is_some() {
+        bail!(
+            "the law of the capped N model is not written yet (its response has no unloading \
+             branch); use model.kind = \"bem\" for the law of a plastic interface"
+        );
+    }
     let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
     let keep = scene.conductance.is_some().then(|| surface.clone());
     let law = law_for(scene, path, opts)?;
@@ -232,6 +266,7 @@ fn solve_asperities(
         surface: surface_json,
         warnings,
         conductance,
+        unloading: None,
     })
 }
 
@@ -315,8 +350,19 @@ fn solve_bem(
     let area = surface.extent().0 * surface.extent().1;
     let mut sampled = scene.clone();
     sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
+    // [plasticity]: the return path too (the unloading curve), the law from the loading
+    sampled.unload = scene.plasticity.is_some();
     let sol = solve_surface(&sampled, path, surface, opts)?;
     let mut steps = sol.steps;
+    let unloading = scene.plasticity.map(|pl| {
+        let back: Vec<(f64, f64, f64)> = steps
+            .iter()
+            .skip(samples.saturating_sub(1))
+            .map(|s| (s.gap, s.mean_pressure, s.area_fraction))
+            .collect();
+        (pl.hardness, back)
+    });
+    steps.truncate(samples);
     // First contact: the flat touches the highest grid point only, p = A = 0 exactly
     // (the iterative solve may leave round-off there).
     if let Some(s) = steps.first_mut() {
@@ -334,6 +380,7 @@ fn solve_bem(
         .unwrap_or_default();
     let conductance = scene.conductance.as_ref().map(|spec| {
         let mut h = conductance_steps(&sol.meta);
+        h.truncate(samples);
         if let Some(first) = h.first_mut() {
             *first = 0.0; // first contact: one grid point, no area
         }
@@ -348,5 +395,6 @@ fn solve_bem(
         surface: sol.meta["surface"].clone(),
         warnings,
         conductance,
+        unloading,
     })
 }

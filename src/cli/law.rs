@@ -112,6 +112,25 @@ fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
 
 const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (z_M: the highest summit in the N and I models, the highest grid point in the BEM; g, the flat's height above the mean plane, means the same in every model); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
 
+/// The law's CSV; with `[plasticity]` a `branch` column (`loading`, then `unloading`
+/// from the deepest sample back to first contact: gap, overclosure, pressure, area;
+/// dp_dg and valid of the loading branch only, NaN and 1 on the unloading rows).
+fn csv(s: &SampledLaw) -> String {
+    let Some((_, back)) = &s.unloading else {
+        return s.law.csv();
+    };
+    let g0 = s.law.first_contact_gap();
+    let mut out = String::new();
+    for (i, line) in s.law.csv().lines().enumerate() {
+        out.push_str(line);
+        out.push_str(if i == 0 { ",branch\n" } else { ",loading\n" });
+    }
+    for (g, p, a) in back.iter().skip(1) {
+        out.push_str(&format!("{g:e},{:e},{p:e},{a:e},NaN,1,unloading\n", g0 - g));
+    }
+    out
+}
+
 fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
     let g0 = s.law.first_contact_gap();
     let law: Vec<serde_json::Value> = s
@@ -148,6 +167,23 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
         "law": law,
     });
     let mut v = v;
+    if let Some((h, back)) = &s.unloading {
+        let g0 = s.law.first_contact_gap();
+        v["plasticity"] = serde_json::json!({
+            "hardness": h,
+            "note": "the tips capped at the hardness: `law` is the loading curve; `unloading` runs \
+                     from the deepest sample back to first contact on the flattened surface \
+                     (Abaqus/CalculiX tabular laws are elastic: they retrace the loading curve)",
+        });
+        v["unloading"] = serde_json::Value::Array(
+            back.iter()
+                .map(|(g, p, a)| {
+                    serde_json::json!({"gap": g, "overclosure": g0 - g, "mean_pressure": p,
+                                       "area_fraction": a})
+                })
+                .collect(),
+        );
+    }
     if let Some((kind, h)) = &s.conductance {
         // [conductance]: h_c per sample (null where infinite: full contact)
         for (entry, &hc) in v["law"].as_array_mut().into_iter().flatten().zip(h) {
@@ -168,13 +204,6 @@ pub fn run(a: Args) -> Result<()> {
     check_min_gap(a.min_gap)?;
     let outs = outputs(&a)?;
     let scene = Scene::from_file(&a.scene)?;
-    if scene.plasticity.is_some() || scene.unload {
-        bail!(
-            "scene {}: the law of a plastic interface (a loading and an unloading curve) is not \
-             written yet; `strata solve` gives the plastic BEM curve, loading and unloading",
-            a.scene.display()
-        );
-    }
     let paths: Vec<PathBuf> = outs.iter().map(|(_, p)| p.clone()).collect();
     let inputs = scene.inputs(&a.scene);
     for p in &paths {
@@ -195,7 +224,7 @@ pub fn run(a: Args) -> Result<()> {
     }
     for (f, p) in &outs {
         let text = match f {
-            Format::Csv => solved.law.csv(),
+            Format::Csv => csv(&solved),
             Format::Json => json(&solved, &a.scene)?,
             Format::Abaqus => solved.abaqus_block(&a.scene.display().to_string()),
             Format::All => bail!("internal error: --format all was not expanded"),

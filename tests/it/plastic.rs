@@ -212,7 +212,7 @@ use crate::support::csv_rows as rows;
 /// `[plasticity] hardness` and `[load] unload = true` through `strata solve`: the
 /// plastic_area_fraction column, the return path (2n − 1 steps, unloading below
 /// loading at equal δ), curve.json's per-step plastic depth; a huge hardness is the
-/// elastic scene; the I model, `compare` and `law` refuse by name.
+/// elastic scene; the I model and `compare` refuse by name.
 #[test]
 fn plastic_scenes_through_solve() {
     let d = crate::support::fresh_dir("plastic", "scene");
@@ -279,20 +279,12 @@ fn plastic_scenes_through_solve() {
     );
     assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity.hardness"));
     let scene = d.join("plastic.toml");
-    for args in [
-        vec![
-            "compare".to_string(),
-            scene.display().to_string(),
-            "--out".into(),
-            d.join("cmp").display().to_string(),
-        ],
-        vec![
-            "law".to_string(),
-            scene.display().to_string(),
-            "--out".into(),
-            d.join("law.csv").display().to_string(),
-        ],
-    ] {
+    for args in [vec![
+        "compare".to_string(),
+        scene.display().to_string(),
+        "--out".into(),
+        d.join("cmp").display().to_string(),
+    ]] {
         let o = crate::support::strata_in(&d).args(&args).output().unwrap();
         assert!(!o.status.success(), "{args:?}");
         assert!(
@@ -423,4 +415,64 @@ fn plastic_n_model() {
     );
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity"));
+}
+
+/// `strata law` on a plastic BEM scene: the loading curve as the law (the `.inp` table,
+/// with a PLASTIC INTERFACE note), the unloading curve in the CSV (`branch` column) and
+/// the JSON (`unloading`) from the deepest sample back to first contact, below the
+/// loading curve where the tips flowed and equal at the turning point.
+#[test]
+fn plastic_law_has_a_loading_and_an_unloading_curve() {
+    let d = crate::support::fresh_dir("plastic", "law");
+    let scene = d.join("s.toml");
+    std::fs::write(
+        &scene,
+        scene_text("[load]\napproach = { from = 2e-6, to = 8e-6, steps = 4 }\n[plasticity]\nhardness = 0.2e9\n"),
+    )
+    .unwrap();
+    let out = d.join("law.csv");
+    let o = crate::support::strata_in(&d)
+        .args(["law", "--samples", "12", "--format", "all", "--out"])
+        .arg(&out)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert!(lines[0].ends_with(",branch"), "{}", lines[0]);
+    let rows: Vec<Vec<&str>> = lines[1..].iter().map(|l| l.split(',').collect()).collect();
+    let load: Vec<&Vec<&str>> = rows.iter().filter(|r| r[6] == "loading").collect();
+    let back: Vec<&Vec<&str>> = rows.iter().filter(|r| r[6] == "unloading").collect();
+    assert_eq!(load.len(), 12);
+    assert_eq!(back.len(), 11);
+    let num = |s: &str| s.parse::<f64>().unwrap();
+    // unloading row k is loading row 10 − k (the same gap), with no more pressure
+    let mut below = 0;
+    for (k, u) in back.iter().enumerate() {
+        let l = load[10 - k];
+        assert!(rel(num(u[0]), num(l[0])) < 1e-9, "gap {} vs {}", u[0], l[0]);
+        assert!(
+            num(u[2]) <= num(l[2]) * (1.0 + 1e-9),
+            "p {} vs {}",
+            u[2],
+            l[2]
+        );
+        if num(u[2]) < 0.99 * num(l[2]) {
+            below += 1;
+        }
+    }
+    assert!(
+        below >= 3,
+        "the unloading curve lies below the loading one: {below}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("law.json")).unwrap()).unwrap();
+    assert_eq!(json["plasticity"]["hardness"], 0.2e9);
+    assert_eq!(json["unloading"].as_array().unwrap().len(), 12);
+    let inp = std::fs::read_to_string(d.join("law.inp")).unwrap();
+    assert!(
+        inp.contains("PLASTIC INTERFACE") && inp.contains("LOADING curve"),
+        "{inp}"
+    );
 }
