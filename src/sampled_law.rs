@@ -16,6 +16,10 @@ use crate::engine::{EngineOptions, law_for, solve_surface};
 use crate::progress;
 use crate::scene::{LoadSpec, ModelKind, Scene};
 
+/// One sample of a plastic interface's unloading curve: (gap (m), mean pressure (Pa),
+/// area fraction).
+pub type UnloadingSample = (f64, f64, f64);
+
 /// A sampled contact law and what was solved, for the headers.
 #[derive(Debug, Clone)]
 pub struct SampledLaw {
@@ -40,7 +44,7 @@ pub struct SampledLaw {
     /// With `[plasticity]` (BEM): the hardness (Pa) and the unloading curve from the
     /// deepest sample back to first contact, (gap, mean pressure, area fraction) per
     /// sample — it lies below the loading curve (the flattened tips do not spring back).
-    pub unloading: Option<(f64, Vec<(f64, f64, f64)>)>,
+    pub unloading: Option<(f64, Vec<UnloadingSample>)>,
 }
 
 impl SampledLaw {
@@ -355,7 +359,7 @@ fn solve_bem(
     let sol = solve_surface(&sampled, path, surface, opts)?;
     let mut steps = sol.steps;
     let unloading = scene.plasticity.map(|pl| {
-        let back: Vec<(f64, f64, f64)> = steps
+        let back: Vec<UnloadingSample> = steps
             .iter()
             .skip(samples.saturating_sub(1))
             .map(|s| (s.gap, s.mean_pressure, s.area_fraction))
