@@ -587,7 +587,7 @@ impl Stack {
     pub fn from_toml_str(text: &str) -> Result<Self, StackError> {
         let table: toml::Table = text
             .parse()
-            .map_err(|e: toml::de::Error| StackError::Syntax(one_line(&e.to_string())))?;
+            .map_err(|e: toml::de::Error| StackError::Syntax(toml_error_line(text, &e)))?;
         Stack::from_toml_table(&table)
     }
 
@@ -799,6 +799,22 @@ fn push_conductivity(s: &mut String, c: &Conductivity) {
     }
     if let Some(k) = c.electrical {
         s.push_str(&format!("electrical_conductivity = {k:e}\n"));
+    }
+}
+
+/// A TOML parse error in one line: `line L, column C: message` (the parser's own text
+/// spans five lines with a source excerpt).
+#[cfg(feature = "toml")]
+pub fn toml_error_line(text: &str, e: &toml::de::Error) -> String {
+    let message = one_line(e.message());
+    match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            format!("line {line}, column {column}: {message}")
+        }
+        None => message,
     }
 }
 

@@ -407,9 +407,9 @@ impl Scene {
 
     /// Parses a scene from TOML text, resolving relative paths against `dir`.
     pub fn from_str_in(text: &str, dir: &Path) -> Result<Scene, SceneError> {
-        let top: Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| SceneError::Syntax(e.to_string()))?;
+        let top: Table = text.parse().map_err(|e: toml::de::Error| {
+            SceneError::Syntax(strata_runtime::stack::toml_error_line(text, &e))
+        })?;
         Scene::from_table_in(top, dir, None)
     }
 

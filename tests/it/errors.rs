@@ -214,3 +214,40 @@ fn bad_inputs_give_one_chain_each() {
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(e.contains("--npy .: is the current directory"), "{e}");
 }
+
+/// TOML syntax errors are one line with the line and column (issue 37 item 8: they
+/// spanned five lines with a source excerpt), in scenes and stack files.
+#[test]
+fn toml_syntax_errors_are_one_line() {
+    let d = crate::support::fresh_dir("errors", "toml-one-line");
+    let scene = d.join("bad.toml");
+    std::fs::write(&scene, "[stack]\nfile = 3 x\n").unwrap();
+    let stack = d.join("st.toml");
+    std::fs::write(&stack, "name = \"x\"\n[[layer]]\nthickness = \n").unwrap();
+    for (args, want) in [
+        (
+            vec![
+                "solve".to_string(),
+                scene.display().to_string(),
+                "--out".into(),
+                d.join("o").display().to_string(),
+            ],
+            "line 2, column 8",
+        ),
+        (
+            vec![
+                "compliance".to_string(),
+                stack.display().to_string(),
+                "--rho-h".into(),
+                "1".into(),
+            ],
+            "line 3, column 13",
+        ),
+    ] {
+        let o = crate::support::run_strata(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success());
+        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        assert!(err.contains(want), "{err}");
+    }
+}
