@@ -20,7 +20,6 @@ use strata_bem::{
     BemLoad, BemOptions, BemSolution, BemSolver, ConductanceOptions, ConductanceSolver, Conductor,
     Geometry,
 };
-use strata_runtime::conduction::ConductionKind;
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;
 use strata_runtime::rough::{Images, Model, RoughContact, RoughError, Step};
@@ -983,10 +982,7 @@ fn counterface_conduction(spec: &ConductanceSpec) -> String {
 
 /// curve.json's `conductance` entry: kind, unit, definition, the counterface.
 fn conductance_meta(scene: &Scene, spec: &ConductanceSpec) -> serde_json::Value {
-    let unit = match spec.kind {
-        ConductionKind::Thermal => "W/(m^2 K)",
-        ConductionKind::Electrical => "S/m^2",
-    };
+    let unit = spec.kind.interface_conductance_unit();
     let top = spec
         .body(&scene.stack)
         .map(|c| c.top_conductivity())

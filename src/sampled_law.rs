@@ -90,10 +90,7 @@ impl SampledLaw {
         let Some((kind, h)) = &self.conductance else {
             return String::new();
         };
-        let unit = match kind {
-            ConductionKind::Thermal => "W/(m^2 K)",
-            ConductionKind::Electrical => "S/m^2",
-        };
+        let unit = kind.interface_conductance_unit();
         let mut s = format!(
             "** strata law: {} gap conductance of the rough interface against contact pressure.\n\
              ** conductance = h_c, the interface (constriction) conductance per nominal area ({unit}):\n\

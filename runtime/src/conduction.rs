@@ -78,6 +78,15 @@ impl ConductionKind {
             ConductionKind::Electrical => "S",
         }
     }
+
+    /// Unit of an interface conductance per nominal area h_c (ASCII, as written to
+    /// JSON and FE decks).
+    pub fn interface_conductance_unit(self) -> &'static str {
+        match self {
+            ConductionKind::Thermal => "W/(m^2 K)",
+            ConductionKind::Electrical => "S/m^2",
+        }
+    }
 }
 
 /// Errors of the conduction set-up: each names the missing property and where.

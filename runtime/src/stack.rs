@@ -511,10 +511,11 @@ impl Stack {
     /// against a rigid flat; with a counterface 1/E* = 1/E*₁,A + 1/E*₁,B (physics.md
     /// §6.1, symmetric in A and B to the last bit).
     pub fn contact_modulus(&self) -> f64 {
-        match self.canonical_pair() {
+        // (IEEE addition is commutative: no canonical order needed for the symmetry)
+        match self.counterface() {
             None => self.top_plane_strain_modulus(),
-            Some((a, b)) => {
-                1.0 / (1.0 / a.top_plane_strain_modulus() + 1.0 / b.top_plane_strain_modulus())
+            Some(c) => {
+                1.0 / (1.0 / self.top_plane_strain_modulus() + 1.0 / c.top_plane_strain_modulus())
             }
         }
     }

@@ -37,7 +37,6 @@ use std::time::Instant;
 
 use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
-use strata_runtime::conduction::ConductionKind;
 
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
@@ -189,10 +188,7 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
         for (entry, &hc) in v["law"].as_array_mut().into_iter().flatten().zip(h) {
             entry["conductance"] = serde_json::json!(hc);
         }
-        v["units"]["conductance"] = serde_json::json!(match kind {
-            ConductionKind::Thermal => "W/(m^2 K)",
-            ConductionKind::Electrical => "S/m^2",
-        });
+        v["units"]["conductance"] = serde_json::json!(kind.interface_conductance_unit());
         v["conductance_kind"] = serde_json::json!(kind.name());
     }
     Ok(serde_json::to_string_pretty(&v)?)
