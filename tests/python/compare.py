@@ -70,13 +70,13 @@ def surface(path):
     return z
 
 
-def tamaas_solver(z, tol):
+def tamaas_solver(z, tol, young=E, poisson=NU):
     import tamaas as tm
 
     n = z.shape[0]
     model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [L, L], [n, n])
-    model.E = E
-    model.nu = NU
+    model.E = young
+    model.nu = poisson
     solver = tm.PolonskyKeerRey(model, z, tol, tm.PolonskyKeerRey.gap, tm.PolonskyKeerRey.gap)
     solver.dump_freq = 10**9
     return tm, model, solver
@@ -113,16 +113,10 @@ ESTAR_PAIR = 1.0 / (2.0 / (E_STEEL / (1 - NU_STEEL**2)))
 
 
 def run_tamaas_pair(surf, out):
-    import tamaas as tm
-
     z = surface(surf)
     n = z.shape[0]
     sep = z.max() - z.mean()
-    model = tm.ModelFactory.createModel(tm.model_type.basic_2d, [L, L], [n, n])
-    model.E = ESTAR_PAIR
-    model.nu = 0.0
-    solver = tm.PolonskyKeerRey(model, z, 1e-10, tm.PolonskyKeerRey.gap, tm.PolonskyKeerRey.gap)
-    solver.dump_freq = 10**9
+    _, model, solver = tamaas_solver(z, 1e-10, young=ESTAR_PAIR, poisson=0.0)
     rows = []
     for frac in loads(TAMAAS_FRACTIONS, z, "tamaas_pair"):
         g = frac * sep
