@@ -180,10 +180,7 @@ mod tests {
     /// decades of a/h₁ on a plating and an insulating layer.
     #[test]
     fn interpolated_psi_matches_direct_solves() {
-        let k = |v: f64| Conductivity {
-            thermal: Some(v),
-            electrical: None,
-        };
+        let k = Conductivity::thermal;
         let h = 1e-5;
         for (k1, kb) in [(200.0, 20.0), (0.5, 40.0)] {
             let stack = Stack::new(

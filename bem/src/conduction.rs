@@ -434,10 +434,7 @@ mod tests {
     use strata_runtime::stack::{Base, BaseConduction, Conductivity, Layer, Stack};
 
     fn thermal(k: f64) -> Conductivity {
-        Conductivity {
-            thermal: Some(k),
-            electrical: None,
-        }
+        Conductivity::thermal(k)
     }
 
     fn tight() -> ConductanceOptions {

@@ -273,10 +273,7 @@ mod tests {
     use crate::stack::{Base, Conductivity, Layer};
 
     fn thermal(k: f64) -> Conductivity {
-        Conductivity {
-            thermal: Some(k),
-            electrical: None,
-        }
+        Conductivity::thermal(k)
     }
 
     fn stack(layers: &[(f64, f64)], base: Option<f64>) -> Stack {

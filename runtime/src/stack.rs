@@ -71,6 +71,14 @@ pub struct Conductivity {
 }
 
 impl Conductivity {
+    /// A thermal conductivity `k` (W/(m·K)) alone.
+    pub fn thermal(k: f64) -> Conductivity {
+        Conductivity {
+            thermal: Some(k),
+            electrical: None,
+        }
+    }
+
     /// True when neither conductivity is given.
     pub fn is_empty(&self) -> bool {
         self.thermal.is_none() && self.electrical.is_none()

@@ -211,10 +211,7 @@ mod tests_support {
     pub const H: f64 = 1e-4;
 
     pub fn k(v: f64) -> Conductivity {
-        Conductivity {
-            thermal: Some(v),
-            electrical: None,
-        }
+        Conductivity::thermal(v)
     }
 
     /// Layers (h, k) on a half-space of `base` (Some(k_b)) or an isothermal sink (None).

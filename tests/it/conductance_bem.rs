@@ -129,10 +129,7 @@ fn conductance_scenes_through_solve() {
 fn one_spot_on_a_layered_stack_matches_the_spot_solver() {
     let a = 1e-4;
     let l = 8.0 * a;
-    let k = |v: f64| Conductivity {
-        thermal: Some(v),
-        electrical: None,
-    };
+    let k = Conductivity::thermal;
     let layer = |h: f64| Layer {
         thickness: h,
         young: 1e9,
