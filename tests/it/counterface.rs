@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 
 use ndarray::Array2;
 use strata_bem::{BemLoad, BemOptions, BemSolver, Geometry};
-use strata_runtime::surface::{GenerateParams, Surface};
+use strata_runtime::surface::Surface;
 use strata_runtime::{Compliance, Stack};
 use strata_tablegen::asperity::{Asperity, Options};
 
@@ -42,18 +42,7 @@ fn rel(a: f64, b: f64) -> f64 {
     }
 }
 
-fn surface(grid: usize, seed: u64) -> Surface {
-    Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed,
-    })
-    .expect("surface")
-}
+use crate::support::paper_like_surface as surface;
 
 fn heights(s: &Surface) -> Array2<f64> {
     let (n0, n1) = s.shape();

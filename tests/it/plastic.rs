@@ -10,19 +10,9 @@
 
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, Geometry, PlasticPath};
 use strata_runtime::Stack;
-use strata_runtime::surface::{GenerateParams, Surface};
 
 fn heights(grid: usize, seed: u64) -> Array2<f64> {
-    let s = Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed,
-    })
-    .unwrap();
+    let s = crate::support::paper_like_surface(grid, seed);
     Array2::from_shape_vec((grid, grid), s.heights().to_vec()).unwrap()
 }
 

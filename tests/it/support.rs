@@ -224,3 +224,19 @@ pub fn csv_rows(text: &str) -> Vec<Vec<f64>> {
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
         .collect()
 }
+
+/// The paper-like generated surface of the tests: L = 1 mm, D_f = 2.4, k = 2…10 (units
+/// of 2π/L), RMS 3.4 µm, on a `grid`² grid with `seed`.
+#[allow(dead_code)]
+pub fn paper_like_surface(grid: usize, seed: u64) -> strata_runtime::surface::Surface {
+    strata_runtime::surface::Surface::generate(&strata_runtime::surface::GenerateParams {
+        size: 1e-3,
+        grid,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed,
+    })
+    .expect("paper-like surface")
+}
