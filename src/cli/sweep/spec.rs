@@ -171,6 +171,31 @@ fn param_of(name: &str) -> Option<(Param, Kind)> {
     })
 }
 
+/// Sets one field of a swept layer.
+fn set_layer(l: &mut strata_runtime::Layer, f: LayerField, x: f64) {
+    match f {
+        LayerField::Thickness => l.thickness = x,
+        LayerField::Young => l.young = x,
+        LayerField::Poisson => l.poisson = x,
+    }
+}
+
+/// Sets the Young modulus (`young`) or the Poisson ratio of a swept elastic base (a
+/// rigid base has neither; such axes are refused before).
+fn set_base(base: &mut Base, young: bool, x: f64) {
+    if let Base::Elastic {
+        young: e,
+        poisson: nu,
+    } = base
+    {
+        if young {
+            *e = x;
+        } else {
+            *nu = x;
+        }
+    }
+}
+
 /// One swept parameter.
 #[derive(Debug, Clone)]
 pub struct Axis {
@@ -636,23 +661,9 @@ impl Sweep {
             for (a, v) in self.axes.iter().zip(values) {
                 let x = v.num();
                 match a.param {
-                    Param::Layer(n, f) => {
-                        let l = &mut layers[n - 1];
-                        match f {
-                            LayerField::Thickness => l.thickness = x,
-                            LayerField::Young => l.young = x,
-                            LayerField::Poisson => l.poisson = x,
-                        }
-                    }
-                    Param::BaseYoung | Param::BasePoisson => {
-                        if let Base::Elastic { young, poisson } = &mut base {
-                            if a.param == Param::BaseYoung {
-                                *young = x;
-                            } else {
-                                *poisson = x;
-                            }
-                        }
-                    }
+                    Param::Layer(n, f) => set_layer(&mut layers[n - 1], f, x),
+                    Param::BaseYoung => set_base(&mut base, true, x),
+                    Param::BasePoisson => set_base(&mut base, false, x),
                     Param::ModulusRatio => ratio = Some(x),
                     _ => {}
                 }
@@ -684,23 +695,9 @@ impl Sweep {
             for (a, v) in self.axes.iter().zip(values) {
                 let x = v.num();
                 match a.param {
-                    Param::CounterLayer(n, f) => {
-                        let l = &mut layers[n - 1];
-                        match f {
-                            LayerField::Thickness => l.thickness = x,
-                            LayerField::Young => l.young = x,
-                            LayerField::Poisson => l.poisson = x,
-                        }
-                    }
-                    Param::CounterBaseYoung | Param::CounterBasePoisson => {
-                        if let Base::Elastic { young, poisson } = &mut base {
-                            if a.param == Param::CounterBaseYoung {
-                                *young = x;
-                            } else {
-                                *poisson = x;
-                            }
-                        }
-                    }
+                    Param::CounterLayer(n, f) => set_layer(&mut layers[n - 1], f, x),
+                    Param::CounterBaseYoung => set_base(&mut base, true, x),
+                    Param::CounterBasePoisson => set_base(&mut base, false, x),
                     _ => {}
                 }
             }
