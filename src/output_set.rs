@@ -676,7 +676,21 @@ fn lock(flag: &'static str, shown: &str, dir: &Path, name: &str) -> Result<File,
             shown,
             &format!("creating the lock file {}", path.display()),
         ))?;
-    match f.try_lock() {
+    // A lock released a moment ago can still look held: a thread of this process that
+    // forks (a test harness, a host embedding strata) shares the descriptor with the
+    // child until the child's exec closes it. A writer that really holds the output
+    // holds it for its whole run, so a short retry (≤ 0.1 s) tells the two apart.
+    let mut tries = 0;
+    let held = loop {
+        match f.try_lock() {
+            Err(fs::TryLockError::WouldBlock) if tries < 20 => {
+                tries += 1;
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            other => break other,
+        }
+    };
+    match held {
         Ok(()) => Ok(f),
         Err(fs::TryLockError::WouldBlock) => Err(OutputSetError::Busy {
             flag,
