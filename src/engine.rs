@@ -707,6 +707,7 @@ fn solve_bem(
                 "bounded_iterations": sol.iterations,
                 "offset_iterations": info.offset_iterations,
                 "active_set_steps": info.active_set_steps,
+                "bounded_fallback": info.bounded_fallback,
             }));
             (sol, next, dd)
         } else {

@@ -100,6 +100,7 @@
 // Index loops run over several parallel arrays (p, u, z, t); indices are clearer.
 #![allow(clippy::needless_range_loop)]
 
+mod capped;
 mod cg;
 pub mod conduction;
 mod error;

@@ -135,6 +135,16 @@ impl Operator {
         })
     }
 
+    /// An upper bound of the operator's norm ‖K‖₂ (m/Pa): the largest |eigenvalue| of
+    /// the circulant K (periodic: exact; free: the circulant embedding's, which bounds
+    /// its restriction to the sample). `uniform` as in [`Self::apply`].
+    pub(crate) fn norm_bound(&self, uniform: bool) -> f64 {
+        let (gy, gx) = self.plan.grid();
+        let scale = (gy * gx) as f64;
+        let rest = self.kernel[1..].iter().fold(0.0_f64, |m, k| m.max(k.abs()));
+        rest.max(self.dc(uniform).abs()) * scale
+    }
+
     pub(crate) fn work(&self) -> Fft2Work {
         self.plan.work()
     }

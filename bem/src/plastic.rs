@@ -14,19 +14,24 @@
 //! problem).
 //!
 //! # Method
-//! MPRGP ([`strata_runtime::bounded`]): Dostál's modified proportioning with reduced
-//! gradient projections for box constraints, R-linearly convergent for a strictly convex
+//! Under displacement control the capped preconditioned iteration ([`crate::capped`]:
+//! Polonsky–Keer with Vollebregt's preconditioner, the working set widened to both
+//! bounds; 1.0–1.3× the elastic step at 512²), and where it stalls MPRGP
+//! ([`strata_runtime::bounded`]): Dostál's modified proportioning with reduced gradient
+//! projections for box constraints, R-linearly convergent for a strictly convex
 //! quadratic whatever fraction of the contact is plastic — no rescaling of p, so it does
 //! not stall with the whole set just below H (the failure of a projected Polonsky–Keer
-//! rescaling, physics.md §6.3). The operator is the solver's FFT convolution; ‖K‖ by
-//! power iteration. Stopping: the largest violation of the KKT conditions (m) below
-//! `tolerance × σ_z` on the exact gap. Force control: the offset c is found by a
-//! safeguarded secant (Illinois) on the mean pressure, monotone in c, each evaluation
-//! warm-started from the last.
+//! rescaling under force control, physics.md §9). ‖K‖ is bounded by the operator's
+//! spectrum. Stopping: the largest violation of the KKT conditions (m) below
+//! `tolerance × σ_z` on the exact gap. Force control: primal–dual active-set steps on
+//! the elastic iteration, checked by MPRGP; if the sets do not settle, the offset c is
+//! found by a safeguarded secant (Illinois) on the mean pressure, monotone in c, each
+//! evaluation warm-started from the last.
 
-use strata_runtime::bounded::{BoundedError, Mprgp, Outcome, norm_estimate};
+use strata_runtime::bounded::{BoundedError, Mprgp, Outcome};
 
 use crate::BemError;
+use crate::capped::Capped;
 use crate::maps::count_patches;
 use crate::operator::Operator;
 
@@ -101,8 +106,11 @@ pub struct PlasticInfo {
     /// when the active-set steps settled).
     pub offset_iterations: usize,
     /// Active-set steps (elastic solves with the plastic set fixed) before the bounded
-    /// solve checked the result.
+    /// solve checked the result (force control only).
     pub active_set_steps: usize,
+    /// Whether the bounded solver (MPRGP) finished the step: the capped preconditioned
+    /// iteration ([`crate::capped`]) stalled, or force control's active-set steps ran.
+    pub bounded_fallback: bool,
 }
 
 /// Contact patches and area of a pressure field.
@@ -180,14 +188,12 @@ impl<'s> PlasticPath<'s> {
         }
         let parts = parts(solver);
         let n = parts.ny * parts.nx;
-        // ‖K‖ of the operator with the uniform mode where a rigid base has one.
+        // ‖K‖ (a bound from the spectrum) with the uniform mode where a rigid base has one.
         let uniform = parts.periodic && parts.c0.is_some();
-        let mut work = parts.op.work();
-        let norm = norm_estimate(
-            &mut |x: &[f64], y: &mut [f64]| parts.op.apply(x, y, uniform, &mut work),
-            n,
-        )
-        .map_err(bem_error)?;
+        let norm = parts.op.norm_bound(uniform);
+        if !(norm.is_finite() && norm > 0.0) {
+            return Err(BemError::NonFinite(0));
+        }
         Ok(PlasticPath {
             solver,
             hardness,
@@ -216,8 +222,15 @@ impl<'s> PlasticPath<'s> {
         // preconditioned iteration, fast) is the capped one when no pressure exceeds H —
         // every KKT condition of the box problem then holds with the cap inactive — and
         // otherwise, clipped at H, the bounded solve's start.
+        // Before any flattening, under force control or without a cap, the surface is
+        // the elastic solver's: its solution (the preconditioned iteration, fast) is the
+        // capped one when no pressure exceeds H — every KKT condition of the box problem
+        // then holds with the cap inactive — and otherwise, clipped at H, the start.
+        let fresh = self.depth.iter().all(|&d| d == 0.0);
+        let elastic_first =
+            fresh && (!self.hardness.is_finite() || matches!(control, Control::Pressure(_)));
         let mut start = None;
-        if self.depth.iter().all(|&d| d == 0.0) {
+        if elastic_first {
             let warm = self
                 .p
                 .iter()
@@ -235,6 +248,7 @@ impl<'s> PlasticPath<'s> {
                     plastic_depth_mean: 0.0,
                     offset_iterations: 0,
                     active_set_steps: 0,
+                    bounded_fallback: false,
                 };
                 return Ok((e, info));
             }
@@ -260,33 +274,57 @@ impl<'s> PlasticPath<'s> {
             tol: parts.options.tolerance * parts.z_rms,
             max_iterations: parts.options.max_iterations,
         };
+        let mut capped = Capped {
+            op: parts.op,
+            minv: self.solver.preconditioner(),
+            uniform: false,
+            z: &z_e,
+            hardness: self.hardness,
+            tol: bounded.tol,
+            max_iterations: parts.options.max_iterations,
+        };
         let mut g = vec![0.0; n];
         let mut p = start.unwrap_or_else(|| self.p.clone());
-        // Active-set steps on the elastic iteration first (fast); the bounded solve then
-        // checks (and, if the sets did not settle, finishes) the result.
-        let (settled, set_steps, set_products) = self.active_set(&parts, &z_e, control, &mut p)?;
-        let (c, out, offset_iterations) = match (control, settled) {
-            (Control::Offset { c, uniform }, _) => {
-                bounded.uniform = uniform;
-                let out = bounded.solve(c, &mut p, &mut g)?;
-                (c, out, 0)
-            }
-            (Control::Pressure(_), Some(c)) => {
-                let out = bounded.solve(c, &mut p, &mut g)?;
-                (c, out, 0)
-            }
-            (Control::Pressure(target), None) => {
-                if target >= self.hardness {
-                    return Err(BemError::Load {
-                        what: "mean pressure",
-                        value: target,
-                        reason: format!(
-                            "is at or above the hardness {:e} Pa: a capped pressure cannot carry it",
-                            self.hardness
-                        ),
-                    });
+        let fallback;
+        let (c, out, offset_iterations, set_steps) = match control {
+            Control::Offset { c, uniform } => {
+                // The capped preconditioned iteration from the last step's pressure or
+                // the elastic solver's cold (coarse-to-fine) start.
+                if p.iter().all(|&v| v == 0.0) {
+                    self.solver.start_guess(control, &mut p);
                 }
-                self.force_control(&bounded, target, &mut p, &mut g)?
+                bounded.uniform = uniform;
+                capped.uniform = uniform;
+                let (out, bounded_ran) = solve_at(&bounded, &capped, c, &mut p, &mut g)?;
+                fallback = bounded_ran;
+                (c, out, 0, 0)
+            }
+            Control::Pressure(target) => {
+                // Active-set steps on the elastic iteration first (fast); the bounded
+                // solve then checks (and, if the sets did not settle, finishes) the
+                // result.
+                let (settled, set_steps, set_products) =
+                    self.active_set(&parts, &z_e, control, &mut p)?;
+                let (c, mut out, offset_iterations) = match settled {
+                    Some(c) => (c, bounded.solve(c, &mut p, &mut g)?, 0),
+                    None => {
+                        if target >= self.hardness {
+                            return Err(BemError::Load {
+                                what: "mean pressure",
+                                value: target,
+                                reason: format!(
+                                    "is at or above the hardness {:e} Pa: a capped pressure cannot carry it",
+                                    self.hardness
+                                ),
+                            });
+                        }
+                        self.force_control(&bounded, &capped, target, &mut p, &mut g)?
+                    }
+                };
+                out.iterations += set_steps;
+                out.products += set_products;
+                fallback = true;
+                (c, out, offset_iterations, set_steps)
             }
         };
         let h = self.hardness;
@@ -327,8 +365,8 @@ impl<'s> PlasticPath<'s> {
             separation: parts.z_max - parts.z_mean - approach,
             total_load: mean_pressure * parts.area,
             mean_deflection: if parts.periodic { w } else { f64::NAN },
-            iterations: set_steps + out.iterations,
-            products: set_products + out.products,
+            iterations: out.iterations,
+            products: out.products,
             error: out.violation / parts.z_rms,
             pressure: ndarray::Array2::from_shape_vec((parts.ny, parts.nx), p.clone())
                 .unwrap_or_default(),
@@ -349,6 +387,7 @@ impl<'s> PlasticPath<'s> {
             plastic_depth_mean: self.depth.iter().sum::<f64>() / n2,
             offset_iterations,
             active_set_steps: set_steps,
+            bounded_fallback: fallback,
         };
         self.p = p;
         self.c = Some(c);
@@ -438,6 +477,7 @@ impl<'s> PlasticPath<'s> {
     fn force_control(
         &self,
         bounded: &Bounded,
+        capped: &Capped,
         target: f64,
         p: &mut [f64],
         g: &mut [f64],
@@ -451,7 +491,7 @@ impl<'s> PlasticPath<'s> {
         };
         let evals = std::cell::Cell::new(0usize);
         let mut eval = |c: f64, p: &mut [f64], g: &mut [f64]| -> Result<f64, BemError> {
-            let o = bounded.solve(c, p, g)?;
+            let (o, _) = solve_at(bounded, capped, c, p, g)?;
             total.iterations += o.iterations;
             total.products += o.products;
             total.violation = o.violation;
@@ -529,6 +569,35 @@ impl<'s> PlasticPath<'s> {
         }
         Ok((c, total, evals.get()))
     }
+}
+
+/// The capped problem at offset `c`: the capped preconditioned iteration
+/// ([`crate::capped`]), and where it stalls the bounded solver (MPRGP) from its last
+/// state (then `true`). Both accept on the same KKT violation of the exact gap.
+fn solve_at(
+    bounded: &Bounded,
+    capped: &Capped,
+    c: f64,
+    p: &mut [f64],
+    g: &mut [f64],
+) -> Result<(Outcome, bool), BemError> {
+    let (mut iterations, mut products) = (0, 0);
+    if capped.hardness.is_finite() {
+        let o = capped.solve(c, p, g)?;
+        if o.converged {
+            let out = Outcome {
+                iterations: o.iterations,
+                products: o.products,
+                violation: o.violation,
+            };
+            return Ok((out, false));
+        }
+        (iterations, products) = (o.iterations, o.products);
+    }
+    let mut out = bounded.solve(c, p, g)?;
+    out.iterations += iterations;
+    out.products += products;
+    Ok((out, true))
 }
 
 impl crate::BemSolver {

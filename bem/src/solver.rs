@@ -629,6 +629,17 @@ impl BemSolver {
         Ok((out.offset, out.gap, out.products))
     }
 
+    /// The preconditioner M⁻¹, if the iteration is preconditioned (module `plastic`).
+    pub(crate) fn preconditioner(&self) -> Option<&Operator> {
+        self.precond.as_ref()
+    }
+
+    /// The cold start of a solve under `control`: the coarse-to-fine start on large
+    /// grids, zero otherwise (module `plastic`).
+    pub(crate) fn start_guess(&self, control: Control, p: &mut [f64]) {
+        self.coarse_start(control, p);
+    }
+
     /// The control of `load` (module `plastic`).
     pub(crate) fn control_of(&self, load: BemLoad) -> Result<Control, BemError> {
         self.control(load)

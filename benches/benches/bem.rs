@@ -581,9 +581,9 @@ fn plastic_table(_: &mut Criterion) {
     if !filter_matches("plastic") {
         return;
     }
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reference");
-    let z =
-        read_heights_npy(&dir.join("surface_km10.npy")).expect("tests/reference/surface_km10.npy");
+    let dir_ref = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/reference");
+    let z = read_heights_npy(&dir_ref.join("surface_km10.npy"))
+        .expect("tests/reference/surface_km10.npy");
     let half = Stack::half_space(4e9, 0.15).expect("stack");
     let solver = BemSolver::new(&z, 1e-3, &half, BemOptions::default()).expect("solver");
     let load = BemLoad::MeanGap(0.5 * solver.max_separation());
@@ -601,6 +601,11 @@ fn plastic_table(_: &mut Criterion) {
         "| H (GPa) | elastic (s) | plastic (s) | plastic / elastic | plastic area / contact area | products elastic / plastic |"
     );
     println!("|---|---|---|---|---|---|");
+    // STRATA_CM_PLASTIC_DIR: also write the surface and the capped steps at the elastic
+    // solution's approach (offset control, as ContactMechanics' plastic system takes
+    // it) for `tests/python/run.sh --speed`, which times ContactMechanics beside.
+    let cm_dir = std::env::var_os("STRATA_CM_PLASTIC_DIR").map(PathBuf::from);
+    let mut cm_rows = Vec::new();
     for h in [0.2e9, 0.05e9] {
         let (te, (_, pe, _)) = best(&mut || {
             let s = solver.solve(load).expect("elastic");
@@ -617,6 +622,34 @@ fn plastic_table(_: &mut Criterion) {
             tp / te,
             100.0 * frac / a.max(f64::MIN_POSITIVE)
         );
+        if cm_dir.is_some() {
+            let delta = solver.solve(load).expect("elastic").approach;
+            let mut out = None;
+            let (t, _) = best(&mut || {
+                let mut path = strata_bem::PlasticPath::new(&solver, h).expect("path");
+                out = Some(path.step(BemLoad::Approach(delta)).expect("plastic"));
+                (0.0, 0, 0.0)
+            });
+            let (s, info) = out.expect("solved");
+            cm_rows.push(format!(
+                "{h:e},{delta:e},{t},{},{},{},{}",
+                s.mean_pressure, s.area_fraction, info.plastic_area_fraction, s.products
+            ));
+        }
+    }
+    if let Some(dir) = cm_dir {
+        std::fs::create_dir_all(&dir).expect("dir");
+        std::fs::copy(dir_ref.join("surface_km10.npy"), dir.join("surface.npy")).expect("copy");
+        let mut csv = std::fs::File::create(dir.join("strata_plastic_speed.csv")).expect("csv");
+        writeln!(
+            csv,
+            "# strata PlasticPath, one capped step from the undeformed surface, half-space E=4e9 nu=0.15, tolerance 1e-10 (KKT on the gap / sigma_z), best of 5, {} threads\nhardness,approach,seconds,mean_pressure,area_fraction,plastic_area_fraction,products",
+            rayon::current_num_threads()
+        )
+        .expect("csv");
+        for r in cm_rows {
+            writeln!(csv, "{r}").expect("csv");
+        }
     }
 }
 

@@ -101,16 +101,25 @@ fn soft_coating_converges_mostly_plastic() {
     for (sol, info) in &curve {
         let share = info.plastic_points as f64 / sol.contact_points.max(1) as f64;
         eprintln!(
-            "δ {:.1e}: p {:.3e} Pa, A/A0 {:.4}, plastic {:.1} % of the contact, {} iterations, {} products, KKT {:.1e}",
+            "δ {:.1e}: p {:.3e} Pa, A/A0 {:.4}, plastic {:.1} % of the contact, {} iterations, {} products, KKT {:.1e}, MPRGP fallback {}",
             sol.approach,
             sol.mean_pressure,
             sol.area_fraction,
             100.0 * share,
             sol.iterations,
             sol.products,
-            sol.error
+            sol.error,
+            info.bounded_fallback
         );
         assert!(sol.error <= 1e-10);
+        // the capped preconditioned iteration converged by itself (measured: 13–23
+        // iterations, 32–63 products per step)
+        assert!(!info.bounded_fallback, "MPRGP had to finish");
+        assert!(
+            sol.iterations <= 60 && sol.products <= 150,
+            "{} iterations",
+            sol.iterations
+        );
         most = most.max(share);
     }
     assert!(most >= 0.5, "largest plastic share {most}");

@@ -8,6 +8,7 @@
     python compare.py cm SURFACE.npy OUT.csv      # one layer on a rigid base, ContactMechanics 1.8
     python compare.py free SURFACE.npy OUT.csv    # non-periodic half-space, ContactMechanics 1.8
     python compare.py speed DIR OUT.csv           # Tamaas seconds per load step (surfaces of the bem bench)
+    python compare.py cm_plastic_speed DIR OUT.csv  # ContactMechanics' capped step beside the bem bench's
 
 SURFACE.npy is an n x n f64 height map (m) of a periodic cell of side L = 1 mm; run.sh
 has strata write it (its self-affine generator, the paper's parameters: D_f = 2.4,
@@ -248,6 +249,55 @@ def run_free(surf, out):
             f.write(",".join(repr(float(v)) for v in r) + "\n")
 
 
+def run_cm_plastic_speed(directory, out):
+    """Seconds of one capped load step from the undeformed surface with ContactMechanics'
+    plastic system, on the surface and at the approaches and hardnesses the strata bench
+    wrote (DIR/surface.npy, DIR/strata_plastic_speed.csv); tolerance 1e-10 sigma_z on the
+    gap as strata's; best of 2. Writes OUT and prints the ratio table."""
+    from pathlib import Path
+    from SurfaceTopography import PlasticTopography, Topography
+    from ContactMechanics import PeriodicFFTElasticHalfSpace
+    from ContactMechanics.Factory import make_plastic_system
+
+    d = Path(directory)
+    z = surface(d / "surface.npy")
+    n = z.shape[0]
+    zmax, rms = z.max(), z.std()
+    strata = [r for r in csv_rows(d / "strata_plastic_speed.csv")]
+    rows = []
+    print("| H (GPa) | ContactMechanics (s) | strata (s) | CM / strata | p rel. diff | A_pl/A0 CM / strata |")
+    print("|---|---|---|---|---|---|")
+    for r in strata:
+        h, delta = float(r["hardness"]), float(r["approach"])
+        times = []
+        for _ in range(2):
+            substrate = PeriodicFFTElasticHalfSpace((n, n), ESTAR, (L, L), stiffness_q0=0.0)
+            topo = PlasticTopography(Topography(z, (L, L), periodic=True), h)
+            system = make_plastic_system(substrate=substrate, surface=topo)
+            t = time.perf_counter()
+            sol = system.minimize_proxy(offset=delta - zmax, pentol=1e-10 * rms, forcetol=1e-10, maxiter=100000)
+            times.append(time.perf_counter() - t)
+            if not sol.success:
+                raise SystemExit(f"ContactMechanics (plastic) did not converge at H={h}: {sol.message}")
+        p = np.asarray(sol.jac) / (L * L / (n * n))
+        plastic = np.count_nonzero(p >= h * (1 - 1e-9)) / p.size
+        tc, ts = min(times), float(r["seconds"])
+        dp = abs(p.mean() / float(r["mean_pressure"]) - 1)
+        rows.append((h, delta, tc, float(p.mean()), plastic))
+        print(f"| {h / 1e9:.2f} | {tc:.2f} | {ts:.3f} | {tc / ts:.0f} | {dp:.1e} | {plastic:.4f} / {float(r['plastic_area_fraction']):.4f} |", flush=True)
+    with open(out, "w") as f:
+        f.write("# ContactMechanics 1.8 plastic system, one capped step from the undeformed surface, best of 2\n")
+        f.write("hardness,approach,seconds,mean_pressure,plastic_area_fraction\n")
+        for r in rows:
+            f.write(",".join(repr(float(v)) for v in r) + "\n")
+
+
+def csv_rows(path):
+    import csv
+    with open(path) as f:
+        return list(csv.DictReader(l for l in f if not l.startswith("#")))
+
+
 def run_speed(directory, out):
     """Seconds per load step, cold start, tolerance 1e-8, on the surfaces the strata bench
     wrote (DIR/surface_{512,2048}.npy), under mean-pressure (0.005 E*) and mean-gap
@@ -296,8 +346,9 @@ def run_speed(directory, out):
 
 if __name__ == "__main__":
     args = sys.argv[1:]
-    if len(args) != 3 or args[0] not in ("tamaas", "tamaas_pair", "cm", "cm_plastic", "free", "speed"):
+    if len(args) != 3 or args[0] not in ("tamaas", "tamaas_pair", "cm", "cm_plastic", "free", "speed",
+                                           "cm_plastic_speed"):
         raise SystemExit(__doc__)
     {"tamaas": run_tamaas, "tamaas_pair": run_tamaas_pair, "cm": run_cm, "cm_plastic": run_cm_plastic,
      "free": run_free,
-     "speed": run_speed}[args[0]](args[1], args[2])
+     "speed": run_speed, "cm_plastic_speed": run_cm_plastic_speed}[args[0]](args[1], args[2])

@@ -115,4 +115,8 @@ for t in rows(sys.argv[2]):
     dp = abs(float(o["pressure_ratio"]) / float(t["pressure_ratio"]) - 1)
     print(f"| {k[0]} | {k[1]} | {ts:.3f} | {ss:.4f} | {ts / ss:.1f} | {t['iterations']} / {o['iterations']} | {dp:.1e} |")
 PY
+    # The hardness cap side by side: strata's capped step (bench `bem -- plastic`) and
+    # ContactMechanics' plastic system on the same 512² surface, approach and hardness.
+    STRATA_CM_PLASTIC_DIR=$SPEED_DIR/plastic cargo bench -p strata-benches --bench bem -- plastic
+    "$VENV/bin/python" tests/python/compare.py cm_plastic_speed "$SPEED_DIR/plastic" "$SPEED_DIR/plastic/cm_plastic_speed.csv"
 fi
