@@ -294,13 +294,13 @@ pub fn solve_surface_with_maps(
         ModelKind::Interacting => Model::Interacting(scene.model.images),
         ModelKind::Bem => return solve_bem(scene, scene_path, surface, opts, maps),
     };
-    if let (Model::Independent, Some(pl), false) = (model, scene.plasticity, scene.unload) {
-        return solve_independent_plastic(scene, scene_path, surface, opts, pl.hardness);
+    if let (Some(pl), false) = (scene.plasticity, scene.unload) {
+        return solve_plastic_asperities(scene, scene_path, surface, opts, pl.hardness, model);
     }
-    if scene.plasticity.is_some() || scene.unload {
+    if scene.unload {
         bail!(
-            "[plasticity] is solved by the BEM and the N model, load.unload by the BEM, in this \
-             version (model.kind = \"bem\"); the I model is elastic"
+            "load.unload is solved by the BEM in this version (model.kind = \"bem\"); the N and \
+             I models with [plasticity] follow the loading path only"
         );
     }
     let quiet = opts.quiet;
@@ -798,21 +798,24 @@ fn solve_bem(
     })
 }
 
-/// The N model with capped tips (`[plasticity]`, physics.md §9): the capped asperity's
-/// response table for the scene's stack and hardness (ring solves, built here), then
-/// every summit through it at each approach (or at the approach of each mean pressure,
-/// by bisection on δ, the load being monotone in it).
-fn solve_independent_plastic(
+/// The N and I models with capped tips (`[plasticity]`, physics.md §9): the capped
+/// asperity's response table for the scene's stack and hardness (ring solves, built
+/// here), then every summit through it at each approach (or at the approach of each
+/// mean pressure, by bisection on δ, the load being monotone in it); the I model's
+/// summits interact through the far field of their actual loads
+/// (`RoughContact::solve_interacting_plastic`).
+fn solve_plastic_asperities(
     scene: &Scene,
     scene_path: &Path,
     surface: Surface,
     opts: &EngineOptions,
     hardness: f64,
+    model: Model,
 ) -> Result<SceneSolution> {
     if scene.conductance.is_some() {
         bail!(
             "[conductance] with [plasticity] is solved by the BEM in this version (model.kind = \"bem\"); \
-             the capped N model gives no spot conductances yet"
+             the capped asperity models give no spot conductances yet"
         );
     }
     let quiet = opts.quiet;
@@ -838,15 +841,31 @@ fn solve_independent_plastic(
             strata_tablegen::plastic_asperity::RESPONSE_Y.1
         );
     }
-    let law = Homogeneous {
-        e_star: scene.stack.contact_modulus(),
+    // The N model needs no elastic law (the response table holds the layers); the I
+    // model's interactions do.
+    let law: Box<dyn AsperityLaw> = match model {
+        Model::Interacting(_) => law_for(scene, scene_path, opts)?,
+        _ => Box::new(Homogeneous {
+            e_star: scene.stack.contact_modulus(),
+        }),
     };
-    let rc = RoughContact::from_surface(&law, &surface)?.with_params(scene.solver.params());
-    log!(
-        quiet,
-        "simulating: independent asperities (N model) with capped tips; {} summits",
-        found.summits.len()
-    );
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
+    let interacting = match model {
+        Model::Interacting(images) => Some(images),
+        _ => None,
+    };
+    let what = if interacting.is_some() {
+        "interacting asperities (I model) with capped tips"
+    } else {
+        "independent asperities (N model) with capped tips"
+    };
+    log!(quiet, "simulating: {what}; {} summits", found.summits.len());
+    let solve = |d: f64, warm: &[f64]| -> Result<(Step, f64), RoughError> {
+        match interacting {
+            Some(images) => rc.solve_interacting_plastic(&resp, images, d, warm),
+            None => rc.solve_independent_plastic(&resp, d),
+        }
+    };
     let deltas: Vec<f64> = match scene
         .load
         .approaches(rc.top_to_mean(), f64::INFINITY)
@@ -859,9 +878,7 @@ fn solve_independent_plastic(
             };
             let mut out = Vec::with_capacity(ps.len());
             for (i, &p) in ps.iter().enumerate() {
-                let f = |d: f64| -> Result<f64> {
-                    Ok(rc.solve_independent_plastic(&resp, d)?.0.mean_pressure - p)
-                };
+                let f = |d: f64| -> Result<f64> { Ok(solve(d, &[])?.0.mean_pressure - p) };
                 let (mut lo, mut hi) = (0.0, rc.max_delta().max(1e-12));
                 let mut grow = 0;
                 while f(hi)? < 0.0 {
@@ -892,10 +909,26 @@ fn solve_independent_plastic(
     };
     let mut steps = Vec::with_capacity(deltas.len());
     let mut plastic_steps = Vec::with_capacity(deltas.len());
+    // The I model: the elastic curve first, as an elastic scene solves it (so that
+    // steps where no summit yields are its steps bit for bit), then the capped steps.
+    let elastic_curve = match interacting {
+        Some(images) if !matches!(scene.load, LoadSpec::MeanPressures(_)) => {
+            let (steps, stop) = rc.curve_partial(model, &deltas);
+            if let Some((i, e)) = stop {
+                return Err(anyhow::Error::from(e).context(format!("load step {i}")));
+            }
+            Some((images, steps))
+        }
+        _ => None,
+    };
+    let mut warm: Vec<f64> = Vec::new();
     for (i, &d) in deltas.iter().enumerate() {
-        let (s, plastic) = rc
-            .solve_independent_plastic(&resp, d)
-            .with_context(|| format!("load step {i}"))?;
+        let (s, plastic) = match &elastic_curve {
+            Some((images, el)) => rc.capped_from_elastic(&resp, *images, el[i].clone(), false),
+            None => solve(d, &warm),
+        }
+        .with_context(|| format!("load step {i}"))?;
+        warm = s.radii.clone();
         if !s.validity.is_valid() {
             log!(
                 quiet,
@@ -911,9 +944,13 @@ fn solve_independent_plastic(
         scene,
         scene_path,
         (
-            "independent asperities (N model) with capped tips",
-            &model_short(Model::Independent),
-            "the capped asperity's response table (ring solves in physical space)",
+            what,
+            &model_short(model),
+            if interacting.is_some() {
+                "the capped asperity's response table (ring solves in physical space); the elastic law's far field for the interactions"
+            } else {
+                "the capped asperity's response table (ring solves in physical space)"
+            },
         ),
         scene.stack.contact_modulus(),
         &rc,
@@ -924,7 +961,9 @@ fn solve_independent_plastic(
     meta["plasticity"] = serde_json::json!({
         "hardness": hardness,
         "note": "elastic–perfectly plastic tips (physics.md §9): each summit a capped paraboloid, its response \
-                 P = P_c F(δ/δ_c, a_c/h1), a = a_c G(…) tabulated from ring solves; loading only",
+                 P = P_c F(δ/δ_c, a_c/h1), a = a_c G(…) tabulated from ring solves (I model: the summits \
+                 interact through the far field of their actual loads; where none yields, the elastic I \
+                 model's solution); loading only",
     });
     meta["plastic_steps"] = serde_json::Value::Array(plastic_steps);
     Ok(SceneSolution {

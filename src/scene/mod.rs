@@ -738,15 +738,6 @@ impl Scene {
             let pt = table(&top, "plasticity", "plasticity")?;
             check_keys(pt, "plasticity.", &["hardness"], "hardness")?;
             let hardness = positive(pt, "hardness", "plasticity.hardness")?;
-            if kind == ModelKind::Interacting {
-                return Err(SceneError::Invalid {
-                    field: "plasticity".into(),
-                    reason:
-                        "the hardness cap is solved by the BEM and the N model in this version \
-                             (model.kind = \"bem\" or \"independent\"); the I model is elastic"
-                            .into(),
-                });
-            }
             Some(PlasticitySpec { hardness })
         } else {
             None
@@ -755,7 +746,7 @@ impl Scene {
             return Err(SceneError::Invalid {
                 field: "load.unload".into(),
                 reason: "a return path is solved by the BEM (model.kind = \"bem\"); the N and I \
-                         models are elastic, their unloading retraces the loading"
+                         models follow the loading path only (with [plasticity] too)"
                     .into(),
             });
         }

@@ -151,6 +151,9 @@ pub(crate) struct Energy<'p> {
     pub h_g: f64,
     /// Relative step of the differences of the Jacobian diagonal.
     pub h_jac: f64,
+    /// Per local index, a factor on Q_l as a source of displacement (the capped I
+    /// model's sources carry their actual load, `interacting::capped`); `None`: 1.
+    pub source_scale: Option<&'p [f64]>,
 }
 
 impl Energy<'_> {
@@ -173,6 +176,15 @@ impl Energy<'_> {
                 Local::default()
             }
         }));
+        if let Some(scale) = self.source_scale {
+            // G = χB/(πR) and Q = χa³/R: the source scaled through χ
+            for (l, f) in st.loc.iter_mut().zip(scale) {
+                l.q *= f;
+                l.dq *= f;
+                l.chi *= f;
+                l.dchi *= f;
+            }
+        }
         st.act.clear();
         st.act.extend((0..n).filter(|&p| a[p] > 0.0));
         refill(&mut st.basis, n, ZB);
@@ -310,6 +322,22 @@ impl Energy<'_> {
             e += (lp.dq * dot(&u, &b.0) + lp.q * dot(&u, &b.1)) / pi;
         }
         (d, e)
+    }
+
+    /// The effective displacement D̃_k = (D_k + E_k/Q′_k)/2 (m) at local index `p`: the
+    /// others' (and p's own images') displacement at its centre and its reciprocal
+    /// average over its contact, so that F_k = 2[δ_I(a_k) − δ_k + D̃_k] with
+    /// δ_I(a) = (s + Q s′/Q′)/2 the I model's own interference of one asperity
+    /// (module docs of `interacting`); D_k alone where p is out of contact.
+    pub fn effective_displacement(&self, st: &State, p: usize) -> f64 {
+        let near = (st.self_g[p], st.self_h[p], st.e_cross[p]);
+        let lp = &st.loc[p];
+        let (d, e) = self.d_e(st, p, lp, &st.basis[p], near);
+        if st.a[p] > 0.0 && lp.dq > 0.0 {
+            0.5 * (d + e / lp.dq)
+        } else {
+            d
+        }
     }
 
     /// U_E/c (m³) at the state `st`: Σ_k Q_k (D_k + s_k − 2δ_k) (module docs).

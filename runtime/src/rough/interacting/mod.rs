@@ -69,6 +69,7 @@
 //! largest N-model contact radius of the solve (interactions shrink contacts); a
 //! minimum beyond A is solved again with a larger A.
 
+pub(crate) mod capped;
 pub(crate) mod energy;
 pub mod far_field;
 #[cfg(feature = "spectral")]
@@ -278,6 +279,7 @@ impl<'r, 'a> Problem<'r, 'a> {
             deltas,
             h_g: self.rc.params.g_difference_step,
             h_jac: self.rc.params.jacobian_difference_step,
+            source_scale: None,
         }
     }
 
