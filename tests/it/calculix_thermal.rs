@@ -238,6 +238,10 @@ fn calculix_temperature_jump_is_q_over_the_gap_conductance() {
     let (dir, law) = setup("thermal", &[]);
     let table = gap_table(&law);
     assert_eq!(table.len(), 20);
+    assert!(
+        law.contains("20 data lines: conductance, pressure"),
+        "{law}"
+    );
     let incs = solve(&ccx, &dir).expect("ccx failed: see thermal_block.dat");
     assert_eq!(incs.len(), 18);
     let p_last = table[table.len() - 1].0;
