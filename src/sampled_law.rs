@@ -85,26 +85,15 @@ impl SampledLaw {
 
     /// With `[conductance]`: the `*GAP CONDUCTANCE, PRESSURE` block (data lines
     /// `conductance, pressure`, pressure strictly increasing from the first line
-    /// `0., 0.`) with its `**` comments; empty otherwise.
+    /// `0., 0.`) with its `**` comments, which say what Abaqus and CalculiX 2.20 read
+    /// (CalculiX's source: gapconductances.f, springstiff_n2f_th.f, springforc_f2f_th.f;
+    /// checked by tests/it/calculix_thermal.rs); empty otherwise.
     pub fn gap_conductance_block(&self) -> String {
         let Some((kind, h)) = &self.conductance else {
             return String::new();
         };
-        let unit = kind.interface_conductance_unit();
-        let mut s = format!(
-            "** strata law: {} gap conductance of the rough interface against contact pressure.\n\
-             ** conductance = h_c, the interface (constriction) conductance per nominal area ({unit}):\n\
-             **   a uniform jump dT on the contact spots, no flux elsewhere, h_c = mean flux / dT;\n\
-             **   the bulk 1-D resistance of both bodies is excluded (the FE mesh carries it).\n\
-             ** pressure = mean (nominal) contact pressure p = P/A0 (Pa), the same as in the table\n\
-             **   above; h_c was solved at the same samples. Between lines linear interpolation.\n\
-             ** Data lines: conductance, pressure. Abaqus: PRESSURE makes the second field the\n\
-             **   contact pressure (else a clearance). CalculiX 2.20 warns \"parameter not\n\
-             **   recognized: PRESSURE\" and reads the lines as its one form, conductance,\n\
-             **   contact pressure[, temperature] (CalculiX manual, *GAP CONDUCTANCE).\n\
-             *GAP CONDUCTANCE, PRESSURE\n",
-            kind.name()
-        );
+        let mut lines = String::new();
+        let mut n = 0;
         let mut last = f64::NEG_INFINITY;
         for ((_, p, _, _), &hc) in self.law.samples().zip(h) {
             // strictly increasing pressures; an infinite h_c (full contact) ends the table
@@ -112,9 +101,35 @@ impl SampledLaw {
                 continue;
             }
             last = p;
-            s.push_str(&format!("{}, {}\n", abaqus_real(hc), abaqus_real(p)));
+            n += 1;
+            lines.push_str(&format!("{}, {}\n", abaqus_real(hc), abaqus_real(p)));
         }
-        s
+        let unit = kind.interface_conductance_unit();
+        format!(
+            "** strata law: {} gap conductance of the rough interface against contact pressure.\n\
+             ** conductance = h_c, the interface (constriction) conductance per nominal area ({unit}):\n\
+             **   a uniform jump dT on the contact spots, no flux elsewhere, h_c = mean flux / dT;\n\
+             **   the bulk 1-D resistance of both bodies is excluded (the FE mesh carries it).\n\
+             ** pressure = mean (nominal) contact pressure p = P/A0 (Pa), the same as in the table\n\
+             **   above; h_c was solved at the same samples. {n} data lines: conductance, pressure.\n\
+             ** Abaqus: PRESSURE makes the second field the contact pressure (else a clearance).\n\
+             ** CalculiX 2.20 warns \"parameter not recognized: PRESSURE\" and reads its one form,\n\
+             **   conductance, contact pressure[, temperature] (no temperature: one table),\n\
+             **   linear in p between lines, the first (last) line's conductance below (above)\n\
+             **   the table; more than 200 lines are resampled onto 200 evenly spaced pressures.\n\
+             ** CalculiX 2.20 evaluates the conductance at the pressure of a LINEAR or\n\
+             **   EXPONENTIAL law only. With the TABULAR law above, NODE TO SURFACE takes the\n\
+             **   FIRST line's conductance at every pressure (0: no heat crosses, ccx stops) and\n\
+             **   SURFACE TO SURFACE does not run. In CalculiX use this block without the table\n\
+             **   above, under PRESSURE-OVERCLOSURE=LINEAR with TYPE=SURFACE TO SURFACE and at\n\
+             **   most 20 lines (its arrays hold 20: strata law --samples 20), or\n\
+             **   PRESSURE-OVERCLOSURE=EXPONENTIAL with TYPE=NODE TO SURFACE and NLGEOM on the\n\
+             **   step (LINEAR there gives the last line's conductance; without NLGEOM the\n\
+             **   undeformed pressure's); the contact pressure then follows that law, not\n\
+             **   strata's. Tested deck: strata's examples/calculix/thermal_block.inp.\n\
+             *GAP CONDUCTANCE, PRESSURE\n{lines}",
+            kind.name()
+        )
     }
 }
 

@@ -36,14 +36,16 @@ fn die_compliance() -> f64 {
     1e-3 / m(1e9, 0.3) + 1e-3 / m(2e11, 0.3)
 }
 
-fn tmp(name: &str) -> PathBuf {
+/// A fresh scratch directory `ccx-NAME`.
+pub(crate) fn tmp(name: &str) -> PathBuf {
     let d = crate::support::scratch().join(format!("ccx-{name}"));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d
 }
 
-fn ccx() -> Option<String> {
+/// The `ccx` to run (`STRATA_CCX` or `ccx`), `None` (said on the terminal) when absent.
+pub(crate) fn ccx() -> Option<String> {
     optional_tool(
         &std::env::var("STRATA_CCX").unwrap_or_else(|_| "ccx".into()),
         "-v",
@@ -52,7 +54,7 @@ fn ccx() -> Option<String> {
 }
 
 /// `strata law SCENE --out DIR/law --format all [extra]`; returns its log.
-fn strata_law(scene: &str, dir: &Path, extra: &[&str]) -> String {
+pub(crate) fn strata_law(scene: &str, dir: &Path, extra: &[&str]) -> String {
     let out = Command::new(env!("CARGO_BIN_EXE_strata"))
         .args(["law", scene, "--out"])
         .arg(dir.join("law"))
@@ -163,7 +165,7 @@ fn parse_dat(text: &str) -> Vec<Increment> {
 }
 
 /// Runs `ccx -i JOB` in `dir` (one thread).
-fn run_ccx(ccx: &str, dir: &Path, job: &str) -> Output {
+pub(crate) fn run_ccx(ccx: &str, dir: &Path, job: &str) -> Output {
     Command::new(ccx)
         .args(["-i", job])
         .env("OMP_NUM_THREADS", "1")

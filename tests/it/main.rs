@@ -10,6 +10,7 @@ mod bem_free;
 mod bem_paths;
 mod bem_reference;
 mod calculix;
+mod calculix_thermal;
 mod compare;
 mod compliance_cli;
 mod compliance_hard_cases;
