@@ -675,7 +675,7 @@ fn solve_bem(
         Some(pl) => {
             log!(
                 quiet,
-                "plasticity: pressure capped by the hardness H = {:e} Pa (MPRGP bounded solver; the plastic depth is kept along the path)",
+                "plasticity: pressure capped by the hardness H = {:e} Pa (capped preconditioned CG, MPRGP where it stalls; the plastic depth is kept along the path)",
                 pl.hardness
             );
             Some(strata_bem::PlasticPath::new(&solver, pl.hardness).context("plasticity")?)

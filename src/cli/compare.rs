@@ -51,7 +51,7 @@ use crate::scene::{ModelKind, Scene};
 use anyhow::{Context, Result, bail};
 use strata_runtime::rough::{Images, Step};
 
-use crate::cli::solve::{MapWriter, curve_csv};
+use crate::cli::solve::{MapWriter, curve_csv_extra, effect_columns};
 use crate::engine::{EngineOptions, solve_scene_with_maps};
 use crate::plot::{PlotSpec, Series, Style};
 
@@ -94,6 +94,8 @@ pub struct ModelRun {
     pub seconds: f64,
     /// With `[conductance]`: h_c per step (N model and BEM; `None` otherwise).
     pub conductance: Option<Vec<f64>>,
+    /// With `[plasticity]`: the plastic area fraction per step (every model).
+    pub plastic: Option<Vec<f64>>,
 }
 
 /// One row of compare.csv (see the module docs); NaN = outside the model's range.
@@ -364,6 +366,26 @@ pub fn conductance_csv(rows: &[ConductanceRow]) -> Result<String> {
     )?)
 }
 
+/// The plastic section of compare.md: the plastic area fraction of each model at each
+/// BEM step (the models' steps share the approaches of approach and separation loads).
+fn plastic_report(bem: &[Step], [b, n, i]: [&Vec<f64>; 3]) -> String {
+    let mut md = String::from(
+        "\n## Plastic area (A_pl/A₀: the share of the nominal area at p = H)\n\n\
+         | step | g_n (µm) | BEM | N model | I model |\n|---:|---:|---:|---:|---:|\n",
+    );
+    let at = |v: &Vec<f64>, k: usize| v.get(k).map_or("—".into(), |x| format!("{x:.4e}"));
+    for (k, s) in bem.iter().enumerate() {
+        md.push_str(&format!(
+            "| {k} | {:.3} | {} | {} | {} |\n",
+            s.gap * 1e6,
+            at(b, k),
+            at(n, k),
+            at(i, k)
+        ));
+    }
+    md
+}
+
 /// The conductance section of compare.md.
 fn conductance_report(rows: &[ConductanceRow]) -> String {
     let mut s = format!(
@@ -567,10 +589,17 @@ fn describe(scene: &Scene) -> String {
             g.grid, g.size, g.fractal_dimension, g.k_min, g.k_max, g.rms, g.seed
         ),
     };
-    let stack = match &scene.stack.name {
+    let mut stack = match &scene.stack.name {
         Some(n) => format!("stack \"{n}\""),
         None => format!("stack of {} layer(s)", scene.stack.layers().len()),
     };
+    if let Some(p) = scene.plasticity {
+        stack.push_str(&format!(
+            ", tips capped at the hardness H = {:e} Pa in every model (physics.md §9; the \
+             N and I models through the capped asperity's response table)",
+            p.hardness
+        ));
+    }
     match scene.stack.counterface() {
         None => format!("{src}; {stack}"),
         Some(c) => format!(
@@ -645,7 +674,7 @@ fn compare_scene(
         ));
         set.write(
             &format!("{dir}curve_{key}.csv"),
-            curve_csv(&sol.steps)?.as_bytes(),
+            curve_csv_extra(&sol.steps, &effect_columns(&sol.meta))?.as_bytes(),
         )?;
         if kind == ModelKind::Bem {
             scale = sol.meta["z_max_minus_mean"].as_f64().unwrap_or(f64::NAN);
@@ -656,10 +685,16 @@ fn compare_scene(
                 .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
                 .collect()
         });
+        let plastic = sol.meta["plastic_steps"].as_array().map(|a| {
+            a.iter()
+                .map(|s| s["plastic_area_fraction"].as_f64().unwrap_or(f64::NAN))
+                .collect()
+        });
         runs.push(ModelRun {
             steps: sol.steps,
             seconds: sol.seconds,
             conductance,
+            plastic,
         });
     }
     let rows = compare_rows(&runs[0].steps, &runs[1].steps, &runs[2].steps, scale);
@@ -695,6 +730,9 @@ fn compare_scene(
         )?;
         md.push_str(&conductance_report(&rows));
     }
+    if let [Some(n), Some(i), Some(b)] = c.runs.each_ref().map(|r| r.plastic.as_ref()) {
+        md.push_str(&plastic_report(&c.runs[2].steps, [b, n, i]));
+    }
     set.write(&format!("{dir}compare.md"), md.as_bytes())?;
     if !a.no_plots
         && c.runs
@@ -717,10 +755,11 @@ pub fn run(a: Args) -> Result<()> {
     }
     for p in &a.scenes {
         let scene = Scene::from_file(p)?;
-        if scene.plasticity.is_some() {
+        if scene.unload {
             bail!(
-                "scene {}: [plasticity] is solved by the BEM only in this version, so the N and I models \
-                 have nothing to be compared on; `strata solve` gives the plastic BEM curve",
+                "scene {}: load.unload (a return path) is solved by the BEM only; the N and I models \
+                 follow the loading path, so there is nothing to compare on the way back: drop \
+                 `unload` to compare the loading curves, `strata solve` gives the BEM's return path",
                 p.display()
             );
         }

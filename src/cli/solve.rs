@@ -339,6 +339,31 @@ fn steps_json(steps: &[Step]) -> serde_json::Value {
         })).collect())
 }
 
+/// The per-step columns a scene's effects add to curve.csv, read from a solution's
+/// `meta` (`plastic_steps` → `plastic_area_fraction`, `conductance_steps` →
+/// `conductance`, in that order; an infinite conductance, null in JSON, is ∞).
+pub fn effect_columns(meta: &serde_json::Value) -> Vec<(&'static str, Vec<f64>)> {
+    [
+        ("plastic_steps", "plastic_area_fraction"),
+        ("conductance_steps", "conductance"),
+    ]
+    .into_iter()
+    .filter_map(|(key, column)| {
+        let per_step = meta[key].as_array()?;
+        Some((
+            column,
+            per_step
+                .iter()
+                .map(|p| match &p[column] {
+                    serde_json::Value::Null if column == "conductance" => f64::INFINITY,
+                    v => v.as_f64().unwrap_or(f64::NAN),
+                })
+                .collect(),
+        ))
+    })
+    .collect()
+}
+
 /// Writes curve.csv, curve.json (`meta` plus the steps) and the plots into `set`.
 pub fn write_outputs(
     set: &OutputSet,

@@ -279,16 +279,75 @@ fn plastic_scenes_through_solve() {
         &scene_text(&format!("{load}[plasticity]\nhardness = -1\n")),
     );
     assert!(String::from_utf8_lossy(&o.stderr).contains("plasticity.hardness"));
-    let scene = d.join("plastic.toml");
+    // compare: a return path is the BEM's alone
+    let unload = d.join("unload.toml");
+    std::fs::write(
+        &unload,
+        scene_text(&format!(
+            "{load}unload = true\n[plasticity]\nhardness = 1e9\n"
+        )),
+    )
+    .unwrap();
     let o = crate::support::strata_in(&d)
         .arg("compare")
-        .arg(&scene)
+        .arg(&unload)
         .arg("--out")
         .arg(d.join("cmp"))
         .output()
         .unwrap();
     assert!(!o.status.success());
-    assert!(String::from_utf8_lossy(&o.stderr).contains("plastic"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("load.unload"));
+}
+
+/// `strata compare` on a plastic scene: the three capped models, their plastic areas in
+/// compare.md and in each model's curve CSV, every column equal to `strata solve` with
+/// that model.
+#[test]
+fn compare_reports_the_capped_models() {
+    let d = crate::support::fresh_dir("plastic", "compare");
+    let text = "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+                [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 128\n\
+                fractal_dimension = 2.4\nk_min = 2\nk_max = 6\nrms = 3.4e-6\nseed = 5\n\
+                [model]\nkind = \"bem\"\n[load]\napproach = { from = 1e-6, to = 4e-6, steps = 4 }\n\
+                [plasticity]\nhardness = 0.2e9\n";
+    let scene = d.join("s.toml");
+    std::fs::write(&scene, text).unwrap();
+    let o = crate::support::strata_in(&d)
+        .arg("compare")
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("cmp"))
+        .arg("--no-plots")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(d.join("cmp/compare.md")).unwrap();
+    assert!(
+        md.contains("## Plastic area") && md.contains("hardness H = 2e8 Pa"),
+        "{md}"
+    );
+    for (model, key) in [
+        ("independent", "independent"),
+        ("interacting", "interacting"),
+        ("bem", "bem"),
+    ] {
+        let cmp = std::fs::read_to_string(d.join(format!("cmp/curve_{key}.csv"))).unwrap();
+        assert!(cmp.starts_with(
+            "delta,gap,mean_pressure,pressure_ratio,area_fraction,contacts,stiffness,valid,plastic_area_fraction\n"
+        ));
+        let (o, out) = solve(
+            &d,
+            model,
+            &text.replace("kind = \"bem\"", &format!("kind = \"{model}\"")),
+        );
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let own = std::fs::read_to_string(out.join("curve.csv")).unwrap();
+        assert_eq!(rows(&cmp), rows(&own), "{model}");
+        assert!(
+            rows(&own).iter().skip(1).all(|r| r[8] > 0.0),
+            "{model}: plastic area"
+        );
+    }
 }
 
 /// One capped paraboloid (R = 100 µm, H = 0.2 GPa on a 4 GPa half-space, δ = 1.4 δ_c:
