@@ -1,7 +1,7 @@
 //! The accuracy–cost study behind `strata study` (issue 7): what each knob of the
 //! solvers buys in accuracy and costs in time, measured in one run on this machine.
 //!
-//! Four stages, each a module:
+//! Six stages, each a module:
 //! * [`fredholm`]: the full asperity solver (Nyström and product integration), force
 //!   error against node count and time per solve;
 //! * [`tables`]: surrogate tables, interpolation error against grid density and
@@ -9,7 +9,10 @@
 //! * [`approx`]: the second-order approximation against the full solution, force
 //!   error against a/h₁;
 //! * [`rough`]: rough contact, N and I models and the FFT-BEM at several grids and
-//!   tolerances, pressure error against the finest BEM and time per load curve.
+//!   tolerances, pressure error against the finest BEM and time per load curve;
+//! * [`scaling`]: the I model at scale;
+//! * [`plasticity`]: yielding tips, the three models capped at a hardness against the
+//!   capped BEM on the finest grid.
 //!
 //! Conventions shared by every stage:
 //! * **Errors are deterministic.** Every value that enters an error is computed once
@@ -33,6 +36,7 @@ pub mod fredholm;
 mod harness;
 pub mod machine;
 pub mod pareto;
+pub mod plasticity;
 pub mod report;
 pub mod rough;
 pub mod scaling;
@@ -54,6 +58,7 @@ pub struct Study {
     pub approx: approx::Results,
     pub rough: rough::Results,
     pub scaling: scaling::Results,
+    pub plasticity: plasticity::Results,
     pub errors: Errors,
     pub timings: Vec<(String, String, Timing)>,
     pub machine_start: machine::Machine,
@@ -82,6 +87,9 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
     let rough = rough::run(&mut runner, &mut errors, inputs).context("rough-contact stage")?;
     stage("I model at scale");
     let scaling = scaling::run(mode, inputs).context("I model at scale stage")?;
+    stage("yielding tips");
+    let plasticity =
+        plasticity::run(&mut runner, &mut errors, inputs).context("yielding tips stage")?;
     let seconds = t0.elapsed().as_secs_f64();
     crate::progress::log(format!("study ({}): done in {seconds:.1} s", mode.name()));
     Ok(Study {
@@ -91,6 +99,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
         approx,
         rough,
         scaling,
+        plasticity,
         errors,
         timings: runner.log,
         machine_start,
