@@ -67,6 +67,16 @@ impl SampledLaw {
         let Some((h, back)) = &self.unloading else {
             return String::new();
         };
+        if back.is_empty() {
+            return format!(
+                "** PLASTIC INTERFACE: the asperity tips were capped at the hardness H = {} Pa. The\n\
+                 **   table above is the LOADING curve; Abaqus and CalculiX tabular laws are elastic\n\
+                 **   (unloading retraces loading), while the flattened tips do not spring back. The\n\
+                 **   N and I models follow the loading path only: model.kind = \"bem\" with\n\
+                 **   [plasticity] gives the unloading curve.\n",
+                abaqus_real(*h)
+            );
+        }
         let drop = back
             .iter()
             .zip(self.law.samples().collect::<Vec<_>>().iter().rev())
@@ -227,11 +237,8 @@ fn solve_asperities(
     samples: usize,
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
-    if scene.plasticity.is_some() {
-        bail!(
-            "the law of the capped N model is not written yet (its response has no unloading \
-             branch); use model.kind = \"bem\" for the law of a plastic interface"
-        );
+    if let Some(pl) = scene.plasticity {
+        return solve_capped_asperities(scene, path, surface, opts, model, samples, min_gap, pl);
     }
     let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
     let keep = scene.conductance.is_some().then(|| surface.clone());
@@ -283,6 +290,60 @@ fn solve_asperities(
         warnings,
         conductance,
         unloading: None,
+    })
+}
+
+/// The capped N and I models (`[plasticity]`): the engine's scene solve at the sample
+/// separations (loading only: the asperity models have no unloading branch, so the law
+/// carries the hardness and an empty unloading curve, and its note says so).
+#[allow(clippy::too_many_arguments)]
+fn solve_capped_asperities(
+    scene: &Scene,
+    path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+    model: Model,
+    samples: usize,
+    min_gap: Option<f64>,
+    pl: crate::scene::PlasticitySpec,
+) -> Result<SampledLaw> {
+    let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
+    // first contact and the area need no elastic law
+    let e_star = scene.stack.contact_modulus();
+    let hom = strata_runtime::law::Homogeneous { e_star };
+    let rc = RoughContact::from_surface(&hom, &surface)?;
+    let (g0, nominal_area) = (rc.top_to_mean(), rc.area());
+    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+        Some(g) => g,
+        None => {
+            let p = largest_pressure(&scene.load)?;
+            let mut one = scene.clone();
+            one.load = LoadSpec::MeanPressures(vec![p]);
+            let s = solve_surface(&one, path, surface.clone(), opts)
+                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
+            s.steps.first().context("no step")?.gap
+        }
+    };
+    if min_gap.is_nan() || min_gap >= g0 {
+        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
+    }
+    progress::log(format!(
+        "law: {samples} capped solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
+    ));
+    let mut sampled = scene.clone();
+    sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
+    let sol = solve_surface(&sampled, path, surface, opts)?;
+    let il = InterfaceLaw::from_steps(&sol.steps, nominal_area).context("capped load curve")?;
+    Ok(SampledLaw {
+        law: il,
+        model: describe(Some(model)) + " with tips capped at the hardness",
+        solid: solid(scene),
+        e_star,
+        nominal_area,
+        surface: surface_json,
+        warnings,
+        conductance: None,
+        unloading: Some((pl.hardness, Vec::new())),
     })
 }
 

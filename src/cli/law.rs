@@ -170,9 +170,15 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
         let g0 = s.law.first_contact_gap();
         v["plasticity"] = serde_json::json!({
             "hardness": h,
-            "note": "the tips capped at the hardness: `law` is the loading curve; `unloading` runs \
-                     from the deepest sample back to first contact on the flattened surface \
-                     (Abaqus/CalculiX tabular laws are elastic: they retrace the loading curve)",
+            "note": if back.is_empty() {
+                "the tips capped at the hardness: `law` is the loading curve; the N and I models \
+                 follow the loading path only (`unloading` is empty: model.kind = \"bem\" gives it; \
+                 Abaqus/CalculiX tabular laws are elastic: they retrace the loading curve)"
+            } else {
+                "the tips capped at the hardness: `law` is the loading curve; `unloading` runs \
+                 from the deepest sample back to first contact on the flattened surface \
+                 (Abaqus/CalculiX tabular laws are elastic: they retrace the loading curve)"
+            },
         });
         v["unloading"] = serde_json::Value::Array(
             back.iter()

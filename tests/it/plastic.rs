@@ -620,3 +620,71 @@ fn plastic_law_has_a_loading_and_an_unloading_curve() {
         "{inp}"
     );
 }
+
+/// `strata law` on capped N and I scenes: the loading curve sampled by the engine's
+/// capped models (each sample equals `strata solve` at its separation), the `.inp` note
+/// saying that the asperity models give no unloading curve, and an empty `unloading`.
+#[test]
+fn capped_asperity_laws() {
+    let d = crate::support::fresh_dir("plastic", "asperity-law");
+    let base = "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+                [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 128\n\
+                fractal_dimension = 2.4\nk_min = 2\nk_max = 6\nrms = 3.4e-6\nseed = 5\n\
+                [load]\napproach = { from = 1e-6, to = 4e-6, steps = 4 }\n\
+                [plasticity]\nhardness = 0.2e9\n";
+    for model in ["independent", "interacting"] {
+        let scene = d.join(format!("{model}.toml"));
+        std::fs::write(&scene, format!("{base}[model]\nkind = \"{model}\"\n")).unwrap();
+        for ext in ["inp", "csv", "json"] {
+            let o = crate::support::strata_in(&d)
+                .args(["law"])
+                .arg(&scene)
+                .arg("--out")
+                .arg(d.join(format!("{model}.{ext}")))
+                .args(["--samples", "8"])
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        let inp = std::fs::read_to_string(d.join(format!("{model}.inp"))).unwrap();
+        assert!(inp.contains("PLASTIC INTERFACE") && inp.contains("loading path only"));
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(d.join(format!("{model}.json"))).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(json["plasticity"]["hardness"], 0.2e9);
+        assert_eq!(json["unloading"].as_array().map(Vec::len), Some(0));
+        // gap,overclosure,mean_pressure,area_fraction,dp_dg,valid,branch
+        let law: Vec<Vec<f64>> = std::fs::read_to_string(d.join(format!("{model}.csv")))
+            .unwrap()
+            .lines()
+            .skip(1)
+            .map(|l| {
+                let f: Vec<&str> = l.split(',').collect();
+                assert_eq!(f[6], "loading");
+                f[..6].iter().map(|x| x.parse().unwrap()).collect()
+            })
+            .collect();
+        assert_eq!(law.len(), 8);
+        // the same separations through `strata solve`
+        let gaps: Vec<String> = law.iter().map(|r| format!("{:e}", r[0])).collect();
+        let text = format!(
+            "{}[model]\nkind = \"{model}\"\n",
+            base.replace(
+                "approach = { from = 1e-6, to = 4e-6, steps = 4 }",
+                &format!("separations = [{}]", gaps.join(", "))
+            )
+        );
+        let (o, out) = solve(&d, &format!("{model}-solve"), &text);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let curve = rows(&std::fs::read_to_string(out.join("curve.csv")).unwrap());
+        for (l, c) in law.iter().zip(&curve) {
+            assert!(rel(l[2], c[2]) <= 1e-12, "{model}: {} vs {}", l[2], c[2]);
+            assert!(rel(l[3], c[4]) <= 1e-12, "{model}: area");
+        }
+        assert!(
+            law[7][2] > 0.0 && curve[7][8] > 0.0,
+            "{model}: plastic at depth"
+        );
+    }
+}
