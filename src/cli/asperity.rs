@@ -130,10 +130,22 @@ pub fn run(a: Args) -> Result<()> {
         }
         let s = strata_tablegen::plastic_asperity::PlasticAsperity::new(&stack, h)
             .context("--hardness")?;
+        // Where the elastic (Fredholm) asperity's pressure stays at or below H nothing
+        // flows: its solution is the capped one (so H → ∞ is `--model full` exactly).
+        let elastic = Asperity::new(&stack, Options::default())?;
         let mut rows = Vec::with_capacity(deltas.len());
         for &d in &deltas {
             if d == 0.0 {
                 rows.push([0.0, 0.0, 0.0, 0.0]);
+                continue;
+            }
+            let e = elastic
+                .paraboloid_at_delta(d, a.radius)
+                .with_context(|| format!("solving delta = {d:e} m"))?;
+            let r: Vec<f64> = (0..=200).map(|i| e.a * i as f64 / 200.0).collect();
+            let peak = e.pressure(&r).into_iter().fold(0.0, f64::max);
+            if peak <= h {
+                rows.push([d, e.a, e.force, 0.0]);
                 continue;
             }
             let c = s

@@ -688,3 +688,34 @@ fn capped_asperity_laws() {
         );
     }
 }
+
+/// `strata asperity --hardness`: where nothing flows (a huge H, or a small interference
+/// below the yield onset) the rows are the elastic (Fredholm) asperity's bit for bit; a
+/// flowing tip carries less at a larger radius.
+#[test]
+fn asperity_with_a_huge_hardness_is_the_elastic_asperity() {
+    let d = crate::support::fresh_dir("plastic", "asperity-cli");
+    let stack = crate::support::repo().join("tables/stacks/paper-two-layer.toml");
+    let run = |extra: &[&str]| {
+        let o = crate::support::strata_in(&d)
+            .arg("asperity")
+            .arg(&stack)
+            .args(["--radius", "1e-4", "--delta", "1e-7,1e-6,1e-5"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        rows(&String::from_utf8(o.stdout).unwrap())
+    };
+    let elastic = run(&[]);
+    let huge = run(&["--hardness", "1e15"]);
+    let soft = run(&["--hardness", "2e8"]);
+    for k in 0..3 {
+        assert_eq!(&huge[k][..3], &elastic[k][..3]);
+        assert_eq!(huge[k][3], 0.0);
+    }
+    assert_eq!(&soft[0][..3], &elastic[0][..3], "below the yield onset");
+    for k in 1..3 {
+        assert!(soft[k][3] > 0.0 && soft[k][2] < elastic[k][2] && soft[k][1] > elastic[k][1]);
+    }
+}
