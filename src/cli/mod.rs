@@ -56,7 +56,10 @@ pub enum Command {
     Compare(compare::Args),
     /// Parametric sweep of scenes (grid or list, parallel, shardable): DIR/sweep.csv, plots; `sweep merge` joins shards.
     Sweep(sweep::Args),
-    /// Accuracy–cost study of the solvers: DIR/report.md with tables, Pareto plots, defaults.
+    /// Accuracy–cost study of the solvers: DIR/report.md with tables, Pareto plots,
+    /// defaults. A developers' command (it regenerates docs/accuracy-cost.md): runnable,
+    /// not listed by `strata --help` (docs/guide/study.md).
+    #[command(hide = true)]
     Study(study::Args),
     /// Surfaces: `export` a scene's surface to .x3p (ISO 25178-72) or .npy; `info` on a file's sizes and statistics.
     Surface(surface::Args),
