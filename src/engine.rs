@@ -464,7 +464,8 @@ pub fn solve_surface_with_maps(
                      isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
                      in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
                 );
-                sum.conductances(&steps, rc.area()).context("[conductance]")?
+                sum.conductances(&steps, rc.area())
+                    .context("[conductance]")?
             }
             Model::Interacting(images) => {
                 let t = Instant::now();

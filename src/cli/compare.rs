@@ -368,7 +368,9 @@ pub fn conductance_rows(
         .zip(h_bem)
         .map(|(b, &hb)| {
             let h = models.map(|m| {
-                m.map_or(f64::NAN, |(steps, h)| conductance_at(steps, h, b.gap, scale))
+                m.map_or(f64::NAN, |(steps, h)| {
+                    conductance_at(steps, h, b.gap, scale)
+                })
             });
             let h_at_p = models.map(|m| {
                 m.map_or(f64::NAN, |(steps, h)| {

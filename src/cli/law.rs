@@ -141,7 +141,10 @@ fn csv(s: &SampledLaw) -> String {
         let g0 = s.law.first_contact_gap();
         let hc = if h.is_some() { ",NaN" } else { "" };
         for (g, p, a) in back.iter().skip(1) {
-            out.push_str(&format!("{g:e},{:e},{p:e},{a:e},NaN,1{hc},unloading\n", g0 - g));
+            out.push_str(&format!(
+                "{g:e},{:e},{p:e},{a:e},NaN,1{hc},unloading\n",
+                g0 - g
+            ));
         }
     }
     out

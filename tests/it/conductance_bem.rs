@@ -112,11 +112,10 @@ fn conductance_scenes_through_solve() {
     let (o, _) = solve(
         &d,
         "imodel",
-        &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}"))
-            .replace(
-                "kind = \"bem\"",
-                "kind = \"interacting\"\nimages = \"isolated\"",
-            ),
+        &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}")).replace(
+            "kind = \"bem\"",
+            "kind = \"interacting\"\nimages = \"isolated\"",
+        ),
     );
     // the I model on an isolated sample: a layered body's isolated kernel is not built
     assert!(!o.status.success());
@@ -309,7 +308,9 @@ fn law_writes_gap_conductance() {
         // the CSV's conductance column: the JSON's samples (empty where infinite)
         let csv = std::fs::read_to_string(d.join(format!("{model}.csv"))).unwrap();
         assert!(
-            csv.starts_with("gap,overclosure,mean_pressure,area_fraction,dp_dg,valid,conductance\n"),
+            csv.starts_with(
+                "gap,overclosure,mean_pressure,area_fraction,dp_dg,valid,conductance\n"
+            ),
             "{csv}"
         );
         for (row, s) in csv.lines().skip(1).zip(law) {
@@ -406,7 +407,13 @@ fn compare_reports_conductance() {
         .skip(1)
         .map(|l| {
             l.split(',')
-                .map(|x| if x.is_empty() { f64::NAN } else { x.parse().unwrap() })
+                .map(|x| {
+                    if x.is_empty() {
+                        f64::NAN
+                    } else {
+                        x.parse().unwrap()
+                    }
+                })
                 .collect()
         })
         .collect();

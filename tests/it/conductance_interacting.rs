@@ -63,7 +63,11 @@ fn two_discs_in_a_periodic_cell_against_the_bem() {
                     y,
                     conductance: 4.0 * k * ae,
                 });
-                interface_conductance(&kern, &spots, l * l).unwrap().conductance / hb - 1.0
+                interface_conductance(&kern, &spots, l * l)
+                    .unwrap()
+                    .conductance
+                    / hb
+                    - 1.0
             })
             .collect();
         let extrapolated = 2.0 * errors[1] - errors[0];
@@ -79,8 +83,14 @@ fn two_discs_in_a_periodic_cell_against_the_bem() {
         );
         // measured 4.3e-3, 1.0e-3, … at d/a = 3, 5, 8 (the network's O((a/d)²) of the
         // interactions), against interaction effects of −6.7 %, +1.7 %, …
-        assert!(extrapolated.abs() < 0.3 / (d_over_a * d_over_a), "{d_over_a}: {errors:?}");
-        assert!(effect.abs() > 5.0 * extrapolated.abs(), "{effect} {extrapolated}");
+        assert!(
+            extrapolated.abs() < 0.3 / (d_over_a * d_over_a),
+            "{d_over_a}: {errors:?}"
+        );
+        assert!(
+            effect.abs() > 5.0 * extrapolated.abs(),
+            "{effect} {extrapolated}"
+        );
     }
 }
 
@@ -114,10 +124,7 @@ fn patches(set: &[bool], n: usize, dx: f64) -> Vec<(usize, (f64, f64))> {
         let (i0, j0) = ((start / n) as f64, (start % n) as f64);
         out.push((
             count,
-            (
-                (j0 + sx / count as f64) * dx,
-                (i0 + sy / count as f64) * dx,
-            ),
+            ((j0 + sx / count as f64) * dx, (i0 + sy / count as f64) * dx),
         ));
     }
     out
@@ -224,7 +231,10 @@ fn interacting_conductance_through_solve() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap()).unwrap();
     let c = &json["conductance"];
-    assert!(c["definition"].as_str().unwrap().starts_with("I model"), "{c}");
+    assert!(
+        c["definition"].as_str().unwrap().starts_with("I model"),
+        "{c}"
+    );
     assert_eq!(c["kernel"]["grid"][0].as_u64(), Some(256), "{c}");
     let (o, _) = crate::support::solve_text(
         &d,

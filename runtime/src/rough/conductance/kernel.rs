@@ -193,7 +193,10 @@ fn layered_at_zero(bodies: [Body<'_>; 2], lo: f64, hi: f64) -> f64 {
 impl Kernel {
     /// The isolated kernel c/(2πr): homogeneous conductors only.
     pub fn isolated(a: Body<'_>, b: Body<'_>) -> Result<Kernel, ConductanceError> {
-        if [a, b].iter().any(|x| matches!(x, Body::Layered(c) if !c.is_homogeneous())) {
+        if [a, b]
+            .iter()
+            .any(|x| matches!(x, Body::Layered(c) if !c.is_homogeneous()))
+        {
             return Err(ConductanceError::IsolatedLayered);
         }
         Ok(Kernel {
@@ -259,10 +262,7 @@ impl Kernel {
         let fft = RealFft2::new(ny, nx).map_err(|e| ConductanceError::Fft(e.to_string()))?;
         let mut work = fft.work();
         let half = nx / 2 + 1;
-        let (dkx, dky) = (
-            std::f64::consts::TAU / lx,
-            std::f64::consts::TAU / ly,
-        );
+        let (dkx, dky) = (std::f64::consts::TAU / lx, std::f64::consts::TAU / ly);
         for kx in 0..half {
             for ky in 0..ny {
                 let sy = strata_fft::signed_index(ky, ny) as f64;
@@ -360,7 +360,12 @@ impl Kernel {
     /// The periodic zero-mean field G(d) by its Fourier series summed directly over
     /// |k| ≤ `rho_cut` (1/m): the tests' reference.
     #[cfg(test)]
-    pub(crate) fn direct_sum(bodies: [Body<'_>; 2], extent: (f64, f64), d: (f64, f64), rho_cut: f64) -> f64 {
+    pub(crate) fn direct_sum(
+        bodies: [Body<'_>; 2],
+        extent: (f64, f64),
+        d: (f64, f64),
+        rho_cut: f64,
+    ) -> f64 {
         let (lx, ly) = extent;
         let (dkx, dky) = (std::f64::consts::TAU / lx, std::f64::consts::TAU / ly);
         let (mx, my) = ((rho_cut / dkx) as i64, (rho_cut / dky) as i64);
@@ -396,10 +401,7 @@ impl Periodic {
     /// R(d) by [`POINTS`]-point Lagrange interpolation along each axis of the periodic
     /// table, |dx| ≤ Lx/2, |dy| ≤ Ly/2.
     fn rest(&self, dx: f64, dy: f64) -> f64 {
-        let (ux, uy) = (
-            dx / self.lx * self.nx as f64,
-            dy / self.ly * self.ny as f64,
-        );
+        let (ux, uy) = (dx / self.lx * self.nx as f64, dy / self.ly * self.ny as f64);
         let (ix, wx) = stencil(ux);
         let (iy, wy) = stencil(uy);
         let mut s = 0.0;

@@ -60,7 +60,11 @@ fn homogeneous_self_images_are_the_lattice_constant() {
     let (l, k) = (1e-3, 20.0);
     for (a, b, c) in [
         (Body::HalfSpace(k), Body::Perfect, 1.0 / k),
-        (Body::HalfSpace(k), Body::HalfSpace(3.0 * k), 1.0 / k + 1.0 / (3.0 * k)),
+        (
+            Body::HalfSpace(k),
+            Body::HalfSpace(3.0 * k),
+            1.0 / k + 1.0 / (3.0 * k),
+        ),
     ] {
         let kern = Kernel::periodic(a, b, (l, l)).unwrap();
         let exact = c * Z / (TAU * l);
@@ -110,16 +114,23 @@ fn layered_kernel_against_direct_fourier_sums() {
         let hom = Kernel::periodic(Body::HalfSpace(a.top_conductivity()), hom_b, (lx, ly)).unwrap();
         let scale = 1.0 / (TAU * a.top_conductivity() * lx);
         let mut worst: f64 = 0.0;
-        for (x, y) in [(0.013, 0.0), (0.1, 0.05), (0.37, -0.21), (0.5, 0.5), (-0.05, 0.44)] {
+        for (x, y) in [
+            (0.013, 0.0),
+            (0.1, 0.05),
+            (0.37, -0.21),
+            (0.5, 0.5),
+            (-0.05, 0.44),
+        ] {
             let d = (x * lx, y * ly);
             let diff = lay.between(d.0, d.1) - hom.between(d.0, d.1);
-            let direct = Kernel::direct_sum([Body::Layered(a), body_b], (lx, ly), d, 60.0 / (0.5 * h))
-                - Kernel::direct_sum(
-                    [Body::HalfSpace(a.top_conductivity()), hom_b],
-                    (lx, ly),
-                    d,
-                    60.0 / (0.5 * h),
-                );
+            let direct =
+                Kernel::direct_sum([Body::Layered(a), body_b], (lx, ly), d, 60.0 / (0.5 * h))
+                    - Kernel::direct_sum(
+                        [Body::HalfSpace(a.top_conductivity()), hom_b],
+                        (lx, ly),
+                        d,
+                        60.0 / (0.5 * h),
+                    );
             worst = worst.max((diff - direct).abs() / scale);
         }
         eprintln!("layered kernel vs direct sums: worst {worst:.2e} of 1/(2πk₁L)");
@@ -128,12 +139,25 @@ fn layered_kernel_against_direct_fourier_sums() {
     }
     // the self term's layered part at r = 0: −ln(1 − Γ)/(2πk₁h), Γ = (k₁ − k_b)/(k₁ + k_b)
     for (c, k1, kb) in [(&plating, 200.0, 20.0), (&polymer, 0.5, f64::INFINITY)] {
-        let gamma = if kb.is_finite() { (k1 - kb) / (k1 + kb) } else { -1.0 };
+        let gamma = if kb.is_finite() {
+            (k1 - kb) / (k1 + kb)
+        } else {
+            -1.0
+        };
         let w0 = -(1.0 - gamma).ln() / (TAU * k1 * h);
         let lay = Kernel::periodic(Body::Layered(c), Body::Perfect, (lx, ly)).unwrap();
         let hom = Kernel::periodic(Body::HalfSpace(k1), Body::Perfect, (lx, ly)).unwrap();
-        let d = Kernel::direct_sum([Body::Layered(c), Body::Perfect], (lx, ly), (0.0, 0.0), 120.0 / h)
-            - Kernel::direct_sum([Body::HalfSpace(k1), Body::Perfect], (lx, ly), (0.0, 0.0), 120.0 / h);
+        let d = Kernel::direct_sum(
+            [Body::Layered(c), Body::Perfect],
+            (lx, ly),
+            (0.0, 0.0),
+            120.0 / h,
+        ) - Kernel::direct_sum(
+            [Body::HalfSpace(k1), Body::Perfect],
+            (lx, ly),
+            (0.0, 0.0),
+            120.0 / h,
+        );
         let expected = d - w0;
         let got = lay.self_images() - hom.self_images();
         let e = (got - expected).abs() * TAU * k1 * lx;
@@ -153,8 +177,16 @@ fn two_spots_isolated() {
     let kern = Kernel::isolated(Body::HalfSpace(k), Body::Perfect).unwrap();
     for d in [4.0 * a, 10.0 * a, 1e3 * a, 1e9 * a] {
         let spots = [
-            Spot { x: 0.0, y: 0.0, conductance: g },
-            Spot { x: 0.6 * d, y: 0.8 * d, conductance: g },
+            Spot {
+                x: 0.0,
+                y: 0.0,
+                conductance: g,
+            },
+            Spot {
+                x: 0.6 * d,
+                y: 0.8 * d,
+                conductance: g,
+            },
         ];
         let net = interface_conductance(&kern, &spots, 1.0).unwrap();
         let exact = 2.0 / (1.0 / g + 1.0 / (TAU * k * d));
@@ -167,8 +199,16 @@ fn two_spots_isolated() {
     // unequal spots: Q = M⁻¹·1 of the 2×2 system in closed form
     let (g1, g2, i12) = (g, 3.0 * g, 1.0 / (TAU * k * 7.0 * a));
     let spots = [
-        Spot { x: 0.0, y: 0.0, conductance: g1 },
-        Spot { x: 7.0 * a, y: 0.0, conductance: g2 },
+        Spot {
+            x: 0.0,
+            y: 0.0,
+            conductance: g1,
+        },
+        Spot {
+            x: 7.0 * a,
+            y: 0.0,
+            conductance: g2,
+        },
     ];
     let net = interface_conductance(&kern, &spots, 2.0).unwrap();
     let det = 1.0 / (g1 * g2) - i12 * i12;
