@@ -413,7 +413,7 @@ pub fn solve_surface_with_maps(
             out
         }
     };
-    let seconds = t0.elapsed().as_secs_f64();
+    let mut seconds = t0.elapsed().as_secs_f64();
     for (i, s) in steps.iter().enumerate() {
         if !s.validity.is_valid() {
             log!(
@@ -445,30 +445,73 @@ pub fn solve_surface_with_maps(
     );
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
-    // the N model only (the I model's thermal interactions are not solved: `compare`
-    // runs it on a [conductance] scene for the mechanics alone)
-    if let (Some(spec), Model::Independent) = (&scene.conductance, model) {
-        // physics.md §6.2: the N model's spots conduct in parallel, each body in series
-        log!(
-            quiet,
-            "conductance: {} conductance of the spots in parallel (Σ G(a)/A0, G = 4k1·a·ψ(a) per body, bodies in series; {}; no interactions)",
-            spec.kind.name(),
-            counterface_conduction(spec)
-        );
-        let h = crate::spots::SpotSum::new(scene, spec)?
-            .conductances(&steps, rc.area())
-            .context("[conductance]")?;
+    if let Some(spec) = &scene.conductance {
+        // physics.md §6.2: the N model's spots conduct in parallel, each body in series;
+        // the I model's heat each other through both bodies
         meta["conductance"] = conductance_meta(scene, spec);
-        meta["conductance"]["definition"] = serde_json::json!(
-            "N model: h_c = sum of the spots' conductances G(a_i) / A0, G = 4 k1 a psi(a) per body (an \
-             isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
-             in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
-        );
+        let sum = crate::spots::SpotSum::new(scene, spec)?;
+        let tc = Instant::now();
+        let h = match model {
+            Model::Independent => {
+                log!(
+                    quiet,
+                    "conductance: {} conductance of the spots in parallel (Σ G(a)/A0, G = 4k1·a·ψ(a) per body, bodies in series; {}; no interactions)",
+                    spec.kind.name(),
+                    counterface_conduction(spec)
+                );
+                meta["conductance"]["definition"] = serde_json::json!(
+                    "N model: h_c = sum of the spots' conductances G(a_i) / A0, G = 4 k1 a psi(a) per body (an \
+                     isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
+                     in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
+                );
+                sum.conductances(&steps, rc.area())
+                    .context("[conductance]")?
+            }
+            Model::Interacting(images) => {
+                let t = Instant::now();
+                let (h, info) = sum
+                    .interacting(&steps, rc.summits(), rc.extent(), images)
+                    .context("[conductance]")?;
+                log!(
+                    quiet,
+                    "conductance: {} conductance of interacting spots (Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, G = 4k1·a·ψ(a) per body, bodies in series, I_ij the layered point-source fields{}; {}) in {:.3} s",
+                    spec.kind.name(),
+                    match images {
+                        Images::Periodic(_) => format!(
+                            " with periodic images, k = 0 mode excluded, kernel table {}×{}",
+                            info.grid.0, info.grid.1
+                        ),
+                        Images::Isolated => ", isolated sample".into(),
+                    },
+                    counterface_conduction(spec),
+                    t.elapsed().as_secs_f64()
+                );
+                meta["conductance"]["definition"] = serde_json::json!(
+                    "I model: the spots (isothermal discs of conductance G(a_i) = 4 k1 a psi(a) per body, the two \
+                     bodies in series) heat each other through both bodies' point-source fields: \
+                     sum_j (delta_ij / G_i + I_ij) Q_j = dT, h_c = sum Q_i / (dT A0), I_ij the temperature rise \
+                     at spot i per unit heat into spot j (periodic images with the uniform k = 0 mode excluded, \
+                     or an isolated sample) (physics.md 6.2)"
+                );
+                meta["conductance"]["kernel"] = serde_json::json!({
+                    "grid": [info.grid.0, info.grid.1],
+                    "ewald_width": info.sigma,
+                    "spectrum_extent": info.rho_max,
+                    "self_images": info.self_images,
+                });
+                h
+            }
+        };
+        let tcs = tc.elapsed().as_secs_f64();
+        meta["conductance"]["seconds"] = serde_json::json!(tcs);
         meta["conductance_steps"] = serde_json::Value::Array(
             h.iter()
                 .map(|h| serde_json::json!({ "conductance": h }))
                 .collect(),
         );
+        // the model's time includes its conductance, as the BEM's does
+        seconds += tcs;
+        meta["seconds"] = serde_json::json!(seconds);
     }
     if let Some(f) = &failed {
         meta["partial"] = serde_json::json!({
@@ -688,6 +731,7 @@ fn solve_bem(
         None => None,
     };
     let mut conductance_steps = Vec::new();
+    let mut conductance_seconds = 0.0;
     let mut flux: Option<Vec<f64>> = None;
     for (k, (name, load)) in loads.into_iter().enumerate() {
         let (sol, next, dd) = if let Some(path) = plastic.as_mut() {
@@ -736,10 +780,12 @@ fn solve_bem(
         steps.push(st);
         if let Some(cs) = &conduction {
             // physics.md §6.2: a unit jump on this step's contact set (p > 0)
+            let tc = Instant::now();
             let set: Vec<bool> = flat.iter().map(|&p| p > 0.0).collect();
             let h = cs
                 .solve_from(&set, flux.as_deref())
                 .with_context(|| format!("{name}: conductance"))?;
+            conductance_seconds += tc.elapsed().as_secs_f64();
             conductance_steps.push(serde_json::json!({
                 "conductance": h.conductance,
                 "conductance_iterations": h.iterations,
@@ -788,6 +834,7 @@ fn solve_bem(
     }
     if let Some(spec) = &scene.conductance {
         meta["conductance"] = conductance_meta(scene, spec);
+        meta["conductance"]["seconds"] = serde_json::json!(conductance_seconds);
         meta["conductance_steps"] = serde_json::Value::Array(conductance_steps);
     }
     Ok(SceneSolution {

@@ -268,7 +268,7 @@ fn solve_asperities(
     )?;
     let conductance = match (&scene.conductance, keep) {
         (Some(spec), Some(surface)) => {
-            // the N model's conductance at the law's own separations
+            // the model's (N or I) conductance at the law's own separations
             let mut at = scene.clone();
             at.load = LoadSpec::Separations(il.samples().map(|s| s.0).collect());
             let quiet = EngineOptions {

@@ -1,4 +1,4 @@
-//! The N model's interface conductance (issue 34, physics.md §6.2): the contact spots
+//! The N and I models' interface conductance (issue 34, physics.md §6.2): the contact spots
 //! conduct independently,
 //!
 //! ```text
@@ -11,12 +11,19 @@
 //! homogeneous half-space, G_B = 4k_B a). ψ ≡ 1 on a homogeneous body; on a layered one it
 //! comes from the Fredholm spot solver ([`strata_tablegen::spot`]), computed at nodes
 //! 16 per decade of a over the step radii's range and interpolated by cubic Lagrange
-//! polynomials in ln a (measured against direct solves in the tests). The spots' thermal
-//! interactions (the I model's) are not included.
+//! polynomials in ln a (measured against direct solves in the tests).
+//!
+//! The I model ([`SpotSum::interacting`]) adds the spots' thermal interactions: the same
+//! G(aᵢ) on the diagonal of the spot network of [`strata_runtime::rough::conductance`],
+//! Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀).
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use strata_runtime::rough::Step;
+use strata_runtime::rough::conductance::{
+    Body, Kernel, KernelInfo, Spot as NetSpot, interface_conductance,
+};
+use strata_runtime::rough::{Images, Step};
+use strata_runtime::summits::Summit;
 use strata_tablegen::spot::Spot;
 
 use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
@@ -116,6 +123,16 @@ impl SpotSum {
 
     /// h_c = Σ G(aᵢ)/A₀ of every step (W/(m²·K) or S/m²), `area` = A₀ (m²).
     pub fn conductances(&self, steps: &[Step], area: f64) -> Result<Vec<f64>> {
+        Ok(self
+            .spot_conductances(steps)?
+            .iter()
+            .map(|g| g.iter().sum::<f64>() / area)
+            .collect())
+    }
+
+    /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
+    /// series, ψ from one table over all the steps' radii.
+    pub fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>> {
         let (lo, hi) = steps
             .iter()
             .flat_map(|s| s.radii.iter().copied())
@@ -124,7 +141,7 @@ impl SpotSum {
                 (lo.min(a), hi.max(a))
             });
         if hi == 0.0 {
-            return Ok(vec![0.0; steps.len()]);
+            return Ok(steps.iter().map(|s| vec![0.0; s.radii.len()]).collect());
         }
         let table = |s: &Side| -> Result<Option<PsiTable>> {
             match s {
@@ -147,12 +164,66 @@ impl SpotSum {
             .map(|s| {
                 s.radii
                     .iter()
-                    .filter(|&&a| a > 0.0 && a.is_finite())
-                    .map(|&a| 1.0 / (resistance(&self.a, &ta, a) + resistance(&self.b, &tb, a)))
-                    .sum::<f64>()
-                    / area
+                    .map(|&a| {
+                        if a > 0.0 && a.is_finite() {
+                            1.0 / (resistance(&self.a, &ta, a) + resistance(&self.b, &tb, a))
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect()
             })
             .collect())
+    }
+
+    /// The two bodies as the I model's conduction kernel sees them.
+    fn bodies(&self) -> [Body<'_>; 2] {
+        [&self.a, &self.b].map(|s| match s {
+            Side::Perfect => Body::Perfect,
+            Side::Homogeneous(k) => Body::HalfSpace(*k),
+            Side::Layered(spot) => Body::Layered(spot.compliance()),
+        })
+    }
+
+    /// The I model's interface conductance of every step (physics.md §6.2,
+    /// [`strata_runtime::rough::conductance`]): the spots of each step (the summits in
+    /// contact, at their positions, with their G(aᵢ)) heat each other through both
+    /// bodies, periodically on a cell of sides `extent` (m) or isolated; h_c per step
+    /// (W/(m²·K) or S/m²) and the kernel's parameters.
+    pub fn interacting(
+        &self,
+        steps: &[Step],
+        summits: &[Summit],
+        extent: (f64, f64),
+        images: Images,
+    ) -> Result<(Vec<f64>, KernelInfo)> {
+        let [a, b] = self.bodies();
+        let kernel = match images {
+            Images::Periodic(_) => Kernel::periodic(a, b, extent)?,
+            Images::Isolated => Kernel::isolated(a, b)?,
+        };
+        let area = extent.0 * extent.1;
+        let g = self.spot_conductances(steps)?;
+        let h = g
+            .iter()
+            .enumerate()
+            .map(|(i, gs)| {
+                let spots: Vec<NetSpot> = gs
+                    .iter()
+                    .zip(summits)
+                    .filter(|(g, _)| **g > 0.0)
+                    .map(|(&g, s)| NetSpot {
+                        x: s.x,
+                        y: s.y,
+                        conductance: g,
+                    })
+                    .collect();
+                interface_conductance(&kernel, &spots, area)
+                    .map(|n| n.conductance)
+                    .with_context(|| format!("load step {i}: the I model's spot network"))
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        Ok((h, kernel.info()))
     }
 
     /// G(a) of one spot with both bodies in series (W/K or S), ψ solved directly (no

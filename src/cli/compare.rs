@@ -30,9 +30,9 @@
 //!   (A/A₀ against p_n/E*₁), the three models (skipped with `--no-plots`);
 //! - BEM maps under `maps/` when the scene asks for them (`[output] maps`);
 //! - with `[conductance]` in the scene: `conductance.csv`
-//!   (`step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n`, the N
-//!   model's h_c at each BEM step's separation) and a conductance section in
-//!   `compare.md` (the I model's thermal interactions are not solved yet).
+//!   (`step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n,
+//!   conductance_i,rel_conductance_i`, the N and I models' h_c at each BEM step's
+//!   separation) and a conductance section in `compare.md` (errors and times per model).
 //!
 //! With several scenes, DIR also gets `compare.md` (every scene's summary), and plots
 //! of all scenes together: `pressure_gap.svg`, `area_pressure.svg` (N, I, BEM: the
@@ -92,10 +92,12 @@ const MODELS: [(&str, &str); 3] = [
 pub struct ModelRun {
     pub steps: Vec<Step>,
     pub seconds: f64,
-    /// With `[conductance]`: h_c per step (N model and BEM; `None` otherwise).
+    /// With `[conductance]`: h_c per step (`None` otherwise).
     pub conductance: Option<Vec<f64>>,
     /// With `[plasticity]`: the plastic area fraction per step (every model).
     pub plastic: Option<Vec<f64>>,
+    /// The conductance's own time (s; 0 without).
+    pub conductance_seconds: f64,
 }
 
 /// One row of compare.csv (see the module docs); NaN = outside the model's range.
@@ -303,23 +305,48 @@ fn stats_cells(s: Option<(f64, f64, usize)>) -> String {
     }
 }
 
-/// One row of conductance.csv: (separation g_k, p_BEM, h_BEM, h_N at g_k, h_N/h_BEM − 1).
-pub type ConductanceRow = (f64, f64, f64, f64, f64);
+/// One row of conductance.csv: the BEM step's separation g_k (m), p_BEM (Pa), h_BEM,
+/// and the N and I models' h_c at g_k with their relative differences h/h_BEM − 1
+/// (NaN: no such step / outside the model's range).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConductanceRow {
+    pub separation: f64,
+    pub p_bem: f64,
+    pub h_bem: f64,
+    /// h_N, h_I (W/(m²·K) or S/m²).
+    pub h: [f64; 2],
+    /// h_N/h_BEM − 1, h_I/h_BEM − 1.
+    pub rel: [f64; 2],
+    /// h_N, h_I at the BEM step's mean pressure (log–log between the model's steps).
+    pub h_at_p: [f64; 2],
+    /// h_N(p)/h_BEM − 1, h_I(p)/h_BEM − 1.
+    pub rel_at_p: [f64; 2],
+}
 
-/// With `[conductance]`: the N model's h_c at each BEM step's separation (its own step
-/// of equal separation, else ln h linear in g between its steps, as the pressure) against
-/// the BEM's. `scale` = z_M − z̄ (m).
-pub fn conductance_rows(
-    n: &[Step],
-    h_n: &[f64],
-    bem: &[Step],
-    h_bem: &[f64],
-    scale: f64,
-) -> Vec<ConductanceRow> {
-    // the N model's conductances in the place of its pressures
-    let as_p: Vec<Step> = n
+/// A model's h_c at mean pressure `p` (Pa): its own step of equal pressure, else ln h
+/// linear in ln p between its steps (NaN outside them).
+fn conductance_at_pressure(steps: &[Step], h: &[f64], p: f64) -> f64 {
+    // the model's conductances in the place of its areas
+    let as_area: Vec<Step> = steps
         .iter()
-        .zip(h_n)
+        .zip(h)
+        .map(|(s, &h)| {
+            let mut st = Step::default();
+            st.mean_pressure = s.mean_pressure;
+            st.area_fraction = h;
+            st
+        })
+        .collect();
+    area_at_pressure(&as_area, p)
+}
+
+/// A model's h_c at separation `g` (m): its own step of equal separation, else ln h
+/// linear in g between its steps, as the pressure. `scale` = z_M − z̄ (m).
+fn conductance_at(steps: &[Step], h: &[f64], g: f64, scale: f64) -> f64 {
+    // the model's conductances in the place of its pressures
+    let as_p: Vec<Step> = steps
+        .iter()
+        .zip(h)
         .map(|(s, &h)| {
             let mut st = Step::default();
             st.gap = s.gap;
@@ -327,22 +354,55 @@ pub fn conductance_rows(
             st
         })
         .collect();
+    pressure_at_separation(&as_p, g, scale).0
+}
+
+/// With `[conductance]`: the N and I models' h_c at each BEM step's separation against
+/// the BEM's (`models`: each model's steps and h_c, N then I; None where a model has
+/// none). `scale` = z_M − z̄ (m).
+pub fn conductance_rows(
+    models: [Option<(&[Step], &[f64])>; 2],
+    bem: &[Step],
+    h_bem: &[f64],
+    scale: f64,
+) -> Vec<ConductanceRow> {
     bem.iter()
         .zip(h_bem)
         .map(|(b, &hb)| {
-            let (hn, _) = pressure_at_separation(&as_p, b.gap, scale);
-            let rel = if hb > 0.0 && hb.is_finite() {
-                hn / hb - 1.0
-            } else {
-                f64::NAN
+            let h = models.map(|m| {
+                m.map_or(f64::NAN, |(steps, h)| {
+                    conductance_at(steps, h, b.gap, scale)
+                })
+            });
+            let h_at_p = models.map(|m| {
+                m.map_or(f64::NAN, |(steps, h)| {
+                    conductance_at_pressure(steps, h, b.mean_pressure)
+                })
+            });
+            let rel_to = |h: f64| {
+                if hb > 0.0 && hb.is_finite() {
+                    h / hb - 1.0
+                } else {
+                    f64::NAN
+                }
             };
-            (b.gap, b.mean_pressure, hb, hn, rel)
+            ConductanceRow {
+                separation: b.gap,
+                p_bem: b.mean_pressure,
+                h_bem: hb,
+                h,
+                rel: h.map(rel_to),
+                h_at_p,
+                rel_at_p: h_at_p.map(rel_to),
+            }
         })
         .collect()
 }
 
-/// conductance.csv: `step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n`
-/// (m, Pa, W/(m²·K) or S/m², signed).
+/// conductance.csv: `step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n,
+/// conductance_i,rel_conductance_i,conductance_n_at_p,rel_conductance_n_at_p,
+/// conductance_i_at_p,rel_conductance_i_at_p` (m, Pa, W/(m²·K) or S/m², signed; `_at_p`:
+/// at the BEM step's mean pressure).
 pub fn conductance_csv(rows: &[ConductanceRow]) -> Result<String> {
     Ok(csv_out::text(
         &[
@@ -352,15 +412,27 @@ pub fn conductance_csv(rows: &[ConductanceRow]) -> Result<String> {
             "conductance_bem",
             "conductance_n",
             "rel_conductance_n",
+            "conductance_i",
+            "rel_conductance_i",
+            "conductance_n_at_p",
+            "rel_conductance_n_at_p",
+            "conductance_i_at_p",
+            "rel_conductance_i_at_p",
         ],
         rows.iter().enumerate().map(|(k, r)| {
             vec![
                 k.to_string(),
-                num(r.0),
-                num(r.1),
-                num(r.2),
-                num(r.3),
-                num(r.4),
+                num(r.separation),
+                num(r.p_bem),
+                num(r.h_bem),
+                num(r.h[0]),
+                num(r.rel[0]),
+                num(r.h[1]),
+                num(r.rel[1]),
+                num(r.h_at_p[0]),
+                num(r.rel_at_p[0]),
+                num(r.h_at_p[1]),
+                num(r.rel_at_p[1]),
             ]
         }),
     )?)
@@ -386,30 +458,46 @@ fn plastic_report(bem: &[Step], [b, n, i]: [&Vec<f64>; 3]) -> String {
     md
 }
 
-/// The conductance section of compare.md.
-fn conductance_report(rows: &[ConductanceRow]) -> String {
+/// The conductance section of compare.md; `seconds`: the conductance's own time in
+/// the N model, the I model and the BEM (s).
+fn conductance_report(rows: &[ConductanceRow], seconds: [f64; 3]) -> String {
+    let stats = |m: usize, name: &str| {
+        let cells = |x: Option<(f64, f64, usize)>| match x {
+            Some((max, med, n)) => format!("{:.2} % | {:.2} % | {n}", 100.0 * max, 100.0 * med),
+            None => "— | — | 0".into(),
+        };
+        format!(
+            "| {name} | {} | {} | {:.3} |\n",
+            cells(abs_stats(rows.iter().map(|r| r.rel_at_p[m]))),
+            cells(abs_stats(rows.iter().map(|r| r.rel[m]))),
+            seconds[m]
+        )
+    };
     let mut s = format!(
         "\n## Interface conductance (physics.md §6.2)\n\n\
-         N model (the spots in parallel, no thermal interactions) against the BEM at equal \
-         separation; the I model's thermal interactions are not solved in this version. \
-         {}\n\n\
-         | step | g_n (µm) | h_BEM | h_N | h_N/h_BEM − 1 |\n|---:|---:|---:|---:|---:|\n",
-        match abs_stats(rows.iter().map(|r| r.4)) {
-            Some((max, med, n)) => format!(
-                "max \\|h_N/h_BEM − 1\\| = {:.2} %, median {:.2} % over {n} steps.",
-                100.0 * max,
-                100.0 * med
-            ),
-            None => "No step to compare.".into(),
-        }
+         The N model (the spots in parallel, no thermal interactions) and the I model (the \
+         spots heat each other through both bodies) against the BEM: at equal mean pressure \
+         (h_c(p), what an FE table holds: the conduction model's error with the mechanics' \
+         area error) and at equal separation (with the pressure's error too); the \
+         conductance's own time in each model (the BEM's: {:.3} s).\n\n\
+         | model | max \\|h/h_BEM − 1\\| (equal p_n) | median | steps compared | max \\|h/h_BEM − 1\\| (equal g_n) | median | steps compared | conductance time (s) |\n\
+         |---|---:|---:|---:|---:|---:|---:|---:|\n{}{}\n\
+         | step | g_n (µm) | p_BEM (Pa) | h_BEM | h_N/h_BEM − 1 (equal p) | h_I/h_BEM − 1 (equal p) | h_N/h_BEM − 1 (equal g) | h_I/h_BEM − 1 (equal g) |\n\
+         |---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        seconds[2],
+        stats(0, "N model"),
+        stats(1, "I model"),
     );
     for (k, r) in rows.iter().enumerate() {
         s.push_str(&format!(
-            "| {k} | {:.3} | {:.4e} | {:.4e} | {} |\n",
-            r.0 * 1e6,
-            r.2,
-            r.3,
-            pct(r.4)
+            "| {k} | {:.3} | {:.4e} | {:.4e} | {} | {} | {} | {} |\n",
+            r.separation * 1e6,
+            r.p_bem,
+            r.h_bem,
+            pct(r.rel_at_p[0]),
+            pct(r.rel_at_p[1]),
+            pct(r.rel[0]),
+            pct(r.rel[1]),
         ));
     }
     s
@@ -690,11 +778,13 @@ fn compare_scene(
                 .map(|s| s["plastic_area_fraction"].as_f64().unwrap_or(f64::NAN))
                 .collect()
         });
+        let conductance_seconds = sol.meta["conductance"]["seconds"].as_f64().unwrap_or(0.0);
         runs.push(ModelRun {
             steps: sol.steps,
             seconds: sol.seconds,
             conductance,
             plastic,
+            conductance_seconds,
         });
     }
     let rows = compare_rows(&runs[0].steps, &runs[1].steps, &runs[2].steps, scale);
@@ -722,13 +812,22 @@ fn compare_scene(
         compare_csv(&c.rows)?.as_bytes(),
     )?;
     let mut md = report(&c, heading);
-    if let (Some(n), Some(b)) = (&c.runs[0].conductance, &c.runs[2].conductance) {
-        let rows = conductance_rows(&c.runs[0].steps, n, &c.runs[2].steps, b, scale);
+    if let Some(b) = &c.runs[2].conductance {
+        let model = |m: usize| {
+            c.runs[m]
+                .conductance
+                .as_ref()
+                .map(|h| (c.runs[m].steps.as_slice(), h.as_slice()))
+        };
+        let rows = conductance_rows([model(0), model(1)], &c.runs[2].steps, b, scale);
         set.write(
             &format!("{dir}conductance.csv"),
             conductance_csv(&rows)?.as_bytes(),
         )?;
-        md.push_str(&conductance_report(&rows));
+        md.push_str(&conductance_report(
+            &rows,
+            [0, 1, 2].map(|m| c.runs[m].conductance_seconds),
+        ));
     }
     if let [Some(n), Some(i), Some(b)] = c.runs.each_ref().map(|r| r.plastic.as_ref()) {
         md.push_str(&plastic_report(&c.runs[2].steps, [b, n, i]));

@@ -17,9 +17,10 @@
 //!   separations where the model is outside its validity;
 //! - `all`: FILE's stem with `.csv`, `.json` and `.inp`.
 //!
-//! With `[conductance]` in the scene (BEM or N model) the JSON gains each sample's
-//! interface conductance h_c (physics.md §6.2) and the `.inp` a `*GAP CONDUCTANCE,
-//! PRESSURE` block after the table ([`SampledLaw::gap_conductance_block`]).
+//! With `[conductance]` in the scene (BEM, N or I model) the CSV gains a `conductance`
+//! column after `valid`, the JSON each sample's interface conductance h_c (physics.md
+//! §6.2) and the `.inp` a `*GAP CONDUCTANCE, PRESSURE` block after the table
+//! ([`SampledLaw::gap_conductance_block`]).
 //!
 //! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
 //! (default: the smallest separation the scene's `[load]` reaches; for
@@ -111,21 +112,40 @@ fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
 
 const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (z_M: the highest summit in the N and I models, the highest grid point in the BEM; g, the flat's height above the mean plane, means the same in every model); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
 
-/// The law's CSV; with `[plasticity]` a `branch` column (`loading`, then `unloading`
-/// from the deepest sample back to first contact: gap, overclosure, pressure, area;
-/// dp_dg and valid of the loading branch only, NaN and 1 on the unloading rows).
+/// The law's CSV; with `[conductance]` a `conductance` column after `valid` (h_c,
+/// W/(m²·K) or S/m², empty where infinite: full contact); with `[plasticity]` a
+/// `branch` column (`loading`, then `unloading` from the deepest sample back to first
+/// contact: gap, overclosure, pressure, area; dp_dg and valid of the loading branch
+/// only, NaN and 1 on the unloading rows, the conductance NaN).
 fn csv(s: &SampledLaw) -> String {
-    let Some((_, back)) = &s.unloading else {
-        return s.law.csv();
-    };
-    let g0 = s.law.first_contact_gap();
+    let base = s.law.csv();
     let mut out = String::new();
-    for (i, line) in s.law.csv().lines().enumerate() {
+    let h = s.conductance.as_ref().map(|(_, h)| h);
+    for (i, line) in base.lines().enumerate() {
         out.push_str(line);
-        out.push_str(if i == 0 { ",branch\n" } else { ",loading\n" });
+        if let Some(h) = h {
+            match i {
+                0 => out.push_str(",conductance"),
+                _ => match h.get(i - 1) {
+                    Some(v) if v.is_finite() => out.push_str(&format!(",{v:e}")),
+                    _ => out.push(','),
+                },
+            }
+        }
+        if s.unloading.is_some() {
+            out.push_str(if i == 0 { ",branch" } else { ",loading" });
+        }
+        out.push('\n');
     }
-    for (g, p, a) in back.iter().skip(1) {
-        out.push_str(&format!("{g:e},{:e},{p:e},{a:e},NaN,1,unloading\n", g0 - g));
+    if let Some((_, back)) = &s.unloading {
+        let g0 = s.law.first_contact_gap();
+        let hc = if h.is_some() { ",NaN" } else { "" };
+        for (g, p, a) in back.iter().skip(1) {
+            out.push_str(&format!(
+                "{g:e},{:e},{p:e},{a:e},NaN,1{hc},unloading\n",
+                g0 - g
+            ));
+        }
     }
     out
 }

@@ -40,8 +40,9 @@
 //! max_pressure_iterations = 200 # N and I models: solves per mean pressure
 //! bem_max_iterations = 20000   # BEM: iterations per solve
 //! bem_tolerance = 1e-10        # BEM: convergence tolerance
-//! [conductance]                # optional (model.kind = "bem" on a periodic surface, or
-//!                              # "independent": Σ of the spots' conductances): the
+//! [conductance]                # optional (model.kind = "bem" on a periodic surface,
+//!                              # "independent": Σ of the spots' conductances, or
+//!                              # "interacting": the spots heat each other): the
 //! kind = "thermal"             # interface conductance h_c of every step (physics.md §6.2),
 //!                              # "thermal" (W/(m²·K)) or "electrical" (S/m²); both bodies
 //!                              # must conduct: the stack's conductivities, and the
@@ -989,15 +990,6 @@ fn parse_conductance(
             ));
         }
     };
-    if model == ModelKind::Interacting {
-        return Err(SceneError::Invalid {
-            field: "conductance".into(),
-            reason: "the I model's thermal interactions between the spots are not solved in this \
-                     version: use model.kind = \"bem\" (the full field) or \"independent\" (the \
-                     N model: the spots in parallel, no interactions)"
-                .into(),
-        });
-    }
     if model == ModelKind::Bem && !surface.read.periodic {
         return Err(SceneError::Invalid {
             field: "conductance".into(),
@@ -1566,18 +1558,15 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
             &format!("{c}\n[counterface]\nconduction = \"cold\""),
         ));
         assert!(e.contains("counterface.conduction"), "{e}");
-        // the N model sums the spots; the I model: not yet
-        assert!(
-            parse(&with(
-                &conducting.replace("\"bem\"", "\"independent\""),
-                &format!("{c}\n[counterface]\nconduction = \"perfect\""),
-            ))
-            .is_ok()
-        );
-        let e = err(&with(
-            &conducting.replace("\"bem\"", "\"interacting\""),
-            &format!("{c}\n[counterface]\nconduction = \"perfect\""),
-        ));
-        assert!(e.contains("`conductance`") && e.contains("bem"), "{e}");
+        // the N model sums the spots, the I model solves their network
+        for model in ["\"independent\"", "\"interacting\""] {
+            assert!(
+                parse(&with(
+                    &conducting.replace("\"bem\"", model),
+                    &format!("{c}\n[counterface]\nconduction = \"perfect\""),
+                ))
+                .is_ok()
+            );
+        }
     }
 }

@@ -112,11 +112,15 @@ fn conductance_scenes_through_solve() {
     let (o, _) = solve(
         &d,
         "imodel",
-        &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}"))
-            .replace("kind = \"bem\"", "kind = \"interacting\""),
+        &scene_text(&format!("[conductance]\nkind = \"thermal\"\n{flat}")).replace(
+            "kind = \"bem\"",
+            "kind = \"interacting\"\nimages = \"isolated\"",
+        ),
     );
+    // the I model on an isolated sample: a layered body's isolated kernel is not built
     assert!(!o.status.success());
-    assert!(stderr_of(&o).contains("conductance"), "{}", stderr_of(&o));
+    let e = stderr_of(&o);
+    assert!(e.contains("[conductance]") && e.contains("isolated"), "{e}");
 }
 
 /// One isothermal disc on a two-layer conductor over an isothermal sink, in a periodic
@@ -260,7 +264,8 @@ fn n_model_sums_the_spots() {
     }
 }
 
-/// `strata law --format all` of a `[conductance]` scene (BEM and N model): the
+/// `strata law --format all` of a `[conductance]` scene (BEM, N and I model): the
+/// CSV's `conductance` column, the
 /// `*GAP CONDUCTANCE, PRESSURE` block after the pressure-overclosure table (first line
 /// `0., 0.`, pressures strictly increasing and equal to the table's, conductances those
 /// of the JSON's samples), nothing of it without `[conductance]`; CalculiX 2.20 reads
@@ -269,7 +274,7 @@ fn n_model_sums_the_spots() {
 fn law_writes_gap_conductance() {
     let d = fresh_dir("conductance_bem", "law");
     let flat = "[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n";
-    for model in ["bem", "independent"] {
+    for model in ["bem", "independent", "interacting"] {
         let scene = d.join(format!("{model}.toml"));
         std::fs::write(
             &scene,
@@ -300,6 +305,21 @@ fn law_writes_gap_conductance() {
         let law = json["law"].as_array().unwrap();
         assert_eq!(lines.len(), law.len(), "{model}");
         assert_eq!(json["units"]["conductance"], "W/(m^2 K)");
+        // the CSV's conductance column: the JSON's samples (empty where infinite)
+        let csv = std::fs::read_to_string(d.join(format!("{model}.csv"))).unwrap();
+        assert!(
+            csv.starts_with(
+                "gap,overclosure,mean_pressure,area_fraction,dp_dg,valid,conductance\n"
+            ),
+            "{csv}"
+        );
+        for (row, s) in csv.lines().skip(1).zip(law) {
+            let cell = row.rsplit(',').next().unwrap();
+            match s["conductance"].as_f64() {
+                Some(h) => assert_eq!(cell.parse::<f64>().unwrap(), h, "{model}: {row}"),
+                None => assert_eq!(cell, "", "{model}: {row}"),
+            }
+        }
         for (l, s) in lines.iter().zip(law).skip(1) {
             let (h, p) = (
                 s["conductance"].as_f64().unwrap(),
@@ -356,8 +376,9 @@ fn law_writes_gap_conductance() {
     );
 }
 
-/// `strata compare` on a `[conductance]` scene: conductance.csv (the N model's h_c at
-/// every BEM step's separation against the BEM's) and a section in compare.md.
+/// `strata compare` on a `[conductance]` scene: conductance.csv (the N and I models'
+/// h_c at every BEM step's separation and pressure against the BEM's) and a section in
+/// compare.md.
 #[test]
 fn compare_reports_conductance() {
     let d = fresh_dir("conductance_bem", "compare");
@@ -376,20 +397,33 @@ fn compare_reports_conductance() {
         .unwrap();
     assert!(o.status.success(), "{}", stderr_of(&o));
     let csv = std::fs::read_to_string(d.join("out/conductance.csv")).unwrap();
-    assert!(
-        csv.starts_with("step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n\n")
-    );
+    assert!(csv.starts_with(
+        "step,separation,p_bem,conductance_bem,conductance_n,rel_conductance_n,conductance_i,\
+         rel_conductance_i,conductance_n_at_p,rel_conductance_n_at_p,conductance_i_at_p,\
+         rel_conductance_i_at_p\n"
+    ));
     let rows: Vec<Vec<f64>> = csv
         .lines()
         .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|x| {
+                    if x.is_empty() {
+                        f64::NAN
+                    } else {
+                        x.parse().unwrap()
+                    }
+                })
+                .collect()
+        })
         .collect();
     assert_eq!(rows.len(), 4);
     for r in &rows {
-        assert!(
-            r[3] > 0.0 && r[4] > 0.0 && r[5].is_finite() && r[5].abs() < 1.0,
-            "{r:?}"
-        );
+        // N and I model at equal separation: both conduct, within a factor 2 of the BEM
+        for (h, rel) in [(r[4], r[5]), (r[6], r[7])] {
+            assert!(h > 0.0 && rel.is_finite() && rel.abs() < 1.0, "{r:?}");
+            assert_eq!(rel, h / r[3] - 1.0, "{r:?}");
+        }
     }
     let md = std::fs::read_to_string(d.join("out/compare.md")).unwrap();
     assert!(md.contains("## Interface conductance"), "{md}");

@@ -17,6 +17,7 @@ mod compliance_hard_cases;
 mod compliance_second_method;
 mod conductance;
 mod conductance_bem;
+mod conductance_interacting;
 mod counterface;
 mod docs;
 mod errors;

@@ -13,6 +13,8 @@
 //! The solver is organised by stage, each with its own error type:
 //!
 //! - [`independent`]: the N model, ζ(a_k)a_k²/R_k = δ_k per asperity;
+//! - [`conductance`] (feature `spectral`): the I model's interface conductance, the
+//!   spots' thermal interactions through both bodies' periodic point-source fields;
 //! - [`interacting`]: the I model — the far-field model of the interaction kernel
 //!   (`far_field`), the image geometry and pair lists (`images`), the energy, its
 //!   gradient and Jacobian (`energy`), the active-set Newton method (`newton`) and the
@@ -23,6 +25,8 @@
 //! [`Diagnostics`]. A solve depends only on its inputs (the approach, the warm start it
 //! is given and the parameters): no state is kept between calls.
 
+#[cfg(feature = "spectral")]
+pub mod conductance;
 mod contact;
 mod error;
 pub mod independent;

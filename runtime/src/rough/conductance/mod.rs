@@ -1,0 +1,176 @@
+//! The I model's interface conductance (issue 34, physics.md §6.2): the contact spots
+//! conduct in parallel and heat each other through both bodies.
+//!
+//! Every spot i is an isothermal disc of conductance G_i (both bodies in series, its
+//! layered ψ included: the caller's spot solver) carrying the heat Q_i; the other spots
+//! raise its temperature through the layered point-source field of each body, periodic
+//! images included ([`Kernel`]). With one temperature jump ΔT on every spot,
+//!
+//! ```text
+//!   Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT,   h_c = Σ_i Q_i / (ΔT A₀),
+//! ```
+//!
+//! I_ij (K/W, or Ω) the temperature rise at spot i per unit heat into spot j
+//! ([`Kernel::between`] of their offset) and, on the diagonal, the spot's own periodic
+//! images ([`Kernel::self_images`]; 0 for an isolated sample). The kernel is that of
+//! point sources: exact to leading order in a/d, Greenwood's (1966) two-spot result
+//! 1/G + 1/(2πkd) for a homogeneous body. h_c is in W/(m²·K) (or S/m²) and, as the
+//! BEM's, excludes the bodies' bulk 1-D resistance (the k = 0 mode). The system is
+//! solved by dense LU ([`interface_conductance`]).
+
+pub mod kernel;
+
+use thiserror::Error;
+
+pub use kernel::{Kernel, KernelInfo};
+
+use crate::conduction::ConductionCompliance;
+use crate::resources::{ResourceError, bytes_for, check_memory};
+
+/// One body's conduction as the spots see it.
+#[derive(Debug, Clone, Copy)]
+pub enum Body<'a> {
+    /// A perfect conductor: no temperature rise.
+    Perfect,
+    /// A homogeneous conducting half-space of conductivity k (W/(m·K), or S/m).
+    HalfSpace(f64),
+    /// A layered conductor.
+    Layered(&'a ConductionCompliance),
+}
+
+/// Errors of the I model's conductance.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum ConductanceError {
+    #[error("{field}: value {value} out of range: {reason}")]
+    Input {
+        field: &'static str,
+        value: f64,
+        reason: String,
+    },
+    #[error("both bodies are perfect conductors: no constriction resistance")]
+    BothPerfect,
+    #[error(
+        "the I model's conduction with an isolated sample (model.images = \"isolated\") needs \
+         homogeneous bodies: the isolated point-source field of a layered conductor is not built \
+         in this version; use model.images = \"periodic\" on a periodic surface, or \
+         model.kind = \"independent\""
+    )]
+    IsolatedLayered,
+    #[error(
+        "the I model's conduction kernel needs a {nx}×{ny} table to resolve the layers (its \
+         spectrum reaches ρ = {rho_max:.3e} 1/m), above the cap of {cap} per side: the top layer \
+         is too thin against the cell; use model.kind = \"bem\" or \"independent\""
+    )]
+    Grid {
+        nx: usize,
+        ny: usize,
+        cap: usize,
+        rho_max: f64,
+    },
+    #[error("I-model conduction kernel: {0}")]
+    Fft(String),
+    #[error(transparent)]
+    Memory(#[from] ResourceError),
+    #[error(
+        "the I model's spot network is singular with {spots} spots (spots closer than their \
+         radii make the point-source interactions meaningless)"
+    )]
+    Singular { spots: usize },
+}
+
+/// One conducting spot: position (m) and its isolated conductance G (W/K, or S).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Spot {
+    pub x: f64,
+    pub y: f64,
+    pub conductance: f64,
+}
+
+/// The network's solution with ΔT = 1 K (or 1 V).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Network {
+    /// h_c = Σ Q_i / A₀ (W/(m²·K), or S/m²).
+    pub conductance: f64,
+    /// The heat Q_i through each spot (W/K, or S), in the order given.
+    pub heat: Vec<f64>,
+}
+
+/// Solves the spot network (module docs) for h_c on nominal area `area` (m²). No spot:
+/// h_c = 0.
+pub fn interface_conductance(
+    kernel: &Kernel,
+    spots: &[Spot],
+    area: f64,
+) -> Result<Network, ConductanceError> {
+    if !(area.is_finite() && area > 0.0) {
+        return Err(ConductanceError::Input {
+            field: "area",
+            value: area,
+            reason: "the nominal area must be finite and > 0 (m²)".into(),
+        });
+    }
+    for s in spots {
+        if !(s.conductance.is_finite() && s.conductance > 0.0) {
+            return Err(ConductanceError::Input {
+                field: "spot conductance",
+                value: s.conductance,
+                reason: "must be finite and > 0 (W/K or S)".into(),
+            });
+        }
+        for v in [s.x, s.y] {
+            if !v.is_finite() {
+                return Err(ConductanceError::Input {
+                    field: "spot position",
+                    value: v,
+                    reason: "must be finite (m)".into(),
+                });
+            }
+        }
+    }
+    let n = spots.len();
+    if n == 0 {
+        return Ok(Network {
+            conductance: 0.0,
+            heat: Vec::new(),
+        });
+    }
+    check_memory(
+        format!("I-model conduction: the {n}×{n} spot network"),
+        bytes_for((n as u64).saturating_mul(n as u64), 8),
+    )?;
+    let own = kernel.self_images();
+    let mut m = vec![0.0; n * n];
+    fill(&mut m, n, |i, j| {
+        if i == j {
+            1.0 / spots[i].conductance + own
+        } else {
+            kernel.between(spots[j].x - spots[i].x, spots[j].y - spots[i].y)
+        }
+    });
+    let mut rhs = vec![1.0; n];
+    let heat = crate::rough::interacting::lu::lu_solve(&mut m, &mut rhs, n)
+        .ok_or(ConductanceError::Singular { spots: n })?;
+    Ok(Network {
+        conductance: heat.iter().sum::<f64>() / area,
+        heat,
+    })
+}
+
+/// m[i, j] = f(i, j) for j ≥ i, mirrored (rows in parallel).
+fn fill(m: &mut [f64], n: usize, f: impl Fn(usize, usize) -> f64 + Sync) {
+    use rayon::prelude::*;
+    m.par_chunks_mut(n).enumerate().for_each(|(i, row)| {
+        for (j, v) in row.iter_mut().enumerate().skip(i) {
+            *v = f(i, j);
+        }
+    });
+    for i in 0..n {
+        for j in 0..i {
+            m[i * n + j] = m[j * n + i];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests;
