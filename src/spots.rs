@@ -44,14 +44,14 @@ pub const PSI_PIECE_DECADES: f64 = 1.0;
 pub const PSI_NYSTROM_MAX_A_OVER_H: f64 = 4.0;
 
 /// Nyström nodes of a ψ table node at a/h₁ = `a_over_h` ≤ [`PSI_NYSTROM_MAX_A_OVER_H`]:
-/// 8 + 4⌈a/h₁⌉ (12 up to a/h₁ = 1, 24 at 4), half the spot solver's default
-/// 16 + 8⌈a/h₁⌉; the kernel K_a(s,t) is analytic in a strip of width ~h₁/a, so the
-/// nodes needed grow with a/h₁ only. Measured against 128 nodes over a/h₁ = 1e−3…4 on
-/// the paper's conducting stack, platings (k₁/k_b = 10, 1e4), insulating layers
-/// (1e−4) on half-spaces and sinks: ≤ 1e−13 up to a/h₁ = 3, 6.7e−11 at 4 (the test
-/// below). It halves the cost of a node (0.52 → 0.29 ms at a/h₁ ≤ 1, paper stack).
+/// 6 + ⌈4a/h₁⌉ (7 up to a/h₁ = 1/4, 10 at 1, 22 at 4), under half the spot solver's
+/// default 16 + 8⌈a/h₁⌉; the kernel K_a(s,t) is analytic in a strip of width ~h₁/a, so
+/// the nodes needed grow with a/h₁ only. Measured against 128 nodes over
+/// a/h₁ = 1e−3…4 on the paper's conducting stack, platings (k₁/k_b = 10, 1e4),
+/// insulating layers (1e−4) on half-spaces and sinks: ≤ 2.4e−15 (the test below). A solve costs
+/// ~linearly in the nodes (0.52 ms at 24, 0.17 ms at 6, paper stack, a/h₁ ≤ 1).
 pub fn nystrom_nodes(a_over_h: f64) -> usize {
-    8 + 4 * a_over_h.ceil().max(1.0) as usize
+    6 + (4.0 * a_over_h).ceil().max(1.0) as usize
 }
 
 /// ψ(a) of one table node: Nyström with [`nystrom_nodes`] up to
@@ -189,18 +189,45 @@ impl SpotSum {
     /// Both bodies' spot conductances from the scene's `[conductance]` (the first body's
     /// stack, the counterface's conduction).
     pub fn new(scene: &Scene, spec: &ConductanceSpec) -> Result<SpotSum> {
-        let stack = scene.stack.body();
-        let body = Spot::new(&stack, spec.kind).context("stack")?;
-        let b = match (spec.counterface, scene.stack.counterface()) {
-            (CounterfaceConduction::Perfect, _) => Side::Perfect,
-            (CounterfaceConduction::HalfSpace(k), _) => Side::Homogeneous(k),
+        let counterface = match (spec.counterface, scene.stack.counterface()) {
             (CounterfaceConduction::Stack, Some(c)) => {
                 Side::of(Spot::new(c, spec.kind).context("counterface")?, c)
             }
             (CounterfaceConduction::Stack, None) => anyhow::bail!("counterface: internal error"),
+            (other, _) => Self::rigid(other),
         };
+        Self::with_counterface(&scene.stack.body(), spec.kind, counterface)
+    }
+
+    /// The body `stack` (its counterface ignored) against a rigid flat: a conducting
+    /// half-space of conductivity `flat` (W/(m·K) or S/m), or a perfect conductor (None).
+    pub fn against_rigid(
+        stack: &strata_runtime::Stack,
+        kind: strata_runtime::conduction::ConductionKind,
+        flat: Option<f64>,
+    ) -> Result<SpotSum> {
+        let b = match flat {
+            Some(k) => Side::Homogeneous(k),
+            None => Side::Perfect,
+        };
+        Self::with_counterface(&stack.body(), kind, b)
+    }
+
+    fn rigid(counterface: CounterfaceConduction) -> Side {
+        match counterface {
+            CounterfaceConduction::HalfSpace(k) => Side::Homogeneous(k),
+            _ => Side::Perfect,
+        }
+    }
+
+    fn with_counterface(
+        stack: &strata_runtime::Stack,
+        kind: strata_runtime::conduction::ConductionKind,
+        b: Side,
+    ) -> Result<SpotSum> {
+        let body = Spot::new(stack, kind).context("stack")?;
         Ok(SpotSum {
-            a: Side::of(body, &stack),
+            a: Side::of(body, stack),
             b,
         })
     }
@@ -391,8 +418,7 @@ mod tests {
     }
 
     /// The table nodes' Nyström rule against 128 nodes over a/h₁ = 1e−3…4 on platings,
-    /// insulating layers, half-spaces and sinks (measured 6.7e−11 at a/h₁ = 4, the
-    /// largest radius it serves; ≤ 1e−13 up to a/h₁ = 3).
+    /// insulating layers, half-spaces and sinks (measured ≤ 2.4e−15).
     #[test]
     fn table_node_rule_is_at_round_off() {
         let h = 1e-4;
@@ -405,8 +431,9 @@ mod tests {
             (200.0, Some(20.0)),
         ] {
             let spot = one_layer(h, k1, kb);
-            for i in 0..=18 {
-                let ah = 10f64.powf(-3.0 + i as f64 * (3.0 + 4f64.log10()) / 18.0);
+            // a log grid, and a/h₁ = k/4: the largest a/h₁ of each node count
+            let grid = (0..=12).map(|i| 10f64.powf(-3.0 + i as f64 * 2.0 / 12.0));
+            for ah in grid.chain((1..=16).map(|k| k as f64 / 4.0)) {
                 let a = ah * h;
                 let r = spot
                     .clone()
@@ -418,6 +445,6 @@ mod tests {
             }
         }
         eprintln!("table node rule: worst {worst:.1e}");
-        assert!(worst < 7e-10, "{worst}");
+        assert!(worst < 2.4e-14, "{worst}");
     }
 }

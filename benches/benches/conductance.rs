@@ -1,38 +1,49 @@
 //! Conductance benches (issue 34). Run: `cargo bench -p strata-benches --bench conductance`.
 //!
 //! Printed, one run, on the paper's conducting scene against steel
-//! (`scenes/paper-E2E1-5-conductance.toml`: 512², 20 approaches 1.3…9.8 µm):
-//! * BEM: the whole 20-step curve with `[conductance]` and without, timed alternately
-//!   (best of [`REPS`] each, wall and CPU time of the process), and their ratio;
-//! * N and I models: the curve with `[conductance]` (best of [`REPS`]), the mechanics'
-//!   time and the conductance's own time of the same runs (curve.json's `seconds` and
-//!   `conductance.seconds`), and the share the conductance adds.
+//! (`scenes/paper-E2E1-5-conductance.toml`: 512², 20 approaches 1.3…9.8 µm, k = 2…10,
+//! 29 summits):
+//! * BEM: the whole 20-step curve with `[conductance]` and without, timed alternately,
+//!   and their ratio;
+//! * N and I models: the curve with `[conductance]` and without, and, in the runs with
+//!   it, the mechanics' time and the conductance's own time (curve.json's `seconds` and
+//!   `conductance.seconds`) and the share the conductance adds;
 //!
-//! Wall times include surface generation and table loading for every model (the
-//! engine's `solve_scene`), the same with and without conductance.
+//! then the N and I models on the same scene with realistic summit counts: the surface's
+//! spectrum to k_max = 50 and 100 (698 and 2406 summits), where the conductance's fixed
+//! cost (the ψ table of the layered stack, the I model's kernel table) is shared by more
+//! spots.
+//!
+//! Each item: wall and process CPU time (user + system of all threads, /proc/self/stat),
+//! the mean over runs repeated for at least [`MIN_SECONDS`] and [`MIN_RUNS`] runs (the
+//! CPU clock ticks at 10 ms), with and without conductance alternating. Wall times
+//! include surface generation and table loading (the engine's `solve_scene`), the same
+//! with and without conductance. On a shared machine the CPU times are the steadier.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use strata::engine::{EngineOptions, solve_scene};
-use strata::scene::{ModelKind, Scene};
+use strata::scene::{ModelKind, Scene, SurfaceSource};
+use strata_benches::cpu_seconds;
 
-/// Repetitions of each timing (best of).
-const REPS: usize = 3;
+/// Runs of each item: at least this many …
+const MIN_RUNS: usize = 3;
+/// … and at least this much wall time (s) per item.
+const MIN_SECONDS: f64 = 1.0;
 
-/// CPU time of this process so far (user + system, s), from /proc/self/stat.
-fn cpu_seconds() -> f64 {
-    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    let after = stat.rsplit_once(')').map_or("", |(_, r)| r);
-    let f: Vec<&str> = after.split_whitespace().collect();
-    let tick = 100.0;
-    let v = |i: usize| f.get(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(0.0);
-    // fields 14 and 15 (utime, stime) are at 11 and 12 after the command name
-    (v(11) + v(12)) / tick
+/// Means of one item: wall s, CPU s, mechanics s, conductance s (engine's clocks).
+#[derive(Debug, Clone, Copy, Default)]
+struct Times {
+    wall: f64,
+    cpu: f64,
+    mechanics: f64,
+    conductance: f64,
+    runs: usize,
 }
 
-/// (wall s, CPU s, mechanics s, conductance s) of one solve.
-fn run(scene: &Scene, path: &std::path::Path) -> (f64, f64, f64, f64) {
+/// One solve: (wall, CPU, mechanics, conductance, summits) in s.
+fn run(scene: &Scene, path: &Path) -> (Times, usize) {
     let opts = EngineOptions {
         quiet: true,
         ..Default::default()
@@ -41,12 +52,67 @@ fn run(scene: &Scene, path: &std::path::Path) -> (f64, f64, f64, f64) {
     let sol = solve_scene(scene, path, &opts).expect("the scene solves");
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
     let hc = sol.meta["conductance"]["seconds"].as_f64().unwrap_or(0.0);
-    (wall, cpu, sol.seconds - hc, hc)
+    let summits = sol.meta["summits"].as_u64().unwrap_or(0) as usize;
+    (
+        Times {
+            wall,
+            cpu,
+            mechanics: sol.seconds - hc,
+            conductance: hc,
+            runs: 1,
+        },
+        summits,
+    )
 }
 
-fn best(v: &[(f64, f64, f64, f64)]) -> (f64, f64, f64, f64) {
-    let pick = |f: fn(&(f64, f64, f64, f64)) -> f64| v.iter().map(f).fold(f64::INFINITY, f64::min);
-    (pick(|x| x.0), pick(|x| x.1), pick(|x| x.2), pick(|x| x.3))
+fn add(a: &mut Times, b: Times) {
+    a.wall += b.wall;
+    a.cpu += b.cpu;
+    a.mechanics += b.mechanics;
+    a.conductance += b.conductance;
+    a.runs += 1;
+}
+
+fn mean(t: Times) -> Times {
+    let n = t.runs.max(1) as f64;
+    Times {
+        wall: t.wall / n,
+        cpu: t.cpu / n,
+        mechanics: t.mechanics / n,
+        conductance: t.conductance / n,
+        runs: t.runs,
+    }
+}
+
+/// The scene with and without conductance, alternating: (with, without, summits).
+fn measure(with: &Scene, without: &Scene, path: &Path) -> (Times, Times, usize) {
+    // warm the table cache and the allocator
+    let (_, summits) = run(with, path);
+    let (mut w, mut n) = (Times::default(), Times::default());
+    let t0 = Instant::now();
+    while w.runs < MIN_RUNS || t0.elapsed().as_secs_f64() < 2.0 * MIN_SECONDS {
+        add(&mut w, run(with, path).0);
+        add(&mut n, run(without, path).0);
+    }
+    (mean(w), mean(n), summits)
+}
+
+fn print(label: &str, w: Times, n: Times) {
+    println!(
+        "{label}: with conductance wall {:.4} s (CPU {:.4} s), without {:.4} s (CPU {:.4} s): \
+         ratio wall {:.3}, CPU {:.3}; in the runs with it: mechanics {:.4} s, conductance {:.4} s \
+         (+{:.1} %); {} runs each",
+        w.wall,
+        w.cpu,
+        n.wall,
+        n.cpu,
+        w.wall / n.wall,
+        w.cpu / n.cpu,
+        w.mechanics,
+        w.conductance,
+        100.0 * w.conductance / w.mechanics,
+        w.runs
+    );
 }
 
 fn main() {
@@ -56,7 +122,7 @@ fn main() {
     let mut without = with.clone();
     without.conductance = None;
     println!(
-        "conductance bench: {} (512², 20 steps), best of {REPS}",
+        "conductance bench: {} (512², 20 steps); means over ≥ {MIN_RUNS} runs and ≥ {MIN_SECONDS} s each",
         path.display()
     );
     for kind in [
@@ -67,26 +133,20 @@ fn main() {
         let (mut a, mut b) = (with.clone(), without.clone());
         a.model.kind = kind;
         b.model.kind = kind;
-        // warm the table cache and the allocator
-        run(&a, &path);
-        let (mut tw, mut tn) = (Vec::new(), Vec::new());
-        for _ in 0..REPS {
-            tw.push(run(&a, &path));
-            tn.push(run(&b, &path));
+        let (w, n, summits) = measure(&a, &b, &path);
+        print(&format!("k_max = 10 ({summits} summits), {kind:?}"), w, n);
+    }
+    for k_max in [50.0, 100.0] {
+        for kind in [ModelKind::Independent, ModelKind::Interacting] {
+            let (mut a, mut b) = (with.clone(), without.clone());
+            for s in [&mut a, &mut b] {
+                s.model.kind = kind;
+                if let SurfaceSource::Generate(g) = &mut s.surface.source {
+                    g.k_max = k_max;
+                }
+            }
+            let (w, n, summits) = measure(&a, &b, &path);
+            print(&format!("k_max = {k_max} ({summits} summits), {kind:?}"), w, n);
         }
-        let (w, n) = (best(&tw), best(&tn));
-        println!(
-            "{kind:?}: with conductance wall {:.3} s (CPU {:.3} s), without {:.3} s (CPU {:.3} s): ratio wall {:.3}, CPU {:.3}; \
-             in the runs with it: mechanics {:.3} s, conductance {:.3} s (+{:.1} %)",
-            w.0,
-            w.1,
-            n.0,
-            n.1,
-            w.0 / n.0,
-            w.1 / n.1,
-            w.2,
-            w.3,
-            100.0 * w.3 / w.2
-        );
     }
 }

@@ -1,7 +1,7 @@
 //! The accuracy–cost study behind `strata study` (issue 7): what each knob of the
 //! solvers buys in accuracy and costs in time, measured in one run on this machine.
 //!
-//! Six stages, each a module:
+//! Seven stages, each a module:
 //! * [`fredholm`]: the full asperity solver (Nyström and product integration), force
 //!   error against node count and time per solve;
 //! * [`tables`]: surrogate tables, interpolation error against grid density and
@@ -12,7 +12,9 @@
 //!   tolerances, pressure error against the finest BEM and time per load curve;
 //! * [`scaling`]: the I model at scale;
 //! * [`plasticity`]: yielding tips, the three models capped at a hardness against the
-//!   capped BEM on the finest grid.
+//!   capped BEM on the finest grid;
+//! * [`conductance`]: interface conductance, the N and I models' and the BEM's at
+//!   several grids against the BEM on the finest grid, with the conductance's own time.
 //!
 //! Conventions shared by every stage:
 //! * **Errors are deterministic.** Every value that enters an error is computed once
@@ -30,6 +32,7 @@
 //!   1 is on the front, ≤ [`pareto::NEAR`] is "near".
 
 pub mod approx;
+pub mod conductance;
 mod defaults;
 mod figures;
 pub mod fredholm;
@@ -59,6 +62,7 @@ pub struct Study {
     pub rough: rough::Results,
     pub scaling: scaling::Results,
     pub plasticity: plasticity::Results,
+    pub conductance: conductance::Results,
     pub errors: Errors,
     pub timings: Vec<(String, String, Timing)>,
     pub machine_start: machine::Machine,
@@ -90,6 +94,9 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
     stage("yielding tips");
     let plasticity =
         plasticity::run(&mut runner, &mut errors, inputs).context("yielding tips stage")?;
+    stage("interface conductance");
+    let conductance = conductance::run(&mut runner, &mut errors, inputs)
+        .context("interface conductance stage")?;
     let seconds = t0.elapsed().as_secs_f64();
     crate::progress::log(format!("study ({}): done in {seconds:.1} s", mode.name()));
     Ok(Study {
@@ -100,6 +107,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
         rough,
         scaling,
         plasticity,
+        conductance,
         errors,
         timings: runner.log,
         machine_start,

@@ -408,6 +408,7 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
     }
     w.push_str(&super::scaling::markdown(&study.scaling));
     w.push_str(&super::plasticity::markdown(&study.plasticity));
+    w.push_str(&super::conductance::markdown(&study.conductance));
     let _ = writeln!(
         w,
         "## Regenerating\n\n```sh\ncargo run --release -- study{} --out docs/accuracy-cost \\\n    --report docs/accuracy-cost.md --force\n```\n\nwrites this page (`--report`), its plots, `errors.csv` and `timings.csv` \
