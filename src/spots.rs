@@ -17,13 +17,13 @@
 //!
 //! The I model ([`SpotSum::interacting`]) adds the spots' thermal interactions: the same
 //! G(aᵢ) on the diagonal of the spot network of [`strata_runtime::rough::conductance`],
-//! Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀).
+//! Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀), the interactions I_ij of every
+//! summit that touches at some step filled once for the whole path
+//! ([`Interactions`]: the same h_c as filling each step's network afresh, bit for bit).
 
 use anyhow::{Context, Result};
 use rayon::prelude::*;
-use strata_runtime::rough::conductance::{
-    Body, Kernel, KernelInfo, Spot as NetSpot, interface_conductance,
-};
+use strata_runtime::rough::conductance::{Body, Interactions, Kernel, KernelInfo};
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
 use strata_tablegen::asperity::Method;
@@ -315,21 +315,25 @@ impl SpotSum {
         };
         let area = extent.0 * extent.1;
         let g = self.spot_conductances(steps)?;
+        // the summits in contact at some step: their interactions filled once
+        let touching: Vec<usize> = (0..summits.len())
+            .filter(|&k| g.iter().any(|gs| gs.get(k).is_some_and(|&g| g > 0.0)))
+            .collect();
+        let points: Vec<(f64, f64)> = touching
+            .iter()
+            .map(|&k| (summits[k].x, summits[k].y))
+            .collect();
+        let net = Interactions::new(&kernel, &points)?;
         let h = g
             .iter()
             .enumerate()
             .map(|(i, gs)| {
-                let spots: Vec<NetSpot> = gs
+                let spots: Vec<(usize, f64)> = touching
                     .iter()
-                    .zip(summits)
-                    .filter(|(g, _)| **g > 0.0)
-                    .map(|(&g, s)| NetSpot {
-                        x: s.x,
-                        y: s.y,
-                        conductance: g,
-                    })
+                    .enumerate()
+                    .filter_map(|(r, &k)| gs.get(k).filter(|&&g| g > 0.0).map(|&g| (r, g)))
                     .collect();
-                interface_conductance(&kernel, &spots, area)
+                net.network(&spots, area)
                     .map(|n| n.conductance)
                     .with_context(|| format!("load step {i}: the I model's spot network"))
             })

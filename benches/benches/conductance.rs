@@ -146,7 +146,11 @@ fn main() {
                 }
             }
             let (w, n, summits) = measure(&a, &b, &path);
-            print(&format!("k_max = {k_max} ({summits} summits), {kind:?}"), w, n);
+            print(
+                &format!("k_max = {k_max} ({summits} summits), {kind:?}"),
+                w,
+                n,
+            );
         }
     }
 }

@@ -53,4 +53,91 @@ fn main() {
         1e3 * wall,
         1e3 * cpu
     );
+    for k_max in [50.0, 100.0] {
+        interacting_split(k_max);
+    }
+}
+
+/// The I model's conductance split on the paper scene with k_max = `k_max`: ψ table,
+/// kernel table, and the per-step spot networks (fill and dense LU), wall time.
+pub fn interacting_split(k_max: f64) {
+    use strata::scene::SurfaceSource;
+    use strata_runtime::conduction::ConductionCompliance;
+    use strata_runtime::rough::Images;
+    use strata_runtime::rough::conductance::{Body, Kernel, Spot, interface_conductance};
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-E2E1-5-conductance.toml");
+    let mut scene = Scene::from_file(&path).expect("scene");
+    let spec = scene.conductance.clone().expect("[conductance]");
+    scene.conductance = None;
+    scene.model.kind = ModelKind::Interacting;
+    if let SurfaceSource::Generate(g) = &mut scene.surface.source {
+        g.k_max = k_max;
+    }
+    let opts = EngineOptions {
+        quiet: true,
+        ..Default::default()
+    };
+    let sol = solve_scene(&scene, &path, &opts).expect("solve");
+    let surface = strata::engine::load_surface(&scene, true).expect("surface");
+    let law = strata_runtime::law::Homogeneous { e_star: 1.0 };
+    let rc = strata_runtime::rough::RoughContact::from_surface(&law, &surface).expect("rc");
+    let t = Instant::now();
+    let sum = SpotSum::new(&scene, &spec).expect("spots");
+    let g = sum.spot_conductances(&sol.steps).expect("psi");
+    let t_psi = t.elapsed().as_secs_f64();
+    let comp = ConductionCompliance::new(&scene.stack.body(), spec.kind).expect("comp");
+    let t = Instant::now();
+    let kernel =
+        Kernel::periodic(Body::Layered(&comp), Body::HalfSpace(45.0), rc.extent()).expect("kernel");
+    let t_kernel = t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    let mut most = 0;
+    for gs in &g {
+        let spots: Vec<Spot> = gs
+            .iter()
+            .zip(rc.summits())
+            .filter(|(g, _)| **g > 0.0)
+            .map(|(&g, s)| Spot {
+                x: s.x,
+                y: s.y,
+                conductance: g,
+            })
+            .collect();
+        most = most.max(spots.len());
+        std::hint::black_box(interface_conductance(&kernel, &spots, rc.area()).expect("network"));
+    }
+    let t_net = t.elapsed().as_secs_f64();
+    // the fill alone of the largest step
+    let last: Vec<(f64, f64)> = g
+        .last()
+        .expect("steps")
+        .iter()
+        .zip(rc.summits())
+        .filter(|(g, _)| **g > 0.0)
+        .map(|(_, s)| (s.x, s.y))
+        .collect();
+    let t = Instant::now();
+    let mut acc = 0.0;
+    for (i, a) in last.iter().enumerate() {
+        for b in &last[i + 1..] {
+            acc += kernel.between(b.0 - a.0, b.1 - a.1);
+        }
+    }
+    std::hint::black_box(acc);
+    println!(
+        "  fill of the last step ({} spots, one thread): {:.4} s",
+        last.len(),
+        t.elapsed().as_secs_f64()
+    );
+    let _ = Images::Isolated;
+    println!(
+        "I model k_max = {k_max} ({} summits, ≤ {most} spots): mechanics {:.3} s, ψ table {:.4} s, kernel table {:.4} s, {} networks {:.3} s",
+        rc.summits().len(),
+        sol.seconds,
+        t_psi,
+        t_kernel,
+        g.len(),
+        t_net
+    );
 }

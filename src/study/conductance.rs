@@ -398,6 +398,31 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     })
 }
 
+/// The summary's line: each non-reference model's errors and what its conductance adds.
+pub fn summary(r: &Results) -> Option<String> {
+    let reference = r.rows.iter().find(|x| x.is_reference)?;
+    let models: Vec<String> = r
+        .rows
+        .iter()
+        .filter(|x| !x.is_reference)
+        .map(|x| {
+            format!(
+                "{} {} / {} (the conductance adds {:+.0} % to its {} curve)",
+                x.label,
+                super::fmt_err(x.g_error),
+                super::fmt_err(x.p_error),
+                100.0 * x.added(),
+                super::fmt_time(x.timing.median)
+            )
+        })
+        .collect();
+    Some(format!(
+        "Interface conductance, h_c error against the {} at equal g_n / equal p_n: {}.",
+        reference.label,
+        models.join("; ")
+    ))
+}
+
 /// The report's section.
 pub fn markdown(r: &Results) -> String {
     use std::fmt::Write;

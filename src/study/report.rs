@@ -538,6 +538,9 @@ pub fn summary(study: &Study) -> Vec<String> {
             models.join("; ")
         ));
     }
+    if let Some(line) = super::conductance::summary(&study.conductance) {
+        out.push(line);
+    }
     let off = defaults(study).iter().filter(|d| d.off).count();
     out.push(format!(
         "Defaults: {} measured, {} off the front (see below).",

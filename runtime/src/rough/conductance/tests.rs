@@ -238,3 +238,43 @@ fn too_thin_a_layer_is_refused() {
     assert!(matches!(e, ConductanceError::Grid { .. }), "{e}");
     assert!(e.to_string().contains("too thin"));
 }
+
+/// The interactions filled once and each step's network on a subset of them: the same h_c
+/// and heats as `interface_conductance` of the same spots, bit for bit (the same matrix
+/// entries, the same LU); a bad subset is refused.
+#[test]
+fn interactions_reused_on_subsets_equal_the_direct_network() {
+    let l = 1e-3;
+    let a = one_layer(1e-4, 0.5, None);
+    let kern = Kernel::periodic(Body::Layered(&a), Body::HalfSpace(45.0), (l, l)).unwrap();
+    // 16 points on a jittered grid
+    let points: Vec<(f64, f64)> = (0..16)
+        .map(|i| {
+            let (u, v) = ((i % 4) as f64, (i / 4) as f64);
+            (
+                l * (u + 0.5 + 0.3 * (1.7 * i as f64).sin()) / 4.0,
+                l * (v + 0.5 + 0.3 * (2.3 * i as f64).cos()) / 4.0,
+            )
+        })
+        .collect();
+    let all = Interactions::new(&kern, &points).unwrap();
+    for subset in [vec![0, 3, 4, 9, 15], (0..16).collect(), vec![7]] {
+        let g = |i: usize| 1e-4 * (1.0 + 0.1 * i as f64);
+        let spots: Vec<Spot> = subset
+            .iter()
+            .map(|&i| Spot {
+                x: points[i].0,
+                y: points[i].1,
+                conductance: g(i),
+            })
+            .collect();
+        let direct = interface_conductance(&kern, &spots, l * l).unwrap();
+        let pairs: Vec<(usize, f64)> = subset.iter().map(|&i| (i, g(i))).collect();
+        let reused = all.network(&pairs, l * l).unwrap();
+        assert_eq!(direct, reused, "{subset:?}");
+    }
+    assert!(all.network(&[(3, 1e-4), (2, 1e-4)], l * l).is_err());
+    assert!(all.network(&[(16, 1e-4)], l * l).is_err());
+    assert!(all.network(&[(1, 0.0)], l * l).is_err());
+    assert_eq!(all.network(&[], l * l).unwrap().conductance, 0.0);
+}
