@@ -57,34 +57,11 @@ pub const MAX_GRID: usize = 4096;
 /// σ = min(Lx, Ly) / this.
 const SIGMA_DIVISOR: f64 = 4.0;
 
-/// erfc(x) for x ≥ 0 with relative accuracy ~1e−15: erf's everywhere-positive series
-/// erf x = (2/√π) e^{−x²} Σ 2ⁿx^{2n+1}/(1·3···(2n+1)) below x = 2.5, the continued
-/// fraction erfc x = e^{−x²}/√π · 1/(x + ½/(x + 1/(x + (3/2)/(x + …)))) above. Negative x:
-/// 2 − erfc(−x).
+/// erfc(x), libm's (FreeBSD msun's rational approximations, < 1 ulp): ~20 ns against
+/// ~300 ns of the series and 80-term continued fraction it replaced, which made the
+/// short-range sum (9 images per pair) most of the I model's network fill.
 pub fn erfc(x: f64) -> f64 {
-    if x < 0.0 {
-        return 2.0 - erfc(-x);
-    }
-    let sqrt_pi = std::f64::consts::PI.sqrt();
-    if x < 2.5 {
-        let (mut term, mut sum) = (x, x);
-        let mut n = 0.0;
-        loop {
-            n += 1.0;
-            term *= 2.0 * x * x / (2.0 * n + 1.0);
-            sum += term;
-            if term < 1e-17 * sum {
-                break;
-            }
-        }
-        1.0 - 2.0 / sqrt_pi * (-x * x).exp() * sum
-    } else {
-        let mut f = x;
-        for k in (1..=80).rev() {
-            f = x + 0.5 * k as f64 / f;
-        }
-        (-x * x).exp() / (sqrt_pi * f)
-    }
+    libm::erfc(x)
 }
 
 /// The interaction resistance between spots (module docs).
