@@ -14,7 +14,7 @@ fn main() {
     let path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-E2E1-5-conductance.toml");
     let mut scene = Scene::from_file(&path).expect("scene");
-    let spec = scene.conductance.clone().expect("[conductance]");
+    let spec = scene.conductance.expect("[conductance]");
     scene.conductance = None;
     scene.model.kind = ModelKind::Independent;
     let opts = EngineOptions {
@@ -63,12 +63,11 @@ fn main() {
 pub fn interacting_split(k_max: f64) {
     use strata::scene::SurfaceSource;
     use strata_runtime::conduction::ConductionCompliance;
-    use strata_runtime::rough::Images;
-    use strata_runtime::rough::conductance::{Body, Kernel, Spot, interface_conductance};
+    use strata_runtime::rough::conductance::{Body, Interactions, Kernel};
     let path =
         PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/paper-E2E1-5-conductance.toml");
     let mut scene = Scene::from_file(&path).expect("scene");
-    let spec = scene.conductance.clone().expect("[conductance]");
+    let spec = scene.conductance.expect("[conductance]");
     scene.conductance = None;
     scene.model.kind = ModelKind::Interacting;
     if let SurfaceSource::Generate(g) = &mut scene.surface.source {
@@ -91,52 +90,38 @@ pub fn interacting_split(k_max: f64) {
     let kernel =
         Kernel::periodic(Body::Layered(&comp), Body::HalfSpace(45.0), rc.extent()).expect("kernel");
     let t_kernel = t.elapsed().as_secs_f64();
+    // the engine's way: the interactions of every summit that touches, filled once
+    let t = Instant::now();
+    let touching: Vec<usize> = (0..rc.summits().len())
+        .filter(|&k| g.iter().any(|gs| gs[k] > 0.0))
+        .collect();
+    let points: Vec<(f64, f64)> = touching
+        .iter()
+        .map(|&k| (rc.summits()[k].x, rc.summits()[k].y))
+        .collect();
+    let net = Interactions::new(&kernel, &points).expect("interactions");
+    let t_fill = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let mut most = 0;
     for gs in &g {
-        let spots: Vec<Spot> = gs
+        let spots: Vec<(usize, f64)> = touching
             .iter()
-            .zip(rc.summits())
-            .filter(|(g, _)| **g > 0.0)
-            .map(|(&g, s)| Spot {
-                x: s.x,
-                y: s.y,
-                conductance: g,
-            })
+            .enumerate()
+            .filter(|(_, k)| gs[**k] > 0.0)
+            .map(|(r, &k)| (r, gs[k]))
             .collect();
         most = most.max(spots.len());
-        std::hint::black_box(interface_conductance(&kernel, &spots, rc.area()).expect("network"));
+        std::hint::black_box(net.network(&spots, rc.area()).expect("network"));
     }
     let t_net = t.elapsed().as_secs_f64();
-    // the fill alone of the largest step
-    let last: Vec<(f64, f64)> = g
-        .last()
-        .expect("steps")
-        .iter()
-        .zip(rc.summits())
-        .filter(|(g, _)| **g > 0.0)
-        .map(|(_, s)| (s.x, s.y))
-        .collect();
-    let t = Instant::now();
-    let mut acc = 0.0;
-    for (i, a) in last.iter().enumerate() {
-        for b in &last[i + 1..] {
-            acc += kernel.between(b.0 - a.0, b.1 - a.1);
-        }
-    }
-    std::hint::black_box(acc);
     println!(
-        "  fill of the last step ({} spots, one thread): {:.4} s",
-        last.len(),
-        t.elapsed().as_secs_f64()
-    );
-    let _ = Images::Isolated;
-    println!(
-        "I model k_max = {k_max} ({} summits, ≤ {most} spots): mechanics {:.3} s, ψ table {:.4} s, kernel table {:.4} s, {} networks {:.3} s",
+        "I model k_max = {k_max} ({} summits, ≤ {most} spots): mechanics {:.3} s, ψ table {:.4} s, kernel table {:.4} s, interactions of {} summits {:.4} s, {} networks {:.3} s",
         rc.summits().len(),
         sol.seconds,
         t_psi,
         t_kernel,
+        touching.len(),
+        t_fill,
         g.len(),
         t_net
     );

@@ -177,14 +177,17 @@ fn bem_conductances(solver: &ConductanceSolver, sets: &[Vec<bool>]) -> Result<Ve
     Ok(h)
 }
 
-/// The BEM along `loads` with its conductance: (steps, h_c, contact sets).
+/// A BEM curve with its conductance: the steps, h_c per step and the contact sets.
+type BemCurve = (Vec<Step>, Vec<f64>, Vec<Vec<bool>>);
+
+/// The BEM along `loads` with its conductance.
 fn bem_curve(
     heights: &Array2<f64>,
     size: f64,
     stack: &Stack,
     body: &ConductionCompliance,
     loads: &[BemLoad],
-) -> Result<(Vec<Step>, Vec<f64>, Vec<Vec<bool>>)> {
+) -> Result<BemCurve> {
     let solver = BemSolver::new(heights, size, stack, BemOptions::default())?;
     let sols = solver.solve_curve(loads)?;
     let sets: Vec<Vec<bool>> = sols
