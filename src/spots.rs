@@ -75,7 +75,7 @@ fn psi_node(spot: &Spot, h1: f64, a: f64) -> Result<f64> {
 /// [`PSI_PIECE_NODES`] Chebyshev–Lobatto nodes (barycentric form). ψ is analytic in
 /// ln a, so the error falls geometrically with the nodes: measured ≤ 1.2e−6 over four
 /// decades of a/h₁ on a plating and insulating layers (the test below; the largest in
-/// the decades around a/h₁ = 1, ≤ 1e−8 away from them, 2e−12 on a narrow range),
+/// the decades around a/h₁ = 1, ≤ 1.4e−8 away from them, 2e−12 on a narrow range),
 /// against 4.4e−6 of the cubic on 16 nodes per decade it replaces, with 8 solves per
 /// decade instead of 16.
 struct PsiTable {
