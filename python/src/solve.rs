@@ -122,6 +122,7 @@ fn memory_surface_spec(s: &Surface) -> SurfaceSpec {
             periodic: s.is_periodic(),
             ..Default::default()
         },
+        topography: None,
     }
 }
 

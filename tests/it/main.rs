@@ -16,6 +16,7 @@ mod compliance_hard_cases;
 mod compliance_second_method;
 mod conductance;
 mod conductance_bem;
+mod container;
 mod counterface;
 mod docs;
 mod errors;

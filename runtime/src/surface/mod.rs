@@ -39,6 +39,8 @@
 //! checksum does not match) as [`Surface::warnings`]. [`Surface::stats`] gives the
 //! usual statistics and their plausibility warnings (module `stats`).
 
+#[cfg(feature = "container")]
+pub mod container;
 mod form;
 #[cfg(feature = "spectral")]
 mod generate;

@@ -81,6 +81,9 @@ pub enum FileKind {
     Npy,
     /// SurfaceTopography's NetCDF-3 topography (`.nc`; feature `netcdf`).
     NetCdf,
+    /// contact.engineering's container (`.zip`: meta.yml and its topography files;
+    /// feature `container`).
+    Container,
     Text,
 }
 
@@ -94,6 +97,7 @@ impl FileKind {
             "x3p" => FileKind::X3p,
             "npy" => FileKind::Npy,
             "nc" => FileKind::NetCdf,
+            "zip" => FileKind::Container,
             _ => FileKind::Text,
         }
     }
@@ -128,6 +132,9 @@ impl Surface {
             )));
         }
         let kind = FileKind::of(path);
+        if kind == FileKind::Container {
+            return read_container_first(path, opts);
+        }
         let mut periodic = opts.periodic;
         let mut detrend = opts.detrend;
         let (z, n0, n1, spacing, mut log, warnings) = match kind {
@@ -150,6 +157,12 @@ impl Surface {
                 } else {
                     raw
                 }
+            }
+            FileKind::Container => {
+                return Err(SurfaceError::Unsupported(format!(
+                    "{}: a container inside a container",
+                    path.display()
+                )));
             }
             FileKind::Npy | FileKind::Text => {
                 let spacing = opts.spacing.ok_or_else(|| SurfaceError::Format {
@@ -471,6 +484,20 @@ fn read_netcdf_raw(path: &Path, opts: &ReadOptions) -> Result<(Raw, bool), Surfa
         z.iter_mut().for_each(|v| *v *= f);
     }
     Ok(((z, t.n0, t.n1, spacing, log, Vec::new()), periodic))
+}
+
+/// A container's first topography ([`super::container::read_container`]).
+#[cfg(feature = "container")]
+fn read_container_first(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
+    super::container::read_container(path, &super::container::Pick::Index(0), opts)
+}
+
+#[cfg(not(feature = "container"))]
+fn read_container_first(path: &Path, _: &ReadOptions) -> Result<Surface, SurfaceError> {
+    Err(SurfaceError::Unsupported(format!(
+        "{}: contact.engineering containers (.zip) need the runtime feature `container`",
+        path.display()
+    )))
 }
 
 #[cfg(not(feature = "netcdf"))]
