@@ -7,8 +7,10 @@
 //! table = "paper.strata"       # optional surrogate table for a layered stack
 //! [surface]
 //! file = "surface.npy"         # .x3p (ISO 25178-72), .nc (SurfaceTopography NetCDF: sizes,
-//!                              # unit and periodic flag from the file), .npy (2-D f64) or a plain-text
+//!                              # unit and periodic flag from the file), .zip (contact.engineering
+//!                              # container), .npy (2-D f64) or a plain-text
 //!                              # matrix; or [surface.generate]. First array axis = x.
+//! topography = 0               # .zip: which topography (number from 0, or its name)
 //! size = 1e-3                  # .npy/text: length of the first axis (m, square pixels),
 //!                              # or size = [Lx, Ly] (m), or pixel_size = [dx, dy] (m);
 //!                              # an .x3p gives its own pixel sizes (no size/pixel_size)
