@@ -387,39 +387,35 @@ pub fn read_container(
         "contact.engineering container: {pick} `{}` of surface `{}`, data file `{}` ({})",
         e.name, e.surface, e.datafile, e.key
     )];
-    if !file_lengths {
-        if let Some((lx, ly)) = meta_spacing {
-            if opts.spacing.is_some() {
-                return Err(refuse(
-                    "the container gives its physical sizes (`size`): do not set size or pixel_size"
-                        .into(),
-                ));
-            }
-            inner.spacing = Some(Spacing::Extent(lx, ly));
-            log.push(format!(
-                "physical sizes {lx:e} × {ly:e} m (the container's `size`)"
+    if let (false, Some((lx, ly))) = (file_lengths, meta_spacing) {
+        if opts.spacing.is_some() {
+            return Err(refuse(
+                "the container gives its physical sizes (`size`): do not set size or pixel_size"
+                    .into(),
             ));
         }
+        inner.spacing = Some(Spacing::Extent(lx, ly));
+        log.push(format!(
+            "physical sizes {lx:e} × {ly:e} m (the container's `size`)"
+        ));
     }
-    if !file_unit {
-        if let (Some(u), Some(f)) = (&e.unit, metres) {
-            if opts.height_unit.is_some_and(|h| h.metres() != f) {
-                return Err(refuse(format!(
-                    "the container gives its unit (`{u}`): do not set height_unit"
-                )));
-            }
-            let unit = [
-                HeightUnit::M,
-                HeightUnit::Mm,
-                HeightUnit::Um,
-                HeightUnit::Nm,
-            ]
-            .into_iter()
-            .find(|h| h.metres() == f)
-            .ok_or_else(|| refuse(format!("heights in `{u}` are read from NetCDF files only")))?;
-            inner.height_unit = Some(unit);
-            log.push(format!("heights in {u} (the container's `unit`)"));
+    if let (false, Some(u), Some(f)) = (file_unit, &e.unit, metres) {
+        if opts.height_unit.is_some_and(|h| h.metres() != f) {
+            return Err(refuse(format!(
+                "the container gives its unit (`{u}`): do not set height_unit"
+            )));
         }
+        let unit = [
+            HeightUnit::M,
+            HeightUnit::Mm,
+            HeightUnit::Um,
+            HeightUnit::Nm,
+        ]
+        .into_iter()
+        .find(|h| h.metres() == f)
+        .ok_or_else(|| refuse(format!("heights in `{u}` are read from NetCDF files only")))?;
+        inner.height_unit = Some(unit);
+        log.push(format!("heights in {u} (the container's `unit`)"));
     }
     let mut s = Surface::read(&tmp.0, &inner).map_err(|err| rename(err, &tmp.0, &shown))?;
     if let Some((lx, ly)) = meta_spacing.filter(|_| file_lengths) {
@@ -432,13 +428,11 @@ pub fn read_container(
             ));
         }
     }
-    if let Some(p) = e.periodic {
-        if p != s.is_periodic() {
-            s.warnings.push(format!(
-                "{pick}: the container says is_periodic = {p}, the surface is read as periodic = {}",
-                s.is_periodic()
-            ));
-        }
+    if let Some(p) = e.periodic.filter(|&p| p != s.is_periodic()) {
+        s.warnings.push(format!(
+            "{pick}: the container says is_periodic = {p}, the surface is read as periodic = {}",
+            s.is_periodic()
+        ));
     }
     log.extend(
         s.log
