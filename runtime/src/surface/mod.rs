@@ -46,6 +46,7 @@ mod form;
 mod generate;
 #[cfg(feature = "netcdf")]
 pub mod netcdf;
+mod open;
 mod read;
 #[cfg(feature = "spectral")]
 mod spectrum;

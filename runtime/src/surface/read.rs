@@ -114,16 +114,8 @@ fn format_err(path: &Path, e: SurfaceError) -> SurfaceError {
 }
 
 impl Surface {
-    /// Reads a height map by extension: `.x3p` (feature `x3p`; pixel sizes, offsets
-    /// and metres from the file), SurfaceTopography's `.nc` (feature `netcdf`; physical
-    /// sizes, unit and periodic flag from the file when it gives them: a file flagged
-    /// periodic is read as periodic, and then not detrended), `.npy` (feature `npy`) or a
-    /// text matrix, both in `height_unit` with the given spacing. Then checks (or repairs) invalid points
-    /// and spikes, and removes the form `detrend` (refused on a periodic sample). What
-    /// was done is in [`Surface::log`] and [`Surface::form`], a form that dominates the
-    /// heights is in [`Surface::warnings`] (module `form`); errors name the file (and
-    /// the grid index or field).
-    pub fn read(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
+    /// [`Surface::read`] of every kind but a container (module `open`).
+    pub(super) fn read_file(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
         if opts.periodic && opts.detrend != Detrend::None {
             return Err(SurfaceError::Unsupported(format!(
                 "detrend = \"{}\" on a periodic sample: a tilt or a curvature is not periodic \
@@ -132,9 +124,6 @@ impl Surface {
             )));
         }
         let kind = FileKind::of(path);
-        if kind == FileKind::Container {
-            return read_container_first(path, opts);
-        }
         let mut periodic = opts.periodic;
         let mut detrend = opts.detrend;
         let (z, n0, n1, spacing, mut log, warnings) = match kind {
@@ -160,7 +149,7 @@ impl Surface {
             }
             FileKind::Container => {
                 return Err(SurfaceError::Unsupported(format!(
-                    "{}: a container inside a container",
+                    "{}: a container (.zip) here: read it with Surface::read",
                     path.display()
                 )));
             }
@@ -484,20 +473,6 @@ fn read_netcdf_raw(path: &Path, opts: &ReadOptions) -> Result<(Raw, bool), Surfa
         z.iter_mut().for_each(|v| *v *= f);
     }
     Ok(((z, t.n0, t.n1, spacing, log, Vec::new()), periodic))
-}
-
-/// A container's first topography ([`super::container::read_container`]).
-#[cfg(feature = "container")]
-fn read_container_first(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
-    super::container::read_container(path, &super::container::Pick::Index(0), opts)
-}
-
-#[cfg(not(feature = "container"))]
-fn read_container_first(path: &Path, _: &ReadOptions) -> Result<Surface, SurfaceError> {
-    Err(SurfaceError::Unsupported(format!(
-        "{}: contact.engineering containers (.zip) need the runtime feature `container`",
-        path.display()
-    )))
 }
 
 #[cfg(not(feature = "netcdf"))]
