@@ -243,7 +243,8 @@ fn solve_asperities(
     let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
     let keep = scene.conductance.is_some().then(|| surface.clone());
     let law = law_for(scene, path, opts)?;
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?
+        .with_params(crate::engine::solver_params(scene, opts));
     let g0 = rc.top_to_mean();
     let given = min_gap.is_some();
     let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {

@@ -282,6 +282,7 @@ impl<'s> PlasticPath<'s> {
             hardness: self.hardness,
             tol: bounded.tol,
             max_iterations: parts.options.max_iterations,
+            cancel: self.solver.cancel_token(),
         };
         let mut g = vec![0.0; n];
         let mut p = start.unwrap_or_else(|| self.p.clone());

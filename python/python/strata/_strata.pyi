@@ -272,7 +272,7 @@ class Scene:
     def surface(self) -> Surface: ...
     def solve(
         self,
-        progress: bool = False,
+        progress: Optional[bool] = None,
         cache_dir: Optional[_Path] = None,
         maps: Literal["none", "last", "all"] = "none",
         table: Union[Table, _Path, None] = None,
@@ -281,7 +281,7 @@ class Scene:
         self,
         samples: int = 200,
         min_gap: Optional[float] = None,
-        progress: bool = False,
+        progress: Optional[bool] = None,
         cache_dir: Optional[_Path] = None,
         table: Union[Table, _Path, None] = None,
     ) -> ContactLaw: ...
