@@ -25,3 +25,28 @@ pub fn curve_approaches() -> Vec<f64> {
         .map(|i| 1.3e-6 + (9.8e-6 - 1.3e-6) * i as f64 / 19.0)
         .collect()
 }
+
+/// Whether the bench named `name` runs under the command line's filter (no filter: all;
+/// else a filter contained in the name, or the name in a filter).
+pub fn filter_matches(name: &str) -> bool {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    args.is_empty()
+        || args
+            .iter()
+            .any(|a| name.contains(a.as_str()) || a.contains(name))
+}
+
+/// CPU time of this process so far (user + system, s), from /proc/self/stat (0 where
+/// there is none).
+pub fn cpu_seconds() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let after = stat.rsplit_once(')').map_or("", |(_, r)| r);
+    let f: Vec<&str> = after.split_whitespace().collect();
+    let tick = 100.0;
+    let v = |i: usize| f.get(i).and_then(|x| x.parse::<f64>().ok()).unwrap_or(0.0);
+    // fields 14 and 15 (utime, stime) are at 11 and 12 after the command name
+    (v(11) + v(12)) / tick
+}
