@@ -299,3 +299,23 @@ def test_plasticity_dict_equals_scene_file(tmp_path):
         strata.Scene(half, z, model="bem", load=load, plasticity={"hardness": -1})
     with pytest.raises(strata.SceneError, match="load.unload"):
         strata.Scene(half, z, model="interacting", load={**load, "unload": True}, plasticity={"hardness": 1e9})
+
+
+def test_surface_read_picks_a_container_topography(root):
+    """Surface.read on a contact.engineering container: `topography` by number or name
+    (default the first), with the container's sizes and units; refused on other files."""
+    z = root / "tests" / "data" / "container" / "container.zip"
+    first = strata.Surface.read(z)
+    by_index = strata.Surface.read(z, topography=0)
+    np.testing.assert_array_equal(first.heights, by_index.heights)
+    scan = strata.Surface.read(z, topography="scan-nm")
+    same = strata.Surface.read(z, topography=1)
+    np.testing.assert_array_equal(scan.heights, same.heights)
+    assert scan.shape == (48, 32) and not scan.periodic
+    assert scan.extent == pytest.approx((3000e-9, 2000e-9), rel=1e-12)
+    np.testing.assert_allclose(scan.heights, np.load(root / "tests" / "data" / "container" / "scan-nm.npy") * 1e-9,
+                               rtol=1e-12)
+    with pytest.raises(strata.SurfaceError, match="no-such"):
+        strata.Surface.read(z, topography="no-such")
+    with pytest.raises(ValueError, match="topography"):
+        strata.Surface.read(root / "tests" / "reference" / "surface_km10.npy", size=1e-3, topography=0)

@@ -183,6 +183,7 @@ class Surface:
         height_unit: Optional[Literal["m", "mm", "um", "nm"]] = None,
         detrend: Literal["none", "plane", "curvature"] = "none",
         repair: _Repair = "none",
+        topography: Union[int, str, None] = None,
     ) -> "Surface": ...
     def write_npy(self, path: _Path) -> None: ...
     @property
