@@ -650,7 +650,7 @@ fn fortran_module_matches_the_header() {
     }
     assert_eq!(
         (constants, functions),
-        (22, 25),
+        (30, 36),
         "header changed: update the count and the module"
     );
 }
@@ -1729,4 +1729,88 @@ fn effects_example_matches_strata_law() {
         assert!(msg.contains(wm), "{name}: `{msg}` does not name {wm}");
     }
     eprintln!("effects vs strata law: worst relative difference {worst:e}");
+}
+
+/// The Fortran twin of examples/c/effects_example.c (examples/fortran/effects_example.f90,
+/// through capi/fortran/strata.f90) prints the same lines: every number bit for bit,
+/// every label and error line the same; its CSV files are the C example's byte for
+/// byte (and so `strata law`'s, checked by `effects_example_matches_strata_law`).
+#[test]
+fn fortran_effects_example_matches_c() {
+    let Some(fc) = optional_tool(
+        &std::env::var("FC").unwrap_or_else(|_| "gfortran".into()),
+        "--version",
+        "apt-get install gfortran",
+    ) else {
+        return;
+    };
+    let root = repo();
+    let lib_dir = lib_dir();
+    let dir = tmp("fortran-effects");
+    let c_out = run_effects_example(&dir);
+    let exe = dir.join("effects_example_f");
+    let out = Command::new(&fc)
+        .args(["-std=f2008", "-Wall", "-Wextra", "-pedantic", "-J"])
+        .arg(&*dir)
+        .arg(root.join("capi/fortran/strata.f90"))
+        .arg(root.join("examples/fortran/effects_example.f90"))
+        .arg("-L")
+        .arg(&lib_dir)
+        .arg("-lstrata_capi")
+        .arg(format!(
+            "-Wl,--disable-new-dtags,-rpath,{}",
+            lib_dir.display()
+        ))
+        .arg("-o")
+        .arg(&exe)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run `{fc}`: {e}"));
+    let warnings = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "Fortran compile failed:\n{warnings}");
+    assert!(
+        !warnings.to_lowercase().contains("warning"),
+        "Fortran compiler warnings:\n{warnings}"
+    );
+    let f_out = run_effects(&exe, &dir);
+    let (c_lines, f_lines): (Vec<&str>, Vec<&str>) =
+        (c_out.lines().collect(), f_out.lines().collect());
+    assert_eq!(
+        c_lines.len(),
+        f_lines.len(),
+        "C:\n{c_out}\nFortran:\n{f_out}"
+    );
+    let (mut numbers, mut errors) = (0, 0);
+    for (c, f) in c_lines.iter().zip(&f_lines) {
+        if c.starts_with("error ") {
+            assert_eq!(c, f);
+            errors += 1;
+            continue;
+        }
+        let (ct, ft): (Vec<&str>, Vec<&str>) = (
+            c.split_whitespace().collect(),
+            f.split_whitespace().collect(),
+        );
+        assert_eq!(ct.len(), ft.len(), "C `{c}`, Fortran `{f}`");
+        for (a, b) in ct.iter().zip(&ft) {
+            match (a.parse::<f64>(), b.parse::<f64>()) {
+                (Ok(x), Ok(y)) => {
+                    assert_eq!(x.to_bits(), y.to_bits(), "C `{c}`, Fortran `{f}`");
+                    numbers += 1;
+                }
+                _ => assert_eq!(a, b, "C `{c}`, Fortran `{f}`"),
+            }
+        }
+    }
+    assert_eq!(errors, 12, "{f_out}");
+    assert!(numbers > 400, "{numbers} numbers compared");
+    for name in ["capped-0", "capped-2", "conductance-0", "conductance-2"] {
+        let read = |exe: &str| {
+            std::fs::read(dir.join(format!("out-{exe}/{name}.csv")))
+                .unwrap_or_else(|e| panic!("{exe} {name}.csv: {e}"))
+        };
+        assert!(
+            read("effects_example") == read("effects_example_f"),
+            "{name}.csv differs between C and Fortran"
+        );
+    }
 }
