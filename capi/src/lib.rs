@@ -182,6 +182,11 @@ pub struct StrataLaw {
 }
 
 impl StrataLaw {
+    /// The sampled law p(g), A(g)/A₀, dp/dg.
+    pub fn law(&self) -> &InterfaceLaw {
+        &self.law
+    }
+
     fn elastic(law: InterfaceLaw) -> StrataLaw {
         StrataLaw {
             law,
