@@ -6,7 +6,10 @@
 !> (strata_law_new, strata_law_new_from_stack), then query the mean contact pressure
 !> p(g) (Pa), the real contact-area fraction A(g)/A0 and the tangent dp/dg (Pa/m) at
 !> any mean-plane separation g (m), alone or all three at once, at one gap or an array
-!> of them (strata_law_eval, strata_law_eval_array). SI units throughout.
+!> of them (strata_law_eval, strata_law_eval_array). SI units throughout. The law's
+!> effects (strata_law_new_with_law_options with a strata_law_options): a hardness
+!> (capped asperity tips) and the interface conductance h_c (strata_law_conductance*;
+!> per-layer conductivities from memory with strata_stack_set_conductivities).
 !>
 !> Two layers:
 !>  * c_strata_* : the C functions as declared in strata.h (bind(C)), pointer arguments

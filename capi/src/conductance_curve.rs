@@ -59,7 +59,7 @@ impl ConductanceCurve {
             return None;
         }
         let x: Vec<f64> = gaps.iter().rev().copied().collect();
-        if x.windows(2).any(|w| !(w[0] < w[1])) {
+        if x.iter().any(|v| !v.is_finite()) || x.windows(2).any(|w| w[0] >= w[1]) {
             return None;
         }
         let h: Vec<f64> = conductance.iter().rev().copied().collect();

@@ -6,7 +6,11 @@
 //! buffer: `strata_surface_new`), solve the load curve once, then query the mean contact
 //! pressure p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg
 //! (Pa/m) at any mean-plane separation g (m), one at a time or all three at once
-//! (`strata_law_eval`, `strata_law_eval_array`). SI units throughout. The header's
+//! (`strata_law_eval`, `strata_law_eval_array`). With `strata_law_new_with_law_options`
+//! the law carries its two effects: a hardness caps the asperity tips (issue 35,
+//! [`capped`]), and the interface conductance h_c(g) is solved at the samples (issue 34,
+//! [`spots`], [`conductance_curve`]), as `strata law` computes both. SI units
+//! throughout. The header's
 //! `STRATA_VERSION_MAJOR`/`MINOR`/`PATCH` are the library's version at compile time;
 //! `strata_version()` the one linked.
 //!
