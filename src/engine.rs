@@ -973,27 +973,25 @@ fn solve_plastic_asperities(
     };
     let mut steps = Vec::with_capacity(deltas.len());
     let mut plastic_steps = Vec::with_capacity(deltas.len());
-    // The I model: the elastic curve first, as an elastic scene solves it (so that
-    // steps where no summit yields are its steps bit for bit), then the capped steps.
-    let elastic_curve = match interacting {
-        Some(images) if !matches!(scene.load, LoadSpec::MeanPressures(_)) => {
-            let (steps, stop) = rc.curve_partial(model, &deltas);
-            if let Some((i, e)) = stop {
-                return Err(anyhow::Error::from(e).context(format!("load step {i}")));
-            }
-            Some((images, steps))
+    // Approaches: the capped curve (the I model from its elastic load path, so that
+    // steps where no summit yields are the elastic steps bit for bit); mean pressures:
+    // each step at the approach its bisection found.
+    let solved: Vec<(Step, f64)> = if matches!(scene.load, LoadSpec::MeanPressures(_)) {
+        let mut out = Vec::with_capacity(deltas.len());
+        let mut warm: Vec<f64> = Vec::new();
+        for (i, &d) in deltas.iter().enumerate() {
+            opts.cancel.check()?;
+            let r = solve(d, &warm).with_context(|| format!("load step {i}"))?;
+            warm = r.0.radii.clone();
+            out.push(r);
         }
-        _ => None,
+        out
+    } else {
+        rc.capped_curve(&resp, model, &deltas)
+            .map_err(|(i, e)| anyhow::Error::from(e).context(format!("load step {i}")))?
     };
-    let mut warm: Vec<f64> = Vec::new();
-    for (i, &d) in deltas.iter().enumerate() {
-        opts.cancel.check()?;
-        let (s, plastic) = match &elastic_curve {
-            Some((images, el)) => rc.capped_from_elastic(&resp, *images, el[i].clone(), false),
-            None => solve(d, &warm),
-        }
-        .with_context(|| format!("load step {i}"))?;
-        warm = s.radii.clone();
+    for (i, (s, plastic)) in solved.into_iter().enumerate() {
+        let d = s.delta;
         if !s.validity.is_valid() {
             log!(
                 quiet,

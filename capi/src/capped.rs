@@ -9,11 +9,10 @@
 //! The capped asperity's response table for the stack and H (ring solves,
 //! `strata_tablegen::plastic_asperity::response`; ~18 CPU-s on a layered stack, less
 //! than a second on a half-space) takes every summit through its response: the N model
-//! summit by summit (`RoughContact::solve_independent_plastic`), the I model from the
-//! elastic I model's step at the same approach with the interactions through the far
-//! field of the summits' actual loads (`RoughContact::capped_from_elastic`; the elastic
-//! step itself where no summit yields). Loading only: the asperity models keep no
-//! unloading branch.
+//! summit by summit, the I model from the elastic I model's step at the same approach
+//! with the interactions through the far field of the summits' actual loads (the
+//! elastic step itself where no summit yields): `RoughContact::capped_curve`, the one
+//! the engine runs. Loading only: the asperity models keep no unloading branch.
 
 use strata_runtime::Stack;
 use strata_runtime::interface::{InterfaceError, InterfaceLaw, sample_bytes, sample_gaps};
@@ -105,30 +104,11 @@ pub fn capped_law(
     };
     let rc = RoughContact::from_surface(elastic, surface)?.with_params(params);
     let deltas: Vec<f64> = gaps.iter().map(|&g| rc.top_to_mean() - g).collect();
-    let mut steps = Vec::with_capacity(deltas.len());
-    match model {
-        Model::Interacting(images) => {
-            // the elastic curve first, as an elastic law solves it (so that steps where
-            // no summit yields are its steps bit for bit), then the capped steps
-            let (el, stop) = rc.curve_partial(model, &deltas);
-            if let Some((step, error)) = stop {
-                return Err(CappedError::Step { step, error });
-            }
-            for (step, e) in el.into_iter().enumerate() {
-                let (s, _) = rc
-                    .capped_from_elastic(&resp, images, e, false)
-                    .map_err(|error| CappedError::Step { step, error })?;
-                steps.push(s);
-            }
-        }
-        Model::Independent => {
-            for (step, &d) in deltas.iter().enumerate() {
-                let (s, _) = rc
-                    .solve_independent_plastic(&resp, d)
-                    .map_err(|error| CappedError::Step { step, error })?;
-                steps.push(s);
-            }
-        }
-    }
+    let steps: Vec<_> = rc
+        .capped_curve(&resp, model, &deltas)
+        .map_err(|(step, error)| CappedError::Step { step, error })?
+        .into_iter()
+        .map(|(s, _)| s)
+        .collect();
     Ok(InterfaceLaw::from_steps(&steps, nominal_area)?)
 }

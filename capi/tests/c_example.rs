@@ -1387,7 +1387,7 @@ fn strata_law_csv(
     let scene = dir.join(format!("{name}.toml"));
     std::fs::write(&scene, text).expect("scene");
     let out = dir.join(format!("{name}-cli.csv"));
-    strata::progress::set_quiet(true);
+    strata::progress::init(true);
     strata::cli::law::run(strata::cli::law::Args {
         scene,
         out: out.clone(),

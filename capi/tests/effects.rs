@@ -95,7 +95,7 @@ fn capped_law_on_a_layered_stack_matches_strata_law() {
     )
     .unwrap();
     let out = dir.join("capped.csv");
-    strata::progress::set_quiet(true);
+    strata::progress::init(true);
     strata::cli::law::run(strata::cli::law::Args {
         scene,
         out: out.clone(),
