@@ -314,20 +314,7 @@ fn solve_capped_asperities(
     let hom = strata_runtime::law::Homogeneous { e_star };
     let rc = RoughContact::from_surface(&hom, &surface)?;
     let (g0, nominal_area) = (rc.top_to_mean(), rc.area());
-    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
-        Some(g) => g,
-        None => {
-            let p = largest_pressure(&scene.load)?;
-            let mut one = scene.clone();
-            one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_surface(&one, path, surface.clone(), opts)
-                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
-            s.steps.first().context("no step")?.gap
-        }
-    };
-    if min_gap.is_nan() || min_gap >= g0 {
-        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
-    }
+    let min_gap = scene_min_gap(scene, path, &surface, opts, g0, min_gap)?;
     progress::log(format!(
         "law: {samples} capped solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
@@ -393,6 +380,34 @@ fn solid_of(s: &strata_runtime::Stack) -> String {
     }
 }
 
+/// The law's smallest separation (m): `--min-gap`, else the scene's load's deepest
+/// separation, else the separation of the scene's largest mean pressure (one engine
+/// solve); it must lie below first contact `g0` (m).
+fn scene_min_gap(
+    scene: &Scene,
+    path: &Path,
+    surface: &Surface,
+    opts: &EngineOptions,
+    g0: f64,
+    min_gap: Option<f64>,
+) -> Result<f64> {
+    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+        Some(g) => g,
+        None => {
+            let p = largest_pressure(&scene.load)?;
+            let mut one = scene.clone();
+            one.load = LoadSpec::MeanPressures(vec![p]);
+            let s = solve_surface(&one, path, surface.clone(), opts)
+                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
+            s.steps.first().context("no step")?.gap
+        }
+    };
+    if min_gap.is_nan() || min_gap >= g0 {
+        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
+    }
+    Ok(min_gap)
+}
+
 /// BEM: the engine's scene solve at the sample separations.
 fn solve_bem(
     scene: &Scene,
@@ -408,20 +423,7 @@ fn solve_bem(
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     let g0 = z_max - surface.mean();
-    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
-        Some(g) => g,
-        None => {
-            let p = largest_pressure(&scene.load)?;
-            let mut one = scene.clone();
-            one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_surface(&one, path, surface.clone(), opts)
-                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
-            s.steps.first().context("BEM: no step")?.gap
-        }
-    };
-    if min_gap.is_nan() || min_gap >= g0 {
-        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
-    }
+    let min_gap = scene_min_gap(scene, path, &surface, opts, g0, min_gap)?;
     progress::log(format!(
         "law: {samples} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));

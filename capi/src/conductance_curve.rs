@@ -14,6 +14,7 @@
 //!   pressure (Abaqus' `*GAP CONDUCTANCE, PRESSURE` tabulates the samples and
 //!   interpolates linearly in p between them; this follows the physics between them).
 
+use strata_runtime::interface::{hermite, pchip_slopes};
 use thiserror::Error;
 
 /// Errors of a conductance query.
@@ -101,11 +102,12 @@ impl ConductanceCurve {
             return Ok(self.h[n - 2] * ((g0 - gap) / (g0 - self.x[n - 2])).sqrt());
         }
         Ok(hermite(
-            (self.x[k], self.x[k + 1]),
-            (self.h[k], self.h[k + 1]),
-            (self.dh[k], self.dh[k + 1]),
+            &self.x[k..k + 2],
+            &self.h[k..k + 2],
+            &self.dh[k..k + 2],
             gap,
-        ))
+        )
+        .0)
     }
 
     /// h_c at mean contact pressure `pressure` (Pa, ≥ 0) on the law `p_of_g` (the law's
@@ -152,50 +154,6 @@ impl ConductanceCurve {
         }
         self.at_gap(lo)
     }
-}
-
-/// The cubic Hermite interpolant on [x0, x1] with values y and slopes m, at `at`.
-fn hermite(x: (f64, f64), y: (f64, f64), m: (f64, f64), at: f64) -> f64 {
-    let h = x.1 - x.0;
-    let t = (at - x.0) / h;
-    let (t2, t3) = (t * t, t * t * t);
-    (2.0 * t3 - 3.0 * t2 + 1.0) * y.0
-        + (t3 - 2.0 * t2 + t) * h * m.0
-        + (-2.0 * t3 + 3.0 * t2) * y.1
-        + (t3 - t2) * h * m.1
-}
-
-/// PCHIP slopes (Fritsch–Butland weighted harmonic mean inside, the three-point
-/// shape-preserving rule at the ends), as SciPy's `PchipInterpolator` and the law's
-/// A(g)/A₀.
-fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
-    let d: Vec<f64> = (0..n - 1).map(|k| (y[k + 1] - y[k]) / h[k]).collect();
-    if n == 2 {
-        return vec![d[0], d[0]];
-    }
-    let mut m = vec![0.0; n];
-    for k in 1..n - 1 {
-        if d[k - 1] * d[k] > 0.0 {
-            let w1 = 2.0 * h[k] + h[k - 1];
-            let w2 = h[k] + 2.0 * h[k - 1];
-            m[k] = (w1 + w2) / (w1 / d[k - 1] + w2 / d[k]);
-        }
-    }
-    let edge = |h0: f64, h1: f64, d0: f64, d1: f64| {
-        let s = ((2.0 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
-        if s.signum() != d0.signum() || d0 == 0.0 {
-            0.0
-        } else if d0.signum() != d1.signum() && s.abs() > 3.0 * d0.abs() {
-            3.0 * d0
-        } else {
-            s
-        }
-    };
-    m[0] = edge(h[0], h[1], d[0], d[1]);
-    m[n - 1] = edge(h[n - 2], h[n - 3], d[n - 2], d[n - 3]);
-    m
 }
 
 #[cfg(test)]
