@@ -5,7 +5,7 @@
 # first way: a wheel, no Rust toolchain), then pytest (+ SurfaceTopography for the adapter
 # test, matplotlib for the examples, mypy for the stubs' stubtest, pandas and xarray for
 # the conversions, nbconvert and ipykernel for the notebook test) on that PATH, then the
-# two examples.
+# examples and the walkthrough notebook.
 #
 # Usage: python/ci.sh [--ci] [--venv DIR]
 #   --ci        CI mode: SurfaceTopography must be installed and its test must run
@@ -124,6 +124,10 @@ echo "== python: examples"
     || fail "examples/fig15_curve.py failed"
 (cd "$WORK" && norust "$VPY" "$ROOT/python/examples/surfacetopography_example.py" --out "$WORK/st.png") \
     || fail "examples/surfacetopography_example.py failed"
+# The walkthrough notebook (docs/guide/walkthrough.md in Python), executed as Jupyter does.
+(cd "$WORK" && STRATA_REPO="$ROOT" norust "$VPY" -m nbconvert --to notebook --execute --output-dir "$WORK" \
+    --output walkthrough.ipynb "$ROOT/python/examples/walkthrough.ipynb") \
+    || fail "examples/walkthrough.ipynb failed"
 t5=$(date +%s)
 echo "   examples: $((t5 - t4)) s"
 echo "== python: passed in $((t5 - t0)) s"

@@ -49,5 +49,6 @@ mod study;
 mod sweep;
 mod table_fuzz;
 mod tables;
+mod walkthrough;
 mod x3p;
 mod zero_mean_images;
