@@ -184,8 +184,23 @@ fn describe(model: Option<Model>) -> String {
             "interacting asperities (I model), periodic images on a {0}×{0} block",
             2 * m + 1
         ),
-        None => "boundary elements (FFT-BEM, periodic)".into(),
+        None => "boundary elements (FFT-BEM)".into(),
     }
+}
+
+/// The BEM's description with what ran: a periodic cell, or a non-periodic sample on
+/// the unbounded solid (zero-padded convolution), square or rectangular grid.
+fn describe_bem(periodic: bool, shape: (usize, usize)) -> String {
+    format!(
+        "boundary elements (FFT-BEM, {}, {}×{} grid)",
+        if periodic {
+            "periodic cell"
+        } else {
+            "non-periodic sample on the unbounded solid"
+        },
+        shape.0,
+        shape.1
+    )
 }
 
 /// The smallest separation the scene's displacement-type load reaches, given g₀ (m).
@@ -432,6 +447,7 @@ fn solve_bem(
     sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
     // [plasticity]: the return path too (the unloading curve), the law from the loading
     sampled.unload = scene.plasticity.is_some();
+    let ran = describe_bem(surface.is_periodic(), surface.shape());
     let sol = solve_surface(&sampled, path, surface, opts)?;
     let mut steps = sol.steps;
     let unloading = scene.plasticity.map(|pl| {
@@ -468,7 +484,7 @@ fn solve_bem(
     });
     Ok(SampledLaw {
         law: il,
-        model: describe(None),
+        model: ran,
         solid: solid(scene),
         e_star: scene.stack.contact_modulus(),
         nominal_area: area,

@@ -288,6 +288,14 @@ fn slow_walkthrough_runs_as_documented() {
     assert!((sx / zx - 1.0).abs() <= 1e-4, "{sx:e} vs {zx:e}");
     let inp = std::fs::read_to_string(out.join("law.inp")).expect("law.inp");
     assert!(inp.contains("*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR"));
+    // the label says what ran: the measured scan is a non-periodic sample
+    assert!(
+        inp.contains("non-periodic sample on the unbounded solid, 256×192 grid")
+            && json["model"]
+                .as_str()
+                .is_some_and(|m| m.contains("non-periodic")),
+        "{inp}"
+    );
 
     // 6. CalculiX: the FE contact pressure is the law's table.
     if ccx.is_none() {
