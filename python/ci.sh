@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
-# Tests the Python package as a user meets it: a fresh venv, the README's install
-# command (`pip install ./python`), pytest (+ SurfaceTopography for the adapter test,
-# matplotlib for the examples, mypy for the stubs' stubtest), then the two examples.
+# Tests the Python package as a user meets it: the package built once as an abi3 wheel
+# (maturin, in a build venv), checked manylinux-compatible (`auditwheel show`), installed
+# into a fresh venv on a PATH where neither `cargo` nor `rustc` is found (the README's
+# first way: a wheel, no Rust toolchain), then pytest (+ SurfaceTopography for the adapter
+# test, matplotlib for the examples, mypy for the stubs' stubtest, pandas and xarray for
+# the conversions, nbconvert and ipykernel for the notebook test) on that PATH, then the
+# examples and the walkthrough notebook.
 #
 # Usage: python/ci.sh [--ci] [--venv DIR]
 #   --ci        CI mode: SurfaceTopography must be installed and its test must run
@@ -10,12 +14,15 @@
 #               and installs pytest, matplotlib and SurfaceTopography while cargo builds),
 #               instead of making one here.
 #
+# The build venv ($STRATA_PY_BUILD_VENV, default $CARGO_TARGET_DIR/python-build-venv)
+# holds maturin and auditwheel; made here if missing (.ci/run makes it in the background).
+#
 # Build cost: maturin builds with the dev profile and the same CARGO_TARGET_DIR as
-# `cargo test` (MATURIN_PEP517_ARGS="--profile dev"). `cargo test` builds every library
+# `cargo test` (`maturin build --profile dev`). `cargo test` builds every library
 # with the test profile, which has the dev profile's settings (Cargo.toml), and
 # python/Cargo.toml unifies the features with the workspace's (either, bitflags, and
 # syn's `fold` on the host), so after `cargo test --workspace` every library is reused
-# and only pyo3, numpy and the bindings are compiled: `pip install ./python` 10 s on a
+# and only pyo3, numpy and the bindings are compiled: the wheel's build 10 s on a
 # target directory that has the test build and pyo3 (was 111 s cold when the workspace
 # libraries and faer were compiled again). `--profile test` would build a test harness,
 # not the extension module. Without --ci the README's release build is used unless
@@ -42,7 +49,7 @@ fail() { echo "python/ci.sh: ERROR: $*" >&2; exit 1; }
 PY=${PYTHON:-python3}
 export CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-$ROOT/target}
 PROFILE=${STRATA_PY_PROFILE:-$([ -n "$CI_MODE" ] && echo dev || echo release)}
-export MATURIN_PEP517_ARGS="--profile $PROFILE"
+BUILD_VENV=${STRATA_PY_BUILD_VENV:-$CARGO_TARGET_DIR/python-build-venv}
 t0=$(date +%s)
 
 WORK=$(mktemp -d)
@@ -61,34 +68,66 @@ else
         || fail "pip cannot reach PyPI"
 fi
 
-echo "== python: pip install ./python (maturin, profile $PROFILE, CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
+echo "== python: wheel (maturin build, profile $PROFILE, CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
 t1=$(date +%s)
-"$VPY" -m pip install --disable-pip-version-check ./python \
-    || fail "pip install ./python failed"
+if ! "$BUILD_VENV/bin/python" -c "import maturin, auditwheel" 2>/dev/null; then
+    "$PY" -m venv "$BUILD_VENV" || fail "cannot create the build venv $BUILD_VENV"
+    "$BUILD_VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
+        "maturin>=1.16,<2" auditwheel || fail "pip could not install maturin and auditwheel"
+fi
+mkdir -p "$WORK/wheels"
+"$BUILD_VENV/bin/maturin" build --quiet --profile "$PROFILE" -m python/Cargo.toml \
+    --interpreter "$VPY" --out "$WORK/wheels" || fail "maturin build failed"
+WHEEL=$(ls "$WORK"/wheels/strata-*-abi3-*.whl 2>/dev/null | head -1)
+[ -n "$WHEEL" ] || fail "maturin built no abi3 wheel: $(ls "$WORK/wheels")"
+AUDIT=$("$BUILD_VENV/bin/auditwheel" show "$WHEEL" 2>&1) || fail "auditwheel show failed: $AUDIT"
+echo "$AUDIT" | tr '\n' ' ' | grep -qE 'platform tag: *"manylinux_[0-9]+_[0-9]+_[a-z0-9_]+"' \
+    || fail "the wheel is not manylinux-compatible: $AUDIT"
 t2=$(date +%s)
-echo "   pip install ./python: $((t2 - t1)) s"
+echo "   $(basename "$WHEEL"): $(echo "$AUDIT" | tr '\n' ' ' | grep -oE 'platform tag: *"[^"]+"' | head -1), $((t2 - t1)) s"
 
-# mypy: stubtest checks strata/_strata.pyi against the module (python/tests/test_stubs.py).
-"$VPY" -m pip install --quiet --disable-pip-version-check pytest matplotlib SurfaceTopography mypy \
-    || fail "pip could not install pytest, matplotlib, SurfaceTopography, mypy"
-t3=$(date +%s)
-echo "   pytest, matplotlib, SurfaceTopography, mypy: $((t3 - t2)) s"
-
+# The CLI the tests compare with, built now (with the toolchain).
 export STRATA_BIN=${STRATA_BIN:-$CARGO_TARGET_DIR/debug/strata}
 if [ ! -x "$STRATA_BIN" ]; then
     cargo build --bin strata
 fi
+
+# From here on no Rust toolchain: a PATH of the venv's bin and the system directories
+# that hold neither cargo nor rustc.
+NO_RUST_PATH="$(dirname "$VPY")"
+IFS=: read -r -a DIRS <<<"$PATH"
+for d in "${DIRS[@]}"; do
+    [ -n "$d" ] && [ ! -e "$d/cargo" ] && [ ! -e "$d/rustc" ] && NO_RUST_PATH="$NO_RUST_PATH:$d"
+done
+norust() { env -u RUSTUP_HOME -u CARGO_HOME PATH="$NO_RUST_PATH" "$@"; }
+norust bash -c '! command -v cargo >/dev/null && ! command -v rustc >/dev/null' \
+    || fail "cargo or rustc is still on the test PATH $NO_RUST_PATH"
+echo "   test PATH without cargo and rustc: $NO_RUST_PATH"
+norust "$VPY" -m pip install --quiet --disable-pip-version-check "$WHEEL" \
+    || fail "pip install $(basename "$WHEEL") failed without a Rust toolchain"
+
+# mypy: stubtest checks strata/_strata.pyi against the module (python/tests/test_stubs.py).
+norust "$VPY" -m pip install --quiet --disable-pip-version-check pytest matplotlib SurfaceTopography mypy \
+    pandas xarray nbconvert ipykernel \
+    || fail "pip could not install pytest, matplotlib, SurfaceTopography, mypy, pandas, xarray, nbconvert, ipykernel"
+t3=$(date +%s)
+echo "   install (wheel, test dependencies): $((t3 - t2)) s"
+
 if [ -n "$CI_MODE" ]; then export STRATA_REQUIRE_TOOLS=1 MPLBACKEND=Agg; fi
 # Run from outside the source tree: the installed package is imported, not python/python/.
-(cd "$WORK" && "$VPY" -m pytest -q -p no:cacheprovider "$ROOT/python/tests") || fail "pytest failed"
+(cd "$WORK" && norust "$VPY" -m pytest -q -p no:cacheprovider "$ROOT/python/tests") || fail "pytest failed"
 t4=$(date +%s)
 echo "   pytest: $((t4 - t3)) s"
 
 echo "== python: examples"
-(cd "$WORK" && "$VPY" "$ROOT/python/examples/fig15_curve.py" --out "$WORK/fig15.png" --grid 128) \
+(cd "$WORK" && norust "$VPY" "$ROOT/python/examples/fig15_curve.py" --out "$WORK/fig15.png" --grid 128) \
     || fail "examples/fig15_curve.py failed"
-(cd "$WORK" && "$VPY" "$ROOT/python/examples/surfacetopography_example.py" --out "$WORK/st.png") \
+(cd "$WORK" && norust "$VPY" "$ROOT/python/examples/surfacetopography_example.py" --out "$WORK/st.png") \
     || fail "examples/surfacetopography_example.py failed"
+# The walkthrough notebook (docs/guide/walkthrough.md in Python), executed as Jupyter does.
+(cd "$WORK" && STRATA_REPO="$ROOT" norust "$VPY" -m nbconvert --to notebook --execute --output-dir "$WORK" \
+    --output walkthrough.ipynb "$ROOT/python/examples/walkthrough.ipynb") \
+    || fail "examples/walkthrough.ipynb failed"
 t5=$(date +%s)
 echo "   examples: $((t5 - t4)) s"
 echo "== python: passed in $((t5 - t0)) s"

@@ -45,6 +45,18 @@ pub struct EngineOptions {
     /// before it with [`SceneSolution::failed`] set (the CLI's `solve` writes them as a
     /// partial curve) instead of an error.
     pub keep_partial: bool,
+    /// Cancellation, checked between load steps and inside the BEM iteration and the
+    /// I model's Newton steps (the Python package trips it on Ctrl-C): a cancelled
+    /// solve returns an error and no result. Default: never cancelled.
+    pub cancel: strata_runtime::cancel::Cancel,
+}
+
+/// The scene's `[solver]` parameters of the asperity models with the call's
+/// cancellation token ([`EngineOptions::cancel`]).
+pub fn solver_params(scene: &Scene, opts: &EngineOptions) -> strata_runtime::rough::Params {
+    let mut p = scene.solver.params();
+    p.cancel = opts.cancel.clone();
+    p
 }
 
 /// The step at which a load path stopped ([`EngineOptions::keep_partial`]).
@@ -208,7 +220,7 @@ pub fn surface_report(surface: &Surface, quiet: bool) -> (serde_json::Value, Vec
     log!(quiet, "surface: {}", surface.stats().describe());
     let warnings = surface_warnings(surface);
     for w in &warnings {
-        crate::stdio::eprint_line(format_args!("WARNING: surface: {w}"));
+        progress::warn(format_args!("surface: {w}"));
     }
     (surface_json(surface), warnings)
 }
@@ -314,7 +326,8 @@ pub fn solve_surface_with_maps(
     );
     let law = law_for(scene, scene_path, opts)?;
     let t0 = Instant::now();
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
+    let rc =
+        RoughContact::from_surface(law.as_ref(), &surface)?.with_params(solver_params(scene, opts));
     let effects = model_description(model);
     let layered = if law.is_homogeneous() {
         "homogeneous solid (χ = ζ = 1, g = 0)"
@@ -382,6 +395,7 @@ pub fn solve_surface_with_maps(
             let mut out: Vec<Step> = Vec::new();
             let mut warm: Vec<f64> = Vec::new();
             for (i, &p) in ps.iter().enumerate() {
+                opts.cancel.check()?;
                 // The N model at this pressure first (cheap): past A/A₀ = 1 it is refused,
                 // and so is the I model, which needs a larger approach for the same
                 // pressure (interactions soften the contact).
@@ -648,7 +662,8 @@ fn solve_bem(
     let t0 = Instant::now();
     let bem_options = scene.solver.bem_options(opts.bem.unwrap_or_default());
     let solver = BemSolver::with_geometry(&heights, geometry, stack, bem_options)
-        .context("model.kind = \"bem\"")?;
+        .context("model.kind = \"bem\"")?
+        .with_cancel(opts.cancel.clone());
     drop(heights);
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
     let top_to_mean = z_max - surface.mean();
@@ -734,6 +749,7 @@ fn solve_bem(
     let mut conductance_seconds = 0.0;
     let mut flux: Option<Vec<f64>> = None;
     for (k, (name, load)) in loads.into_iter().enumerate() {
+        opts.cancel.check()?;
         let (sol, next, dd) = if let Some(path) = plastic.as_mut() {
             // the tangent from a copy of the path: the state is advanced by `step` only
             let mut probe = path.clone();
@@ -896,7 +912,8 @@ fn solve_plastic_asperities(
             e_star: scene.stack.contact_modulus(),
         }),
     };
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
+    let rc =
+        RoughContact::from_surface(law.as_ref(), &surface)?.with_params(solver_params(scene, opts));
     let interacting = match model {
         Model::Interacting(images) => Some(images),
         _ => None,
@@ -956,26 +973,25 @@ fn solve_plastic_asperities(
     };
     let mut steps = Vec::with_capacity(deltas.len());
     let mut plastic_steps = Vec::with_capacity(deltas.len());
-    // The I model: the elastic curve first, as an elastic scene solves it (so that
-    // steps where no summit yields are its steps bit for bit), then the capped steps.
-    let elastic_curve = match interacting {
-        Some(images) if !matches!(scene.load, LoadSpec::MeanPressures(_)) => {
-            let (steps, stop) = rc.curve_partial(model, &deltas);
-            if let Some((i, e)) = stop {
-                return Err(anyhow::Error::from(e).context(format!("load step {i}")));
-            }
-            Some((images, steps))
+    // Approaches: the capped curve (the I model from its elastic load path, so that
+    // steps where no summit yields are the elastic steps bit for bit); mean pressures:
+    // each step at the approach its bisection found.
+    let solved: Vec<(Step, f64)> = if matches!(scene.load, LoadSpec::MeanPressures(_)) {
+        let mut out = Vec::with_capacity(deltas.len());
+        let mut warm: Vec<f64> = Vec::new();
+        for (i, &d) in deltas.iter().enumerate() {
+            opts.cancel.check()?;
+            let r = solve(d, &warm).with_context(|| format!("load step {i}"))?;
+            warm = r.0.radii.clone();
+            out.push(r);
         }
-        _ => None,
+        out
+    } else {
+        rc.capped_curve(&resp, model, &deltas)
+            .map_err(|(i, e)| anyhow::Error::from(e).context(format!("load step {i}")))?
     };
-    let mut warm: Vec<f64> = Vec::new();
-    for (i, &d) in deltas.iter().enumerate() {
-        let (s, plastic) = match &elastic_curve {
-            Some((images, el)) => rc.capped_from_elastic(&resp, *images, el[i].clone(), false),
-            None => solve(d, &warm),
-        }
-        .with_context(|| format!("load step {i}"))?;
-        warm = s.radii.clone();
+    for (i, (s, plastic)) in solved.into_iter().enumerate() {
+        let d = s.delta;
         if !s.validity.is_valid() {
             log!(
                 quiet,

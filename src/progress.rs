@@ -1,6 +1,6 @@
 //! Progress and log lines on stderr, one mechanism for every command (indicatif).
 //!
-//! Three modes, chosen once per process:
+//! Three modes for the process (the command line), chosen once:
 //! - **bar** (stderr is a terminal): indicatif bars drawn in place; log lines are
 //!   printed above them;
 //! - **log** (stderr is a file or a pipe: batch jobs, CI): no bars; every running
@@ -8,15 +8,21 @@
 //!   elapsed time and the time left, and a last line when it ends;
 //! - **off** (`--quiet`): neither progress nor log lines; errors are still printed.
 //!
+//! A library caller (the Python package) instead collects what one call reports in a
+//! [`Report`] of its own ([`scoped`]): its log lines, warnings and bars go there, not to
+//! stderr, and the caller shows them where its user looks (a notebook cell) or drops
+//! them. Nothing is process-global then: two calls on two threads report apart.
+//!
 //! `STRATA_PROGRESS=bar|log|off` overrides the choice; `STRATA_LOG_INTERVAL` (seconds,
 //! ≥ 0.05) sets the interval of the log mode. Long operations take a [`Progress`]
 //! ([`bar`] with a count, [`spinner`] without); plain messages go through [`log`], so
 //! that they never tear a bar apart.
 
 use std::borrow::Cow;
+use std::cell::RefCell;
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::time::{Duration, Instant};
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -34,21 +40,23 @@ pub enum Mode {
     Off,
 }
 
-static QUIET: AtomicBool = AtomicBool::new(false);
 static MODE: OnceLock<Mode> = OnceLock::new();
 static MULTI: OnceLock<MultiProgress> = OnceLock::new();
 
-/// `--quiet`: no progress and no log lines from now on (errors are still printed).
-pub fn set_quiet(quiet: bool) {
-    QUIET.store(quiet, Ordering::Relaxed);
+/// The command line's `--quiet`, once at start: no progress and no log lines for the
+/// rest of the process (errors are still printed). Without it the mode is chosen on
+/// first use ([`mode`]).
+pub fn init(quiet: bool) {
+    if quiet {
+        // A second call cannot change the mode: a process has one command line.
+        let _ = MODE.set(Mode::Off);
+    }
 }
 
-/// The mode in force: `Off` when quiet, else `STRATA_PROGRESS`, else `Bar` on a
-/// terminal and `Log` otherwise.
+/// The process's mode: `Off` after [`init`]`(true)`, else `STRATA_PROGRESS`, else `Bar`
+/// on a terminal and `Log` otherwise. Calls inside [`scoped`] report to their
+/// [`Report`] whatever the mode.
 pub fn mode() -> Mode {
-    if QUIET.load(Ordering::Relaxed) {
-        return Mode::Off;
-    }
     *MODE.get_or_init(|| match std::env::var("STRATA_PROGRESS").as_deref() {
         Ok("bar") => Mode::Bar,
         Ok("log") => Mode::Log,
@@ -74,9 +82,120 @@ fn multi() -> &'static MultiProgress {
     MULTI.get_or_init(|| MultiProgress::with_draw_target(ProgressDrawTarget::stderr()))
 }
 
+/// One line of a [`Report`].
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Line {
+    /// The text, without a newline.
+    pub text: String,
+    /// A warning ([`warn`]): kept even when the report shows no progress.
+    pub warning: bool,
+}
+
+/// What one call reports, for its caller to show: the log lines and warnings in order
+/// and the bars of its operations (read with [`Report::status`]). Made per call and
+/// installed on the calling thread by [`scoped`]; `show = false` keeps only warnings.
+#[derive(Debug)]
+pub struct Report {
+    show: bool,
+    lines: Mutex<Vec<Line>>,
+    bars: Mutex<Vec<ProgressBar>>,
+}
+
+impl Report {
+    /// A report that keeps progress and log lines (`show`) or only warnings.
+    pub fn new(show: bool) -> Arc<Self> {
+        Arc::new(Report {
+            show,
+            lines: Mutex::new(Vec::new()),
+            bars: Mutex::new(Vec::new()),
+        })
+    }
+
+    /// Whether progress and log lines are kept.
+    pub fn shows(&self) -> bool {
+        self.show
+    }
+
+    /// The lines reported since the last call, in order.
+    pub fn take_lines(&self) -> Vec<Line> {
+        self.lines
+            .lock()
+            .map(|mut l| std::mem::take(&mut *l))
+            .unwrap_or_default()
+    }
+
+    /// The [`status_line`] of the newest running operation, else of the newest one
+    /// that ended (its last state), else `None`.
+    pub fn status(&self) -> Option<String> {
+        let bars = self.bars.lock().ok()?;
+        let pb = bars
+            .iter()
+            .rev()
+            .find(|b| !b.is_finished())
+            .or_else(|| bars.last())?;
+        Some(status_line(pb))
+    }
+
+    fn push(&self, text: String, warning: bool) {
+        if let Ok(mut l) = self.lines.lock() {
+            l.push(Line { text, warning });
+        }
+    }
+
+    fn add_bar(&self, pb: &ProgressBar) {
+        if let Ok(mut b) = self.bars.lock() {
+            b.push(pb.clone());
+        }
+    }
+}
+
+thread_local! {
+    /// The report of the call running on this thread ([`scoped`]).
+    static CURRENT: RefCell<Option<Arc<Report>>> = const { RefCell::new(None) };
+}
+
+/// Restores the thread's previous report when [`scoped`] ends (by return or panic).
+struct Restore(Option<Arc<Report>>);
+
+impl Drop for Restore {
+    fn drop(&mut self) {
+        let prev = self.0.take();
+        CURRENT.with(|c| *c.borrow_mut() = prev);
+    }
+}
+
+/// Runs `f` with `report` receiving the log lines, warnings and bars of this thread
+/// (the library's calls from `f`), instead of stderr. Per call: other threads, and this
+/// one after `f`, are unaffected.
+pub fn scoped<T>(report: &Arc<Report>, f: impl FnOnce() -> T) -> T {
+    let prev = CURRENT.with(|c| c.borrow_mut().replace(Arc::clone(report)));
+    let _restore = Restore(prev);
+    f()
+}
+
+fn current() -> Option<Arc<Report>> {
+    CURRENT.with(|c| c.borrow().clone())
+}
+
+/// A warning: to the thread's [`Report`] if any (kept even without progress), else on
+/// stderr as `WARNING: <line>` whatever the mode.
+pub fn warn(line: impl std::fmt::Display) {
+    match current() {
+        Some(r) => r.push(format!("WARNING: {line}"), true),
+        None => eprint_line(format_args!("WARNING: {line}")),
+    }
+}
+
 /// Prints one log line on stderr (above any bar); nothing when quiet. A line stderr
-/// cannot take (a full disk) is dropped ([`eprint_line`]).
+/// cannot take (a full disk) is dropped ([`eprint_line`]). Inside [`scoped`] the line
+/// goes to the call's [`Report`] (if it shows progress).
 pub fn log(line: impl std::fmt::Display) {
+    if let Some(r) = current() {
+        if r.show {
+            r.push(line.to_string(), false);
+        }
+        return;
+    }
     match mode() {
         Mode::Off => {}
         Mode::Bar => multi().suspend(|| eprint_line(line)),
@@ -157,6 +276,15 @@ fn last_line(pb: &ProgressBar, interval: Duration, ended: &AtomicBool) {
 }
 
 fn make(len: Option<u64>, what: Cow<'static, str>, ended: Arc<AtomicBool>) -> ProgressBar {
+    if let Some(r) = current() {
+        if !r.show {
+            return ProgressBar::hidden();
+        }
+        let pb =
+            ProgressBar::with_draw_target(len, ProgressDrawTarget::hidden()).with_message(what);
+        r.add_bar(&pb);
+        return pb;
+    }
     match mode() {
         Mode::Off => ProgressBar::hidden(),
         Mode::Log => {
@@ -196,6 +324,8 @@ pub struct Progress {
     pb: ProgressBar,
     /// The last log line was printed (by the drop or the logger thread).
     ended: Arc<AtomicBool>,
+    /// Made in the log mode (not for a [`Report`]): the drop prints the last line.
+    logged: bool,
 }
 
 impl Progress {
@@ -224,7 +354,7 @@ impl Drop for Progress {
     fn drop(&mut self) {
         self.pb.finish_and_clear();
         // Here rather than in the logger thread, which the process may outrun.
-        if mode() == Mode::Log {
+        if self.logged {
             last_line(&self.pb, log_interval(), &self.ended);
         }
     }
@@ -232,9 +362,11 @@ impl Drop for Progress {
 
 fn progress(len: Option<u64>, what: Cow<'static, str>) -> Progress {
     let ended = Arc::new(AtomicBool::new(false));
+    let logged = current().is_none() && mode() == Mode::Log;
     Progress {
         pb: make(len, what, Arc::clone(&ended)),
         ended,
+        logged,
     }
 }
 
@@ -265,5 +397,54 @@ mod tests {
         assert!(status_line(&sp).starts_with("I model: 0.0 s elapsed"));
         assert_eq!(human_duration(Duration::from_secs(185)), "3 min 05 s");
         assert_eq!(human_duration(Duration::from_secs(3720)), "1 h 02 min");
+    }
+
+    #[test]
+    fn a_scoped_report_takes_this_threads_lines_and_bars_only() {
+        let loud = Report::new(true);
+        let silent = Report::new(false);
+        let other = std::thread::spawn({
+            let silent = Arc::clone(&silent);
+            move || {
+                scoped(&silent, || {
+                    log("not kept");
+                    let b = bar(3, "hidden");
+                    b.inc();
+                    warn("kept");
+                })
+            }
+        });
+        scoped(&loud, || {
+            log("simulating: x");
+            let b = bar(4, "BEM: load steps");
+            b.inc();
+            assert_eq!(
+                loud.status()
+                    .map(|s| s.starts_with("BEM: load steps: 1/4 (25 %)")),
+                Some(true)
+            );
+        });
+        other.join().unwrap();
+        let lines = loud.take_lines();
+        assert_eq!(lines.len(), 1);
+        assert_eq!(lines[0].text, "simulating: x");
+        assert!(loud.take_lines().is_empty());
+        // an ended bar (dropped: finished at its length) is still the status
+        assert!(
+            loud.status()
+                .unwrap()
+                .starts_with("BEM: load steps: 4/4 (100 %)")
+        );
+        let quiet_lines = silent.take_lines();
+        assert_eq!(
+            quiet_lines,
+            vec![Line {
+                text: "WARNING: kept".into(),
+                warning: true
+            }]
+        );
+        assert!(silent.status().is_none());
+        // outside the scope this thread has no report again
+        assert!(current().is_none());
     }
 }

@@ -184,8 +184,23 @@ fn describe(model: Option<Model>) -> String {
             "interacting asperities (I model), periodic images on a {0}×{0} block",
             2 * m + 1
         ),
-        None => "boundary elements (FFT-BEM, periodic)".into(),
+        None => "boundary elements (FFT-BEM)".into(),
     }
+}
+
+/// The BEM's description with what ran: a periodic cell, or a non-periodic sample on
+/// the unbounded solid (zero-padded convolution), square or rectangular grid.
+fn describe_bem(periodic: bool, shape: (usize, usize)) -> String {
+    format!(
+        "boundary elements (FFT-BEM, {}, {}×{} grid)",
+        if periodic {
+            "periodic cell"
+        } else {
+            "non-periodic sample on the unbounded solid"
+        },
+        shape.0,
+        shape.1
+    )
 }
 
 /// The smallest separation the scene's displacement-type load reaches, given g₀ (m).
@@ -243,7 +258,8 @@ fn solve_asperities(
     let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
     let keep = scene.conductance.is_some().then(|| surface.clone());
     let law = law_for(scene, path, opts)?;
-    let rc = RoughContact::from_surface(law.as_ref(), &surface)?.with_params(scene.solver.params());
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?
+        .with_params(crate::engine::solver_params(scene, opts));
     let g0 = rc.top_to_mean();
     let given = min_gap.is_some();
     let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
@@ -313,20 +329,7 @@ fn solve_capped_asperities(
     let hom = strata_runtime::law::Homogeneous { e_star };
     let rc = RoughContact::from_surface(&hom, &surface)?;
     let (g0, nominal_area) = (rc.top_to_mean(), rc.area());
-    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
-        Some(g) => g,
-        None => {
-            let p = largest_pressure(&scene.load)?;
-            let mut one = scene.clone();
-            one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_surface(&one, path, surface.clone(), opts)
-                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
-            s.steps.first().context("no step")?.gap
-        }
-    };
-    if min_gap.is_nan() || min_gap >= g0 {
-        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
-    }
+    let min_gap = scene_min_gap(scene, path, &surface, opts, g0, min_gap)?;
     progress::log(format!(
         "law: {samples} capped solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
@@ -392,6 +395,34 @@ fn solid_of(s: &strata_runtime::Stack) -> String {
     }
 }
 
+/// The law's smallest separation (m): `--min-gap`, else the scene's load's deepest
+/// separation, else the separation of the scene's largest mean pressure (one engine
+/// solve); it must lie below first contact `g0` (m).
+fn scene_min_gap(
+    scene: &Scene,
+    path: &Path,
+    surface: &Surface,
+    opts: &EngineOptions,
+    g0: f64,
+    min_gap: Option<f64>,
+) -> Result<f64> {
+    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
+        Some(g) => g,
+        None => {
+            let p = largest_pressure(&scene.load)?;
+            let mut one = scene.clone();
+            one.load = LoadSpec::MeanPressures(vec![p]);
+            let s = solve_surface(&one, path, surface.clone(), opts)
+                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
+            s.steps.first().context("no step")?.gap
+        }
+    };
+    if min_gap.is_nan() || min_gap >= g0 {
+        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
+    }
+    Ok(min_gap)
+}
+
 /// BEM: the engine's scene solve at the sample separations.
 fn solve_bem(
     scene: &Scene,
@@ -407,20 +438,7 @@ fn solve_bem(
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     let g0 = z_max - surface.mean();
-    let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
-        Some(g) => g,
-        None => {
-            let p = largest_pressure(&scene.load)?;
-            let mut one = scene.clone();
-            one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_surface(&one, path, surface.clone(), opts)
-                .context("load.mean_pressures: the largest one sets the default --min-gap")?;
-            s.steps.first().context("BEM: no step")?.gap
-        }
-    };
-    if min_gap.is_nan() || min_gap >= g0 {
-        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
-    }
+    let min_gap = scene_min_gap(scene, path, &surface, opts, g0, min_gap)?;
     progress::log(format!(
         "law: {samples} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
@@ -429,6 +447,7 @@ fn solve_bem(
     sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
     // [plasticity]: the return path too (the unloading curve), the law from the loading
     sampled.unload = scene.plasticity.is_some();
+    let ran = describe_bem(surface.is_periodic(), surface.shape());
     let sol = solve_surface(&sampled, path, surface, opts)?;
     let mut steps = sol.steps;
     let unloading = scene.plasticity.map(|pl| {
@@ -465,7 +484,7 @@ fn solve_bem(
     });
     Ok(SampledLaw {
         law: il,
-        model: describe(None),
+        model: ran,
         solid: solid(scene),
         e_star: scene.stack.contact_modulus(),
         nominal_area: area,

@@ -52,6 +52,8 @@ pub(crate) struct Capped<'a> {
     /// Acceptance: largest KKT violation (m).
     pub tol: f64,
     pub max_iterations: usize,
+    /// Checked at every iteration ([`crate::BemSolver::with_cancel`]).
+    pub cancel: &'a strata_runtime::cancel::Cancel,
 }
 
 /// What a capped solve did.
@@ -128,6 +130,7 @@ impl Capped<'_> {
         let mut d_old = 0.0;
         let mut conjugate = false;
         for it in 0..=self.max_iterations {
+            self.cancel.check()?;
             let v = kkt_violation(p, g, h);
             if !v.is_finite() {
                 return Err(BemError::NonFinite(it));

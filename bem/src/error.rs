@@ -58,6 +58,9 @@ pub enum BemError {
     },
     #[error("the solution became non-finite at iteration {0} (ill-posed load or stack?)")]
     NonFinite(usize),
+    /// Stopped through the solver's cancellation token ([`crate::BemSolver::with_cancel`]).
+    #[error(transparent)]
+    Cancelled(#[from] strata_runtime::cancel::Cancelled),
     /// The message includes the limit's; no `source` (a chain would print it twice).
     #[error("BEM: {0}")]
     Memory(ResourceError),

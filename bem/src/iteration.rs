@@ -37,6 +37,8 @@ pub(crate) struct Problem<'a> {
     pub max_iterations: usize,
     /// The row loops, chosen once per solver ([`Kernels::detect`]).
     pub kernels: Kernels,
+    /// Checked at the head of every iteration ([`crate::BemSolver::with_cancel`]).
+    pub cancel: &'a strata_runtime::cancel::Cancel,
 }
 
 /// Buffers and scalars of the iteration (allocated once per solve, none per iteration).
@@ -160,6 +162,7 @@ impl<'a> State<'a> {
         since_exact: &mut usize,
     ) -> Result<Head, BemError> {
         let pb = self.pb;
+        pb.cancel.check()?;
         let it0 = *it;
         let mut error = self.stats.error(pb.z_rms);
         if !*exact && (error <= pb.tolerance || it0 >= pb.max_iterations || *since_exact >= REFRESH)

@@ -14,7 +14,7 @@
 //! problem).
 //!
 //! # Method
-//! Under displacement control the capped preconditioned iteration ([`crate::capped`]:
+//! Under displacement control the capped preconditioned iteration (`capped.rs`:
 //! Polonsky–Keer with Vollebregt's preconditioner, the working set widened to both
 //! bounds; 1.0–1.3× the elastic step at 512²), and where it stalls MPRGP
 //! ([`strata_runtime::bounded`]): Dostál's modified proportioning with reduced gradient
@@ -109,7 +109,7 @@ pub struct PlasticInfo {
     /// solve checked the result (force control only).
     pub active_set_steps: usize,
     /// Whether the bounded solver (MPRGP) finished the step: the capped preconditioned
-    /// iteration ([`crate::capped`]) stalled, or force control's active-set steps ran.
+    /// iteration (`capped.rs`) stalled, or force control's active-set steps ran.
     pub bounded_fallback: bool,
 }
 
@@ -282,6 +282,7 @@ impl<'s> PlasticPath<'s> {
             hardness: self.hardness,
             tol: bounded.tol,
             max_iterations: parts.options.max_iterations,
+            cancel: self.solver.cancel_token(),
         };
         let mut g = vec![0.0; n];
         let mut p = start.unwrap_or_else(|| self.p.clone());

@@ -870,6 +870,7 @@ fn capped_iteration_equals_mprgp() {
                 hardness,
                 tol,
                 max_iterations: 5000,
+                cancel: &strata_runtime::cancel::Cancel::default(),
             };
             let n = zs.len();
             let (mut p1, mut g1) = (vec![0.0; n], vec![0.0; n]);

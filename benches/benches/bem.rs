@@ -39,7 +39,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy};
-use strata_benches::{curve_approaches, paper_surface};
+use strata_benches::{curve_approaches, filter_matches, paper_surface};
 use strata_runtime::Stack;
 use strata_runtime::fft::RealFft2;
 use strata_runtime::surface::Surface;
@@ -404,17 +404,6 @@ fn floor_table(_c: &mut Criterion) {
 }
 
 /// Whether the command line's filter (if any) selects `name`.
-fn filter_matches(name: &str) -> bool {
-    let args: Vec<String> = std::env::args()
-        .skip(1)
-        .filter(|a| !a.starts_with('-'))
-        .collect();
-    args.is_empty()
-        || args
-            .iter()
-            .any(|a| name.contains(a.as_str()) || a.contains(name))
-}
-
 fn fft_and_iteration(c: &mut Criterion) {
     let mut g = c.benchmark_group("bem_fft_pair");
     g.sample_size(10)

@@ -26,6 +26,19 @@ pub fn curve_approaches() -> Vec<f64> {
         .collect()
 }
 
+/// Whether the bench named `name` runs under the command line's filter (no filter: all;
+/// else a filter contained in the name, or the name in a filter).
+pub fn filter_matches(name: &str) -> bool {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| !a.starts_with('-'))
+        .collect();
+    args.is_empty()
+        || args
+            .iter()
+            .any(|a| name.contains(a.as_str()) || a.contains(name))
+}
+
 /// CPU time of this process so far (user + system of all its threads, s), from
 /// /proc/self/stat (clock ticks of 10 ms: time many repetitions for short work); 0 where
 /// /proc is missing.

@@ -6,7 +6,10 @@
 !> (strata_law_new, strata_law_new_from_stack), then query the mean contact pressure
 !> p(g) (Pa), the real contact-area fraction A(g)/A0 and the tangent dp/dg (Pa/m) at
 !> any mean-plane separation g (m), alone or all three at once, at one gap or an array
-!> of them (strata_law_eval, strata_law_eval_array). SI units throughout.
+!> of them (strata_law_eval, strata_law_eval_array). SI units throughout. The law's
+!> effects (strata_law_new_with_law_options with a strata_law_options): a hardness
+!> (capped asperity tips) and the interface conductance h_c (strata_law_conductance*;
+!> per-layer conductivities from memory with strata_stack_set_conductivities).
 !>
 !> Two layers:
 !>  * c_strata_* : the C functions as declared in strata.h (bind(C)), pointer arguments
@@ -74,6 +77,18 @@ module strata
   integer(c_int32_t), parameter, public :: STRATA_FORMAT_CSV = 0
   !> strata_law_write: Abaqus/CalculiX *SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR.
   integer(c_int32_t), parameter, public :: STRATA_FORMAT_ABAQUS = 1
+  !> strata_law_options%conductance_kind: none, thermal h_c (W/(m^2 K)), electrical (S/m^2).
+  integer(c_int32_t), parameter, public :: STRATA_CONDUCTANCE_NONE = 0
+  integer(c_int32_t), parameter, public :: STRATA_CONDUCTANCE_THERMAL = 1
+  integer(c_int32_t), parameter, public :: STRATA_CONDUCTANCE_ELECTRICAL = 2
+  !> strata_law_options%counterface_conduction: the elastic counterface's own stack, a
+  !> perfect conductor, a conducting half-space of counterface_conductivity.
+  integer(c_int32_t), parameter, public :: STRATA_COUNTERFACE_CONDUCTION_STACK = 0
+  integer(c_int32_t), parameter, public :: STRATA_COUNTERFACE_CONDUCTION_PERFECT = 1
+  integer(c_int32_t), parameter, public :: STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE = 2
+  !> strata_stack_set_conductivities: a conducting half-space base, an isothermal sink.
+  integer(c_int32_t), parameter, public :: STRATA_BASE_CONDUCTION_HALF_SPACE = 0
+  integer(c_int32_t), parameter, public :: STRATA_BASE_CONDUCTION_ISOTHERMAL = 1
 
   public :: c_strata_last_error_message, c_strata_version, c_strata_table_load, &
        c_strata_table_free, c_strata_surface_load, c_strata_surface_read, &
@@ -82,7 +97,12 @@ module strata
        c_strata_law_area_fraction, c_strata_law_dp_dg, c_strata_law_first_contact_gap, &
        c_strata_law_min_gap, c_strata_law_write, c_strata_law_free, &
        c_strata_stack_new, c_strata_stack_free, c_strata_surface_new, &
-       c_strata_law_new_from_stack, c_strata_law_eval, c_strata_law_eval_array
+       c_strata_law_new_from_stack, c_strata_law_eval, c_strata_law_eval_array, &
+       c_strata_stack_load, c_strata_stack_set_conductivities, c_strata_law_options_default, &
+       c_strata_law_new_with_law_options, c_strata_law_conductance_kind, &
+       c_strata_law_hardness, c_strata_law_conductance, c_strata_law_conductance_array, &
+       c_strata_law_conductance_at_pressure, c_strata_law_conductance_at_pressure_array, &
+       c_strata_law_eval_with_conductance
   public :: strata_last_error_message, strata_version, strata_table_load, &
        strata_table_free, strata_surface_load, strata_surface_read, strata_surface_info, &
        strata_surface_generate, strata_surface_free, strata_law_new, strata_law_pressure, &
@@ -90,7 +110,12 @@ module strata
        strata_law_area_fraction, strata_law_dp_dg, strata_law_first_contact_gap, &
        strata_law_min_gap, strata_law_write, strata_law_free, &
        strata_stack_new, strata_stack_free, strata_surface_new, &
-       strata_law_new_from_stack, strata_law_eval, strata_law_eval_array
+       strata_law_new_from_stack, strata_law_eval, strata_law_eval_array, &
+       strata_stack_load, strata_stack_set_conductivities, strata_law_options_default, &
+       strata_law_new_with_law_options, strata_law_conductance_kind, strata_law_hardness, &
+       strata_law_conductance, strata_law_conductance_array, &
+       strata_law_conductance_at_pressure, strata_law_conductance_at_pressure_array, &
+       strata_law_eval_with_conductance
 
   !> StrataSolverOptions: budgets and tolerances of strata_law_new_with_options (the
   !> scene's [solver] keys of the asperity models; fill with strata_solver_options_default).
@@ -100,6 +125,18 @@ module strata
      real(c_double) :: kkt_tolerance
      integer(c_size_t) :: max_pressure_iterations
   end type strata_solver_options
+
+  !> StrataLawOptions: the law's effects for strata_law_new_with_law_options (fill with
+  !> strata_law_options_default, which sets `size`): the hardness of the asperity tips
+  !> (Pa; 0 or +Inf: elastic), the interface conductance to solve
+  !> (STRATA_CONDUCTANCE_*) and how the counterface conducts.
+  type, bind(C), public :: strata_law_options
+     integer(c_size_t) :: size
+     real(c_double) :: hardness
+     integer(c_int32_t) :: conductance_kind
+     integer(c_int32_t) :: counterface_conduction
+     real(c_double) :: counterface_conductivity
+  end type strata_law_options
 
   interface
      !> const char *strata_last_error_message(void)
@@ -359,6 +396,124 @@ module strata
        type(c_ptr), value :: gaps, pressure, area_fraction, dp_dg
        integer(c_int32_t) :: code
      end function c_strata_law_eval_array
+
+     !> int32_t strata_stack_load(const char *path, StrataStack **out)
+     function c_strata_stack_load(path, out) bind(C, name="strata_stack_load") result(code)
+       import :: c_char, c_int32_t, c_ptr
+       character(kind=c_char), dimension(*), intent(in) :: path
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_stack_load
+
+     !> int32_t strata_stack_set_conductivities(StrataStack *stack, int32_t kind,
+     !>     size_t n_layers, const double *conductivity, int32_t base_conduction,
+     !>     double base_conductivity)
+     function c_strata_stack_set_conductivities(stack, kind, n_layers, conductivity, &
+          base_conduction, base_conductivity) &
+          bind(C, name="strata_stack_set_conductivities") result(code)
+       import :: c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: stack
+       integer(c_int32_t), value :: kind
+       integer(c_size_t), value :: n_layers
+       type(c_ptr), value :: conductivity
+       integer(c_int32_t), value :: base_conduction
+       real(c_double), value :: base_conductivity
+       integer(c_int32_t) :: code
+     end function c_strata_stack_set_conductivities
+
+     !> int32_t strata_law_options_default(StrataLawOptions *out)
+     function c_strata_law_options_default(out) &
+          bind(C, name="strata_law_options_default") result(code)
+       import :: c_int32_t, c_ptr
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_options_default
+
+     !> int32_t strata_law_new_with_law_options(const StrataTable *table,
+     !>     const StrataStack *stack, const StrataSurface *surface, int32_t model,
+     !>     double min_gap, size_t samples, const StrataSolverOptions *solver_options,
+     !>     const StrataLawOptions *law_options, StrataLaw **out)
+     function c_strata_law_new_with_law_options(table, stack, surface, model, min_gap, &
+          samples, solver_options, law_options, out) &
+          bind(C, name="strata_law_new_with_law_options") result(code)
+       import :: c_double, c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: table, stack, surface
+       integer(c_int32_t), value :: model
+       real(c_double), value :: min_gap
+       integer(c_size_t), value :: samples
+       type(c_ptr), value :: solver_options, law_options, out
+       integer(c_int32_t) :: code
+     end function c_strata_law_new_with_law_options
+
+     !> int32_t strata_law_conductance_kind(const StrataLaw *law, int32_t *out)
+     function c_strata_law_conductance_kind(law, out) &
+          bind(C, name="strata_law_conductance_kind") result(code)
+       import :: c_int32_t, c_ptr
+       type(c_ptr), value :: law, out
+       integer(c_int32_t) :: code
+     end function c_strata_law_conductance_kind
+
+     !> int32_t strata_law_hardness(const StrataLaw *law, double *out)
+     function c_strata_law_hardness(law, out) bind(C, name="strata_law_hardness") &
+          result(code)
+       import :: c_int32_t, c_ptr
+       type(c_ptr), value :: law, out
+       integer(c_int32_t) :: code
+     end function c_strata_law_hardness
+
+     !> int32_t strata_law_conductance(const StrataLaw *law, double gap, double *out)
+     function c_strata_law_conductance(law, gap, out) &
+          bind(C, name="strata_law_conductance") result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_conductance
+
+     !> int32_t strata_law_conductance_array(const StrataLaw *law, size_t n,
+     !>     const double *gaps, double *out)
+     function c_strata_law_conductance_array(law, n, gaps, out) &
+          bind(C, name="strata_law_conductance_array") result(code)
+       import :: c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: law
+       integer(c_size_t), value :: n
+       type(c_ptr), value :: gaps, out
+       integer(c_int32_t) :: code
+     end function c_strata_law_conductance_array
+
+     !> int32_t strata_law_conductance_at_pressure(const StrataLaw *law, double pressure,
+     !>     double *out)
+     function c_strata_law_conductance_at_pressure(law, pressure, out) &
+          bind(C, name="strata_law_conductance_at_pressure") result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: pressure
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_conductance_at_pressure
+
+     !> int32_t strata_law_conductance_at_pressure_array(const StrataLaw *law, size_t n,
+     !>     const double *pressures, double *out)
+     function c_strata_law_conductance_at_pressure_array(law, n, pressures, out) &
+          bind(C, name="strata_law_conductance_at_pressure_array") result(code)
+       import :: c_int32_t, c_ptr, c_size_t
+       type(c_ptr), value :: law
+       integer(c_size_t), value :: n
+       type(c_ptr), value :: pressures, out
+       integer(c_int32_t) :: code
+     end function c_strata_law_conductance_at_pressure_array
+
+     !> int32_t strata_law_eval_with_conductance(const StrataLaw *law, double gap,
+     !>     double *pressure, double *area_fraction, double *dp_dg, double *conductance)
+     function c_strata_law_eval_with_conductance(law, gap, pressure, area_fraction, dp_dg, &
+          conductance) bind(C, name="strata_law_eval_with_conductance") result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: pressure, area_fraction, dp_dg, conductance
+       integer(c_int32_t) :: code
+     end function c_strata_law_eval_with_conductance
 
      !> size_t strlen(const char *s), for the C strings the library returns.
      function c_strlen(s) bind(C, name="strlen") result(n)
@@ -694,5 +849,145 @@ contains
             c_loc(a), c_loc(d))
     end if
   end function strata_law_eval_array
+
+  !> Reads a stack file (layers, base, [counterface], conductivities) into a handle.
+  function strata_stack_load(path, stack) result(code)
+    character(*), intent(in) :: path
+    type(c_ptr), intent(out), target :: stack
+    integer(c_int32_t) :: code
+    stack = c_null_ptr
+    code = c_strata_stack_load(c_path(path), c_loc(stack))
+  end function strata_stack_load
+
+  !> Sets the conductivities of `kind` (STRATA_CONDUCTANCE_THERMAL or _ELECTRICAL) on
+  !> a stack: conductivity(i) of layer i (top first, one per layer; an empty array for
+  !> a half-space), the base STRATA_BASE_CONDUCTION_HALF_SPACE (of base_conductivity)
+  !> or STRATA_BASE_CONDUCTION_ISOTHERMAL. An error names the element, 0-based as in C.
+  function strata_stack_set_conductivities(stack, kind, conductivity, base_conduction, &
+       base_conductivity) result(code)
+    type(c_ptr), intent(in) :: stack
+    integer(c_int32_t), intent(in) :: kind, base_conduction
+    real(c_double), intent(in), target, contiguous :: conductivity(:)
+    real(c_double), intent(in) :: base_conductivity
+    integer(c_int32_t) :: code
+    if (size(conductivity) == 0) then
+       code = c_strata_stack_set_conductivities(stack, kind, 0_c_size_t, c_null_ptr, &
+            base_conduction, base_conductivity)
+    else
+       code = c_strata_stack_set_conductivities(stack, kind, &
+            int(size(conductivity), c_size_t), c_loc(conductivity), base_conduction, &
+            base_conductivity)
+    end if
+  end function strata_stack_set_conductivities
+
+  !> The default law options (elastic, no conductance), `size` included.
+  function strata_law_options_default(options) result(code)
+    type(strata_law_options), intent(out), target :: options
+    integer(c_int32_t) :: code
+    code = c_strata_law_options_default(c_loc(options))
+  end function strata_law_options_default
+
+  !> The law of `surface` on the stack handle with the effects of `options` (a hardness:
+  !> the capped N or I law; a conductance kind: h_c at every sample);
+  !> `solver_options` optional (absent: the defaults).
+  function strata_law_new_with_law_options(table, stack, surface, model, min_gap, &
+       samples, options, law, solver_options) result(code)
+    type(c_ptr), intent(in) :: table, stack, surface
+    integer(c_int32_t), intent(in) :: model
+    real(c_double), intent(in) :: min_gap
+    integer, intent(in) :: samples
+    type(strata_law_options), intent(in), target :: options
+    type(c_ptr), intent(out), target :: law
+    type(strata_solver_options), intent(in), target, optional :: solver_options
+    integer(c_int32_t) :: code
+    type(c_ptr) :: solver
+    solver = c_null_ptr
+    if (present(solver_options)) solver = c_loc(solver_options)
+    law = c_null_ptr
+    code = c_strata_law_new_with_law_options(table, stack, surface, model, min_gap, &
+         int(samples, c_size_t), solver, c_loc(options), c_loc(law))
+  end function strata_law_new_with_law_options
+
+  !> The law's STRATA_CONDUCTANCE_* kind.
+  function strata_law_conductance_kind(law, kind) result(code)
+    type(c_ptr), intent(in) :: law
+    integer(c_int32_t), intent(inout), target :: kind
+    integer(c_int32_t) :: code
+    code = c_strata_law_conductance_kind(law, c_loc(kind))
+  end function strata_law_conductance_kind
+
+  !> The hardness H (Pa) of a capped law (+Inf: elastic).
+  function strata_law_hardness(law, h) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(inout), target :: h
+    integer(c_int32_t) :: code
+    code = c_strata_law_hardness(law, c_loc(h))
+  end function strata_law_hardness
+
+  !> Interface conductance h_c(g) (W/(m^2 K) or S/m^2) at separation `gap` (m).
+  function strata_law_conductance(law, gap, h) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: h
+    integer(c_int32_t) :: code
+    code = c_strata_law_conductance(law, gap, c_loc(h))
+  end function strata_law_conductance
+
+  !> h_c at every gaps(i) into h(i) (at least size(gaps), else
+  !> STRATA_ERR_INVALID_ARGUMENT, no message); all or nothing.
+  function strata_law_conductance_array(law, gaps, h) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in), target, contiguous :: gaps(:)
+    real(c_double), intent(inout), target, contiguous :: h(:)
+    integer(c_int32_t) :: code
+    if (size(h) < size(gaps)) then
+       code = STRATA_ERR_INVALID_ARGUMENT
+       return
+    end if
+    if (size(gaps) == 0) then
+       code = c_strata_law_conductance_array(law, 0_c_size_t, c_null_ptr, c_null_ptr)
+    else
+       code = c_strata_law_conductance_array(law, int(size(gaps), c_size_t), c_loc(gaps), &
+            c_loc(h))
+    end if
+  end function strata_law_conductance_array
+
+  !> h_c at mean contact pressure `pressure` (Pa): where p(g) reaches it on loading.
+  function strata_law_conductance_at_pressure(law, pressure, h) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: pressure
+    real(c_double), intent(inout), target :: h
+    integer(c_int32_t) :: code
+    code = c_strata_law_conductance_at_pressure(law, pressure, c_loc(h))
+  end function strata_law_conductance_at_pressure
+
+  !> h_c at every pressures(i) into h(i); all or nothing.
+  function strata_law_conductance_at_pressure_array(law, pressures, h) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in), target, contiguous :: pressures(:)
+    real(c_double), intent(inout), target, contiguous :: h(:)
+    integer(c_int32_t) :: code
+    if (size(h) < size(pressures)) then
+       code = STRATA_ERR_INVALID_ARGUMENT
+       return
+    end if
+    if (size(pressures) == 0) then
+       code = c_strata_law_conductance_at_pressure_array(law, 0_c_size_t, c_null_ptr, &
+            c_null_ptr)
+    else
+       code = c_strata_law_conductance_at_pressure_array(law, &
+            int(size(pressures), c_size_t), c_loc(pressures), c_loc(h))
+    end if
+  end function strata_law_conductance_at_pressure_array
+
+  !> p (Pa), A/A0, dp/dg (Pa/m) and h_c at separation `gap` (m) in one call.
+  function strata_law_eval_with_conductance(law, gap, p, a, d, h) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: p, a, d, h
+    integer(c_int32_t) :: code
+    code = c_strata_law_eval_with_conductance(law, gap, c_loc(p), c_loc(a), c_loc(d), &
+         c_loc(h))
+  end function strata_law_eval_with_conductance
 
 end module strata

@@ -77,7 +77,40 @@
 // `strata_law_write`: Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block.
 #define STRATA_FORMAT_ABAQUS 1
 
-// The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque).
+// `StrataLawOptions.conductance_kind`: no conductance (the default).
+#define STRATA_CONDUCTANCE_NONE 0
+
+// Thermal interface conductance h_c (W/(m²·K)) from the `thermal_conductivity` values.
+#define STRATA_CONDUCTANCE_THERMAL 1
+
+// Electrical interface conductance h_c (S/m²) from the `electrical_conductivity` values.
+#define STRATA_CONDUCTANCE_ELECTRICAL 2
+
+// `StrataLawOptions.counterface_conduction`: the elastic counterface of the stack (its
+// file's `[counterface]`) conducts through its own conductivities (the default; a
+// stack pressed by a rigid flat must say how the flat conducts instead).
+#define STRATA_COUNTERFACE_CONDUCTION_STACK 0
+
+// The counterface is a perfect conductor.
+#define STRATA_COUNTERFACE_CONDUCTION_PERFECT 1
+
+// The rigid flat is a conducting half-space of `counterface_conductivity`.
+#define STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE 2
+
+// `strata_stack_set_conductivities`: the base is a conducting half-space of
+// `base_conductivity`.
+#define STRATA_BASE_CONDUCTION_HALF_SPACE 0
+
+// `strata_stack_set_conductivities`: an isothermal (equipotential) sink at the bottom of
+// the last layer (`[base] conduction = "isothermal"`).
+#define STRATA_BASE_CONDUCTION_ISOTHERMAL 1
+
+// Nodes of ψ per decade of the spot radius (as `strata law`).
+#define PSI_NODES_PER_DECADE 16.0
+
+// The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque), with the
+// interface conductance h_c and the hardness when built with them
+// (`strata_law_new_with_law_options`).
 typedef struct StrataLaw StrataLaw;
 
 // A material stack: elastic layers on a rigid or elastic base (opaque).
@@ -105,6 +138,40 @@ typedef struct StrataSolverOptions {
   // Most solves of a mean-pressure search (default 200), ≥ 1.
   size_t max_pressure_iterations;
 } StrataSolverOptions;
+
+// The contact law's optional effects for `strata_law_new_with_law_options`: the
+// hardness of the asperity tips (issue 35) and the interface conductance (issue 34).
+// Fill it with `strata_law_options_default` (which sets `size`; the defaults are the
+// elastic law without conductance, `strata_law_new_from_stack`'s), then change what is
+// needed. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT`, naming it
+// (`options.hardness`).
+//
+// Versioned by `size`: the library reads the first `size` bytes. Fields a later
+// version appends take their defaults when an older caller's `size` ends before them;
+// a `size` beyond this library's struct is accepted when the extra bytes are 0.
+typedef struct StrataLawOptions {
+  // `sizeof(StrataLawOptions)` of the caller's header (set by
+  // `strata_law_options_default`).
+  size_t size;
+  // Hardness H of the top layer (Pa): the contact pressure of every asperity tip is
+  // capped at H (elastic–perfectly plastic tips, physics.md §6.3), and the law is the
+  // loading curve of the capped N or I model (as `strata law` on a scene with
+  // `[plasticity] hardness = H`). 0 or `INFINITY` (the default): elastic tips.
+  double hardness;
+  // `STRATA_CONDUCTANCE_*`: the interface conductance h_c to solve at every sample
+  // (default `STRATA_CONDUCTANCE_NONE`). The stack needs the kind's conductivity on
+  // every layer and on a half-space base (a stack file's `thermal_conductivity` or
+  // `electrical_conductivity`, or `strata_stack_set_conductivities`).
+  int32_t conductance_kind;
+  // `STRATA_COUNTERFACE_CONDUCTION_*`: how the counterface conducts (with a
+  // conductance only). A rigid flat: `PERFECT` or `HALF_SPACE`; an elastic
+  // counterface (the stack file's `[counterface]`): `STACK` (the default) or
+  // `PERFECT`.
+  int32_t counterface_conduction;
+  // The rigid flat's conductivity (W/(m·K) or S/m, in [1e-30, 1e30]) with
+  // `STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE`; ignored otherwise.
+  double counterface_conductivity;
+} StrataLawOptions;
 
 #ifdef __cplusplus
 extern "C" {
@@ -298,7 +365,109 @@ int32_t strata_law_min_gap(const struct StrataLaw *law, double *out);
 // Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` (full
 // precision) or `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus`
 // writes: every number in at most 20 characters, what Abaqus and CalculiX read).
+// A law with a conductance adds the CSV column `conductance` and the Abaqus
+// `*GAP CONDUCTANCE, PRESSURE` table; a capped law (a hardness) the CSV column
+// `branch` (`loading`) and a note that the table is the loading curve: the CSV is
+// then `strata law --format csv`'s of the same scene.
 int32_t strata_law_write(const struct StrataLaw *law, const char *path, int32_t format);
+
+// Reads a stack file (TOML: layers, base, an optional `[counterface]`, conduction
+// properties) into a handle for `strata_law_new_from_stack` and
+// `strata_law_new_with_law_options`: the stack `strata_law_new` reads from the same
+// file. `*out` receives a handle to free with `strata_stack_free`.
+int32_t strata_stack_load(const char *path, struct StrataStack **out);
+
+// Sets the conductivities of one kind on a stack (as a stack file's
+// `thermal_conductivity` or `electrical_conductivity` fields, physics.md §6.2):
+// `kind` `STRATA_CONDUCTANCE_THERMAL` (W/(m·K)) or `STRATA_CONDUCTANCE_ELECTRICAL`
+// (S/m); `n_layers` values `conductivity[i]`, top layer first, one per layer of the
+// stack (NULL when it has none); the base `base_conduction`:
+// `STRATA_BASE_CONDUCTION_HALF_SPACE` (a conducting half-space of
+// `base_conductivity`) or `STRATA_BASE_CONDUCTION_ISOTHERMAL` (an isothermal sink
+// under the last layer, `base_conductivity` ignored; then for both kinds). The other
+// kind's values are kept; an elastic counterface read from a stack file keeps its
+// own. Validated like a stack file's values (each in [1e-30, 1e30]); an error names
+// the element (`conductivity[1]`, 0-based) or argument and leaves the stack
+// unchanged.
+int32_t strata_stack_set_conductivities(struct StrataStack *stack,
+                                        int32_t kind,
+                                        size_t n_layers,
+                                        const double *conductivity,
+                                        int32_t base_conduction,
+                                        double base_conductivity);
+
+// Writes the default law options (the elastic law without conductance) to `out`,
+// `out->size` included.
+int32_t strata_law_options_default(struct StrataLawOptions *out);
+
+// `strata_law_new_from_stack` with the law's effects from `law_options` (NULL: the
+// defaults, the same law bit for bit): with `hardness` the loading curve of the N or
+// I model with capped asperity tips (`strata law` on a scene with
+// `[plasticity] hardness`; the response table's ring solves take ~20 CPU-s on a
+// layered stack); with `conductance_kind` the interface conductance h_c at every
+// sample (`strata law` on a scene with `[conductance]`: the CSV's `conductance`
+// column), queried with `strata_law_conductance*`. `solver_options` NULL: the
+// defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
+// (`options.hardness`); a stack without the conductivity the kind needs is
+// `STRATA_ERR_STACK` naming the layer and field.
+int32_t strata_law_new_with_law_options(const struct StrataTable *table,
+                                        const struct StrataStack *stack,
+                                        const struct StrataSurface *surface,
+                                        int32_t model,
+                                        double min_gap,
+                                        size_t samples,
+                                        const struct StrataSolverOptions *solver_options,
+                                        const struct StrataLawOptions *law_options,
+                                        struct StrataLaw **out);
+
+// The law's conductance kind: `STRATA_CONDUCTANCE_NONE`, `_THERMAL` or
+// `_ELECTRICAL`.
+int32_t strata_law_conductance_kind(const struct StrataLaw *law, int32_t *out);
+
+// The hardness H (Pa) the law's asperity tips were capped at; `INFINITY` for an
+// elastic law.
+int32_t strata_law_hardness(const struct StrataLaw *law, double *out);
+
+// The interface conductance h_c(g) (W/(m²·K) or S/m²; physics.md §6.2) at
+// separation `gap` (m): the solved value at the samples, monotone cubic between
+// them (∝ √δ next to first contact), 0 at and above first contact,
+// `STRATA_ERR_OUT_OF_RANGE` below the smallest sampled separation. A law built
+// without a conductance is `STRATA_ERR_INVALID_ARGUMENT`.
+int32_t strata_law_conductance(const struct StrataLaw *law, double gap, double *out);
+
+// `strata_law_conductance` at `n` separations `gaps[i]` (m) into `out` (`n`
+// doubles). All or nothing: an error names the element (`gaps[7]`) and leaves `out`
+// untouched. The pointers may be NULL when `n` is 0.
+int32_t strata_law_conductance_array(const struct StrataLaw *law,
+                                     size_t n,
+                                     const double *gaps,
+                                     double *out);
+
+// The interface conductance at mean contact pressure `pressure` (Pa, ≥ 0): h_c at
+// the separation where the law's p(g) reaches `pressure` on loading (FE codes
+// tabulate the gap conductance against the contact pressure); a sample's pressure
+// gives the sample's h_c exactly. 0 at p = 0; `STRATA_ERR_OUT_OF_RANGE` above the
+// largest sampled pressure.
+int32_t strata_law_conductance_at_pressure(const struct StrataLaw *law,
+                                           double pressure,
+                                           double *out);
+
+// `strata_law_conductance_at_pressure` at `n` pressures `pressures[i]` (Pa) into
+// `out` (all or nothing, as `strata_law_conductance_array`).
+int32_t strata_law_conductance_at_pressure_array(const struct StrataLaw *law,
+                                                 size_t n,
+                                                 const double *pressures,
+                                                 double *out);
+
+// `strata_law_eval` and `strata_law_conductance` at `gap` (m) in one call: p (Pa),
+// A/A₀, dp/dg (Pa/m) and h_c (W/(m²·K) or S/m²), each bit for bit what the single
+// queries give. All four outputs are required and written only on success.
+int32_t strata_law_eval_with_conductance(const struct StrataLaw *law,
+                                         double gap,
+                                         double *pressure,
+                                         double *area_fraction,
+                                         double *dp_dg,
+                                         double *conductance);
 
 // Frees a law (NULL is a no-op).
 void strata_law_free(struct StrataLaw *law);

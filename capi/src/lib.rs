@@ -6,7 +6,11 @@
 //! buffer: `strata_surface_new`), solve the load curve once, then query the mean contact
 //! pressure p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg
 //! (Pa/m) at any mean-plane separation g (m), one at a time or all three at once
-//! (`strata_law_eval`, `strata_law_eval_array`). SI units throughout. The header's
+//! (`strata_law_eval`, `strata_law_eval_array`). With `strata_law_new_with_law_options`
+//! the law carries its two effects: a hardness caps the asperity tips (issue 35,
+//! [`capped`]), and the interface conductance h_c(g) is solved at the samples (issue 34,
+//! [`spots`], [`conductance_curve`]), as `strata law` computes both. SI units
+//! throughout. The header's
 //! `STRATA_VERSION_MAJOR`/`MINOR`/`PATCH` are the library's version at compile time;
 //! `strata_version()` the one linked.
 //!
@@ -32,11 +36,16 @@
 
 #![allow(clippy::missing_safety_doc)]
 
+pub mod capped;
+pub mod conductance_curve;
+pub mod spots;
+
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
+use strata_runtime::conduction::ConductionKind;
 use strata_runtime::interface::{InterfaceError, InterfaceLaw, SampleOptions};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources::ResourceError;
@@ -47,6 +56,10 @@ use strata_runtime::surface::{
 };
 use strata_runtime::table::{Table, TableError};
 use thiserror::Error;
+
+use capped::CappedError;
+use conductance_curve::{ConductanceCurve, CurveError};
+use spots::{Counterface, SpotSum, SpotSumError};
 
 /// Success.
 pub const STRATA_OK: i32 = 0;
@@ -123,6 +136,29 @@ pub const STRATA_FORMAT_CSV: i32 = 0;
 /// `strata_law_write`: Abaqus `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block.
 pub const STRATA_FORMAT_ABAQUS: i32 = 1;
 
+/// `StrataLawOptions.conductance_kind`: no conductance (the default).
+pub const STRATA_CONDUCTANCE_NONE: i32 = 0;
+/// Thermal interface conductance h_c (W/(m²·K)) from the `thermal_conductivity` values.
+pub const STRATA_CONDUCTANCE_THERMAL: i32 = 1;
+/// Electrical interface conductance h_c (S/m²) from the `electrical_conductivity` values.
+pub const STRATA_CONDUCTANCE_ELECTRICAL: i32 = 2;
+
+/// `StrataLawOptions.counterface_conduction`: the elastic counterface of the stack (its
+/// file's `[counterface]`) conducts through its own conductivities (the default; a
+/// stack pressed by a rigid flat must say how the flat conducts instead).
+pub const STRATA_COUNTERFACE_CONDUCTION_STACK: i32 = 0;
+/// The counterface is a perfect conductor.
+pub const STRATA_COUNTERFACE_CONDUCTION_PERFECT: i32 = 1;
+/// The rigid flat is a conducting half-space of `counterface_conductivity`.
+pub const STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE: i32 = 2;
+
+/// `strata_stack_set_conductivities`: the base is a conducting half-space of
+/// `base_conductivity`.
+pub const STRATA_BASE_CONDUCTION_HALF_SPACE: i32 = 0;
+/// `strata_stack_set_conductivities`: an isothermal (equipotential) sink at the bottom of
+/// the last layer (`[base] conduction = "isothermal"`).
+pub const STRATA_BASE_CONDUCTION_ISOTHERMAL: i32 = 1;
+
 /// A surrogate table of χ, ζ, g (opaque).
 pub struct StrataTable {
     table: Table,
@@ -138,9 +174,30 @@ pub struct StrataSurface {
     surface: Surface,
 }
 
-/// The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque).
+/// The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque), with the
+/// interface conductance h_c and the hardness when built with them
+/// (`strata_law_new_with_law_options`).
 pub struct StrataLaw {
     law: InterfaceLaw,
+    /// The hardness H (Pa) of a capped law.
+    hardness: Option<f64>,
+    /// h_c at the samples and its kind.
+    conductance: Option<(ConductionKind, ConductanceCurve)>,
+}
+
+impl StrataLaw {
+    /// The sampled law p(g), A(g)/A₀, dp/dg.
+    pub fn law(&self) -> &InterfaceLaw {
+        &self.law
+    }
+
+    fn elastic(law: InterfaceLaw) -> StrataLaw {
+        StrataLaw {
+            law,
+            hardness: None,
+            conductance: None,
+        }
+    }
 }
 
 /// Budgets and tolerances of the rough-contact solve of `strata_law_new_with_options`:
@@ -207,6 +264,184 @@ impl StrataSolverOptions {
     }
 }
 
+/// The contact law's optional effects for `strata_law_new_with_law_options`: the
+/// hardness of the asperity tips (issue 35) and the interface conductance (issue 34).
+/// Fill it with `strata_law_options_default` (which sets `size`; the defaults are the
+/// elastic law without conductance, `strata_law_new_from_stack`'s), then change what is
+/// needed. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT`, naming it
+/// (`options.hardness`).
+///
+/// Versioned by `size`: the library reads the first `size` bytes. Fields a later
+/// version appends take their defaults when an older caller's `size` ends before them;
+/// a `size` beyond this library's struct is accepted when the extra bytes are 0.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrataLawOptions {
+    /// `sizeof(StrataLawOptions)` of the caller's header (set by
+    /// `strata_law_options_default`).
+    pub size: usize,
+    /// Hardness H of the top layer (Pa): the contact pressure of every asperity tip is
+    /// capped at H (elastic–perfectly plastic tips, physics.md §6.3), and the law is the
+    /// loading curve of the capped N or I model (as `strata law` on a scene with
+    /// `[plasticity] hardness = H`). 0 or `INFINITY` (the default): elastic tips.
+    pub hardness: f64,
+    /// `STRATA_CONDUCTANCE_*`: the interface conductance h_c to solve at every sample
+    /// (default `STRATA_CONDUCTANCE_NONE`). The stack needs the kind's conductivity on
+    /// every layer and on a half-space base (a stack file's `thermal_conductivity` or
+    /// `electrical_conductivity`, or `strata_stack_set_conductivities`).
+    pub conductance_kind: i32,
+    /// `STRATA_COUNTERFACE_CONDUCTION_*`: how the counterface conducts (with a
+    /// conductance only). A rigid flat: `PERFECT` or `HALF_SPACE`; an elastic
+    /// counterface (the stack file's `[counterface]`): `STACK` (the default) or
+    /// `PERFECT`.
+    pub counterface_conduction: i32,
+    /// The rigid flat's conductivity (W/(m·K) or S/m, in [1e-30, 1e30]) with
+    /// `STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE`; ignored otherwise.
+    pub counterface_conductivity: f64,
+}
+
+impl Default for StrataLawOptions {
+    fn default() -> Self {
+        StrataLawOptions {
+            size: std::mem::size_of::<StrataLawOptions>(),
+            hardness: f64::INFINITY,
+            conductance_kind: STRATA_CONDUCTANCE_NONE,
+            counterface_conduction: STRATA_COUNTERFACE_CONDUCTION_STACK,
+            counterface_conductivity: 0.0,
+        }
+    }
+}
+
+/// How the counterface conducts, as `StrataLawOptions` says.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum CounterfaceConduction {
+    /// Through the elastic counterface's own stack.
+    Stack,
+    /// A perfect conductor.
+    Perfect,
+    /// A conducting half-space of this conductivity (W/(m·K) or S/m).
+    HalfSpace(f64),
+}
+
+/// The checked effects of a [`StrataLawOptions`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LawEffects {
+    /// The hardness (Pa), `None` for elastic tips.
+    pub hardness: Option<f64>,
+    /// The conductance to solve and how the counterface conducts.
+    pub conductance: Option<(ConductionKind, CounterfaceConduction)>,
+}
+
+impl StrataLawOptions {
+    /// The effects, after checking every field (the error names it). The counterface
+    /// choice is checked against the stack when the law is built.
+    pub fn effects(&self) -> Result<LawEffects, CapiError> {
+        let invalid = |name: &'static str, reason: String| CapiError::Invalid { name, reason };
+        let h = self.hardness;
+        let hardness = if h == 0.0 || h == f64::INFINITY {
+            None
+        } else if h.is_finite() && h > 0.0 {
+            Some(h)
+        } else {
+            return Err(invalid(
+                "options.hardness",
+                format!("{h} must be > 0 Pa (0 or INFINITY: elastic tips)"),
+            ));
+        };
+        let kind = match self.conductance_kind {
+            STRATA_CONDUCTANCE_NONE => None,
+            STRATA_CONDUCTANCE_THERMAL => Some(ConductionKind::Thermal),
+            STRATA_CONDUCTANCE_ELECTRICAL => Some(ConductionKind::Electrical),
+            k => {
+                return Err(invalid(
+                    "options.conductance_kind",
+                    format!(
+                        "{k} is not a STRATA_CONDUCTANCE_* value (0 none, 1 thermal, 2 electrical)"
+                    ),
+                ));
+            }
+        };
+        let counterface = match self.counterface_conduction {
+            STRATA_COUNTERFACE_CONDUCTION_STACK => CounterfaceConduction::Stack,
+            STRATA_COUNTERFACE_CONDUCTION_PERFECT => CounterfaceConduction::Perfect,
+            STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE => {
+                let k = self.counterface_conductivity;
+                let (lo, hi) = strata_runtime::stack::CONDUCTIVITY_RANGE;
+                if !(k.is_finite() && (lo..=hi).contains(&k)) {
+                    return Err(invalid(
+                        "options.counterface_conductivity",
+                        format!(
+                            "{k} must be a conductivity in [{lo:e}, {hi:e}] (W/(m·K) or S/m) with \
+                             STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE"
+                        ),
+                    ));
+                }
+                CounterfaceConduction::HalfSpace(k)
+            }
+            c => {
+                return Err(invalid(
+                    "options.counterface_conduction",
+                    format!(
+                        "{c} is not a STRATA_COUNTERFACE_CONDUCTION_* value (0 stack, 1 perfect, 2 half-space)"
+                    ),
+                ));
+            }
+        };
+        if hardness.is_some() && kind.is_some() {
+            return Err(invalid(
+                "options.conductance_kind",
+                "a conductance with options.hardness (capped tips) is not solved in this version: \
+                 the capped asperity models give no spot conductances yet (as `strata law`); \
+                 set STRATA_CONDUCTANCE_NONE or an elastic hardness (0 or INFINITY)"
+                    .into(),
+            ));
+        }
+        Ok(LawEffects {
+            hardness,
+            conductance: kind.map(|k| (k, counterface)),
+        })
+    }
+}
+
+/// The options behind a `StrataLawOptions` pointer (NULL: the defaults), read by their
+/// `size` (the struct's docs): a `size` below this version's is refused, as is one
+/// beyond it whose extra bytes are not 0 (or beyond 4096 bytes: not initialised?).
+///
+/// # Safety
+/// `p` is NULL or points to at least `p->size` readable bytes.
+pub unsafe fn law_options_arg(p: *const StrataLawOptions) -> Result<StrataLawOptions, CapiError> {
+    if p.is_null() {
+        return Ok(StrataLawOptions::default());
+    }
+    let ours = std::mem::size_of::<StrataLawOptions>();
+    // SAFETY: non-NULL; the first field is a size_t.
+    let size = unsafe { std::ptr::read_unaligned(p.cast::<usize>()) };
+    let refuse = |reason: String| CapiError::Invalid {
+        name: "options.size",
+        reason,
+    };
+    if size < ours || size > 4096 {
+        return Err(refuse(format!(
+            "{size} is not the size of a StrataLawOptions (this library's is {ours} bytes): \
+             fill the struct with strata_law_options_default first"
+        )));
+    }
+    if size > ours {
+        // SAFETY: the caller's struct holds `size` readable bytes.
+        let extra = unsafe { std::slice::from_raw_parts(p.cast::<u8>().add(ours), size - ours) };
+        if extra.iter().any(|&b| b != 0) {
+            return Err(refuse(format!(
+                "{size} bytes with fields beyond this library's {ours} set: a newer header than \
+                 the library linked (strata_version())"
+            )));
+        }
+    }
+    // SAFETY: at least `ours` readable bytes (checked above), repr(C).
+    let mut o = unsafe { std::ptr::read_unaligned(p) };
+    o.size = ours;
+    Ok(o)
+}
+
 /// Errors of the C ABI; each maps to one `STRATA_ERR_*` code.
 #[derive(Debug, Error)]
 pub enum CapiError {
@@ -236,12 +471,26 @@ pub enum CapiError {
     Io { path: String, message: String },
     #[error("{0}")]
     Resource(#[from] ResourceError),
+    /// A stack that cannot serve the request (a missing conductivity): the argument and
+    /// why (`STRATA_ERR_STACK`).
+    #[error("argument `{name}`: {reason}")]
+    StackField { name: &'static str, reason: String },
+    /// A solve of the law's effects failed (`STRATA_ERR_SOLVE`).
+    #[error("{0}")]
+    Solve(String),
+    /// A conductance query (`STRATA_ERR_OUT_OF_RANGE` outside the sampled range).
+    #[error("argument `{name}`: {error}")]
+    Curve {
+        name: &'static str,
+        error: CurveError,
+    },
 }
 
 /// `argument `young[1]`: …`: the element's error without a second `argument` prefix.
 fn element_message(name: &str, index: usize, error: &CapiError) -> String {
     match error {
         CapiError::Invalid { reason, .. } => format!("argument `{name}[{index}]`: {reason}"),
+        CapiError::Curve { error, .. } => format!("argument `{name}[{index}]`: {error}"),
         e => format!("argument `{name}[{index}]`: {e}"),
     }
 }
@@ -265,6 +514,12 @@ impl CapiError {
             },
             CapiError::Io { .. } => STRATA_ERR_IO,
             CapiError::Resource(_) => STRATA_ERR_RESOURCE,
+            CapiError::StackField { .. } => STRATA_ERR_STACK,
+            CapiError::Solve(_) => STRATA_ERR_SOLVE,
+            CapiError::Curve { error, .. } => match error {
+                CurveError::Invalid { .. } => STRATA_ERR_INVALID_ARGUMENT,
+                _ => STRATA_ERR_OUT_OF_RANGE,
+            },
         }
     }
 }
@@ -613,6 +868,401 @@ pub fn eval_into(
     Ok(())
 }
 
+/// The stack of `strata_stack_set_conductivities`: `stack` with the conductivities of
+/// `kind` set on every layer (`layer_conductivity`, top first, one per layer) and the base
+/// (`base_conduction` a `STRATA_BASE_CONDUCTION_*`: a half-space of `base_conductivity`,
+/// or an isothermal sink, `base_conductivity` ignored), the other kind's values kept.
+/// Validated like a stack file's; an error names the array element
+/// (`conductivity[1]`, 0-based) or argument.
+pub fn stack_with_conductivities(
+    stack: &Stack,
+    kind: i32,
+    layer_conductivity: &[f64],
+    base_conduction: i32,
+    base_conductivity: f64,
+) -> Result<Stack, CapiError> {
+    use strata_runtime::stack::{BaseConduction, Conductivity, Location};
+    let kind = match kind {
+        STRATA_CONDUCTANCE_THERMAL => ConductionKind::Thermal,
+        STRATA_CONDUCTANCE_ELECTRICAL => ConductionKind::Electrical,
+        k => {
+            return Err(CapiError::Invalid {
+                name: "kind",
+                reason: format!(
+                    "{k} is not STRATA_CONDUCTANCE_THERMAL (1) or STRATA_CONDUCTANCE_ELECTRICAL (2)"
+                ),
+            });
+        }
+    };
+    let n = stack.layers().len();
+    if layer_conductivity.len() != n {
+        return Err(CapiError::Invalid {
+            name: "n_layers",
+            reason: format!(
+                "{} conductivities given to a stack of {n} layer(s): one per layer, top first",
+                layer_conductivity.len()
+            ),
+        });
+    }
+    let element = |index: usize, reason: String| CapiError::Element {
+        name: "conductivity",
+        index,
+        error: Box::new(CapiError::Invalid {
+            name: "conductivity",
+            reason,
+        }),
+    };
+    for (i, &k) in layer_conductivity.iter().enumerate() {
+        if !k.is_finite() {
+            return Err(element(i, format!("{k} is not a finite number")));
+        }
+    }
+    let base_kind = match base_conduction {
+        STRATA_BASE_CONDUCTION_HALF_SPACE => BaseConduction::HalfSpace,
+        STRATA_BASE_CONDUCTION_ISOTHERMAL => BaseConduction::Isothermal,
+        b => {
+            return Err(CapiError::Invalid {
+                name: "base_conduction",
+                reason: format!(
+                    "{b} is not a STRATA_BASE_CONDUCTION_* value (0 half-space, 1 isothermal)"
+                ),
+            });
+        }
+    };
+    let set = |c: &mut Conductivity, v: Option<f64>| match kind {
+        ConductionKind::Thermal => c.thermal = v,
+        ConductionKind::Electrical => c.electrical = v,
+    };
+    let old = stack.conduction();
+    let mut layers: Vec<Conductivity> = (0..n).map(|i| stack.layer_conductivity(i)).collect();
+    for (c, &k) in layers.iter_mut().zip(layer_conductivity) {
+        set(c, Some(k));
+    }
+    let mut base = old.base;
+    match base_kind {
+        BaseConduction::HalfSpace => set(
+            &mut base,
+            Some(finite("base_conductivity", base_conductivity)?),
+        ),
+        BaseConduction::Isothermal => set(&mut base, None),
+    }
+    stack
+        .clone()
+        .with_conduction(layers, base, base_kind)
+        .map_err(|e| match &e {
+            StackError::Invalid {
+                location: Location::Layer(l),
+                ..
+            } => CapiError::Element {
+                name: "conductivity",
+                index: l - 1,
+                error: Box::new(CapiError::Stack(e.clone())),
+            },
+            StackError::Invalid {
+                location: Location::Base,
+                ..
+            } => CapiError::Invalid {
+                name: "base_conductivity",
+                reason: e.to_string(),
+            },
+            StackError::IsothermalWithConductivity { .. } => CapiError::Invalid {
+                name: "base_conduction",
+                reason: format!(
+                    "{e}: the base keeps the other kind's conductivity set earlier; an isothermal \
+                     base is isothermal for both kinds"
+                ),
+            },
+            StackError::NoLayersOnIsothermal => CapiError::Invalid {
+                name: "base_conduction",
+                reason: e.to_string(),
+            },
+            _ => CapiError::Stack(e),
+        })
+}
+
+/// The asperity law of `stack`: Hertz when homogeneous, else from `table`.
+fn asperity_law(
+    table: Option<&StrataTable>,
+    stack: &Stack,
+) -> Result<Box<dyn AsperityLaw>, CapiError> {
+    Ok(if stack.is_homogeneous() {
+        Box::new(Homogeneous {
+            e_star: stack.contact_modulus(),
+        })
+    } else {
+        let t = table.ok_or_else(|| CapiError::Invalid {
+            name: "table",
+            reason: "is NULL but the stack is layered: load the table serving it".into(),
+        })?;
+        Box::new(t.table.law_for(stack)?)
+    })
+}
+
+/// The spot conductances of `stack` for `kind` with the counterface conducting as
+/// `counterface` says, checked against the stack (`strata law`'s `[conductance]`
+/// checks): errors name the option or the stack's missing conductivity.
+fn spot_sum(
+    stack: &Stack,
+    kind: ConductionKind,
+    counterface: CounterfaceConduction,
+) -> Result<SpotSum, CapiError> {
+    let other = match (counterface, stack.counterface()) {
+        (CounterfaceConduction::Perfect, _) => Counterface::Perfect,
+        (CounterfaceConduction::Stack, Some(c)) => Counterface::Stack(c),
+        (CounterfaceConduction::Stack, None) => {
+            return Err(CapiError::Invalid {
+                name: "options.counterface_conduction",
+                reason: format!(
+                    "STRATA_COUNTERFACE_CONDUCTION_STACK, but the stack is pressed by a rigid flat \
+                     (no [counterface]): say how the flat conducts, \
+                     STRATA_COUNTERFACE_CONDUCTION_PERFECT or STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE \
+                     with options.counterface_conductivity ({})",
+                    kind.conductivity_unit()
+                ),
+            });
+        }
+        (CounterfaceConduction::HalfSpace(_), Some(_)) => {
+            return Err(CapiError::Invalid {
+                name: "options.counterface_conduction",
+                reason: "STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE, but the stack's counterface is \
+                         elastic: it conducts through its own stack's conductivities \
+                         (STRATA_COUNTERFACE_CONDUCTION_STACK) or perfectly"
+                    .into(),
+            });
+        }
+        (CounterfaceConduction::HalfSpace(k), None) => Counterface::HalfSpace(k),
+    };
+    let needs = format!(
+        "options.conductance_kind = STRATA_CONDUCTANCE_{} needs it (the stack file's `{}`, or \
+         strata_stack_set_conductivities)",
+        kind.name().to_uppercase(),
+        kind.field()
+    );
+    SpotSum::new(&stack.body(), other, kind).map_err(|e| match e {
+        SpotSumError::Body(e) => CapiError::StackField {
+            name: "stack",
+            reason: format!("{e}; {needs}"),
+        },
+        SpotSumError::Counterface(e) => CapiError::StackField {
+            name: "stack",
+            reason: format!(
+                "counterface: {e}; {needs}, or options.counterface_conduction = \
+                 STRATA_COUNTERFACE_CONDUCTION_PERFECT"
+            ),
+        },
+        e => CapiError::Solve(e.to_string()),
+    })
+}
+
+/// What `strata_law_new_with_law_options` computes: the law of `surface` on `stack` by
+/// `model` with the effects of `effects` — with a hardness the capped law
+/// ([`capped::capped_law`]), else the elastic law of [`build_law_with`] and, with a
+/// conductance, h_c at its samples (the N or I model's spots on the steps re-solved at
+/// the samples' separations, [`spots`]), as `strata law` computes them.
+#[allow(clippy::too_many_arguments)]
+pub fn build_law_with_effects(
+    table: Option<&StrataTable>,
+    stack: &Stack,
+    surface: &Surface,
+    model: Model,
+    min_gap: f64,
+    samples: usize,
+    params: Params,
+    effects: LawEffects,
+) -> Result<StrataLaw, CapiError> {
+    // the conduction set-up is checked before any solve
+    let sum = match effects.conductance {
+        Some((kind, counterface)) => Some((kind, spot_sum(stack, kind, counterface)?)),
+        None => None,
+    };
+    let law = asperity_law(table, stack)?;
+    if let Some(h) = effects.hardness {
+        if samples < 2 {
+            return Err(CapiError::Interface(InterfaceError::TooFewSamples(samples)));
+        }
+        let il = capped::capped_law(
+            law.as_ref(),
+            stack,
+            surface,
+            model,
+            h,
+            (min_gap, samples),
+            params,
+        )
+        .map_err(|e| match e {
+            CappedError::Response(_) | CappedError::Uncovered { .. } => CapiError::Invalid {
+                name: "options.hardness",
+                reason: e.to_string(),
+            },
+            CappedError::MinGap { .. } => CapiError::Invalid {
+                name: "min_gap",
+                reason: e.to_string(),
+            },
+            CappedError::Interface(e) => CapiError::Interface(e),
+            CappedError::Resource(e) => CapiError::Resource(e),
+            e => CapiError::Solve(e.to_string()),
+        })?;
+        return Ok(StrataLaw {
+            law: il,
+            hardness: Some(h),
+            conductance: None,
+        });
+    }
+    let rc = RoughContact::from_surface(law.as_ref(), surface)?.with_params(params);
+    let il = InterfaceLaw::sample(&rc, model, &SampleOptions { samples, min_gap })?;
+    let conductance = match sum {
+        None => None,
+        Some((kind, sum)) => {
+            // the steps at the law's own separations, in loading order
+            let gaps: Vec<f64> = il.samples().map(|s| s.0).collect();
+            let deltas: Vec<f64> = gaps.iter().map(|&g| rc.top_to_mean() - g).collect();
+            let steps = rc.curve(model, &deltas)?;
+            let h = match model {
+                Model::Independent => sum.conductances(&steps, rc.area()),
+                Model::Interacting(images) => {
+                    sum.interacting(&steps, rc.summits(), rc.extent(), images)
+                }
+            }
+            .map_err(|e| CapiError::Solve(format!("conductance: {e}")))?;
+            let curve = ConductanceCurve::new(&gaps, &h).ok_or_else(|| {
+                CapiError::Solve(format!(
+                    "conductance: the samples' h_c {h:?} are not finite and ≥ 0"
+                ))
+            })?;
+            Some((kind, curve))
+        }
+    };
+    Ok(StrataLaw {
+        law: il,
+        hardness: None,
+        conductance,
+    })
+}
+
+/// The conductance curve of a law, or an error naming `law` when it has none.
+fn conductance_of(l: &StrataLaw) -> Result<&ConductanceCurve, CapiError> {
+    l.conductance
+        .as_ref()
+        .map(|(_, c)| c)
+        .ok_or_else(|| CapiError::Invalid {
+            name: "law",
+            reason: "was built without a conductance: build it with \
+                     strata_law_new_with_law_options and options.conductance_kind = \
+                     STRATA_CONDUCTANCE_THERMAL or STRATA_CONDUCTANCE_ELECTRICAL"
+                .into(),
+        })
+}
+
+/// h_c at `gaps` (m) into `out` (all or nothing; an error names the element).
+pub fn conductance_into(
+    l: &StrataLaw,
+    name: &'static str,
+    at: &[f64],
+    by_pressure: bool,
+    out: &mut [f64],
+) -> Result<(), CapiError> {
+    let c = conductance_of(l)?;
+    let mut v = Vec::with_capacity(at.len());
+    for (i, &x) in at.iter().enumerate() {
+        v.push(
+            conductance_at(l, c, name, x, by_pressure).map_err(|e| CapiError::Element {
+                name,
+                index: i,
+                error: Box::new(e),
+            })?,
+        );
+    }
+    out[..v.len()].copy_from_slice(&v);
+    Ok(())
+}
+
+/// h_c of `l` at a separation or, with `by_pressure`, at a mean pressure.
+fn conductance_at(
+    l: &StrataLaw,
+    c: &ConductanceCurve,
+    name: &'static str,
+    x: f64,
+    by_pressure: bool,
+) -> Result<f64, CapiError> {
+    let r = if by_pressure {
+        c.at_pressure(x, |g| l.law.eval(g).map_or(f64::NAN, |q| q.pressure))
+    } else {
+        c.at_gap(x)
+    };
+    r.map_err(|error| CapiError::Curve { name, error })
+}
+
+/// The law as CSV, as `strata law --format csv` writes it: the samples
+/// (`InterfaceLaw::csv`) and, with a conductance, the column `conductance`; with a
+/// hardness, the column `branch` (`loading`: the asperity models give the loading curve
+/// only).
+pub fn law_csv(l: &StrataLaw) -> String {
+    let base = l.law.csv();
+    if l.conductance.is_none() && l.hardness.is_none() {
+        return base;
+    }
+    let h: Option<Vec<f64>> = l.conductance.as_ref().map(|(_, c)| c.samples().collect());
+    let mut out = String::with_capacity(base.len() * 2);
+    for (i, line) in base.lines().enumerate() {
+        out.push_str(line);
+        if let Some(h) = &h {
+            match i {
+                0 => out.push_str(",conductance"),
+                _ => match h.get(i - 1) {
+                    Some(v) if v.is_finite() => out.push_str(&format!(",{v:e}")),
+                    _ => out.push(','),
+                },
+            }
+        }
+        if l.hardness.is_some() {
+            out.push_str(if i == 0 { ",branch" } else { ",loading" });
+        }
+        out.push('\n');
+    }
+    out
+}
+
+/// The law's Abaqus/CalculiX block: the pressure–overclosure table and, with a
+/// hardness, `**` lines saying it is the loading curve; with a conductance, a
+/// `*GAP CONDUCTANCE, PRESSURE` table (`conductance, pressure` at the samples, the
+/// pressures strictly increasing from `0., 0.`), as `strata law --format abaqus`
+/// (whose comments say what CalculiX reads of it: docs/guide/conductance.md).
+pub fn law_abaqus(l: &StrataLaw) -> String {
+    use strata_runtime::interface::abaqus_real;
+    let mut s = l.law.abaqus_block(&[
+        "strata (C ABI): pressure-overclosure law of a rough layered interface".into(),
+    ]);
+    if let Some(h) = l.hardness {
+        s.push_str(&format!(
+            "** PLASTIC INTERFACE: the asperity tips were capped at the hardness H = {} Pa. The\n\
+             **   table above is the LOADING curve; Abaqus and CalculiX tabular laws are elastic\n\
+             **   (unloading retraces loading), while the flattened tips do not spring back.\n",
+            abaqus_real(h)
+        ));
+    }
+    if let Some((kind, c)) = &l.conductance {
+        let mut lines = String::new();
+        let mut last = f64::NEG_INFINITY;
+        for ((_, p, _, _), hc) in l.law.samples().zip(c.samples()) {
+            if p.is_nan() || p <= last || !hc.is_finite() {
+                continue;
+            }
+            last = p;
+            lines.push_str(&format!("{}, {}\n", abaqus_real(hc), abaqus_real(p)));
+        }
+        s.push_str(&format!(
+            "** strata (C ABI): {} gap conductance h_c ({}) of the rough interface against the\n\
+             **   mean contact pressure (Pa) of the table above, at its samples: the interface\n\
+             **   (constriction) conductance per nominal area, the bulk 1-D resistance of both\n\
+             **   bodies excluded. Data lines: conductance, pressure.\n\
+             *GAP CONDUCTANCE, PRESSURE\n{lines}",
+            kind.name(),
+            kind.interface_conductance_unit()
+        ));
+    }
+    s
+}
+
 #[cfg(feature = "capi")]
 mod exported {
     use super::*;
@@ -958,7 +1608,7 @@ mod exported {
             }
             let stack = Stack::from_toml_file(&sp)?;
             let law = build_law_with(table, &stack, surface, model, min_gap, samples, params)?;
-            unsafe { put("out", out, StrataLaw { law }) }
+            unsafe { put("out", out, StrataLaw::elastic(law)) }
         })
     }
 
@@ -1029,7 +1679,7 @@ mod exported {
                 return Err(CapiError::Null("out"));
             }
             let law = build_law_with(table, stack, surface, model, min_gap, samples, params)?;
-            unsafe { put("out", out, StrataLaw { law }) }
+            unsafe { put("out", out, StrataLaw::elastic(law)) }
         })
     }
 
@@ -1146,6 +1796,10 @@ mod exported {
     /// Writes the sampled law to `path` (atomically): `STRATA_FORMAT_CSV` (full
     /// precision) or `STRATA_FORMAT_ABAQUS` (the block `strata law --format abaqus`
     /// writes: every number in at most 20 characters, what Abaqus and CalculiX read).
+    /// A law with a conductance adds the CSV column `conductance` and the Abaqus
+    /// `*GAP CONDUCTANCE, PRESSURE` table; a capped law (a hardness) the CSV column
+    /// `branch` (`loading`) and a note that the table is the loading curve: the CSV is
+    /// then `strata law --format csv`'s of the same scene.
     #[unsafe(no_mangle)]
     pub unsafe extern "C" fn strata_law_write(
         law: *const StrataLaw,
@@ -1156,10 +1810,8 @@ mod exported {
             let l = unsafe { get("law", law) }?;
             let p = unsafe { path_arg("path", path) }?;
             let text = match format {
-                STRATA_FORMAT_CSV => l.law.csv(),
-                STRATA_FORMAT_ABAQUS => l.law.abaqus_block(&[
-                    "strata (C ABI): pressure-overclosure law of a rough layered interface".into(),
-                ]),
+                STRATA_FORMAT_CSV => law_csv(l),
+                STRATA_FORMAT_ABAQUS => law_abaqus(l),
                 f => {
                     return Err(CapiError::Invalid {
                         name: "format",
@@ -1171,6 +1823,266 @@ mod exported {
                 path: p.display().to_string(),
                 message: e.to_string(),
             })
+        })
+    }
+
+    /// Reads a stack file (TOML: layers, base, an optional `[counterface]`, conduction
+    /// properties) into a handle for `strata_law_new_from_stack` and
+    /// `strata_law_new_with_law_options`: the stack `strata_law_new` reads from the same
+    /// file. `*out` receives a handle to free with `strata_stack_free`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_stack_load(
+        path: *const c_char,
+        out: *mut *mut StrataStack,
+    ) -> i32 {
+        guard(|| {
+            let p = unsafe { path_arg("path", path) }?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let stack = Stack::from_toml_file(&p)?;
+            unsafe { put("out", out, StrataStack { stack }) }
+        })
+    }
+
+    /// Sets the conductivities of one kind on a stack (as a stack file's
+    /// `thermal_conductivity` or `electrical_conductivity` fields, physics.md §6.2):
+    /// `kind` `STRATA_CONDUCTANCE_THERMAL` (W/(m·K)) or `STRATA_CONDUCTANCE_ELECTRICAL`
+    /// (S/m); `n_layers` values `conductivity[i]`, top layer first, one per layer of the
+    /// stack (NULL when it has none); the base `base_conduction`:
+    /// `STRATA_BASE_CONDUCTION_HALF_SPACE` (a conducting half-space of
+    /// `base_conductivity`) or `STRATA_BASE_CONDUCTION_ISOTHERMAL` (an isothermal sink
+    /// under the last layer, `base_conductivity` ignored; then for both kinds). The other
+    /// kind's values are kept; an elastic counterface read from a stack file keeps its
+    /// own. Validated like a stack file's values (each in [1e-30, 1e30]); an error names
+    /// the element (`conductivity[1]`, 0-based) or argument and leaves the stack
+    /// unchanged.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_stack_set_conductivities(
+        stack: *mut StrataStack,
+        kind: i32,
+        n_layers: usize,
+        conductivity: *const f64,
+        base_conduction: i32,
+        base_conductivity: f64,
+    ) -> i32 {
+        guard(|| {
+            // SAFETY: non-NULL handles come from a constructor and live until freed.
+            let s = unsafe { stack.as_mut() }.ok_or(CapiError::Null("stack"))?;
+            let k = unsafe { slice_arg("conductivity", conductivity, n_layers) }?;
+            s.stack =
+                stack_with_conductivities(&s.stack, kind, k, base_conduction, base_conductivity)?;
+            Ok(())
+        })
+    }
+
+    /// Writes the default law options (the elastic law without conductance) to `out`,
+    /// `out->size` included.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_options_default(out: *mut StrataLawOptions) -> i32 {
+        guard(|| {
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            // SAFETY: non-NULL, writable per the API contract.
+            unsafe { *out = StrataLawOptions::default() };
+            Ok(())
+        })
+    }
+
+    /// `strata_law_new_from_stack` with the law's effects from `law_options` (NULL: the
+    /// defaults, the same law bit for bit): with `hardness` the loading curve of the N or
+    /// I model with capped asperity tips (`strata law` on a scene with
+    /// `[plasticity] hardness`; the response table's ring solves take ~20 CPU-s on a
+    /// layered stack); with `conductance_kind` the interface conductance h_c at every
+    /// sample (`strata law` on a scene with `[conductance]`: the CSV's `conductance`
+    /// column), queried with `strata_law_conductance*`. `solver_options` NULL: the
+    /// defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
+    /// (`options.hardness`); a stack without the conductivity the kind needs is
+    /// `STRATA_ERR_STACK` naming the layer and field.
+    #[unsafe(no_mangle)]
+    #[allow(clippy::too_many_arguments)]
+    pub unsafe extern "C" fn strata_law_new_with_law_options(
+        table: *const StrataTable,
+        stack: *const StrataStack,
+        surface: *const StrataSurface,
+        model: i32,
+        min_gap: f64,
+        samples: usize,
+        solver_options: *const StrataSolverOptions,
+        law_options: *const StrataLawOptions,
+        out: *mut *mut StrataLaw,
+    ) -> i32 {
+        guard(|| {
+            // SAFETY: NULL or a pointer to a valid StrataSolverOptions, per the contract.
+            let solver = unsafe { solver_options.as_ref() }
+                .copied()
+                .unwrap_or_default();
+            let params = solver.params()?;
+            let effects = unsafe { law_options_arg(law_options) }?.effects()?;
+            let stack = &unsafe { get("stack", stack) }?.stack;
+            let surface = &unsafe { get("surface", surface) }?.surface;
+            let table = unsafe { table.as_ref() };
+            let model = model_arg(model)?;
+            let min_gap = finite("min_gap", min_gap)?;
+            samples_arg(samples)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let law = build_law_with_effects(
+                table, stack, surface, model, min_gap, samples, params, effects,
+            )?;
+            unsafe { put("out", out, law) }
+        })
+    }
+
+    /// The law's conductance kind: `STRATA_CONDUCTANCE_NONE`, `_THERMAL` or
+    /// `_ELECTRICAL`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_conductance_kind(
+        law: *const StrataLaw,
+        out: *mut i32,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let k = match l.conductance {
+                None => STRATA_CONDUCTANCE_NONE,
+                Some((ConductionKind::Thermal, _)) => STRATA_CONDUCTANCE_THERMAL,
+                Some((ConductionKind::Electrical, _)) => STRATA_CONDUCTANCE_ELECTRICAL,
+            };
+            // SAFETY: non-NULL, writable per the API contract.
+            unsafe { *out = k };
+            Ok(())
+        })
+    }
+
+    /// The hardness H (Pa) the law's asperity tips were capped at; `INFINITY` for an
+    /// elastic law.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_hardness(law: *const StrataLaw, out: *mut f64) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            unsafe { out_f64("out", out, l.hardness.unwrap_or(f64::INFINITY)) }
+        })
+    }
+
+    /// The interface conductance h_c(g) (W/(m²·K) or S/m²; physics.md §6.2) at
+    /// separation `gap` (m): the solved value at the samples, monotone cubic between
+    /// them (∝ √δ next to first contact), 0 at and above first contact,
+    /// `STRATA_ERR_OUT_OF_RANGE` below the smallest sampled separation. A law built
+    /// without a conductance is `STRATA_ERR_INVALID_ARGUMENT`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_conductance(
+        law: *const StrataLaw,
+        gap: f64,
+        out: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let c = conductance_of(l)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let v = conductance_at(l, c, "gap", gap, false)?;
+            unsafe { out_f64("out", out, v) }
+        })
+    }
+
+    /// `strata_law_conductance` at `n` separations `gaps[i]` (m) into `out` (`n`
+    /// doubles). All or nothing: an error names the element (`gaps[7]`) and leaves `out`
+    /// untouched. The pointers may be NULL when `n` is 0.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_conductance_array(
+        law: *const StrataLaw,
+        n: usize,
+        gaps: *const f64,
+        out: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let g = unsafe { slice_arg("gaps", gaps, n) }?;
+            let o = unsafe { slice_out("out", out, n) }?;
+            conductance_into(l, "gaps", g, false, o)
+        })
+    }
+
+    /// The interface conductance at mean contact pressure `pressure` (Pa, ≥ 0): h_c at
+    /// the separation where the law's p(g) reaches `pressure` on loading (FE codes
+    /// tabulate the gap conductance against the contact pressure); a sample's pressure
+    /// gives the sample's h_c exactly. 0 at p = 0; `STRATA_ERR_OUT_OF_RANGE` above the
+    /// largest sampled pressure.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_conductance_at_pressure(
+        law: *const StrataLaw,
+        pressure: f64,
+        out: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let c = conductance_of(l)?;
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let v = conductance_at(l, c, "pressure", pressure, true)?;
+            unsafe { out_f64("out", out, v) }
+        })
+    }
+
+    /// `strata_law_conductance_at_pressure` at `n` pressures `pressures[i]` (Pa) into
+    /// `out` (all or nothing, as `strata_law_conductance_array`).
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_conductance_at_pressure_array(
+        law: *const StrataLaw,
+        n: usize,
+        pressures: *const f64,
+        out: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let p = unsafe { slice_arg("pressures", pressures, n) }?;
+            let o = unsafe { slice_out("out", out, n) }?;
+            conductance_into(l, "pressures", p, true, o)
+        })
+    }
+
+    /// `strata_law_eval` and `strata_law_conductance` at `gap` (m) in one call: p (Pa),
+    /// A/A₀, dp/dg (Pa/m) and h_c (W/(m²·K) or S/m²), each bit for bit what the single
+    /// queries give. All four outputs are required and written only on success.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_eval_with_conductance(
+        law: *const StrataLaw,
+        gap: f64,
+        pressure: *mut f64,
+        area_fraction: *mut f64,
+        dp_dg: *mut f64,
+        conductance: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            let c = conductance_of(l)?;
+            for (name, p) in [
+                ("pressure", pressure),
+                ("area_fraction", area_fraction),
+                ("dp_dg", dp_dg),
+                ("conductance", conductance),
+            ] {
+                if p.is_null() {
+                    return Err(CapiError::Null(name));
+                }
+            }
+            let q = l.law.eval(gap)?;
+            let h = conductance_at(l, c, "gap", gap, false)?;
+            // SAFETY: non-NULL (checked above), writable per the API contract.
+            unsafe {
+                *pressure = q.pressure;
+                *area_fraction = q.area_fraction;
+                *dp_dg = q.dp_dg;
+                *conductance = h;
+            }
+            Ok(())
         })
     }
 
@@ -1219,17 +2131,7 @@ pub fn build_law_with(
     samples: usize,
     params: Params,
 ) -> Result<InterfaceLaw, CapiError> {
-    let law: Box<dyn AsperityLaw> = if stack.is_homogeneous() {
-        Box::new(Homogeneous {
-            e_star: stack.contact_modulus(),
-        })
-    } else {
-        let t = table.ok_or_else(|| CapiError::Invalid {
-            name: "table",
-            reason: "is NULL but the stack is layered: load the table serving it".into(),
-        })?;
-        Box::new(t.table.law_for(stack)?)
-    };
+    let law = asperity_law(table, stack)?;
     let rc = RoughContact::from_surface(law.as_ref(), surface)?.with_params(params);
     let opts = SampleOptions { samples, min_gap };
     Ok(InterfaceLaw::sample(&rc, model, &opts)?)

@@ -650,7 +650,7 @@ fn fortran_module_matches_the_header() {
     }
     assert_eq!(
         (constants, functions),
-        (22, 25),
+        (30, 36),
         "header changed: update the count and the module"
     );
 }
@@ -1373,4 +1373,444 @@ fn stack_from_arrays_is_the_file_stack() {
         .expect_err("poisson 0.6");
     assert_eq!(e.code(), STRATA_ERR_STACK);
     assert!(e.to_string().contains("`poisson[0]`"), "{e}");
+}
+
+/// `strata law --format csv` on the scene `text`, run in-process (the command's library):
+/// the CSV's rows as numbers (empty cells and the `branch` column dropped) and its header.
+fn strata_law_csv(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    samples: usize,
+    min_gap: f64,
+) -> (Vec<String>, Vec<Vec<f64>>) {
+    let scene = dir.join(format!("{name}.toml"));
+    std::fs::write(&scene, text).expect("scene");
+    let out = dir.join(format!("{name}-cli.csv"));
+    strata::progress::init(true);
+    strata::cli::law::run(strata::cli::law::Args {
+        scene,
+        out: out.clone(),
+        format: Some(strata::cli::law::Format::Csv),
+        samples,
+        min_gap: Some(min_gap),
+        force: true,
+        cache_dir: None,
+    })
+    .unwrap_or_else(|e| panic!("strata law {name}: {e:#}"));
+    csv_table(&std::fs::read_to_string(&out).expect("law csv"))
+}
+
+/// A law CSV's header and numeric rows (the `branch` column dropped).
+fn csv_table(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(String::from)
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .zip(&header)
+                .filter(|(_, h)| *h != "branch")
+                .map(|(v, _)| v.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect();
+    (header, rows)
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    if a == b {
+        0.0
+    } else {
+        (a - b).abs() / a.abs().max(b.abs())
+    }
+}
+
+/// The scene of the capped laws of examples/c/effects_example.c: a 4 GPa half-space
+/// (ν = 0.15), H = 0.2 GPa, the 128² surface (k = 2…6, seed 5).
+fn capped_scene(model: &str) -> String {
+    format!(
+        "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+         [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 128\n\
+         fractal_dimension = 2.4\nk_min = 2\nk_max = 6\nrms = 3.4e-6\nseed = 5\n\
+         [load]\napproach = {{ from = 1e-6, to = 4e-6, steps = 4 }}\n\
+         [plasticity]\nhardness = 0.2e9\n[model]\n{model}\n"
+    )
+}
+
+/// The scene of the conductance laws of examples/c/effects_example.c: the paper's
+/// conducting two-layer stack, the 128² paper surface, `extra` for the counterface,
+/// the conductance kind and the model.
+fn conductance_scene(extra: &str) -> String {
+    let root = repo();
+    format!(
+        "[stack]\nfile = \"{}\"\ntable = \"{}\"\n\
+         [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 128\n\
+         fractal_dimension = 2.4\nk_min = 2\nk_max = 10\nrms = 3.4e-6\nseed = 20240611\n\
+         [load]\napproach = {{ from = 1.3e-6, to = 9.8e-6, steps = 4 }}\n{extra}",
+        root.join("tables/stacks/paper-two-layer-conducting.toml")
+            .display(),
+        root.join("tables/paper-two-layer.strata").display()
+    )
+}
+
+/// Compiles and runs examples/c/effects_example.c; its output directory and stdout.
+fn run_effects_example(dir: &Path) -> String {
+    let exe = compile_c(dir, "effects_example");
+    run_effects(&exe, dir)
+}
+
+fn run_effects(exe: &Path, dir: &Path) -> String {
+    let out_dir = dir.join(format!(
+        "out-{}",
+        exe.file_name().unwrap().to_string_lossy()
+    ));
+    std::fs::create_dir_all(&out_dir).expect("out dir");
+    let run = Command::new(exe)
+        .env_remove("LD_LIBRARY_PATH")
+        .current_dir(repo())
+        .arg("tables/paper-two-layer.strata")
+        .arg("tables/stacks/paper-two-layer-conducting.toml")
+        .arg(&out_dir)
+        .output()
+        .unwrap_or_else(|e| panic!("run {}: {e}", exe.display()));
+    let stdout = String::from_utf8_lossy(&run.stdout).into_owned();
+    assert!(
+        run.status.success(),
+        "{} failed: {}\n{stdout}",
+        exe.display(),
+        String::from_utf8_lossy(&run.stderr)
+    );
+    stdout
+}
+
+/// The law's two effects through the C ABI (issues 34 and 35) against `strata law` on
+/// the equivalent scenes: capped N and I laws (p and A/A₀ per sample, and the CSV
+/// `strata_law_write` writes, within 1e-12 — measured 0: the same operations), a
+/// hardness of INFINITY the elastic law bit for bit; the thermal I-model and electrical
+/// N-model conductance h_c at the samples equal the CSV's `conductance` column (1e-12,
+/// measured 0), the combined, scalar and array queries agree bit for bit, h_c(p) returns
+/// the samples exactly and h_c(g) between them to the bisection's round-off, a stack
+/// from arrays with strata_stack_set_conductivities gives the file stack's h_c bit for
+/// bit; bad options give the code and a message naming the field.
+#[test]
+fn effects_example_matches_strata_law() {
+    let dir = tmp("effects");
+    let stdout = run_effects_example(&dir);
+    let out_dir = dir.join("out-effects_example");
+    let lines: Vec<Vec<&str>> = stdout
+        .lines()
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    let of = |tag: &str| -> Vec<&Vec<&str>> { lines.iter().filter(|f| f[0] == tag).collect() };
+    let mut worst: f64 = 0.0;
+
+    // 1. capped N and I laws
+    for (model, text) in [
+        (STRATA_MODEL_INDEPENDENT, "kind = \"independent\""),
+        (
+            STRATA_MODEL_INTERACTING_PERIODIC,
+            "kind = \"interacting\"\nimages = \"periodic\"",
+        ),
+    ] {
+        let m = model.to_string();
+        let (header, cli) = strata_law_csv(
+            &dir,
+            &format!("capped-{model}"),
+            &capped_scene(text),
+            8,
+            0.0,
+        );
+        assert_eq!(header.last().map(String::as_str), Some("branch"));
+        let (c_header, c_csv) = csv_table(
+            &std::fs::read_to_string(out_dir.join(format!("capped-{model}.csv"))).expect("C csv"),
+        );
+        assert_eq!(header, c_header, "capped CSV header");
+        assert_eq!(cli.len(), 8);
+        assert_eq!(c_csv.len(), 8);
+        for (a, b) in cli.iter().zip(&c_csv) {
+            for (x, y) in a.iter().zip(b) {
+                worst = worst.max(rel(*x, *y));
+                assert!(rel(*x, *y) <= 1e-12, "capped {model}: CSV {a:?} vs {b:?}");
+            }
+        }
+        let printed: Vec<&Vec<&str>> = of("capped").into_iter().filter(|f| f[1] == m).collect();
+        assert_eq!(printed.len(), 8);
+        for (f, row) in printed.iter().zip(&cli) {
+            assert_eq!(num(f[2]).to_bits(), row[0].to_bits(), "capped {model}: gap");
+            for (c, r) in [(num(f[3]), row[2]), (num(f[4]), row[3])] {
+                worst = worst.max(rel(c, r));
+                assert!(rel(c, r) <= 1e-12, "capped {model}: {c} vs {r}");
+            }
+        }
+        // the caps bite: below the elastic law at depth
+        let el = of("infinity_vs_elastic")
+            .into_iter()
+            .filter(|f| f[1] == m && num(f[2]) == cli[6][0])
+            .map(|f| num(f[3]))
+            .next()
+            .expect("elastic sample");
+        assert!(
+            cli[6][2] < 0.97 * el,
+            "capped {model}: {} vs elastic {el}",
+            cli[6][2]
+        );
+        let h = of("hardness")
+            .into_iter()
+            .find(|f| f[1] == m)
+            .expect("hardness");
+        assert_eq!(num(h[2]), 0.2e9);
+        let h = of("hardness_infinity")
+            .into_iter()
+            .find(|f| f[1] == m)
+            .expect("hardness");
+        assert_eq!(h[2], "inf");
+    }
+    let pairs = of("infinity_vs_elastic");
+    assert_eq!(pairs.len(), 2 * 14);
+    for f in pairs {
+        for k in [3, 5, 7] {
+            assert_eq!(
+                num(f[k]).to_bits(),
+                num(f[k + 1]).to_bits(),
+                "INFINITY vs elastic: {f:?}"
+            );
+        }
+    }
+
+    // 2. conductance
+    for (label, model, extra) in [
+        (
+            "thermal_i",
+            STRATA_MODEL_INTERACTING_PERIODIC,
+            "[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n\
+             [conductance]\nkind = \"thermal\"\n[model]\nkind = \"interacting\"\nimages = \"periodic\"\n",
+        ),
+        (
+            "electrical_n",
+            STRATA_MODEL_INDEPENDENT,
+            "[counterface]\nkind = \"rigid\"\nconduction = \"perfect\"\n\
+             [conductance]\nkind = \"electrical\"\n[model]\nkind = \"independent\"\n",
+        ),
+    ] {
+        let (header, cli) = strata_law_csv(&dir, label, &conductance_scene(extra), 8, 2e-6);
+        assert_eq!(header.last().map(String::as_str), Some("conductance"));
+        let (c_header, c_csv) = csv_table(
+            &std::fs::read_to_string(out_dir.join(format!("conductance-{model}.csv")))
+                .expect("C csv"),
+        );
+        assert_eq!(header, c_header);
+        for (a, b) in cli.iter().zip(&c_csv) {
+            for (x, y) in a.iter().zip(b) {
+                worst = worst.max(rel(*x, *y));
+                assert!(rel(*x, *y) <= 1e-12, "{label}: CSV {a:?} vs {b:?}");
+            }
+        }
+        let printed: Vec<&Vec<&str>> = of("conductance")
+            .into_iter()
+            .filter(|f| f[1] == label)
+            .collect();
+        assert_eq!(printed.len(), 15);
+        let mut last = -1.0;
+        for (i, f) in printed.iter().enumerate() {
+            let (p, hc, hg, ha, hp) = (num(f[3]), num(f[4]), num(f[5]), num(f[6]), num(f[7]));
+            assert_eq!(hc.to_bits(), hg.to_bits(), "{label}: eval vs scalar");
+            assert_eq!(hc.to_bits(), ha.to_bits(), "{label}: scalar vs array");
+            assert!(hc >= last, "{label}: h_c decreases along the loading path");
+            last = hc;
+            if i % 2 == 0 {
+                let row = &cli[i / 2];
+                assert_eq!(num(f[2]).to_bits(), row[0].to_bits(), "{label}: gap");
+                worst = worst.max(rel(hc, row[6]));
+                assert!(
+                    rel(hc, row[6]) <= 1e-12,
+                    "{label}: h_c {hc} vs CLI {}",
+                    row[6]
+                );
+                assert!(rel(p, row[2]) <= 1e-12, "{label}: p");
+                assert_eq!(hp.to_bits(), hc.to_bits(), "{label}: h_c(p) at a sample");
+            } else {
+                // between samples: the inverse of p(g) to round-off
+                assert!(
+                    rel(hp, hc) <= 1e-9,
+                    "{label}: h_c(p(g)) {hp} vs h_c(g) {hc}"
+                );
+                let (lo, hi) = (cli[i / 2][6], cli[i / 2 + 1][6]);
+                assert!(hc > lo && hc < hi, "{label}: {hc} outside ({lo}, {hi})");
+            }
+        }
+    }
+    let kinds = of("conductance_kind");
+    assert_eq!(
+        kinds.iter().map(|f| (f[1], f[2])).collect::<Vec<_>>(),
+        vec![("thermal", "1"), ("electrical", "2")]
+    );
+    let mem = of("memory_vs_file");
+    assert_eq!(mem.len(), 8);
+    assert!(num(mem[7][2]) > 0.0);
+    for f in mem {
+        assert_eq!(
+            num(f[2]).to_bits(),
+            num(f[3]).to_bits(),
+            "memory vs file: {f:?}"
+        );
+    }
+
+    // 3. errors: code and the field named
+    let errors: Vec<(&str, i32, String)> = of("error")
+        .into_iter()
+        .map(|f| (f[1], f[2].parse().unwrap(), f[3..].join(" ")))
+        .collect();
+    let want: [(&str, i32, &str); 12] = [
+        (
+            "negative_hardness",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`options.hardness`",
+        ),
+        (
+            "unknown_kind",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`options.conductance_kind`",
+        ),
+        (
+            "missing_conductivity",
+            STRATA_ERR_STACK,
+            "missing `thermal_conductivity`",
+        ),
+        (
+            "rigid_flat_conduction_unset",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`options.counterface_conduction`",
+        ),
+        (
+            "negative_counterface_conductivity",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`options.counterface_conductivity`",
+        ),
+        (
+            "hardness_with_conductance",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`options.conductance_kind`",
+        ),
+        (
+            "options_not_initialised",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`options.size`",
+        ),
+        (
+            "negative_layer_conductivity",
+            STRATA_ERR_STACK,
+            "`conductivity[1]`",
+        ),
+        (
+            "wrong_layer_count",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`n_layers`",
+        ),
+        ("conductance_below_range", STRATA_ERR_OUT_OF_RANGE, "`gap`"),
+        (
+            "no_conductance_in_law",
+            STRATA_ERR_INVALID_ARGUMENT,
+            "`law`",
+        ),
+        (
+            "pressure_above_samples",
+            STRATA_ERR_OUT_OF_RANGE,
+            "`pressure`",
+        ),
+    ];
+    assert_eq!(errors.len(), want.len(), "{errors:?}");
+    for ((name, code, msg), (wn, wc, wm)) in errors.iter().zip(want) {
+        assert_eq!((*name, *code), (wn, wc), "{msg}");
+        assert!(msg.contains(wm), "{name}: `{msg}` does not name {wm}");
+    }
+    eprintln!("effects vs strata law: worst relative difference {worst:e}");
+}
+
+/// The Fortran twin of examples/c/effects_example.c (examples/fortran/effects_example.f90,
+/// through capi/fortran/strata.f90) prints the same lines: every number bit for bit,
+/// every label and error line the same; its CSV files are the C example's byte for
+/// byte (and so `strata law`'s, checked by `effects_example_matches_strata_law`).
+#[test]
+fn fortran_effects_example_matches_c() {
+    let Some(fc) = optional_tool(
+        &std::env::var("FC").unwrap_or_else(|_| "gfortran".into()),
+        "--version",
+        "apt-get install gfortran",
+    ) else {
+        return;
+    };
+    let root = repo();
+    let lib_dir = lib_dir();
+    let dir = tmp("fortran-effects");
+    let c_out = run_effects_example(&dir);
+    let exe = dir.join("effects_example_f");
+    let out = Command::new(&fc)
+        .args(["-std=f2008", "-Wall", "-Wextra", "-pedantic", "-J"])
+        .arg(&*dir)
+        .arg(root.join("capi/fortran/strata.f90"))
+        .arg(root.join("examples/fortran/effects_example.f90"))
+        .arg("-L")
+        .arg(&lib_dir)
+        .arg("-lstrata_capi")
+        .arg(format!(
+            "-Wl,--disable-new-dtags,-rpath,{}",
+            lib_dir.display()
+        ))
+        .arg("-o")
+        .arg(&exe)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run `{fc}`: {e}"));
+    let warnings = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "Fortran compile failed:\n{warnings}");
+    assert!(
+        !warnings.to_lowercase().contains("warning"),
+        "Fortran compiler warnings:\n{warnings}"
+    );
+    let f_out = run_effects(&exe, &dir);
+    let (c_lines, f_lines): (Vec<&str>, Vec<&str>) =
+        (c_out.lines().collect(), f_out.lines().collect());
+    assert_eq!(
+        c_lines.len(),
+        f_lines.len(),
+        "C:\n{c_out}\nFortran:\n{f_out}"
+    );
+    let (mut numbers, mut errors) = (0, 0);
+    for (c, f) in c_lines.iter().zip(&f_lines) {
+        if c.starts_with("error ") {
+            assert_eq!(c, f);
+            errors += 1;
+            continue;
+        }
+        let (ct, ft): (Vec<&str>, Vec<&str>) = (
+            c.split_whitespace().collect(),
+            f.split_whitespace().collect(),
+        );
+        assert_eq!(ct.len(), ft.len(), "C `{c}`, Fortran `{f}`");
+        for (a, b) in ct.iter().zip(&ft) {
+            match (a.parse::<f64>(), b.parse::<f64>()) {
+                (Ok(x), Ok(y)) => {
+                    assert_eq!(x.to_bits(), y.to_bits(), "C `{c}`, Fortran `{f}`");
+                    numbers += 1;
+                }
+                _ => assert_eq!(a, b, "C `{c}`, Fortran `{f}`"),
+            }
+        }
+    }
+    assert_eq!(errors, 12, "{f_out}");
+    assert!(numbers > 400, "{numbers} numbers compared");
+    for name in ["capped-0", "capped-2", "conductance-0", "conductance-2"] {
+        let read = |exe: &str| {
+            std::fs::read(dir.join(format!("out-{exe}/{name}.csv")))
+                .unwrap_or_else(|e| panic!("{exe} {name}.csv: {e}"))
+        };
+        assert!(
+            read("effects_example") == read("effects_example_f"),
+            "{name}.csv differs between C and Fortran"
+        );
+    }
 }

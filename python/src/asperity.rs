@@ -66,8 +66,8 @@ pub fn indent<'py>(
             ));
         }
     };
-    let rows: Vec<(f64, f64)> = py.detach(|| {
-        crate::progress::with_progress(progress, || -> anyhow::Result<Vec<(f64, f64)>> {
+    let rows: Vec<(f64, f64)> = crate::progress::call(py, Some(progress), |_| {
+        (|| -> anyhow::Result<Vec<(f64, f64)>> {
             if full {
                 let solver = Asperity::new(&stack, Options::default())?;
                 deltas
@@ -94,9 +94,9 @@ pub fn indent<'py>(
                     })
                     .collect()
             }
-        })
+        })()
         .map_err(err(Kind::Solve))
-    })?;
+    })??;
     let d = PyDict::new(py);
     d.set_item("delta", deltas.into_pyarray(py))?;
     d.set_item(

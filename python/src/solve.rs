@@ -122,6 +122,7 @@ fn memory_surface_spec(s: &Surface) -> SurfaceSpec {
             periodic: s.is_periodic(),
             ..Default::default()
         },
+        topography: None,
     }
 }
 
@@ -250,7 +251,7 @@ impl PyScene {
     /// The scene's surface (read or generated now, or the one given).
     fn surface(&self, py: Python<'_>) -> PyResult<PySurface> {
         Ok(PySurface {
-            surface: py.detach(|| self.load_surface(false))?,
+            surface: crate::progress::call(py, Some(false), |_| self.load_surface())??,
         })
     }
 
@@ -260,12 +261,15 @@ impl PyScene {
     /// kkt_residual (NaN where none), valid, and `meta` (curve.json's summary); a scene
     /// with `[conductance]` adds `conductance` (h_c per step, W/(m²·K) or S/m²).
     /// maps ("none", "last", "all"; BEM only) adds the pressure (Pa) and gap (m) maps.
-    /// Releases the GIL; progress=True prints progress and log lines on stderr.
-    #[pyo3(signature = (progress=false, cache_dir=None, maps="none", table=None))]
+    /// Runs off the GIL; progress: True shows progress and log lines (in a notebook's
+    /// cell, else on stderr), False only warnings, None (default) progress when in a
+    /// notebook or on a terminal. Ctrl-C raises KeyboardInterrupt within about one
+    /// solver iteration (nothing of the interrupted solve is kept).
+    #[pyo3(signature = (progress=None, cache_dir=None, maps="none", table=None))]
     fn solve<'py>(
         &self,
         py: Python<'py>,
-        progress: bool,
+        progress: Option<bool>,
         cache_dir: Option<PathBuf>,
         maps: &str,
         table: Option<&Bound<'py, PyAny>>,
@@ -289,24 +293,26 @@ impl PyScene {
                 ),
             ));
         }
-        let opts = self.options(progress, cache_dir, table)?;
+        let opts = self.options(cache_dir, table)?;
         let mut kept: Vec<(usize, BemSolution)> = Vec::new();
-        let sol = py.detach(|| {
-            crate::progress::with_progress(progress, || {
-                let surface = self.load_surface(progress)?;
-                solve_surface_with_maps(&self.scene, &self.path, surface, &opts, &mut |k, _, m| {
-                    if keep == 1 {
-                        kept.clear();
-                    }
-                    if keep > 0 {
-                        kept.push((k, m));
-                    }
-                    Ok(())
-                })
-                .with_context_path(&self.path)
-                .map_err(err(Kind::Solve))
+        let sol = crate::progress::call(py, progress, |cancel| {
+            let opts = EngineOptions {
+                cancel: cancel.clone(),
+                ..opts
+            };
+            let surface = self.load_surface()?;
+            solve_surface_with_maps(&self.scene, &self.path, surface, &opts, &mut |k, _, m| {
+                if keep == 1 {
+                    kept.clear();
+                }
+                if keep > 0 {
+                    kept.push((k, m));
+                }
+                Ok(())
             })
-        })?;
+            .with_context_path(&self.path)
+            .map_err(err(Kind::Solve))
+        })??;
         let out = curve_dict(py, &sol.steps)?;
         // [conductance]: h_c per step (W/(m²·K) or S/m²; inf at full contact)
         if let Some(cs) = sol.meta["conductance_steps"].as_array() {
@@ -336,33 +342,36 @@ impl PyScene {
 
     /// The contact law p(g) of the scene's interface, sampled as `strata law` does:
     /// `samples` separations from first contact down to `min_gap` (m; default the
-    /// smallest separation the load reaches). Releases the GIL.
-    #[pyo3(signature = (samples=200, min_gap=None, progress=false, cache_dir=None, table=None))]
+    /// smallest separation the load reaches). Runs off the GIL; progress and Ctrl-C as
+    /// in `solve`.
+    #[pyo3(signature = (samples=200, min_gap=None, progress=None, cache_dir=None, table=None))]
     fn law(
         &self,
         py: Python<'_>,
         samples: usize,
         min_gap: Option<f64>,
-        progress: bool,
+        progress: Option<bool>,
         cache_dir: Option<PathBuf>,
         table: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyContactLaw> {
-        let opts = self.options(progress, cache_dir, table)?;
-        let sampled = py.detach(|| {
-            crate::progress::with_progress(progress, || {
-                let surface = self.load_surface(progress)?;
-                strata::sampled_law::sample_law(
-                    &self.scene,
-                    &self.path,
-                    surface,
-                    &opts,
-                    samples,
-                    min_gap,
-                )
-                .with_context_path(&self.path)
-                .map_err(err(Kind::Law))
-            })
-        })?;
+        let opts = self.options(cache_dir, table)?;
+        let sampled = crate::progress::call(py, progress, |cancel| {
+            let opts = EngineOptions {
+                cancel: cancel.clone(),
+                ..opts
+            };
+            let surface = self.load_surface()?;
+            strata::sampled_law::sample_law(
+                &self.scene,
+                &self.path,
+                surface,
+                &opts,
+                samples,
+                min_gap,
+            )
+            .with_context_path(&self.path)
+            .map_err(err(Kind::Law))
+        })??;
         Ok(PyContactLaw {
             sampled,
             scene: self.path.display().to_string(),
@@ -392,9 +401,10 @@ impl<T> WithPath<T> for anyhow::Result<T> {
 }
 
 impl PyScene {
+    /// The engine options of a call: its progress and cancellation come from
+    /// [`crate::progress::call`] (the report filters the log, so never `quiet`).
     fn options(
         &self,
-        progress: bool,
         cache_dir: Option<PathBuf>,
         table: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<EngineOptions> {
@@ -404,16 +414,15 @@ impl PyScene {
         };
         Ok(EngineOptions {
             cache_dir,
-            quiet: !progress,
             table,
             ..Default::default()
         })
     }
 
-    fn load_surface(&self, progress: bool) -> PyResult<Surface> {
+    fn load_surface(&self) -> PyResult<Surface> {
         match &self.surface {
             Some(s) => Ok(s.clone()),
-            None => strata::engine::load_surface(&self.scene, !progress)
+            None => strata::engine::load_surface(&self.scene, false)
                 .with_context_path(&self.path)
                 .map_err(err(Kind::Surface)),
         }

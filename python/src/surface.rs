@@ -135,9 +135,13 @@ impl PySurface {
     /// neither size nor pixel_size), SurfaceTopography's `.nc` (sizes, unit and periodic
     /// flag from the file when it has them), `.npy` (2-D float64) or a text matrix (both need
     /// size or pixel_size, heights in `height_unit`: "m" (default), "mm", "um", "nm").
-    /// detrend: "none", "plane" or "curvature"; repair: "none" or "median".
+    /// detrend: "none", "plane" or "curvature"; repair: "none" or "median". A
+    /// contact.engineering container (`.zip` with meta.yml): `topography` picks one by
+    /// its number (from 0, default 0) or its name, read with the metadata's sizes, unit
+    /// and periodic flag; `topography` on another file is a ValueError.
     #[staticmethod]
-    #[pyo3(signature = (path, size=None, pixel_size=None, periodic=false, height_unit=None, detrend="none", repair="none"))]
+    #[pyo3(signature = (path, size=None, pixel_size=None, periodic=false, height_unit=None, detrend="none", repair="none", topography=None))]
+    #[allow(clippy::too_many_arguments)]
     fn read(
         path: PathBuf,
         size: Option<&Bound<'_, PyAny>>,
@@ -146,6 +150,7 @@ impl PySurface {
         height_unit: Option<&str>,
         detrend: &str,
         repair: &str,
+        topography: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         require_file("Surface.read", &path)?;
         let height_unit = height_unit
@@ -175,9 +180,35 @@ impl PySurface {
             height_unit,
             detrend,
         };
-        Ok(PySurface {
-            surface: Surface::read(&path, &opts).map_err(err(Kind::Surface))?,
-        })
+        let pick = match topography {
+            None => None,
+            Some(t) => Some(if let Ok(name) = t.extract::<String>() {
+                strata_runtime::surface::container::Pick::Name(name)
+            } else if let Ok(i) = t.extract::<usize>() {
+                strata_runtime::surface::container::Pick::Index(i)
+            } else {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "topography: a number (from 0) or a name",
+                ));
+            }),
+        };
+        let is_zip = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("zip"));
+        let surface = match (pick, is_zip) {
+            (Some(pick), true) => {
+                strata_runtime::surface::container::read_container(&path, &pick, &opts)
+            }
+            (Some(_), false) => {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "topography: {} is not a container (.zip); give topography only for one",
+                    path.display()
+                )));
+            }
+            (None, _) => Surface::read(&path, &opts),
+        }
+        .map_err(err(Kind::Surface))?;
+        Ok(PySurface { surface })
     }
 
     /// Writes the heights (m) as a 2-D float64 `.npy` file, atomically.

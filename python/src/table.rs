@@ -88,13 +88,10 @@ impl PyTable {
             bars: Some(Bars(strata::progress::raw_bar)),
             ..d
         };
-        let table = py
-            .detach(|| {
-                crate::progress::with_progress(progress, || {
-                    strata_tablegen::tablebuild::build(&stack, &opts)
-                })
-            })
-            .map_err(err(Kind::Table))?;
+        let table = crate::progress::call(py, Some(progress), |_| {
+            strata_tablegen::tablebuild::build(&stack, &opts)
+        })?
+        .map_err(err(Kind::Table))?;
         Ok(PyTable {
             table: Arc::new(table),
         })

@@ -283,12 +283,13 @@ kind = "thermal"
 
 
 def test_plasticity_dict_equals_scene_file(tmp_path):
-    """Scene(..., plasticity={"hardness": H}) solves what the scene file's [plasticity]
-    table solves (BEM and N model): the same curves and plastic area fractions."""
+    """Scene(..., plasticity={"hardness": H}) caps the BEM, the N and the I model (each
+    carries less than its elastic self at the deepest step); bad hardness and a return
+    path of the asperity models are refused by name."""
     z = strata.Surface.generate(size=1e-3, grid=64, fractal_dimension=2.4, k_min=2, k_max=8, rms=3e-6, seed=5)
     half = strata.Stack.half_space(4e9, 0.15)
     load = {"approach": {"from": 1e-6, "to": 4e-6, "steps": 3}}
-    for model in ["bem", "independent"]:
+    for model in ["bem", "independent", "interacting"]:
         c = strata.Scene(half, z, model=model, load=load, plasticity={"hardness": 0.2e9}).solve()
         e = strata.Scene(half, z, model=model, load=load).solve()
         assert np.all(c.mean_pressure <= e.mean_pressure * (1 + 1e-12))
@@ -296,5 +297,25 @@ def test_plasticity_dict_equals_scene_file(tmp_path):
         assert c.meta["plasticity"]["hardness"] == 0.2e9
     with pytest.raises(strata.SceneError, match="plasticity.hardness"):
         strata.Scene(half, z, model="bem", load=load, plasticity={"hardness": -1})
-    with pytest.raises(strata.SceneError, match="plasticity"):
-        strata.Scene(half, z, model="interacting", load=load, plasticity={"hardness": 1e9})
+    with pytest.raises(strata.SceneError, match="load.unload"):
+        strata.Scene(half, z, model="interacting", load={**load, "unload": True}, plasticity={"hardness": 1e9})
+
+
+def test_surface_read_picks_a_container_topography(root):
+    """Surface.read on a contact.engineering container: `topography` by number or name
+    (default the first), with the container's sizes and units; refused on other files."""
+    z = root / "tests" / "data" / "container" / "container.zip"
+    first = strata.Surface.read(z)
+    by_index = strata.Surface.read(z, topography=0)
+    np.testing.assert_array_equal(first.heights, by_index.heights)
+    scan = strata.Surface.read(z, topography="scan-nm")
+    same = strata.Surface.read(z, topography=1)
+    np.testing.assert_array_equal(scan.heights, same.heights)
+    assert scan.shape == (48, 32) and not scan.periodic
+    assert scan.extent == pytest.approx((3000e-9, 2000e-9), rel=1e-12)
+    np.testing.assert_allclose(scan.heights, np.load(root / "tests" / "data" / "container" / "scan-nm.npy") * 1e-9,
+                               rtol=1e-12)
+    with pytest.raises(strata.SurfaceError, match="no-such"):
+        strata.Surface.read(z, topography="no-such")
+    with pytest.raises(ValueError, match="topography"):
+        strata.Surface.read(root / "tests" / "reference" / "surface_km10.npy", size=1e-3, topography=0)

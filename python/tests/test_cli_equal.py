@@ -54,7 +54,7 @@ def test_in_memory_scene_equals_file_scene(root):
                                       rms=3.4e-6, seed=20240611)
     table = strata.Table.load(root / "tables" / "paper-two-layer.strata")
     scene = strata.Scene(stack, surface, model="interacting", images="periodic",
-                         load={"approach": {"from": 1.3e-6, "to": 9.8e-6, "steps": 20}}, table=table)
+                         load={"approach": {"from": 1.3e-6, "to": 5.3e-6, "steps": 20}}, table=table)
     mem = scene.solve()
     for c in strata._scene.CURVE_COLUMNS:
         np.testing.assert_allclose(getattr(mem, c), getattr(from_file, c), rtol=1e-12, atol=0, err_msg=c)

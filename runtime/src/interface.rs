@@ -588,7 +588,7 @@ impl InterfaceLaw {
 }
 
 /// Cubic Hermite on one interval [x0, x1] with values y and slopes m: (value, slope).
-fn hermite(x: &[f64], y: &[f64], m: &[f64], at: f64) -> (f64, f64) {
+pub fn hermite(x: &[f64], y: &[f64], m: &[f64], at: f64) -> (f64, f64) {
     let h = x[1] - x[0];
     let t = (at - x[0]) / h;
     let (t2, t3) = (t * t, t * t * t);
@@ -640,8 +640,9 @@ fn fritsch_carlson(x: &[f64], y: &[f64], m: &mut [f64]) -> usize {
 }
 
 /// PCHIP slopes (Fritsch–Butland weighted harmonic mean inside, the three-point
-/// shape-preserving rule at the ends), as in SciPy's `PchipInterpolator`.
-fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
+/// shape-preserving rule at the ends), as in SciPy's `PchipInterpolator`; `x` strictly
+/// ascending, at least two points.
+pub fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
     let n = x.len();
     let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
     let d: Vec<f64> = (0..n - 1).map(|k| (y[k + 1] - y[k]) / h[k]).collect();

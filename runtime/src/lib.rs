@@ -64,6 +64,7 @@
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 
 pub mod bounded;
+pub mod cancel;
 pub mod compliance;
 pub mod conduction;
 /// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).

@@ -84,7 +84,7 @@ pub fn run(cli: Cli) -> Result<()> {
 /// (errors are printed once, as one chain, on stderr).
 pub fn main() -> std::process::ExitCode {
     let args = Cli::parse();
-    crate::progress::set_quiet(args.quiet);
+    crate::progress::init(args.quiet);
     if let Some(m) = &args.memory_limit {
         match strata_runtime::resources::parse_bytes(m) {
             Ok(b) => strata_runtime::resources::set_memory_limit(b),

@@ -208,7 +208,12 @@ fn info(a: InfoArgs) -> Result<()> {
             },
             (None, None) => None,
         };
-        if spacing.is_none() && !matches!(FileKind::of(&a.file), FileKind::X3p | FileKind::NetCdf) {
+        if spacing.is_none()
+            && !matches!(
+                FileKind::of(&a.file),
+                FileKind::X3p | FileKind::NetCdf | FileKind::Container
+            )
+        {
             bail!(
                 "{}: a .npy or text file needs --size L, --size LX,LY or --pixel-size DX,DY (m)",
                 a.file.display()

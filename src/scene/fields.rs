@@ -188,7 +188,7 @@ pub(super) fn file_scale(
             });
         }
         // A NetCDF topography usually gives its physical sizes (the reader says when not).
-        (None, None) if kind == FileKind::NetCdf => {
+        (None, None) if matches!(kind, FileKind::NetCdf | FileKind::Container) => {
             let unit = match string(sf, "height_unit", "surface.height_unit")? {
                 None => None,
                 Some(u) => Some(HeightUnit::parse(u).ok_or_else(|| SceneError::Invalid {

@@ -7,8 +7,10 @@
 //! table = "paper.strata"       # optional surrogate table for a layered stack
 //! [surface]
 //! file = "surface.npy"         # .x3p (ISO 25178-72), .nc (SurfaceTopography NetCDF: sizes,
-//!                              # unit and periodic flag from the file), .npy (2-D f64) or a plain-text
+//!                              # unit and periodic flag from the file), .zip (contact.engineering
+//!                              # container), .npy (2-D f64) or a plain-text
 //!                              # matrix; or [surface.generate]. First array axis = x.
+//! topography = 0               # .zip: which topography (number from 0, or its name)
 //! size = 1e-3                  # .npy/text: length of the first axis (m, square pixels),
 //!                              # or size = [Lx, Ly] (m), or pixel_size = [dx, dy] (m);
 //!                              # an .x3p gives its own pixel sizes (no size/pixel_size)
@@ -61,6 +63,7 @@ use strata_bem::BemOptions;
 use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
 use strata_runtime::rough::{Images, Params};
 use strata_runtime::stack::{Conductivity, Stack};
+use strata_runtime::surface::container::Pick;
 use strata_runtime::surface::{
     Detrend, FileKind, GenerateParams, ReadOptions, Repair, Spacing, Surface,
 };
@@ -90,6 +93,9 @@ pub struct SurfaceSpec {
     /// `pixel_size` (`None` for an `.x3p`, which gives its own; `Size(L)` for a generated
     /// surface), `periodic`, `repair`, `height_unit`, `detrend`.
     pub read: ReadOptions,
+    /// A contact.engineering container's topography (`topography = n` or `"name"`;
+    /// `None`: the first, or not a container).
+    pub topography: Option<Pick>,
 }
 
 /// The model kind.
@@ -787,7 +793,10 @@ impl Scene {
 fn load_spec(s: &SurfaceSpec) -> Result<Surface, SceneError> {
     Ok(match &s.source {
         SurfaceSource::Generate(g) => Surface::generate(g)?,
-        SurfaceSource::File(p) => Surface::read(p, &s.read)?,
+        SurfaceSource::File(p) => match &s.topography {
+            Some(pick) => strata_runtime::surface::container::read_container(p, pick, &s.read)?,
+            None => Surface::read(p, &s.read)?,
+        },
     })
 }
 
@@ -1096,8 +1105,9 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
             "repair",
             "detrend",
             "height_unit",
+            "topography",
         ],
-        "file, size, pixel_size, periodic, generate, repair, detrend, height_unit",
+        "file, size, pixel_size, periodic, generate, repair, detrend, height_unit, topography",
     )?;
     let periodic = boolean(sf, "periodic", "surface.periodic")?;
     let repair = match string(sf, "repair", "surface.repair")? {
@@ -1132,13 +1142,21 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
             let f = string(sf, "file", "surface.file")?.unwrap_or_default();
             let p = existing_file(dir, "surface.file", f, "")?;
             let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
-            // A NetCDF topography's own periodic flag is the default (SurfaceTopography).
+            let topography = container_pick(sf, &p)?;
+            // A NetCDF topography's own periodic flag is the default (SurfaceTopography),
+            // and so is a container's `is_periodic`.
             let periodic = periodic
-                .or_else(|| {
-                    (FileKind::of(&p) == FileKind::NetCdf)
-                        .then(|| strata_runtime::surface::netcdf::netcdf_periodic(&p).ok())
-                        .flatten()
-                        .flatten()
+                .or_else(|| match FileKind::of(&p) {
+                    FileKind::NetCdf => strata_runtime::surface::netcdf::netcdf_periodic(&p)
+                        .ok()
+                        .flatten(),
+                    FileKind::Container => strata_runtime::surface::container::find(
+                        &p,
+                        topography.as_ref().unwrap_or(&Pick::Index(0)),
+                    )
+                    .ok()
+                    .and_then(|e| e.periodic),
+                    _ => None,
                 })
                 .unwrap_or(false);
             // Measured files: the least-squares plane is removed unless asked otherwise;
@@ -1171,6 +1189,7 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
                     height_unit,
                     detrend,
                 },
+                topography,
             }
         }
         (None, Some(_)) => {
@@ -1244,9 +1263,36 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
                     repair,
                     ..Default::default()
                 },
+                topography: None,
             }
         }
     })
+}
+
+/// `surface.topography`: which topography of a contact.engineering container (`.zip`)
+/// to read, by number from 0 (across its surfaces) or by name; refused for other files.
+fn container_pick(sf: &Table, file: &Path) -> Result<Option<Pick>, SceneError> {
+    let Some(v) = sf.get("topography") else {
+        return Ok(None);
+    };
+    let field = || "surface.topography".to_string();
+    if FileKind::of(file) != FileKind::Container {
+        return Err(SceneError::Invalid {
+            field: field(),
+            reason: "picks a topography of a contact.engineering container (a .zip file);                      remove it for other files"
+                .into(),
+        });
+    }
+    match v {
+        toml::Value::Integer(i) if *i >= 0 => Ok(Some(Pick::Index(*i as usize))),
+        toml::Value::String(n) => Ok(Some(Pick::Name(n.clone()))),
+        _ => Err(SceneError::Invalid {
+            field: field(),
+            reason: format!(
+                "`{v}` is neither a topography number (0, 1, ... across the container's                  surfaces) nor a topography name"
+            ),
+        }),
+    }
 }
 
 impl LoadSpec {

@@ -268,17 +268,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     if all.is_empty() {
         bail!("--scene: no load steps");
     }
-    let k = steps(mode).min(all.len()).max(1);
-    let deltas: Vec<f64> = (0..k)
-        .map(|i| {
-            let j = if k == 1 {
-                0
-            } else {
-                (i * (all.len() - 1) + (k - 1) / 2) / (k - 1)
-            };
-            all[j]
-        })
-        .collect();
+    let deltas = super::rough::spread(&all, steps(mode));
     let scale = rc.top_to_mean();
     let separations: Vec<f64> = deltas.iter().map(|d| scale - d).collect();
     let loads: Vec<BemLoad> = separations

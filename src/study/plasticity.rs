@@ -167,17 +167,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
         .load
         .approaches(rc.top_to_mean(), rc.max_delta())?
         .context("the study's scene must give approaches or separations, not pressures")?;
-    let k = steps(mode).min(all.len()).max(1);
-    let deltas: Vec<f64> = (0..k)
-        .map(|i| {
-            let j = if k == 1 {
-                0
-            } else {
-                (i * (all.len() - 1) + (k - 1) / 2) / (k - 1)
-            };
-            all[j]
-        })
-        .collect();
+    let deltas = super::rough::spread(&all, steps(mode));
     let separations: Vec<f64> = deltas.iter().map(|d| rc.top_to_mean() - d).collect();
     let loads: Vec<BemLoad> = separations
         .iter()

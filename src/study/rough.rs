@@ -252,6 +252,22 @@ pub fn inputs(inputs: &Inputs) -> Result<(Scene, Surface, std::path::PathBuf, Ta
     Ok((scene, surface, table_path, table))
 }
 
+/// `k` of the scene's approaches `all`, spread evenly over its list (the first and the
+/// last included; all of them when there are fewer).
+pub fn spread(all: &[f64], k: usize) -> Vec<f64> {
+    let k = k.min(all.len()).max(1);
+    (0..k)
+        .map(|i| {
+            let j = if k == 1 {
+                0
+            } else {
+                (i * (all.len() - 1) + (k - 1) / 2) / (k - 1)
+            };
+            all[j]
+        })
+        .collect()
+}
+
 pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<Results> {
     let set = Settings::for_mode(runner.mode);
     let (scene, surface, table_path, table) = self::inputs(inputs)?;
@@ -267,17 +283,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     if all.is_empty() {
         bail!("--scene: no load steps");
     }
-    let k = set.steps.min(all.len()).max(1);
-    let deltas: Vec<f64> = (0..k)
-        .map(|i| {
-            let j = if k == 1 {
-                0
-            } else {
-                (i * (all.len() - 1) + (k - 1) / 2) / (k - 1)
-            };
-            all[j]
-        })
-        .collect();
+    let deltas = spread(&all, set.steps);
     let separations: Vec<f64> = deltas.iter().map(|d| rc.top_to_mean() - d).collect();
     let loads: Vec<BemLoad> = separations
         .iter()

@@ -377,15 +377,48 @@ pub fn build_and_cache(
         path: dir.display().to_string(),
         message: e.to_string(),
     })?;
-    let table = build(
-        stack,
-        &BuildOptions {
-            family: None,
-            ..opts.clone()
-        },
-    )?;
+    // The cached table adapts its grid to its tolerance: where the interpolation of the
+    // default grid misses it (hard stacks: a ν = 0.5 layer on a rigid base), the x and w
+    // axes are refined (97×49 → 129×65 → 193×97 by default) before the build gives up.
+    let mut o = BuildOptions {
+        family: None,
+        ..opts.clone()
+    };
+    let mut refinements = 0;
+    let table = loop {
+        match build(stack, &o) {
+            Err(BuildError::Tolerance { what, .. })
+                if what.contains("interpolation") && refinements < CACHE_REFINEMENTS =>
+            {
+                refinements += 1;
+                (o.nx, o.nw) = refine_grid(o.nx, o.nw, refinements);
+                if o.progress {
+                    eprintln!(
+                        "table: the {what} error missed the tolerance; building again on a {}×{} grid",
+                        o.nx, o.nw
+                    );
+                }
+            }
+            other => break other?,
+        }
+    };
     table.save(&path)?;
     Ok((table, path))
+}
+
+/// Grid refinements of a cached table that misses its tolerance ([`build_and_cache`]).
+pub const CACHE_REFINEMENTS: usize = 2;
+
+/// The x and w node counts of refinement `k` (1, 2, …) from (nx, nw): ×4/3 then ×3/2 on
+/// the intervals (97×49 → 129×65 → 193×97), keeping the nodes of a uniform grid nested
+/// where the ratio allows.
+fn refine_grid(nx: usize, nw: usize, k: usize) -> (usize, usize) {
+    let up = |n: usize| {
+        let cells = n.saturating_sub(1).max(1);
+        let cells = if k == 1 { cells * 4 / 3 } else { cells * 3 / 2 };
+        cells + 1
+    };
+    (up(nx), up(nw))
 }
 
 #[cfg(test)]

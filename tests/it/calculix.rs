@@ -69,7 +69,7 @@ pub(crate) fn strata_law(scene: &str, dir: &Path, extra: &[&str]) -> String {
 }
 
 /// (overclosure, pressure) of the CSV strata wrote, overclosure ascending from 0.
-fn read_table(csv: &Path) -> Vec<(f64, f64)> {
+pub(crate) fn read_table(csv: &Path) -> Vec<(f64, f64)> {
     crate::law::read_csv(csv)
         .iter()
         .map(|r| (r[1], r[2]))
@@ -77,7 +77,7 @@ fn read_table(csv: &Path) -> Vec<(f64, f64)> {
 }
 
 /// The table interpolated linearly at overclosure `h` (inside the table).
-fn linear(t: &[(f64, f64)], h: f64) -> f64 {
+pub(crate) fn linear(t: &[(f64, f64)], h: f64) -> f64 {
     let last = t[t.len() - 1].0;
     assert!((0.0..=last).contains(&h), "h = {h:e} outside [0, {last:e}]");
     let k = t.partition_point(|r| r.0 <= h).clamp(1, t.len() - 1);
@@ -103,27 +103,20 @@ fn resampled(t: &[(f64, f64)], n: usize) -> Vec<(f64, f64)> {
 
 /// One increment of the .dat file.
 #[derive(Debug, Default)]
-struct Increment {
-    time: f64,
+pub(crate) struct Increment {
+    pub(crate) time: f64,
     /// Total z force on the top face (N).
-    force_z: f64,
+    pub(crate) force_z: f64,
     /// (slave node, contact pressure (Pa)).
-    pressure: Vec<(usize, f64)>,
+    pub(crate) pressure: Vec<(usize, f64)>,
     /// (slave node, relative normal displacement (m), −overclosure).
-    normal: Vec<(usize, f64)>,
+    pub(crate) normal: Vec<(usize, f64)>,
 }
 
-/// Parses the `*NODE PRINT, TOTALS=ONLY` and `*CONTACT PRINT` blocks of a .dat file.
-fn parse_dat(text: &str) -> Vec<Increment> {
-    #[derive(PartialEq)]
-    enum Kind {
-        Force,
-        Pressure,
-        Normal,
-        None,
-    }
-    let mut incs: Vec<Increment> = Vec::new();
-    let mut kind = Kind::None;
+/// The print blocks of a CalculiX .dat file, in order: (time, block title — the line
+/// that names the set and the time —, the numeric rows under it).
+pub(crate) fn dat_blocks(text: &str) -> Vec<(f64, String, Vec<Vec<f64>>)> {
+    let mut blocks: Vec<(f64, String, Vec<Vec<f64>>)> = Vec::new();
     for line in text.lines() {
         let t = line.trim();
         if t.is_empty() {
@@ -135,30 +128,38 @@ fn parse_dat(text: &str) -> Vec<Increment> {
                 .last()
                 .and_then(|v| v.parse().ok())
                 .expect("time");
-            if incs.last().is_none_or(|i| i.time != time) {
-                incs.push(Increment {
-                    time,
-                    ..Default::default()
-                });
-            }
-            kind = if t.starts_with("total force") {
-                Kind::Force
-            } else if t.starts_with("contact stress") {
-                Kind::Pressure
-            } else if t.starts_with("relative contact displacement") {
-                Kind::Normal
-            } else {
-                Kind::None
-            };
+            blocks.push((time, t.to_string(), Vec::new()));
             continue;
         }
         let v: Vec<f64> = t.split_whitespace().map_while(|x| x.parse().ok()).collect();
+        if let Some(b) = blocks.last_mut()
+            && !v.is_empty()
+        {
+            b.2.push(v);
+        }
+    }
+    blocks
+}
+
+/// Parses the `*NODE PRINT, TOTALS=ONLY` and `*CONTACT PRINT` blocks of a .dat file.
+pub(crate) fn parse_dat(text: &str) -> Vec<Increment> {
+    let mut incs: Vec<Increment> = Vec::new();
+    for (time, title, rows) in dat_blocks(text) {
+        if incs.last().is_none_or(|i| i.time != time) {
+            incs.push(Increment {
+                time,
+                ..Default::default()
+            });
+        }
         let Some(inc) = incs.last_mut() else { continue };
-        match kind {
-            Kind::Force if v.len() == 3 => inc.force_z = v[2],
-            Kind::Pressure if v.len() == 4 => inc.pressure.push((v[0] as usize, v[1])),
-            Kind::Normal if v.len() == 4 => inc.normal.push((v[0] as usize, v[1])),
-            _ => {}
+        for v in rows {
+            if title.starts_with("total force") && v.len() == 3 {
+                inc.force_z = v[2];
+            } else if title.starts_with("contact stress") && v.len() == 4 {
+                inc.pressure.push((v[0] as usize, v[1]));
+            } else if title.starts_with("relative contact displacement") && v.len() == 4 {
+                inc.normal.push((v[0] as usize, v[1]));
+            }
         }
     }
     incs

@@ -87,55 +87,26 @@ impl Increment {
 /// Parses the `*NODE PRINT` (NT of SLAVEN and MASTERN, RFL totals of BOTTOM) and
 /// `*CONTACT PRINT` (CSTR) blocks of a .dat file.
 fn parse_dat(text: &str) -> Vec<Increment> {
-    #[derive(PartialEq)]
-    enum Kind {
-        Upper,
-        Lower,
-        Heat,
-        Pressure,
-        None,
-    }
     let mut incs: Vec<Increment> = Vec::new();
-    let mut kind = Kind::None;
-    for line in text.lines() {
-        let t = line.trim();
-        if t.is_empty() {
-            continue;
+    for (time, title, rows) in crate::calculix::dat_blocks(text) {
+        if incs.last().is_none_or(|i| i.time != time) {
+            incs.push(Increment {
+                time,
+                ..Default::default()
+            });
         }
-        if t.contains(" and time ") {
-            let time: f64 = t
-                .split_whitespace()
-                .last()
-                .and_then(|v| v.parse().ok())
-                .expect("time");
-            if incs.last().is_none_or(|i| i.time != time) {
-                incs.push(Increment {
-                    time,
-                    ..Default::default()
-                });
-            }
-            kind = if t.starts_with("temperatures for set SLAVEN") {
-                Kind::Upper
-            } else if t.starts_with("temperatures for set MASTERN") {
-                Kind::Lower
-            } else if t.starts_with("total heat generation for set BOTTOM") {
-                Kind::Heat
-            } else if t.starts_with("contact stress") {
-                Kind::Pressure
-            } else {
-                Kind::None
-            };
-            continue;
-        }
-        let v: Vec<f64> = t.split_whitespace().map_while(|x| x.parse().ok()).collect();
         let Some(inc) = incs.last_mut() else { continue };
-        match kind {
-            Kind::Upper if v.len() == 2 => inc.upper.push(v[1]),
-            Kind::Lower if v.len() == 2 => inc.lower.push(v[1]),
-            Kind::Heat if v.len() == 1 => inc.heat_bottom = v[0],
-            // node, p, τ₁, τ₂ (node to surface) or element, face, p, τ₁, τ₂
-            Kind::Pressure if v.len() == 4 || v.len() == 5 => inc.pressure.push(v[v.len() - 3]),
-            _ => {}
+        for v in rows {
+            if title.starts_with("temperatures for set SLAVEN") && v.len() == 2 {
+                inc.upper.push(v[1]);
+            } else if title.starts_with("temperatures for set MASTERN") && v.len() == 2 {
+                inc.lower.push(v[1]);
+            } else if title.starts_with("total heat generation for set BOTTOM") && v.len() == 1 {
+                inc.heat_bottom = v[0];
+            } else if title.starts_with("contact stress") && (v.len() == 4 || v.len() == 5) {
+                // node, p, τ₁, τ₂ (node to surface) or element, face, p, τ₁, τ₂
+                inc.pressure.push(v[v.len() - 3]);
+            }
         }
     }
     incs

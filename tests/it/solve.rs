@@ -407,3 +407,57 @@ fn solver_budgets_are_scene_keys_named_by_their_errors() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The README's main job (issue 38): the shipped demo stays inside its model's validity —
+/// no validity warning on stderr, every step `valid` in curve.csv — and its last step is
+/// within one step of where two contact circles begin to overlap (the range is the
+/// model's, not a cautious cut).
+#[test]
+fn main_job_prints_no_validity_warning() {
+    let d = crate::support::fresh_dir("solve", "main-job");
+    let scene = crate::support::repo().join("scenes/paper-E2E1-5-interacting.toml");
+    let o = crate::support::strata_in(&d.join("cache"))
+        .arg("solve")
+        .arg(&scene)
+        .arg("--out")
+        .arg(d.join("out"))
+        .arg("--no-plots")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(!err.contains("validity"), "{err}");
+    let rows = crate::support::csv_rows(&std::fs::read_to_string(d.join("out/curve.csv")).unwrap());
+    assert_eq!(rows.len(), 20);
+    assert!(rows.iter().all(|r| r[7] == 1.0), "a step outside validity");
+    // one step further (the same spacing) two contact circles overlap
+    let step = rows[1][0] - rows[0][0];
+    let beyond = scene.to_string_lossy().into_owned();
+    let text = std::fs::read_to_string(&beyond).unwrap().replace(
+        "approach = { from = 1.3e-6, to = 5.3e-6, steps = 20 }",
+        &{
+            let d = rows[19][0] + 2.5 * step;
+            format!("approach = {{ from = {d:e}, to = {d:e}, steps = 1 }}")
+        },
+    );
+    let sc = d.join("beyond.toml");
+    std::fs::write(
+        &sc,
+        text.replace(
+            "../tables",
+            &crate::support::repo().join("tables").display().to_string(),
+        ),
+    )
+    .unwrap();
+    let o = crate::support::strata_in(&d.join("cache"))
+        .arg("solve")
+        .arg(&sc)
+        .arg("--out")
+        .arg(d.join("beyond"))
+        .arg("--no-plots")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{err}");
+    assert!(err.contains("contact circles overlap"), "{err}");
+}

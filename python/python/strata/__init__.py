@@ -37,6 +37,7 @@ from ._strata import (
     __version__,
     indent,
 )
+from . import _progress  # noqa: F401  (the native module's display of a call's progress)
 from ._scene import Curve, Scene, solve
 from .topography import from_topography
 

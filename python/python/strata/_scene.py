@@ -14,6 +14,44 @@ from .topography import as_surface
 #: The columns of curve.csv, in its order (``strata solve``; from the library).
 CURVE_COLUMNS = tuple(_strata.CURVE_COLUMNS)
 
+#: SI unit of every per-step field of a :class:`Curve` ("1": dimensionless or a count).
+UNITS = {
+    "delta": "m",
+    "gap": "m",
+    "mean_pressure": "Pa",
+    "pressure_ratio": "1",
+    "area_fraction": "1",
+    "contacts": "1",
+    "stiffness": "N/m",
+    "load": "N",
+    "kkt_residual": "1",
+    "valid": "1",
+}
+
+#: What every per-step field of a :class:`Curve` is (xarray's ``long_name``).
+LONG_NAMES = {
+    "delta": "approach of the flat from first contact",
+    "gap": "separation of the mean planes",
+    "mean_pressure": "mean (nominal) contact pressure P/A0",
+    "pressure_ratio": "mean pressure over E*1",
+    "area_fraction": "real contact area fraction A/A0",
+    "contacts": "asperities (or BEM patches) in contact",
+    "stiffness": "normal stiffness dP/d(delta) of the sample",
+    "load": "total load P",
+    "kkt_residual": "I-model KKT residual relative to the largest interference",
+    "valid": "inside the asperity model's validity",
+    "conductance": "interface conductance h_c",
+}
+
+
+def _optional(module: str, method: str):
+    import importlib
+
+    try:
+        return importlib.import_module(module)
+    except ImportError as e:
+        raise ImportError(f"Curve.{method}() needs {module}: pip install {module}") from e
+
 
 @dataclass
 class Curve:
@@ -45,6 +83,47 @@ class Curve:
 
     def __len__(self) -> int:
         return len(self.delta)
+
+    def units(self) -> Dict[str, str]:
+        """The SI unit of every per-step field (``conductance``'s from ``meta`` when present)."""
+        units = dict(UNITS)
+        if self.conductance is not None:
+            cond = self.meta.get("conductance", {}) if isinstance(self.meta, dict) else {}
+            units["conductance"] = cond.get("units", {}).get("conductance", "W/(m^2 K)")
+        return units
+
+    def _fields(self) -> Dict[str, np.ndarray]:
+        names = list(UNITS) + (["conductance"] if self.conductance is not None else [])
+        return {n: np.asarray(getattr(self, n)) for n in names}
+
+    def to_pandas(self):
+        """The per-step fields as a ``pandas.DataFrame``, one row per load step (index
+        ``step``); units in ``df.attrs["units"]`` (field -> SI unit) and curve.json's summary
+        in ``df.attrs["meta"]``. Needs pandas (an ImportError saying so otherwise)."""
+        pd = _optional("pandas", "to_pandas")
+        df = pd.DataFrame(self._fields(), index=pd.RangeIndex(len(self), name="step"))
+        df.attrs["units"] = self.units()
+        df.attrs["meta"] = self.meta
+        return df
+
+    def to_xarray(self):
+        """The per-step fields as an ``xarray.Dataset`` along dimension ``step``, each variable
+        with ``attrs["units"]`` (SI) and ``attrs["long_name"]``; the approach ``delta`` is also a
+        coordinate. Dataset attributes: ``model`` and the nominal area when known. Needs xarray
+        (an ImportError saying so otherwise)."""
+        xr = _optional("xarray", "to_xarray")
+        units = self.units()
+        data = {
+            n: ("step", v, {"units": units[n], "long_name": LONG_NAMES[n]})
+            for n, v in self._fields().items()
+        }
+        ds = xr.Dataset(data, coords={"step": np.arange(len(self))})
+        ds = ds.assign_coords(approach=("step", np.asarray(self.delta), {"units": "m"}))
+        meta = self.meta if isinstance(self.meta, dict) else {}
+        for key in ("model", "scene"):
+            if isinstance(meta.get(key), str):
+                ds.attrs[key] = meta[key]
+        return ds
 
     def columns(self) -> Dict[str, np.ndarray]:
         """The curve.csv columns as a dict of arrays (for ``pandas.DataFrame``)."""
@@ -114,10 +193,13 @@ class Scene:
         """The scene's surface (read or generated now, or the one given)."""
         return self._native.surface()
 
-    def solve(self, progress: bool = False, cache_dir=None, maps: str = "none", table=None) -> Curve:
+    def solve(self, progress: Optional[bool] = None, cache_dir=None, maps: str = "none", table=None) -> Curve:
         """Solves the load curve with the scene's model (the engine of ``strata solve``).
 
-        Releases the GIL. ``progress=True`` prints progress and log lines on stderr;
+        Runs off the GIL. ``progress=True`` shows progress and log lines (in a Jupyter notebook
+        in the cell's output, else on stderr), ``False`` only warnings; ``None`` (default) shows
+        progress in a notebook or on a terminal, not in batch. Ctrl-C (``KeyboardInterrupt``)
+        stops the solve within about one iteration and keeps nothing of it;
         ``maps="last"``/``"all"`` (BEM only) adds the pressure (Pa) and gap (m) maps;
         ``table`` (a :class:`Table` or path) overrides the scene's table and the cache.
         """
@@ -125,9 +207,10 @@ class Scene:
         d = self._native.solve(progress, cache, maps, table)
         return Curve(**d)
 
-    def law(self, samples: int = 200, min_gap: Optional[float] = None, progress: bool = False, cache_dir=None,
-            table=None) -> _strata.ContactLaw:
-        """The contact law p(g) of the interface, sampled as ``strata law`` does."""
+    def law(self, samples: int = 200, min_gap: Optional[float] = None, progress: Optional[bool] = None,
+            cache_dir=None, table=None) -> _strata.ContactLaw:
+        """The contact law p(g) of the interface, sampled as ``strata law`` does (progress and
+        Ctrl-C as in :meth:`solve`)."""
         cache = None if cache_dir is None else os.fspath(cache_dir)
         return self._native.law(samples, min_gap, progress, cache, table)
 
@@ -135,7 +218,7 @@ class Scene:
         return repr(self._native)
 
 
-def solve(scene, progress: bool = False, cache_dir=None, maps: str = "none", table=None) -> Curve:
+def solve(scene, progress: Optional[bool] = None, cache_dir=None, maps: str = "none", table=None) -> Curve:
     """Solves a scene: a :class:`Scene`, or the path of a scene TOML file.
 
     ``strata.solve("scenes/paper-E2E1-5-interacting.toml")`` gives the numbers of

@@ -183,6 +183,7 @@ class Surface:
         height_unit: Optional[Literal["m", "mm", "um", "nm"]] = None,
         detrend: Literal["none", "plane", "curvature"] = "none",
         repair: _Repair = "none",
+        topography: Union[int, str, None] = None,
     ) -> "Surface": ...
     def write_npy(self, path: _Path) -> None: ...
     @property
@@ -272,7 +273,7 @@ class Scene:
     def surface(self) -> Surface: ...
     def solve(
         self,
-        progress: bool = False,
+        progress: Optional[bool] = None,
         cache_dir: Optional[_Path] = None,
         maps: Literal["none", "last", "all"] = "none",
         table: Union[Table, _Path, None] = None,
@@ -281,7 +282,7 @@ class Scene:
         self,
         samples: int = 200,
         min_gap: Optional[float] = None,
-        progress: bool = False,
+        progress: Optional[bool] = None,
         cache_dir: Optional[_Path] = None,
         table: Union[Table, _Path, None] = None,
     ) -> ContactLaw: ...

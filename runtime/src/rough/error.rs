@@ -50,6 +50,9 @@ pub enum RoughError {
     Pressure(#[from] PressureError),
     #[error(transparent)]
     Memory(#[from] ResourceError),
+    /// Stopped through the solve's [`Cancel`](crate::cancel::Cancel) token.
+    #[error(transparent)]
+    Cancelled(#[from] crate::cancel::Cancelled),
 }
 
 /// The N model (single-asperity inversions).
@@ -87,6 +90,9 @@ pub enum FarFieldError {
 #[derive(Debug, Error, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum NewtonError {
+    /// Stopped through the solve's [`Cancel`](crate::cancel::Cancel) token.
+    #[error(transparent)]
+    Cancelled(#[from] crate::cancel::Cancelled),
     #[error(
         "I model: did not converge at δ = {delta:e} m: KKT residual {residual:e} (tolerance {tolerance:e}) \
          after {newton_steps} Newton steps; to accept it, raise {advice}",

@@ -100,6 +100,9 @@ pub struct Params {
     pub independent_pressure_tolerance: f64,
     /// Pressure control: most solves of the search. Default 200.
     pub max_pressure_iterations: usize,
+    /// Cooperative cancellation, checked before every load step and Newton step of
+    /// the I model ([`crate::cancel`]). Default: never cancelled. Carries no physics.
+    pub cancel: crate::cancel::Cancel,
 }
 
 /// A solver parameter outside its range ([`Params::validate`]).
@@ -214,6 +217,7 @@ impl Default for Params {
             pressure_tolerance: 1e-8,
             independent_pressure_tolerance: 1e-13,
             max_pressure_iterations: 200,
+            cancel: crate::cancel::Cancel::default(),
         }
     }
 }

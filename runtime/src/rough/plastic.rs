@@ -13,7 +13,7 @@
 //! power law F ∝ x^{3/2}, G ∝ x^{1/2} continues the first node, above it the last
 //! cell's log–log slopes; y is clamped to its range.
 
-use super::{Diagnostics, RoughContact, RoughError, Step, Validity};
+use super::{Diagnostics, Model, RoughContact, RoughError, Step, Validity};
 
 /// A uniform axis in ln of its variable: `n` nodes from `lo` to `hi` (ln values).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -143,6 +143,40 @@ impl PlasticResponse {
 }
 
 impl RoughContact<'_> {
+    /// The capped N or I model along the approaches `deltas` (m): every step and its
+    /// plastic area fraction, or the first failure with its step's index. The I model
+    /// solves its elastic curve first (a load path, as an elastic scene does) and caps
+    /// each step from it (`capped_from_elastic`: where no summit yields, the elastic step
+    /// bit for bit); the N model takes every summit through `resp` at each approach.
+    pub fn capped_curve(
+        &self,
+        resp: &PlasticResponse,
+        model: Model,
+        deltas: &[f64],
+    ) -> Result<Vec<(Step, f64)>, (usize, RoughError)> {
+        match model {
+            Model::Interacting(images) => {
+                let (elastic, stop) = self.curve_partial(model, deltas);
+                if let Some(failed) = stop {
+                    return Err(failed);
+                }
+                elastic
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, e)| {
+                        self.capped_from_elastic(resp, images, e, false)
+                            .map_err(|e| (i, e))
+                    })
+                    .collect()
+            }
+            Model::Independent => deltas
+                .iter()
+                .enumerate()
+                .map(|(i, &d)| self.solve_independent_plastic(resp, d).map_err(|e| (i, e)))
+                .collect(),
+        }
+    }
+
     /// The N model with capped tips at approach δ (m): every summit through `resp`.
     /// Returns the step (its `radii` the contact radii) and the plastic area fraction
     /// Σ π a_p²/A₀.

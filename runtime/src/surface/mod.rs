@@ -39,11 +39,14 @@
 //! checksum does not match) as [`Surface::warnings`]. [`Surface::stats`] gives the
 //! usual statistics and their plausibility warnings (module `stats`).
 
+#[cfg(feature = "container")]
+pub mod container;
 mod form;
 #[cfg(feature = "spectral")]
 mod generate;
 #[cfg(feature = "netcdf")]
 pub mod netcdf;
+mod open;
 mod read;
 #[cfg(feature = "spectral")]
 mod spectrum;

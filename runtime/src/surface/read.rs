@@ -81,6 +81,9 @@ pub enum FileKind {
     Npy,
     /// SurfaceTopography's NetCDF-3 topography (`.nc`; feature `netcdf`).
     NetCdf,
+    /// contact.engineering's container (`.zip`: meta.yml and its topography files;
+    /// feature `container`).
+    Container,
     Text,
 }
 
@@ -94,6 +97,7 @@ impl FileKind {
             "x3p" => FileKind::X3p,
             "npy" => FileKind::Npy,
             "nc" => FileKind::NetCdf,
+            "zip" => FileKind::Container,
             _ => FileKind::Text,
         }
     }
@@ -110,16 +114,8 @@ fn format_err(path: &Path, e: SurfaceError) -> SurfaceError {
 }
 
 impl Surface {
-    /// Reads a height map by extension: `.x3p` (feature `x3p`; pixel sizes, offsets
-    /// and metres from the file), SurfaceTopography's `.nc` (feature `netcdf`; physical
-    /// sizes, unit and periodic flag from the file when it gives them: a file flagged
-    /// periodic is read as periodic, and then not detrended), `.npy` (feature `npy`) or a
-    /// text matrix, both in `height_unit` with the given spacing. Then checks (or repairs) invalid points
-    /// and spikes, and removes the form `detrend` (refused on a periodic sample). What
-    /// was done is in [`Surface::log`] and [`Surface::form`], a form that dominates the
-    /// heights is in [`Surface::warnings`] (module `form`); errors name the file (and
-    /// the grid index or field).
-    pub fn read(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
+    /// [`Surface::read`] of every kind but a container (module `open`).
+    pub(super) fn read_file(path: &Path, opts: &ReadOptions) -> Result<Surface, SurfaceError> {
         if opts.periodic && opts.detrend != Detrend::None {
             return Err(SurfaceError::Unsupported(format!(
                 "detrend = \"{}\" on a periodic sample: a tilt or a curvature is not periodic \
@@ -150,6 +146,12 @@ impl Surface {
                 } else {
                     raw
                 }
+            }
+            FileKind::Container => {
+                return Err(SurfaceError::Unsupported(format!(
+                    "{}: a container (.zip) here: read it with Surface::read",
+                    path.display()
+                )));
             }
             FileKind::Npy | FileKind::Text => {
                 let spacing = opts.spacing.ok_or_else(|| SurfaceError::Format {

@@ -317,6 +317,7 @@ impl RoughContact<'_> {
                 let deltas = prob.deltas(approach);
                 let out = anderson(
                     |eff| {
+                        self.params.cancel.check()?;
                         let ans = answers(eff);
                         let a: Vec<f64> = ans.iter().map(|x| x.a).collect();
                         let s: Vec<f64> = ans.iter().map(|x| x.scale).collect();

@@ -172,6 +172,7 @@ impl Newton<'_, '_> {
             // Projected Newton on the active set, backtracking on the energy U_E.
             let mut checked = false;
             for _ in 0..prm.max_newton_steps {
+                prm.cancel.check()?;
                 let act: Vec<usize> = (0..n).filter(|&p| a[p] > 0.0).collect();
                 let fmax = act.iter().map(|&p| st.f[p].abs()).fold(0.0, f64::max);
                 let f2: f64 = act.iter().map(|&p| st.f[p] * st.f[p]).sum();

@@ -41,6 +41,7 @@ pub(crate) fn curve_into(
             .count()
     };
     for (i, &d) in deltas.iter().enumerate() {
+        rc.params.cancel.check()?;
         rc.check_delta(d)?;
         if problem.as_ref().is_none_or(|(dp, _)| d > *dp) {
             let limit = (PATH_GROWTH * loaded(d)).max(2 * rc.params.dense_pair_limit);

@@ -1,0 +1,114 @@
+//! The contact law of capped asperity tips (issue 35, physics.md §6.3 and §9): the
+//! loading curve of the N or I model whose summits are elastic–perfectly plastic
+//! paraboloids (contact pressure ≤ the hardness H), as `strata law` samples a scene
+//! with `[plasticity]` and model independent or interacting (the `strata` crate's
+//! `sampled_law::solve_capped_asperities` and `engine::solve_plastic_asperities`,
+//! followed operation for operation: the same law bit for bit, checked by
+//! `capi/tests/c_example.rs`).
+//!
+//! The capped asperity's response table for the stack and H (ring solves,
+//! `strata_tablegen::plastic_asperity::response`; ~18 CPU-s on a layered stack, less
+//! than a second on a half-space) takes every summit through its response: the N model
+//! summit by summit, the I model from the elastic I model's step at the same approach
+//! with the interactions through the far field of the summits' actual loads (the
+//! elastic step itself where no summit yields): `RoughContact::capped_curve`, the one
+//! the engine runs. Loading only: the asperity models keep no unloading branch.
+
+use strata_runtime::Stack;
+use strata_runtime::interface::{InterfaceError, InterfaceLaw, sample_bytes, sample_gaps};
+use strata_runtime::law::{AsperityLaw, Homogeneous};
+use strata_runtime::resources::{ResourceError, check_memory};
+use strata_runtime::rough::{Model, Params, RoughContact, RoughError};
+use strata_runtime::surface::Surface;
+use strata_tablegen::plastic_asperity::{PlasticAsperityError, RESPONSE_Y, response};
+use thiserror::Error;
+
+/// Errors of the capped law.
+#[derive(Debug, Error)]
+pub enum CappedError {
+    /// The hardness is refused by the capped asperity (or its ring solve failed).
+    #[error("{0}")]
+    Response(PlasticAsperityError),
+    /// A summit yields outside the response table's range of a_c/h₁.
+    #[error(
+        "a summit of radius {radius:e} m yields at a contact radius a_c = πHR/(2E*) of {y:.3e} h1, \
+         outside the capped asperity's table (a_c/h1 in [{lo:e}, {hi:e}]): the hardness is too \
+         high for this stack's top layer to be treated this way",
+        lo = RESPONSE_Y.0,
+        hi = RESPONSE_Y.1
+    )]
+    Uncovered { radius: f64, y: f64 },
+    /// The smallest separation is not below first contact.
+    #[error("{min_gap:e} m must lie below the first-contact separation {first_contact:e} m")]
+    MinGap { min_gap: f64, first_contact: f64 },
+    /// A rough-contact solve failed.
+    #[error("{0}")]
+    Rough(#[from] RoughError),
+    /// A capped step failed.
+    #[error("load step {step}: {error}")]
+    Step { step: usize, error: RoughError },
+    /// The samples do not make a law.
+    #[error("capped load curve: {0}")]
+    Interface(#[from] InterfaceError),
+    /// The law's memory estimate exceeds the limit.
+    #[error("{0}")]
+    Resource(#[from] ResourceError),
+}
+
+/// The capped law of `surface` on `stack` with hardness `hardness` (Pa, finite > 0):
+/// `samples` separations from first contact down to `min_gap` (m), by `model`; `law` is
+/// the elastic asperity law of the stack (the I model's interactions and elastic
+/// steps), `params` the solver's.
+pub fn capped_law(
+    law: &dyn AsperityLaw,
+    stack: &Stack,
+    surface: &Surface,
+    model: Model,
+    hardness: f64,
+    (min_gap, samples): (f64, usize),
+    params: Params,
+) -> Result<InterfaceLaw, CappedError> {
+    // first contact and the area need no elastic law
+    let hom = Homogeneous {
+        e_star: stack.contact_modulus(),
+    };
+    let first = RoughContact::from_surface(&hom, surface)?;
+    let (g0, nominal_area) = (first.top_to_mean(), first.area());
+    if min_gap.is_nan() || min_gap >= g0 {
+        return Err(CappedError::MinGap {
+            min_gap,
+            first_contact: g0,
+        });
+    }
+    check_memory(
+        format!(
+            "the capped contact law ({samples} samples of {} summits)",
+            first.summits().len()
+        ),
+        sample_bytes(samples, first.summits().len()),
+    )?;
+    let gaps = sample_gaps(g0, min_gap, samples);
+    let resp = response(stack, hardness).map_err(CappedError::Response)?;
+    if let Some((radius, y)) = first
+        .summits()
+        .iter()
+        .find_map(|s| resp.uncovered(s.radius).map(|y| (s.radius, y)))
+    {
+        return Err(CappedError::Uncovered { radius, y });
+    }
+    // The N model needs no elastic law (the response table holds the layers); the I
+    // model's interactions do.
+    let elastic: &dyn AsperityLaw = match model {
+        Model::Interacting(_) => law,
+        Model::Independent => &hom,
+    };
+    let rc = RoughContact::from_surface(elastic, surface)?.with_params(params);
+    let deltas: Vec<f64> = gaps.iter().map(|&g| rc.top_to_mean() - g).collect();
+    let steps: Vec<_> = rc
+        .capped_curve(&resp, model, &deltas)
+        .map_err(|(step, error)| CappedError::Step { step, error })?
+        .into_iter()
+        .map(|(s, _)| s)
+        .collect();
+    Ok(InterfaceLaw::from_steps(&steps, nominal_area)?)
+}

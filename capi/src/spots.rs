@@ -1,0 +1,262 @@
+//! The N and I models' interface conductance at solved steps (issue 34, physics.md
+//! §6.2), as `strata law` computes it (the `strata` crate's `spots` module, which this
+//! follows operation for operation so that the C ABI's h_c equals the command's CSV
+//! bit for bit; `capi/tests/c_example.rs` checks it):
+//!
+//! ```text
+//!   h_c = Σᵢ G(aᵢ) / A₀,   1/G(a) = 1/G_A(a) + 1/G_B(a),   G_X(a) = 4 k₁,X a ψ_X(a),
+//! ```
+//!
+//! aᵢ the contact radii of a step's summits (m), A₀ the nominal area (m²); h_c in
+//! W/(m²·K) (thermal) or S/m² (electrical). Each spot is an isothermal disc on each
+//! body, the two bodies in series (a perfect conductor: 1/G_B = 0; a conducting rigid
+//! flat: a homogeneous half-space, G_B = 4k_B a). ψ ≡ 1 on a homogeneous body; on a
+//! layered one it comes from the Fredholm spot solver ([`strata_tablegen::spot`]) at
+//! nodes [`PSI_NODES_PER_DECADE`] per decade of a over the steps' radii, interpolated
+//! by cubic Lagrange polynomials in ln a (≤ 5e-6 of direct solves, validation.md).
+//!
+//! The I model ([`SpotSum::interacting`]) adds the spots' thermal interactions through
+//! both bodies' point-source fields: Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT,
+//! h_c = Σ Q_i/(ΔT A₀) ([`strata_runtime::rough::conductance`]).
+
+use rayon::prelude::*;
+use strata_runtime::Stack;
+use strata_runtime::conduction::ConductionKind;
+use strata_runtime::rough::conductance::{
+    Body, ConductanceError, Kernel, Spot as NetSpot, interface_conductance,
+};
+use strata_runtime::rough::{Images, Step};
+use strata_runtime::summits::Summit;
+use strata_tablegen::spot::{Spot, SpotError};
+use thiserror::Error;
+
+/// Nodes of ψ per decade of the spot radius (as `strata law`).
+pub const PSI_NODES_PER_DECADE: f64 = 16.0;
+
+/// How the second body (the counterface) conducts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Counterface<'a> {
+    /// A perfect conductor (1/G_B = 0).
+    Perfect,
+    /// A homogeneous conducting half-space of this conductivity (W/(m·K) or S/m).
+    HalfSpace(f64),
+    /// The elastic counterface's stack, conducting through its own conductivities.
+    Stack(&'a Stack),
+}
+
+/// Errors of the spot conductances.
+#[derive(Debug, Error)]
+pub enum SpotSumError {
+    /// The first body's stack lacks a conductivity of the kind (or the spot solver
+    /// failed on it).
+    #[error("{0}")]
+    Body(SpotError),
+    /// The counterface's stack lacks a conductivity of the kind.
+    #[error("{0}")]
+    Counterface(SpotError),
+    /// A Fredholm solve of ψ failed.
+    #[error("spot conductance at a = {a:e} m: {error}")]
+    Psi { a: f64, error: SpotError },
+    /// The I model's spot network.
+    #[error("load step {step}: the I model's spot network: {error}")]
+    Network {
+        step: usize,
+        error: ConductanceError,
+    },
+    /// The I model's conduction kernel.
+    #[error("the I model's conduction kernel: {0}")]
+    Kernel(ConductanceError),
+}
+
+/// One body's spot conductance.
+enum Side {
+    Perfect,
+    /// 4 k a (a homogeneous conductor of conductivity k).
+    Homogeneous(f64),
+    /// 4 k₁ a ψ(a) by the Fredholm solver.
+    Layered(Box<Spot>),
+}
+
+impl Side {
+    fn of(spot: Spot) -> Side {
+        let c = spot.compliance();
+        if c.is_homogeneous() {
+            Side::Homogeneous(c.top_conductivity())
+        } else {
+            Side::Layered(Box::new(spot))
+        }
+    }
+}
+
+/// ψ of a layered body at nodes in u = ln a, interpolated.
+struct PsiTable {
+    u0: f64,
+    du: f64,
+    psi: Vec<f64>,
+}
+
+impl PsiTable {
+    /// Nodes over [a_lo, a_hi] (m), at least 4, [`PSI_NODES_PER_DECADE`] per decade.
+    fn new(spot: &Spot, a_lo: f64, a_hi: f64) -> Result<PsiTable, SpotSumError> {
+        let (u_lo, u_hi) = (a_lo.ln(), a_hi.ln());
+        let n = (((u_hi - u_lo) / std::f64::consts::LN_10 * PSI_NODES_PER_DECADE).ceil() as usize
+            + 1)
+        .max(4);
+        let du = (u_hi - u_lo).max(1e-3) / (n - 1) as f64;
+        let psi = (0..n)
+            .into_par_iter()
+            .map(|i| {
+                let a = (u_lo + du * i as f64).exp();
+                spot.psi(a).map_err(|error| SpotSumError::Psi { a, error })
+            })
+            .collect::<Result<Vec<f64>, _>>()?;
+        Ok(PsiTable { u0: u_lo, du, psi })
+    }
+
+    /// ψ(a) by the cubic through the four nodes around ln a.
+    fn at(&self, a: f64) -> f64 {
+        let n = self.psi.len();
+        let x = (a.ln() - self.u0) / self.du;
+        let i0 = (x.floor() as isize - 1).clamp(0, n as isize - 4) as usize;
+        let mut sum = 0.0;
+        for j in 0..4 {
+            let mut w = 1.0;
+            for m in 0..4 {
+                if m != j {
+                    w *= (x - (i0 + m) as f64) / (j as f64 - m as f64);
+                }
+            }
+            sum += w * self.psi[i0 + j];
+        }
+        sum
+    }
+}
+
+/// Both bodies' spot conductances for one kind of conduction.
+pub struct SpotSum {
+    a: Side,
+    b: Side,
+}
+
+impl SpotSum {
+    /// The first body `body` (its counterface not included) and the counterface's
+    /// conduction `counterface`, for `kind`. A missing conductivity is named (layer,
+    /// field).
+    pub fn new(
+        body: &Stack,
+        counterface: Counterface<'_>,
+        kind: ConductionKind,
+    ) -> Result<SpotSum, SpotSumError> {
+        let a = Spot::new(body, kind).map_err(SpotSumError::Body)?;
+        let b = match counterface {
+            Counterface::Perfect => Side::Perfect,
+            Counterface::HalfSpace(k) => Side::Homogeneous(k),
+            Counterface::Stack(c) => {
+                Side::of(Spot::new(c, kind).map_err(SpotSumError::Counterface)?)
+            }
+        };
+        Ok(SpotSum { a: Side::of(a), b })
+    }
+
+    /// h_c = Σ G(aᵢ)/A₀ of every step (W/(m²·K) or S/m²), `area` = A₀ (m²).
+    pub fn conductances(&self, steps: &[Step], area: f64) -> Result<Vec<f64>, SpotSumError> {
+        Ok(self
+            .spot_conductances(steps)?
+            .iter()
+            .map(|g| g.iter().sum::<f64>() / area)
+            .collect())
+    }
+
+    /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
+    /// series, ψ from one table over all the steps' radii.
+    fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>, SpotSumError> {
+        let (lo, hi) = steps
+            .iter()
+            .flat_map(|s| s.radii.iter().copied())
+            .filter(|&a| a > 0.0 && a.is_finite())
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), a| {
+                (lo.min(a), hi.max(a))
+            });
+        if hi == 0.0 {
+            return Ok(steps.iter().map(|s| vec![0.0; s.radii.len()]).collect());
+        }
+        let table = |s: &Side| -> Result<Option<PsiTable>, SpotSumError> {
+            match s {
+                Side::Layered(spot) => Ok(Some(PsiTable::new(spot, lo, hi)?)),
+                _ => Ok(None),
+            }
+        };
+        let (ta, tb) = (table(&self.a)?, table(&self.b)?);
+        // 1/G of one side at radius a (0 for a perfect conductor).
+        let resistance = |s: &Side, t: &Option<PsiTable>, a: f64| match (s, t) {
+            (Side::Perfect, _) => 0.0,
+            (Side::Homogeneous(k), _) => 1.0 / (4.0 * k * a),
+            (Side::Layered(spot), Some(t)) => {
+                1.0 / (4.0 * spot.compliance().top_conductivity() * a * t.at(a))
+            }
+            (Side::Layered(_), None) => f64::NAN,
+        };
+        Ok(steps
+            .iter()
+            .map(|s| {
+                s.radii
+                    .iter()
+                    .map(|&a| {
+                        if a > 0.0 && a.is_finite() {
+                            1.0 / (resistance(&self.a, &ta, a) + resistance(&self.b, &tb, a))
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+
+    /// The two bodies as the I model's conduction kernel sees them.
+    fn bodies(&self) -> [Body<'_>; 2] {
+        [&self.a, &self.b].map(|s| match s {
+            Side::Perfect => Body::Perfect,
+            Side::Homogeneous(k) => Body::HalfSpace(*k),
+            Side::Layered(spot) => Body::Layered(spot.compliance()),
+        })
+    }
+
+    /// The I model's h_c of every step (W/(m²·K) or S/m²): the spots of each step (the
+    /// summits in contact, at their positions, with their G(aᵢ)) heat each other
+    /// through both bodies, periodically on a cell of sides `extent` (m) or isolated.
+    pub fn interacting(
+        &self,
+        steps: &[Step],
+        summits: &[Summit],
+        extent: (f64, f64),
+        images: Images,
+    ) -> Result<Vec<f64>, SpotSumError> {
+        let [a, b] = self.bodies();
+        let kernel = match images {
+            Images::Periodic(_) => Kernel::periodic(a, b, extent),
+            Images::Isolated => Kernel::isolated(a, b),
+        }
+        .map_err(SpotSumError::Kernel)?;
+        let area = extent.0 * extent.1;
+        let g = self.spot_conductances(steps)?;
+        g.iter()
+            .enumerate()
+            .map(|(step, gs)| {
+                let spots: Vec<NetSpot> = gs
+                    .iter()
+                    .zip(summits)
+                    .filter(|(g, _)| **g > 0.0)
+                    .map(|(&g, s)| NetSpot {
+                        x: s.x,
+                        y: s.y,
+                        conductance: g,
+                    })
+                    .collect();
+                interface_conductance(&kernel, &spots, area)
+                    .map(|n| n.conductance)
+                    .map_err(|error| SpotSumError::Network { step, error })
+            })
+            .collect()
+    }
+}
