@@ -105,9 +105,6 @@
 // the last layer (`[base] conduction = "isothermal"`).
 #define STRATA_BASE_CONDUCTION_ISOTHERMAL 1
 
-// Nodes of ψ per decade of the spot radius (as `strata law`).
-#define PSI_NODES_PER_DECADE 16.0
-
 // The sampled contact law p(g), A(g)/A₀, dp/dg of one interface (opaque), with the
 // interface conductance h_c and the hardness when built with them
 // (`strata_law_new_with_law_options`).

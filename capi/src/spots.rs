@@ -11,15 +11,15 @@
 //! W/(m²·K) (thermal) or S/m² (electrical). Each spot is an isothermal disc on each
 //! body, the two bodies in series (a perfect conductor: 1/G_B = 0; a conducting rigid
 //! flat: a homogeneous half-space, G_B = 4k_B a). ψ ≡ 1 on a homogeneous body; on a
-//! layered one it comes from the Fredholm spot solver ([`strata_tablegen::spot`]) at
-//! nodes [`PSI_NODES_PER_DECADE`] per decade of a over the steps' radii, interpolated
-//! by cubic Lagrange polynomials in ln a (≤ 5e-6 of direct solves, validation.md).
+//! layered one it comes from the Fredholm spot solver ([`strata_tablegen::spot`])
+//! through the table `strata law` reads too ([`strata_tablegen::psi_table::PsiTable`]:
+//! 8 solves per decade of a over the steps' radii, interpolated in ln a to ≤ 1.2e−6 of
+//! direct solves, validation.md).
 //!
 //! The I model ([`SpotSum::interacting`]) adds the spots' thermal interactions through
 //! both bodies' point-source fields: Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT,
 //! h_c = Σ Q_i/(ΔT A₀) ([`strata_runtime::rough::conductance`]).
 
-use rayon::prelude::*;
 use strata_runtime::Stack;
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::rough::conductance::{
@@ -27,11 +27,9 @@ use strata_runtime::rough::conductance::{
 };
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
+use strata_tablegen::psi_table::PsiTable;
 use strata_tablegen::spot::{Spot, SpotError};
 use thiserror::Error;
-
-/// Nodes of ψ per decade of the spot radius (as `strata law`).
-pub const PSI_NODES_PER_DECADE: f64 = 16.0;
 
 /// How the second body (the counterface) conducts.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -88,50 +86,6 @@ impl Side {
     }
 }
 
-/// ψ of a layered body at nodes in u = ln a, interpolated.
-struct PsiTable {
-    u0: f64,
-    du: f64,
-    psi: Vec<f64>,
-}
-
-impl PsiTable {
-    /// Nodes over [a_lo, a_hi] (m), at least 4, [`PSI_NODES_PER_DECADE`] per decade.
-    fn new(spot: &Spot, a_lo: f64, a_hi: f64) -> Result<PsiTable, SpotSumError> {
-        let (u_lo, u_hi) = (a_lo.ln(), a_hi.ln());
-        let n = (((u_hi - u_lo) / std::f64::consts::LN_10 * PSI_NODES_PER_DECADE).ceil() as usize
-            + 1)
-        .max(4);
-        let du = (u_hi - u_lo).max(1e-3) / (n - 1) as f64;
-        let psi = (0..n)
-            .into_par_iter()
-            .map(|i| {
-                let a = (u_lo + du * i as f64).exp();
-                spot.psi(a).map_err(|error| SpotSumError::Psi { a, error })
-            })
-            .collect::<Result<Vec<f64>, _>>()?;
-        Ok(PsiTable { u0: u_lo, du, psi })
-    }
-
-    /// ψ(a) by the cubic through the four nodes around ln a.
-    fn at(&self, a: f64) -> f64 {
-        let n = self.psi.len();
-        let x = (a.ln() - self.u0) / self.du;
-        let i0 = (x.floor() as isize - 1).clamp(0, n as isize - 4) as usize;
-        let mut sum = 0.0;
-        for j in 0..4 {
-            let mut w = 1.0;
-            for m in 0..4 {
-                if m != j {
-                    w *= (x - (i0 + m) as f64) / (j as f64 - m as f64);
-                }
-            }
-            sum += w * self.psi[i0 + j];
-        }
-        sum
-    }
-}
-
 /// Both bodies' spot conductances for one kind of conduction.
 pub struct SpotSum {
     a: Side,
@@ -182,7 +136,12 @@ impl SpotSum {
         }
         let table = |s: &Side| -> Result<Option<PsiTable>, SpotSumError> {
             match s {
-                Side::Layered(spot) => Ok(Some(PsiTable::new(spot, lo, hi)?)),
+                Side::Layered(spot) => Ok(Some(PsiTable::new(spot, lo, hi).map_err(|e| {
+                    SpotSumError::Psi {
+                        a: e.a,
+                        error: e.error,
+                    }
+                })?)),
                 _ => Ok(None),
             }
         };

@@ -21,6 +21,7 @@ pub mod asperity;
 pub mod fredholm;
 pub mod kernel;
 pub mod plastic_asperity;
+pub mod psi_table;
 pub mod rings;
 pub mod spot;
 

@@ -128,6 +128,11 @@ impl Spot {
         &self.comp
     }
 
+    /// The top layer's thickness h₁ (m); None on a half-space.
+    pub fn top_thickness(&self) -> Option<f64> {
+        self.h1
+    }
+
     /// The discretisation used at radius `a` (m).
     pub fn discretisation(&self, a: f64) -> Discretisation {
         match self.method {
