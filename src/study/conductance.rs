@@ -49,24 +49,6 @@ pub const LOWER_CONDUCTIVITY: f64 = 5.0;
 /// The rigid flat's thermal conductivity (W/(m·K)): steel.
 pub const FLAT_CONDUCTIVITY: f64 = 45.0;
 
-/// The grids of the BEM per mode (the finest is the reference).
-fn grids(mode: Mode) -> Vec<usize> {
-    match mode {
-        Mode::Tiny => vec![32, 64],
-        Mode::Quick => vec![64, 128, 256],
-        Mode::Full => vec![64, 128, 256, 512],
-    }
-}
-
-/// Load steps per mode.
-fn steps(mode: Mode) -> usize {
-    match mode {
-        Mode::Tiny => 3,
-        Mode::Quick => 6,
-        Mode::Full => 10,
-    }
-}
-
 /// One model's conductance curve.
 #[derive(Debug, Clone)]
 pub struct Row {
@@ -268,7 +250,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     if all.is_empty() {
         bail!("--scene: no load steps");
     }
-    let deltas = super::rough::spread(&all, steps(mode));
+    let deltas = super::rough::spread(&all, super::rough::effect_steps(mode));
     let scale = rc.top_to_mean();
     let separations: Vec<f64> = deltas.iter().map(|d| scale - d).collect();
     let loads: Vec<BemLoad> = separations
@@ -279,7 +261,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     let heights = Array2::from_shape_vec((n0, n1), surface.heights().to_vec())?;
     let size = surface.extent().0;
     let e_star = stack.contact_modulus();
-    let grids = grids(mode);
+    let grids = super::rough::effect_grids(mode);
     let finest = grids.iter().copied().max().unwrap_or(0);
     // (row, steps): the steps for the comparison at equal pressure
     let mut rows: Vec<(Row, Vec<Step>)> = Vec::new();

@@ -26,24 +26,6 @@ use super::{Errors, Inputs, Mode, Reps, Runner, Timing};
 /// H / E*₁ of the stage.
 pub const HARDNESS_RATIO: f64 = 0.05;
 
-/// The grids of the capped BEM per mode (the finest is the reference).
-fn grids(mode: Mode) -> Vec<usize> {
-    match mode {
-        Mode::Tiny => vec![32, 64],
-        Mode::Quick => vec![64, 128, 256],
-        Mode::Full => vec![64, 128, 256, 512],
-    }
-}
-
-/// Load steps per mode.
-fn steps(mode: Mode) -> usize {
-    match mode {
-        Mode::Tiny => 3,
-        Mode::Quick => 6,
-        Mode::Full => 10,
-    }
-}
-
 /// One model's capped curve.
 #[derive(Debug, Clone)]
 pub struct Row {
@@ -69,19 +51,6 @@ pub struct Results {
     /// The elastic BEM on the reference grid at the same steps (p_n/E*₁): what the cap
     /// changes.
     pub elastic_reference: Vec<f64>,
-}
-
-fn max_rel(v: &[f64], r: &[f64]) -> f64 {
-    v.iter()
-        .zip(r)
-        .map(|(v, r)| {
-            if *r > 0.0 {
-                ((v - r) / r).abs()
-            } else {
-                v.abs()
-            }
-        })
-        .fold(0.0, f64::max)
 }
 
 /// The capped BEM along `loads`: (p_n/E*₁, A_pl/A₀) per step.
@@ -167,7 +136,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
         .load
         .approaches(rc.top_to_mean(), rc.max_delta())?
         .context("the study's scene must give approaches or separations, not pressures")?;
-    let deltas = super::rough::spread(&all, steps(mode));
+    let deltas = super::rough::spread(&all, super::rough::effect_steps(mode));
     let separations: Vec<f64> = deltas.iter().map(|d| rc.top_to_mean() - d).collect();
     let loads: Vec<BemLoad> = separations
         .iter()
@@ -176,7 +145,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     let (n0, n1) = surface.shape();
     let heights = Array2::from_shape_vec((n0, n1), surface.heights().to_vec())?;
     let size = surface.extent().0;
-    let grids = grids(mode);
+    let grids = super::rough::effect_grids(mode);
     let finest = grids.iter().copied().max().unwrap_or(0);
     let mut rows = Vec::new();
     let mut elastic_reference = Vec::new();
@@ -233,8 +202,8 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
         .cloned()
         .context("internal: no capped BEM reference")?;
     for r in rows.iter_mut() {
-        r.p_error = max_rel(&r.pressure, &reference.pressure);
-        r.plastic_error = max_rel(&r.plastic, &reference.plastic);
+        r.p_error = super::rough::max_rel(&r.pressure, &reference.pressure);
+        r.plastic_error = super::rough::max_rel(&r.plastic, &reference.plastic);
         errors.push("plasticity", &r.label, "p error", r.p_error);
         errors.push(
             "plasticity",

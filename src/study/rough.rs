@@ -184,7 +184,8 @@ fn curve_values(steps: &[Step]) -> (Vec<f64>, Vec<f64>) {
     )
 }
 
-fn max_rel(v: &[f64], r: &[f64]) -> f64 {
+/// The largest relative deviation of `v` from `r` (absolute where r = 0).
+pub fn max_rel(v: &[f64], r: &[f64]) -> f64 {
     v.iter()
         .zip(r)
         .map(|(v, r)| {
@@ -250,6 +251,25 @@ pub fn inputs(inputs: &Inputs) -> Result<(Scene, Surface, std::path::PathBuf, Ta
         .law_for(&scene.stack)
         .with_context(|| format!("{} does not serve the scene's stack", table_path.display()))?;
     Ok((scene, surface, table_path, table))
+}
+
+/// The BEM grids of the effect stages (yielding tips, conductance) per mode: the finest
+/// is their reference.
+pub fn effect_grids(mode: Mode) -> Vec<usize> {
+    match mode {
+        Mode::Tiny => vec![32, 64],
+        Mode::Quick => vec![64, 128, 256],
+        Mode::Full => vec![64, 128, 256, 512],
+    }
+}
+
+/// Load steps of the effect stages per mode.
+pub fn effect_steps(mode: Mode) -> usize {
+    match mode {
+        Mode::Tiny => 3,
+        Mode::Quick => 6,
+        Mode::Full => 10,
+    }
 }
 
 /// `k` of the scene's approaches `all`, spread evenly over its list (the first and the
