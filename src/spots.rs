@@ -23,35 +23,15 @@ use anyhow::{Context, Result};
 use strata_runtime::rough::conductance::{Body, Interactions, Kernel, KernelInfo};
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
-use strata_tablegen::psi_table::PsiTable;
 use strata_tablegen::spot::Spot;
+use strata_tablegen::spot_pair::{SpotSide, spot_conductances};
 
 use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
 
-/// One body's spot conductance.
-enum Side {
-    Perfect,
-    /// 4 k a (a homogeneous conductor of conductivity k).
-    Homogeneous(f64),
-    /// 4 k₁ a ψ(a) by the Fredholm solver.
-    Layered(Box<Spot>),
-}
-
-impl Side {
-    fn of(spot: Spot) -> Side {
-        let c = spot.compliance();
-        if c.is_homogeneous() {
-            Side::Homogeneous(c.top_conductivity())
-        } else {
-            Side::Layered(Box::new(spot))
-        }
-    }
-}
-
 /// The N model's spot conductances for one scene.
 pub struct SpotSum {
-    a: Side,
-    b: Side,
+    a: SpotSide,
+    b: SpotSide,
 }
 
 impl SpotSum {
@@ -60,7 +40,7 @@ impl SpotSum {
     pub fn new(scene: &Scene, spec: &ConductanceSpec) -> Result<SpotSum> {
         let counterface = match (spec.counterface, scene.stack.counterface()) {
             (CounterfaceConduction::Stack, Some(c)) => {
-                Side::of(Spot::new(c, spec.kind).context("counterface")?)
+                SpotSide::of(Spot::new(c, spec.kind).context("counterface")?)
             }
             (CounterfaceConduction::Stack, None) => anyhow::bail!("counterface: internal error"),
             (other, _) => Self::rigid(other),
@@ -76,27 +56,27 @@ impl SpotSum {
         flat: Option<f64>,
     ) -> Result<SpotSum> {
         let b = match flat {
-            Some(k) => Side::Homogeneous(k),
-            None => Side::Perfect,
+            Some(k) => SpotSide::Homogeneous(k),
+            None => SpotSide::Perfect,
         };
         Self::with_counterface(&stack.body(), kind, b)
     }
 
-    fn rigid(counterface: CounterfaceConduction) -> Side {
+    fn rigid(counterface: CounterfaceConduction) -> SpotSide {
         match counterface {
-            CounterfaceConduction::HalfSpace(k) => Side::Homogeneous(k),
-            _ => Side::Perfect,
+            CounterfaceConduction::HalfSpace(k) => SpotSide::Homogeneous(k),
+            _ => SpotSide::Perfect,
         }
     }
 
     fn with_counterface(
         stack: &strata_runtime::Stack,
         kind: strata_runtime::conduction::ConductionKind,
-        b: Side,
+        b: SpotSide,
     ) -> Result<SpotSum> {
         let body = Spot::new(stack, kind).context("stack")?;
         Ok(SpotSum {
-            a: Side::of(body),
+            a: SpotSide::of(body),
             b,
         })
     }
@@ -113,55 +93,15 @@ impl SpotSum {
     /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
     /// series, ψ from one table over all the steps' radii.
     pub fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>> {
-        let (lo, hi) = steps
-            .iter()
-            .flat_map(|s| s.radii.iter().copied())
-            .filter(|&a| a > 0.0 && a.is_finite())
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), a| {
-                (lo.min(a), hi.max(a))
-            });
-        if hi == 0.0 {
-            return Ok(steps.iter().map(|s| vec![0.0; s.radii.len()]).collect());
-        }
-        let table = |s: &Side| -> Result<Option<PsiTable>> {
-            match s {
-                Side::Layered(spot) => Ok(Some(PsiTable::new(spot, lo, hi)?)),
-                _ => Ok(None),
-            }
-        };
-        let (ta, tb) = (table(&self.a)?, table(&self.b)?);
-        // 1/G of one side at radius a (0 for a perfect conductor).
-        let resistance = |s: &Side, t: &Option<PsiTable>, a: f64| match (s, t) {
-            (Side::Perfect, _) => 0.0,
-            (Side::Homogeneous(k), _) => 1.0 / (4.0 * k * a),
-            (Side::Layered(spot), Some(t)) => {
-                1.0 / (4.0 * spot.compliance().top_conductivity() * a * t.at(a))
-            }
-            (Side::Layered(..), None) => f64::NAN,
-        };
-        Ok(steps
-            .iter()
-            .map(|s| {
-                s.radii
-                    .iter()
-                    .map(|&a| {
-                        if a > 0.0 && a.is_finite() {
-                            1.0 / (resistance(&self.a, &ta, a) + resistance(&self.b, &tb, a))
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect()
-            })
-            .collect())
+        Ok(spot_conductances(&self.a, &self.b, steps)?)
     }
 
     /// The two bodies as the I model's conduction kernel sees them.
     fn bodies(&self) -> [Body<'_>; 2] {
         [&self.a, &self.b].map(|s| match s {
-            Side::Perfect => Body::Perfect,
-            Side::Homogeneous(k) => Body::HalfSpace(*k),
-            Side::Layered(spot) => Body::Layered(spot.compliance()),
+            SpotSide::Perfect => Body::Perfect,
+            SpotSide::Homogeneous(k) => Body::HalfSpace(*k),
+            SpotSide::Layered(spot) => Body::Layered(spot.compliance()),
         })
     }
 
@@ -213,11 +153,11 @@ impl SpotSum {
     /// G(a) of one spot with both bodies in series (W/K or S), ψ solved directly (no
     /// table): the reference of the tests.
     pub fn direct(&self, a: f64) -> Result<f64> {
-        let r = |s: &Side| -> Result<f64> {
+        let r = |s: &SpotSide| -> Result<f64> {
             Ok(match s {
-                Side::Perfect => 0.0,
-                Side::Homogeneous(k) => 1.0 / (4.0 * k * a),
-                Side::Layered(spot) => 1.0 / spot.conductance(a)?.conductance,
+                SpotSide::Perfect => 0.0,
+                SpotSide::Homogeneous(k) => 1.0 / (4.0 * k * a),
+                SpotSide::Layered(spot) => 1.0 / spot.conductance(a)?.conductance,
             })
         };
         Ok(1.0 / (r(&self.a)? + r(&self.b)?))

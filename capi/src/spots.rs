@@ -27,8 +27,8 @@ use strata_runtime::rough::conductance::{
 };
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
-use strata_tablegen::psi_table::PsiTable;
 use strata_tablegen::spot::{Spot, SpotError};
+use strata_tablegen::spot_pair::{SpotSide, spot_conductances};
 use thiserror::Error;
 
 /// How the second body (the counterface) conducts.
@@ -66,30 +66,10 @@ pub enum SpotSumError {
     Kernel(ConductanceError),
 }
 
-/// One body's spot conductance.
-enum Side {
-    Perfect,
-    /// 4 k a (a homogeneous conductor of conductivity k).
-    Homogeneous(f64),
-    /// 4 k₁ a ψ(a) by the Fredholm solver.
-    Layered(Box<Spot>),
-}
-
-impl Side {
-    fn of(spot: Spot) -> Side {
-        let c = spot.compliance();
-        if c.is_homogeneous() {
-            Side::Homogeneous(c.top_conductivity())
-        } else {
-            Side::Layered(Box::new(spot))
-        }
-    }
-}
-
 /// Both bodies' spot conductances for one kind of conduction.
 pub struct SpotSum {
-    a: Side,
-    b: Side,
+    a: SpotSide,
+    b: SpotSide,
 }
 
 impl SpotSum {
@@ -103,13 +83,16 @@ impl SpotSum {
     ) -> Result<SpotSum, SpotSumError> {
         let a = Spot::new(body, kind).map_err(SpotSumError::Body)?;
         let b = match counterface {
-            Counterface::Perfect => Side::Perfect,
-            Counterface::HalfSpace(k) => Side::Homogeneous(k),
+            Counterface::Perfect => SpotSide::Perfect,
+            Counterface::HalfSpace(k) => SpotSide::Homogeneous(k),
             Counterface::Stack(c) => {
-                Side::of(Spot::new(c, kind).map_err(SpotSumError::Counterface)?)
+                SpotSide::of(Spot::new(c, kind).map_err(SpotSumError::Counterface)?)
             }
         };
-        Ok(SpotSum { a: Side::of(a), b })
+        Ok(SpotSum {
+            a: SpotSide::of(a),
+            b,
+        })
     }
 
     /// h_c = Σ G(aᵢ)/A₀ of every step (W/(m²·K) or S/m²), `area` = A₀ (m²).
@@ -124,60 +107,18 @@ impl SpotSum {
     /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
     /// series, ψ from one table over all the steps' radii.
     fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>, SpotSumError> {
-        let (lo, hi) = steps
-            .iter()
-            .flat_map(|s| s.radii.iter().copied())
-            .filter(|&a| a > 0.0 && a.is_finite())
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), a| {
-                (lo.min(a), hi.max(a))
-            });
-        if hi == 0.0 {
-            return Ok(steps.iter().map(|s| vec![0.0; s.radii.len()]).collect());
-        }
-        let table = |s: &Side| -> Result<Option<PsiTable>, SpotSumError> {
-            match s {
-                Side::Layered(spot) => Ok(Some(PsiTable::new(spot, lo, hi).map_err(|e| {
-                    SpotSumError::Psi {
-                        a: e.a,
-                        error: e.error,
-                    }
-                })?)),
-                _ => Ok(None),
-            }
-        };
-        let (ta, tb) = (table(&self.a)?, table(&self.b)?);
-        // 1/G of one side at radius a (0 for a perfect conductor).
-        let resistance = |s: &Side, t: &Option<PsiTable>, a: f64| match (s, t) {
-            (Side::Perfect, _) => 0.0,
-            (Side::Homogeneous(k), _) => 1.0 / (4.0 * k * a),
-            (Side::Layered(spot), Some(t)) => {
-                1.0 / (4.0 * spot.compliance().top_conductivity() * a * t.at(a))
-            }
-            (Side::Layered(_), None) => f64::NAN,
-        };
-        Ok(steps
-            .iter()
-            .map(|s| {
-                s.radii
-                    .iter()
-                    .map(|&a| {
-                        if a > 0.0 && a.is_finite() {
-                            1.0 / (resistance(&self.a, &ta, a) + resistance(&self.b, &tb, a))
-                        } else {
-                            0.0
-                        }
-                    })
-                    .collect()
-            })
-            .collect())
+        spot_conductances(&self.a, &self.b, steps).map_err(|e| SpotSumError::Psi {
+            a: e.a,
+            error: e.error,
+        })
     }
 
     /// The two bodies as the I model's conduction kernel sees them.
     fn bodies(&self) -> [Body<'_>; 2] {
         [&self.a, &self.b].map(|s| match s {
-            Side::Perfect => Body::Perfect,
-            Side::Homogeneous(k) => Body::HalfSpace(*k),
-            Side::Layered(spot) => Body::Layered(spot.compliance()),
+            SpotSide::Perfect => Body::Perfect,
+            SpotSide::Homogeneous(k) => Body::HalfSpace(*k),
+            SpotSide::Layered(spot) => Body::Layered(spot.compliance()),
         })
     }
 

@@ -24,6 +24,7 @@ pub mod plastic_asperity;
 pub mod psi_table;
 pub mod rings;
 pub mod spot;
+pub mod spot_pair;
 
 pub mod approx;
 mod error;
