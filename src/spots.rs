@@ -10,7 +10,7 @@
 //! the two bodies in series (a perfect conductor: 1/G_B = 0; a conducting rigid flat: a
 //! homogeneous half-space, G_B = 4k_B a). ψ ≡ 1 on a homogeneous body; on a layered one it
 //! comes from the Fredholm spot solver ([`strata_tablegen::spot`]) through one table over
-//! the step radii's range ([`PsiTable`]: 8 solves per decade, interpolated in ln a to
+//! the step radii's range ([`strata_tablegen::psi_table::PsiTable`]: 8 solves per decade, interpolated in ln a to
 //! ≤ 1.2e−6 of direct solves).
 //!
 //! The I model ([`SpotSum::interacting`]) adds the spots' thermal interactions: the same
