@@ -463,7 +463,9 @@ pub fn solve_surface_with_maps(
         // physics.md §6.2: the N model's spots conduct in parallel, each body in series;
         // the I model's heat each other through both bodies
         meta["conductance"] = conductance_meta(scene, spec);
-        let sum = crate::spots::SpotSum::new(scene, spec)?;
+        // ψ tables of layered sides live in the table cache: solved once per stack
+        let psi_cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
+        let sum = crate::spots::SpotSum::new(scene, spec)?.with_cache(Some(psi_cache));
         let tc = Instant::now();
         let h = match model {
             Model::Independent => {
@@ -517,6 +519,7 @@ pub fn solve_surface_with_maps(
             }
         };
         let tcs = tc.elapsed().as_secs_f64();
+        log_psi_cache(&sum.cache_log(), quiet);
         meta["conductance"]["seconds"] = serde_json::json!(tcs);
         meta["conductance_steps"] = serde_json::Value::Array(
             h.iter()
@@ -798,8 +801,17 @@ fn solve_bem(
             // physics.md §6.2: a unit jump on this step's contact set (p > 0)
             let tc = Instant::now();
             let set: Vec<bool> = flat.iter().map(|&p| p > 0.0).collect();
+            // the start: the previous step's flux and this step's pressure increment
+            // (the exact flux on homogeneous bodies by Barber's analogy), best combined
+            let dp: Vec<f64> = next
+                .pressure
+                .iter()
+                .zip(&flat)
+                .map(|(a, b)| a - b)
+                .collect();
+            let guesses: Vec<&[f64]> = flux.as_deref().into_iter().chain([&dp[..]]).collect();
             let h = cs
-                .solve_from(&set, flux.as_deref())
+                .solve_from_guesses(&set, &guesses)
                 .with_context(|| format!("{name}: conductance"))?;
             conductance_seconds += tc.elapsed().as_secs_f64();
             conductance_steps.push(serde_json::json!({
@@ -1080,6 +1092,25 @@ fn counterface_conduction(spec: &ConductanceSpec) -> String {
             spec.kind.conductivity_unit()
         ),
         CounterfaceConduction::Stack => "the counterface conducting through its stack".into(),
+    }
+}
+
+/// One log line per ψ table of the conductance: read from the table cache, or built
+/// (or extended) and written there; a table that could not be written is a warning
+/// (the result is the same, the next run solves it again).
+fn log_psi_cache(uses: &[strata_tablegen::psi_table::CacheUse], quiet: bool) {
+    use strata_tablegen::psi_table::CacheUse;
+    for u in uses {
+        match u {
+            CacheUse::Read => log!(quiet, "conductance: ψ table read from the table cache"),
+            CacheUse::Written { decades: (d0, d1) } => log!(
+                quiet,
+                "conductance: ψ table solved for a/h1 = 1e{d0} … 1e{d1} (8 Fredholm solves per decade) and kept in the table cache"
+            ),
+            CacheUse::NotWritten(why) => progress::warn(format_args!(
+                "conductance: the ψ table could not be kept in the table cache ({why}); it is solved again next time"
+            )),
+        }
     }
 }
 

@@ -9,9 +9,11 @@
 //! W/(m²·K) (thermal) or S/m² (electrical). Each spot is an isothermal disc on each body,
 //! the two bodies in series (a perfect conductor: 1/G_B = 0; a conducting rigid flat: a
 //! homogeneous half-space, G_B = 4k_B a). ψ ≡ 1 on a homogeneous body; on a layered one it
-//! comes from the Fredholm spot solver ([`strata_tablegen::spot`]) through one table over
-//! the step radii's range ([`strata_tablegen::psi_table::PsiTable`]: 8 solves per decade, interpolated in ln a to
-//! ≤ 1.2e−6 of direct solves).
+//! comes from the Fredholm spot solver ([`strata_tablegen::spot`]) through one ψ table
+//! covering the steps' radii ([`strata_tablegen::psi_table`]: whole decades of a/h₁, 8
+//! solves per decade, interpolated in ln a to ≤ 1.2e−6 of direct solves), kept in the
+//! table cache when the engine gives one ([`SpotSum::with_cache`]): a stack's table is
+//! solved once and read by every later load path.
 //!
 //! The I model ([`SpotSum::interacting`]) adds the spots' thermal interactions: the same
 //! G(aᵢ) on the diagonal of the spot network of [`strata_runtime::rough::conductance`],
@@ -19,10 +21,14 @@
 //! summit that touches at some step filled once for the whole path
 //! ([`Interactions`]: the same h_c as filling each step's network afresh, bit for bit).
 
+use std::path::PathBuf;
+use std::sync::Mutex;
+
 use anyhow::{Context, Result};
 use strata_runtime::rough::conductance::{Body, Interactions, Kernel, KernelInfo};
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
+use strata_tablegen::psi_table::CacheUse;
 use strata_tablegen::spot::Spot;
 use strata_tablegen::spot_pair::{SpotSide, spot_conductances};
 
@@ -32,6 +38,10 @@ use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
 pub struct SpotSum {
     a: SpotSide,
     b: SpotSide,
+    /// The table cache directory of the ψ tables (None: built in memory).
+    cache: Option<PathBuf>,
+    /// What the cache did, per layered side and call.
+    cache_log: Mutex<Vec<CacheUse>>,
 }
 
 impl SpotSum {
@@ -78,7 +88,22 @@ impl SpotSum {
         Ok(SpotSum {
             a: SpotSide::of(body),
             b,
+            cache: None,
+            cache_log: Mutex::new(vec![]),
         })
+    }
+
+    /// Keeps the ψ tables in the table cache `dir` ([`strata_tablegen::psi_table::cached`]):
+    /// the same h_c bit for bit as without it.
+    pub fn with_cache(mut self, dir: Option<PathBuf>) -> SpotSum {
+        self.cache = dir;
+        self
+    }
+
+    /// What the table cache did with the ψ tables so far (read, written, or not written
+    /// and why), per layered side and load path.
+    pub fn cache_log(&self) -> Vec<CacheUse> {
+        self.cache_log.lock().map(|l| l.clone()).unwrap_or_default()
     }
 
     /// h_c = Σ G(aᵢ)/A₀ of every step (W/(m²·K) or S/m²), `area` = A₀ (m²).
@@ -93,7 +118,11 @@ impl SpotSum {
     /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
     /// series, ψ from one table over all the steps' radii.
     pub fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>> {
-        Ok(spot_conductances(&self.a, &self.b, steps)?)
+        let (g, uses) = spot_conductances(&self.a, &self.b, steps, self.cache.as_deref())?;
+        if let Ok(mut log) = self.cache_log.lock() {
+            log.extend(uses);
+        }
+        Ok(g)
     }
 
     /// The two bodies as the I model's conduction kernel sees them.

@@ -27,6 +27,7 @@ use strata_runtime::rough::conductance::{
 };
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
+use strata_tablegen::psi_table::PsiError;
 use strata_tablegen::spot::{Spot, SpotError};
 use strata_tablegen::spot_pair::{SpotSide, spot_conductances};
 use thiserror::Error;
@@ -52,9 +53,9 @@ pub enum SpotSumError {
     /// The counterface's stack lacks a conductivity of the kind.
     #[error("{0}")]
     Counterface(SpotError),
-    /// A Fredholm solve of ψ failed.
-    #[error("spot conductance at a = {a:e} m: {error}")]
-    Psi { a: f64, error: SpotError },
+    /// The ψ table (a Fredholm solve of ψ failed, or the radii are out of reach).
+    #[error("{0}")]
+    Psi(PsiError),
     /// The I model's spot network.
     #[error("load step {step}: the I model's spot network: {error}")]
     Network {
@@ -107,10 +108,9 @@ impl SpotSum {
     /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
     /// series, ψ from one table over all the steps' radii.
     fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>, SpotSumError> {
-        spot_conductances(&self.a, &self.b, steps).map_err(|e| SpotSumError::Psi {
-            a: e.a,
-            error: e.error,
-        })
+        spot_conductances(&self.a, &self.b, steps, None)
+            .map(|(g, _)| g)
+            .map_err(SpotSumError::Psi)
     }
 
     /// The two bodies as the I model's conduction kernel sees them.

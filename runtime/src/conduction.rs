@@ -248,6 +248,23 @@ impl ConductionCompliance {
         (z, d)
     }
 
+    /// A fingerprint of what ψ and S_th depend on (FNV-1a 64 of the layers' thicknesses
+    /// and conductivity ratios, bit for bit, and the base's conduction): two stacks with
+    /// the same fingerprint have the same spot conductance factor ψ(a)
+    /// ([`crate::constriction`]) whatever their k₁ and kind of conduction.
+    pub fn fingerprint(&self) -> u64 {
+        let mut h = crate::hash::Fnv1a::default();
+        h.part(b"strata conduction stack v1")
+            .part(&[u8::from(self.isothermal)]);
+        for &(t, r) in &self.layers {
+            h.update(&t.to_le_bytes());
+            // the last layer's ratio is unused (NaN) on a sink
+            let r = if r.is_nan() { 0.0 } else { r };
+            h.part(&r.to_le_bytes());
+        }
+        h.finish()
+    }
+
     /// The conductivity contrast: largest over smallest conductivity of the layers and
     /// (unless isothermal) the base, ≥ 1.
     pub fn contrast(&self) -> f64 {

@@ -1,37 +1,47 @@
-//! ψ(a) of a layered conductor over a range of spot radii (issue 34, physics.md §6.2): the
-//! table the N and I models' spot conductances G(a) = 4k₁aψ(a) read at every contact
-//! radius of a load path (the `strata` crate's `spots` module and the C ABI's, which so
-//! give the same h_c bit for bit), built from [`crate::spot`]'s Fredholm solves.
+//! ψ(a/h₁) tables of a layered conductor (issue 34, physics.md §6.2): built from
+//! [`crate::spot`]'s Fredholm solves, read by the N and I models' spot conductances
+//! G(a) = 4k₁aψ(a) at every contact radius of a load path (the `strata` crate's `spots`
+//! module and the C ABI's, which so give the same h_c bit for bit), and kept in the
+//! table cache ([`cached`]) so that a stack's table is solved once.
 //!
-//! The range of the radii is cut into equal pieces of at most [`PSI_PIECE_DECADES`] in
-//! ln a, each interpolated through [`PSI_PIECE_NODES`] Chebyshev–Lobatto nodes (8 solves
-//! per decade); a node is solved by Gauss–Legendre Nyström with [`nystrom_nodes`] nodes up
-//! to a/h₁ = [`PSI_NYSTROM_MAX_A_OVER_H`] (under half the spot solver's default, at
-//! round-off), by the spot solver's automatic method beyond. Measured in the tests below
-//! and in docs/validation.md; the cost in docs/performance.md (issue 34).
+//! The table ([`PsiTable`], [`strata_runtime::constriction`]) holds whole decades of
+//! a/h₁, each interpolated through 9 Chebyshev–Lobatto nodes (8 solves per decade); a
+//! node is solved by Gauss–Legendre Nyström with [`nystrom_nodes`] nodes up to a/h₁ =
+//! [`PSI_NYSTROM_MAX_A_OVER_H`] (under half the spot solver's default, at round-off), by
+//! the spot solver's automatic method beyond. Measured in the tests below and in
+//! docs/validation.md; the cost in docs/performance.md (issue 34).
+
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 use thiserror::Error;
+
+pub use strata_runtime::constriction::PsiTable;
+use strata_runtime::constriction::{PIECE_NODES, PsiTableError, decades, node_radius};
 
 use crate::asperity::Method;
 use crate::fredholm::Discretisation;
 use crate::spot::{Spot, SpotError};
 
-/// A failed node of the table.
+/// A ψ table that cannot be built.
 #[derive(Debug, Error, Clone, PartialEq)]
-#[error("spot conductance at a = {a:e} m: {error}")]
-pub struct PsiError {
-    /// The node's radius (m).
-    pub a: f64,
-    pub error: SpotError,
+#[non_exhaustive]
+pub enum PsiError {
+    /// A node's Fredholm solve failed.
+    #[error("spot conductance at a = {a:e} m: {error}")]
+    Node {
+        /// The node's radius (m).
+        a: f64,
+        error: SpotError,
+    },
+    /// Radii no table covers (not positive and finite, or over 80 decades of a/h₁).
+    #[error(
+        "spot radii {lo:e} … {hi:e} m: a ψ table needs positive, finite radii within 80 decades of a/h₁"
+    )]
+    Range { lo: f64, hi: f64 },
+    #[error(transparent)]
+    Table(#[from] PsiTableError),
 }
-
-/// Chebyshev–Lobatto nodes of ψ per piece of the table (a piece spans at most
-/// [`PSI_PIECE_DECADES`] of the spot radius; neighbouring pieces share their end node).
-pub const PSI_PIECE_NODES: usize = 9;
-
-/// The widest piece of the ψ table, in decades of a.
-pub const PSI_PIECE_DECADES: f64 = 1.0;
 
 /// a/h₁ up to which a table node is solved by Gauss–Legendre Nyström with
 /// [`nystrom_nodes`] nodes (beyond: the spot solver's automatic choice).
@@ -61,102 +71,128 @@ pub fn psi_node(spot: &Spot, a: f64) -> Result<f64, PsiError> {
     } else {
         spot.psi(a)
     };
-    psi.map_err(|error| PsiError { a, error })
+    psi.map_err(|error| PsiError::Node { a, error })
 }
 
-/// ψ of a layered body, piecewise polynomial in u = ln a: the radii's range cut into
-/// equal pieces of at most [`PSI_PIECE_DECADES`], each interpolated through
-/// [`PSI_PIECE_NODES`] Chebyshev–Lobatto nodes (barycentric form). ψ is analytic in
-/// ln a, so the error falls geometrically with the nodes: measured ≤ 1.2e−6 over four
-/// decades of a/h₁ on a plating and insulating layers (the test below; the largest in
-/// the decades around a/h₁ = 1, ≤ 1.4e−8 away from them, 2e−12 on a narrow range),
-/// against 4.4e−6 of the cubic on 16 nodes per decade it replaces, with 8 solves per
-/// decade instead of 16.
-#[derive(Debug, Clone)]
-pub struct PsiTable {
-    u0: f64,
-    /// Width of a piece in u.
-    du: f64,
-    pieces: usize,
-    /// The Lobatto points of [−1, 1].
-    x: Vec<f64>,
-    /// Node values, piece p at p·(n − 1) … p·(n − 1) + n − 1.
-    psi: Vec<f64>,
+/// The ψ table of the layered body `spot` (ψ against a/h₁ in whole decades,
+/// [`strata_runtime::constriction`]) covering the radii `lo` ≤ `hi` (m), nodes solved
+/// in parallel. ψ is analytic in ln a, so the error falls geometrically with the nodes
+/// of a piece: measured ≤ 1.2e−6 over four decades of a/h₁ on a plating and insulating
+/// layers (the test below; the largest in the decades around a/h₁ = 1, ≤ 1.4e−8 away
+/// from them), against 4.4e−6 of the cubic on 16 nodes per decade it replaced, with 8
+/// solves per decade instead of 16.
+pub fn build(spot: &Spot, lo: f64, hi: f64) -> Result<PsiTable, PsiError> {
+    extend(None, spot, lo, hi)
 }
 
-/// The Chebyshev–Lobatto points of [−1, 1], x_j = −cos(πj/(n − 1)).
-fn lobatto(n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|j| -(std::f64::consts::PI * j as f64 / (n - 1) as f64).cos())
-        .collect()
-}
-
-impl PsiTable {
-    /// The table over [a_lo, a_hi] (m), 0 < a_lo ≤ a_hi, of the body `spot` (nodes solved
-    /// in parallel).
-    pub fn new(spot: &Spot, a_lo: f64, a_hi: f64) -> Result<PsiTable, PsiError> {
-        let (u_lo, u_hi) = (a_lo.ln(), a_hi.ln());
-        let span = (u_hi - u_lo).max(1e-3);
-        let pieces =
-            ((span / (PSI_PIECE_DECADES * std::f64::consts::LN_10)).ceil() as usize).max(1);
-        let du = span / pieces as f64;
-        let n = PSI_PIECE_NODES;
-        let x = lobatto(n);
-        let us: Vec<f64> = (0..pieces * (n - 1) + 1)
-            .map(|i| {
-                let (p, j) = if i == pieces * (n - 1) {
-                    (pieces - 1, n - 1)
-                } else {
-                    (i / (n - 1), i % (n - 1))
-                };
-                u_lo + du * (p as f64 + 0.5 * (x[j] + 1.0))
-            })
-            .collect();
-        let psi = us
-            .into_par_iter()
-            .map(|u| psi_node(spot, u.exp()))
-            .collect::<Result<Vec<f64>, PsiError>>()?;
-        Ok(PsiTable {
-            u0: u_lo,
-            du,
-            pieces,
-            x,
-            psi,
-        })
+/// `table` (a ψ table of `spot`, or None) extended to cover the radii `lo` ≤ `hi` (m):
+/// the decades it holds are kept bit for bit, the missing ones solved (in parallel).
+/// A table of another stack (its fingerprint) is ignored and rebuilt.
+pub fn extend(
+    table: Option<&PsiTable>,
+    spot: &Spot,
+    lo: f64,
+    hi: f64,
+) -> Result<PsiTable, PsiError> {
+    let key = spot.compliance().fingerprint();
+    let h1 = spot.top_thickness().unwrap_or(1.0);
+    let (mut d0, mut d1) = decades(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
+    let old = table.filter(|t| t.key() == key && t.top_thickness() == h1);
+    if let Some(t) = old {
+        let (f, e) = t.decades();
+        // keep the table contiguous
+        (d0, d1) = (d0.min(f), d1.max(e));
     }
-
-    /// ψ(a) by the barycentric Lobatto interpolant of the piece holding ln a (the end
-    /// pieces extended for radii just outside the range).
-    pub fn at(&self, a: f64) -> f64 {
-        let n = PSI_PIECE_NODES;
-        let t = (a.ln() - self.u0) / self.du;
-        let p = (t.floor().max(0.0) as usize).min(self.pieces - 1);
-        let x = 2.0 * (t - p as f64) - 1.0;
-        let v = &self.psi[p * (n - 1)..p * (n - 1) + n];
-        let (mut num, mut den) = (0.0, 0.0);
-        for (j, &xj) in self.x.iter().enumerate() {
-            let d = x - xj;
-            if d == 0.0 {
-                return v[j];
+    let m = PIECE_NODES - 1;
+    let n = (d1 - d0) as usize * m + 1;
+    let held = |i: usize| -> Option<f64> {
+        let t = old?;
+        let (f, _) = t.decades();
+        let at = i as i64 - i64::from(f - d0) * m as i64;
+        (at >= 0)
+            .then(|| t.nodes().get(at as usize).copied())
+            .flatten()
+    };
+    let psi = (0..n)
+        .into_par_iter()
+        .map(|i| match held(i) {
+            Some(v) => Ok(v),
+            None => {
+                let (d, j) = (d0 + (i / m) as i32, i % m);
+                psi_node(spot, node_radius(h1, d, j))
             }
-            // weights (−1)^j, halved at the ends
-            let w =
-                if j % 2 == 0 { 1.0 } else { -1.0 } * if j == 0 || j == n - 1 { 0.5 } else { 1.0 };
-            num += w / d * v[j];
-            den += w / d;
-        }
-        num / den
-    }
+        })
+        .collect::<Result<Vec<f64>, PsiError>>()?;
+    Ok(PsiTable::from_nodes(key, h1, d0, psi)?)
+}
 
-    /// The number of nodes (solves).
-    pub fn len(&self) -> usize {
-        self.psi.len()
-    }
+/// The file of `spot`'s ψ table in the cache directory `dir`:
+/// `psi-<fingerprint>.strata`, beside the mechanics tables' `stack-<hex>.strata`.
+pub fn cache_path(spot: &Spot, dir: &Path) -> PathBuf {
+    dir.join(format!(
+        "psi-{:016x}.strata",
+        spot.compliance().fingerprint()
+    ))
+}
 
-    /// True when the table has no node (never, for a built table).
-    pub fn is_empty(&self) -> bool {
-        self.psi.is_empty()
+/// What [`cached`] did with the cache file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CacheUse {
+    /// The file held every decade needed.
+    Read,
+    /// The table was built (missing or unreadable file) or extended, and written.
+    Written { decades: (i32, i32) },
+    /// Built or extended, but the file could not be written (the message): the table
+    /// is used all the same.
+    NotWritten(String),
+}
+
+/// `spot`'s ψ table covering the radii `lo` ≤ `hi` (m) from the cache directory `dir`:
+/// read when the file there covers them, else built (or the file's table extended by
+/// the missing decades, [`extend`]) and written back atomically (a temporary file
+/// renamed). An unreadable, damaged or foreign file is rebuilt; a directory that
+/// cannot be written costs only the file ([`CacheUse::NotWritten`]). The values are
+/// those of [`build`] bit for bit, cached or not.
+pub fn cached(spot: &Spot, lo: f64, hi: f64, dir: &Path) -> Result<(PsiTable, CacheUse), PsiError> {
+    let path = cache_path(spot, dir);
+    let key = spot.compliance().fingerprint();
+    let h1 = spot.top_thickness().unwrap_or(1.0);
+    let need = decades(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
+    let old = std::fs::read(&path)
+        .ok()
+        .and_then(|b| PsiTable::from_bytes(&b).ok())
+        .filter(|t| t.key() == key && t.top_thickness() == h1);
+    let old = match old {
+        Some(t) if t.covers(need) => return Ok((t, CacheUse::Read)),
+        other => other,
+    };
+    let table = extend(old.as_ref(), spot, lo, hi)?;
+    let used = match write_atomic(&path, &table.to_bytes()) {
+        Ok(()) => CacheUse::Written {
+            decades: table.decades(),
+        },
+        Err(e) => CacheUse::NotWritten(format!("{}: {e}", path.display())),
+    };
+    Ok((table, used))
+}
+
+/// Writes `bytes` to a temporary file beside `path` and renames it over `path`.
+fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    std::fs::create_dir_all(dir)?;
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    // unique per process and call: concurrent writers never share a temporary file
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let tmp = dir.join(format!(".{name}.tmp.{}.{call}", std::process::id()));
+    let r = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if r.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
+    r
 }
 
 #[cfg(test)]
@@ -193,36 +229,82 @@ mod tests {
 
     /// The interpolated ψ against direct Fredholm solves (the spot solver's automatic
     /// method) between the nodes, over four decades of a/h₁ on a plating, an insulating
-    /// layer on a half-space and one on an isothermal sink; and a table over a narrow
-    /// range (one piece).
+    /// layer on a half-space and one on an isothermal sink; a narrow range takes one
+    /// decade, the same bits as the wide table's.
     #[test]
     fn interpolated_psi_matches_direct_solves() {
         let h = 1e-5;
         for (k1, kb) in [(200.0, Some(20.0)), (0.5, Some(40.0)), (0.5, None)] {
             let spot = one_layer(h, k1, kb);
-            let t = PsiTable::new(&spot, 1e-2 * h, 1e2 * h).unwrap();
-            assert_eq!(t.len(), 4 * (PSI_PIECE_NODES - 1) + 1);
+            let t = build(&spot, 1.01e-2 * h, 0.99e2 * h).unwrap();
+            assert_eq!(t.decades(), (-2, 2));
+            assert_eq!(t.nodes().len(), 4 * (PIECE_NODES - 1) + 1);
             let mut worst: f64 = 0.0;
             for i in 0..40 {
                 let a = h * 10f64.powf(-2.0 + 4.0 * (i as f64 + 0.37) / 40.0);
                 let exact = spot.psi(a).unwrap();
                 worst = worst.max((t.at(a) / exact - 1.0).abs());
             }
-            let narrow = PsiTable::new(&spot, 0.3 * h, 0.5 * h).unwrap();
-            assert_eq!(narrow.len(), PSI_PIECE_NODES);
-            let mut worst_narrow: f64 = 0.0;
-            for i in 0..10 {
-                let a = h * (0.3 + 0.2 * (i as f64 + 0.41) / 10.0);
-                worst_narrow = worst_narrow.max((narrow.at(a) / spot.psi(a).unwrap() - 1.0).abs());
-            }
-            eprintln!("ψ table k1/kb = {k1}/{kb:?}: worst {worst:.2e}, narrow {worst_narrow:.2e}");
+            let narrow = build(&spot, 0.3 * h, 0.5 * h).unwrap();
+            assert_eq!(narrow.decades(), (-1, 0));
+            assert_eq!(narrow.nodes(), &t.nodes()[8..17]);
+            eprintln!("ψ table k1/kb = {k1}/{kb:?}: worst {worst:.2e}");
             // measured 1.24e-6, 1.17e-6, 5.5e-7 (the pieces across a/h₁ = 0.1…10, where ψ
-            // changes most), 2.0e-12 (narrow)
-            assert!(
-                worst < 1.2e-5 && worst_narrow < 3e-11,
-                "{worst} {worst_narrow}"
-            );
+            // changes most)
+            assert!(worst < 1.2e-5, "{worst}");
         }
+    }
+
+    /// A table extended by decades, and the cache (written, read, extended, a damaged
+    /// file rebuilt, an unwritable directory), give the bits of one direct build.
+    #[test]
+    fn extended_and_cached_tables_equal_a_direct_build() {
+        let h = 2e-5;
+        let spot = one_layer(h, 0.5, Some(40.0));
+        let (lo, hi) = (0.05 * h, 30.0 * h);
+        let direct = build(&spot, lo, hi).unwrap();
+        let small = build(&spot, 0.5 * h, 0.6 * h).unwrap();
+        assert_eq!(extend(Some(&small), &spot, lo, hi).unwrap(), direct);
+        // a table of another stack is not reused
+        let other = build(&one_layer(h, 0.6, Some(40.0)), 0.5 * h, 0.6 * h).unwrap();
+        assert_eq!(extend(Some(&other), &spot, lo, hi).unwrap(), direct);
+
+        let dir = std::env::temp_dir().join(format!("strata-psi-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let (t, u) = cached(&spot, 0.5 * h, 0.6 * h, &dir).unwrap();
+        assert_eq!(
+            (t, u),
+            (small.clone(), CacheUse::Written { decades: (-1, 0) })
+        );
+        let (t, u) = cached(&spot, 0.4 * h, 0.7 * h, &dir).unwrap();
+        assert_eq!((t, u), (small, CacheUse::Read));
+        let (t, u) = cached(&spot, lo, hi, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, CacheUse::Written { decades: (-2, 2) }));
+        assert_eq!(
+            cached(&spot, lo, hi, &dir).unwrap(),
+            (direct.clone(), CacheUse::Read)
+        );
+        let path = cache_path(&spot, &dir);
+        let mut bytes = std::fs::read(&path).unwrap();
+        bytes[60] ^= 0x10;
+        std::fs::write(&path, &bytes).unwrap();
+        let (t, u) = cached(&spot, lo, hi, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, CacheUse::Written { decades: (-2, 2) }));
+        // a plain file where the directory should be: nothing written, same table
+        let blocked = dir.join("plain-file");
+        std::fs::write(&blocked, b"x").unwrap();
+        let (t, u) = cached(&spot, lo, hi, &blocked.join("sub")).unwrap();
+        assert_eq!(t, direct);
+        assert!(matches!(u, CacheUse::NotWritten(_)), "{u:?}");
+        assert_eq!(std::fs::read(&blocked).unwrap(), b"x");
+        let leftovers: Vec<_> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .filter(|e| e.file_name().to_string_lossy().contains(".tmp."))
+            .collect();
+        assert!(leftovers.is_empty(), "{leftovers:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+        assert!(matches!(build(&spot, 0.0, hi), Err(PsiError::Range { .. })));
     }
 
     /// The table nodes' Nyström rule against 128 nodes over a/h₁ = 1e−3…4 on platings,

@@ -1,12 +1,15 @@
 //! Two bodies' spot conductances in series (physics.md §6.2): one summit's contact of
 //! radius a conducts G(a) with 1/G = 1/G_A(a) + 1/G_B(a), G_X(a) = 4 k₁,X a ψ_X(a) on a
-//! layered body (ψ from one [`PsiTable`] over the radii of a load path), 4 k a on a
+//! layered body (ψ from one [`PsiTable`] covering the radii of a load path, from the
+//! table cache when there is one), 4 k a on a
 //! homogeneous one and ∞ on a perfect conductor. The one implementation behind the N and
 //! I models' conductance of `strata` and of the C ABI.
 
+use std::path::Path;
+
 use strata_runtime::rough::Step;
 
-use crate::psi_table::{PsiError, PsiTable};
+use crate::psi_table::{CacheUse, PsiError, PsiTable, build, cached};
 use crate::spot::Spot;
 
 /// One body's spot conductance.
@@ -32,12 +35,15 @@ impl SpotSide {
 }
 
 /// G(aᵢ) (W/K or S; 0 out of contact) of every summit of every step, the sides `a` and
-/// `b` in series, ψ from one table over all the steps' radii.
+/// `b` in series, ψ from one table per layered side covering all the steps' radii: read
+/// from (or built into) the table cache `cache` when given ([`cached`]), else built
+/// ([`build`]) — the same bits either way. Also what the cache did, per layered side.
 pub fn spot_conductances(
     a: &SpotSide,
     b: &SpotSide,
     steps: &[Step],
-) -> Result<Vec<Vec<f64>>, PsiError> {
+    cache: Option<&Path>,
+) -> Result<(Vec<Vec<f64>>, Vec<CacheUse>), PsiError> {
     let (lo, hi) = steps
         .iter()
         .flat_map(|s| s.radii.iter().copied())
@@ -46,13 +52,22 @@ pub fn spot_conductances(
             (lo.min(a), hi.max(a))
         });
     if hi == 0.0 {
-        return Ok(steps.iter().map(|s| vec![0.0; s.radii.len()]).collect());
+        let g = steps.iter().map(|s| vec![0.0; s.radii.len()]).collect();
+        return Ok((g, vec![]));
     }
-    let table = |s: &SpotSide| -> Result<Option<PsiTable>, PsiError> {
-        match s {
-            SpotSide::Layered(spot) => Ok(Some(PsiTable::new(spot, lo, hi)?)),
-            _ => Ok(None),
-        }
+    let mut uses = vec![];
+    let mut table = |s: &SpotSide| -> Result<Option<PsiTable>, PsiError> {
+        let SpotSide::Layered(spot) = s else {
+            return Ok(None);
+        };
+        Ok(Some(match cache {
+            Some(dir) => {
+                let (t, u) = cached(spot, lo, hi, dir)?;
+                uses.push(u);
+                t
+            }
+            None => build(spot, lo, hi)?,
+        }))
     };
     let (ta, tb) = (table(a)?, table(b)?);
     // 1/G of one side at radius r (0 for a perfect conductor).
@@ -64,7 +79,7 @@ pub fn spot_conductances(
         }
         (SpotSide::Layered(..), None) => f64::NAN,
     };
-    Ok(steps
+    let g = steps
         .iter()
         .map(|s| {
             s.radii
@@ -78,5 +93,6 @@ pub fn spot_conductances(
                 })
                 .collect()
         })
-        .collect())
+        .collect();
+    Ok((g, uses))
 }

@@ -253,6 +253,25 @@ fn n_model_sums_the_spots() {
                 eprintln!("N model {name}: Σ G(a)/A0 vs direct spot solves: {worst:.2e}");
                 // homogeneous: round-off; coated: the ψ table's interpolation (≤ 5e-6)
                 assert!(worst < 5e-5, "{name}: {worst}");
+                // the ψ table kept in the table cache: a second solve reads it, and the
+                // h_c equals the in-memory table's bit for bit
+                let psi_files = || {
+                    std::fs::read_dir(d.join("cache"))
+                        .map(|r| {
+                            r.filter_map(|e| e.ok())
+                                .filter(|e| e.file_name().to_string_lossy().starts_with("psi-"))
+                                .count()
+                        })
+                        .unwrap_or(0)
+                };
+                let again = solve_scene(&scene, &path, &opts).unwrap();
+                assert_eq!(
+                    again.meta["conductance_steps"],
+                    sol.meta["conductance_steps"]
+                );
+                let uncached = sum.conductances(&sol.steps, area).unwrap();
+                assert_eq!(uncached, hc, "{name}: cached vs in-memory ψ table");
+                assert_eq!(psi_files(), usize::from(name == "coated"), "{name}");
             }
             h.push(hc);
         }
