@@ -460,74 +460,8 @@ pub fn solve_surface_with_maps(
     let mut meta = meta;
     add_counterface_meta(&mut meta, scene);
     if let Some(spec) = &scene.conductance {
-        // physics.md §6.2: the N model's spots conduct in parallel, each body in series;
-        // the I model's heat each other through both bodies
-        meta["conductance"] = conductance_meta(scene, spec);
-        // ψ tables of layered sides live in the table cache: solved once per stack
-        let psi_cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
-        let sum = crate::spots::SpotSum::new(scene, spec)?.with_cache(Some(psi_cache));
-        let tc = Instant::now();
-        let h = match model {
-            Model::Independent => {
-                log!(
-                    quiet,
-                    "conductance: {} conductance of the spots in parallel (Σ G(a)/A0, G = 4k1·a·ψ(a) per body, bodies in series; {}; no interactions)",
-                    spec.kind.name(),
-                    counterface_conduction(spec)
-                );
-                meta["conductance"]["definition"] = serde_json::json!(
-                    "N model: h_c = sum of the spots' conductances G(a_i) / A0, G = 4 k1 a psi(a) per body (an \
-                     isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
-                     in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
-                );
-                sum.conductances(&steps, rc.area())
-                    .context("[conductance]")?
-            }
-            Model::Interacting(images) => {
-                let t = Instant::now();
-                let (h, info) = sum
-                    .interacting(&steps, rc.summits(), rc.extent(), images)
-                    .context("[conductance]")?;
-                log!(
-                    quiet,
-                    "conductance: {} conductance of interacting spots (Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, G = 4k1·a·ψ(a) per body, bodies in series, I_ij the layered point-source fields{}; {}) in {:.3} s",
-                    spec.kind.name(),
-                    match images {
-                        Images::Periodic(_) => format!(
-                            " with periodic images, k = 0 mode excluded, kernel table {}×{}",
-                            info.grid.0, info.grid.1
-                        ),
-                        Images::Isolated => ", isolated sample".into(),
-                    },
-                    counterface_conduction(spec),
-                    t.elapsed().as_secs_f64()
-                );
-                meta["conductance"]["definition"] = serde_json::json!(
-                    "I model: the spots (isothermal discs of conductance G(a_i) = 4 k1 a psi(a) per body, the two \
-                     bodies in series) heat each other through both bodies' point-source fields: \
-                     sum_j (delta_ij / G_i + I_ij) Q_j = dT, h_c = sum Q_i / (dT A0), I_ij the temperature rise \
-                     at spot i per unit heat into spot j (periodic images with the uniform k = 0 mode excluded, \
-                     or an isolated sample) (physics.md 6.2)"
-                );
-                meta["conductance"]["kernel"] = serde_json::json!({
-                    "grid": [info.grid.0, info.grid.1],
-                    "ewald_width": info.sigma,
-                    "spectrum_extent": info.rho_max,
-                    "self_images": info.self_images,
-                });
-                h
-            }
-        };
-        let tcs = tc.elapsed().as_secs_f64();
-        log_psi_cache(&sum.cache_log(), quiet);
-        meta["conductance"]["seconds"] = serde_json::json!(tcs);
-        meta["conductance_steps"] = serde_json::Value::Array(
-            h.iter()
-                .map(|h| serde_json::json!({ "conductance": h }))
-                .collect(),
-        );
         // the model's time includes its conductance, as the BEM's does
-        seconds += tcs;
+        seconds += asperity_conductance(scene, spec, (&steps, &rc, model), opts, &mut meta)?;
         meta["seconds"] = serde_json::json!(seconds);
     }
     if let Some(f) = &failed {
@@ -887,12 +821,6 @@ fn solve_plastic_asperities(
     hardness: f64,
     model: Model,
 ) -> Result<SceneSolution> {
-    if scene.conductance.is_some() {
-        bail!(
-            "[conductance] with [plasticity] is solved by the BEM in this version (model.kind = \"bem\"); \
-             the capped asperity models give no spot conductances yet"
-        );
-    }
     let quiet = opts.quiet;
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
@@ -1041,6 +969,12 @@ fn solve_plastic_asperities(
                  model's solution); loading only",
     });
     meta["plastic_steps"] = serde_json::Value::Array(plastic_steps);
+    let mut seconds = seconds;
+    if let Some(spec) = &scene.conductance {
+        // the capped tips' contact radii conduct as the elastic ones do (physics.md §6.2)
+        seconds += asperity_conductance(scene, spec, (&steps, &rc, model), opts, &mut meta)?;
+        meta["seconds"] = serde_json::json!(seconds);
+    }
     Ok(SceneSolution {
         steps,
         meta,
@@ -1093,6 +1027,88 @@ fn counterface_conduction(spec: &ConductanceSpec) -> String {
         ),
         CounterfaceConduction::Stack => "the counterface conducting through its stack".into(),
     }
+}
+
+/// The N or I model's interface conductance of `steps` (physics.md §6.2) into `meta`
+/// (`conductance`, `conductance_steps`): the N model's spots conduct in parallel, each
+/// body in series; the I model's heat each other through both bodies. The contact radii
+/// are the steps' own, elastic or capped (a capped tip's contact is a disc of its contact
+/// radius, whatever its pressure). Returns the seconds it took.
+fn asperity_conductance(
+    scene: &Scene,
+    spec: &ConductanceSpec,
+    (steps, rc, model): (&[Step], &RoughContact<'_>, Model),
+    opts: &EngineOptions,
+    meta: &mut serde_json::Value,
+) -> Result<f64> {
+    let quiet = opts.quiet;
+    // physics.md §6.2: the N model's spots conduct in parallel, each body in series;
+    // the I model's heat each other through both bodies
+    meta["conductance"] = conductance_meta(scene, spec);
+    // ψ tables of layered sides live in the table cache: solved once per stack
+    let psi_cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
+    let sum = crate::spots::SpotSum::new(scene, spec)?.with_cache(Some(psi_cache));
+    let tc = Instant::now();
+    let h = match model {
+        Model::Independent => {
+            log!(
+                quiet,
+                "conductance: {} conductance of the spots in parallel (Σ G(a)/A0, G = 4k1·a·ψ(a) per body, bodies in series; {}; no interactions)",
+                spec.kind.name(),
+                counterface_conduction(spec)
+            );
+            meta["conductance"]["definition"] = serde_json::json!(
+                "N model: h_c = sum of the spots' conductances G(a_i) / A0, G = 4 k1 a psi(a) per body (an \
+                 isothermal disc; psi = 1 on a homogeneous body, else the Fredholm spot solver, interpolated \
+                 in ln a), the two bodies in series, no thermal interactions between the spots (physics.md 6.2)"
+            );
+            sum.conductances(steps, rc.area())
+                .context("[conductance]")?
+        }
+        Model::Interacting(images) => {
+            let t = Instant::now();
+            let (h, info) = sum
+                .interacting(steps, rc.summits(), rc.extent(), images)
+                .context("[conductance]")?;
+            log!(
+                quiet,
+                "conductance: {} conductance of interacting spots (Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, G = 4k1·a·ψ(a) per body, bodies in series, I_ij the layered point-source fields{}; {}) in {:.3} s",
+                spec.kind.name(),
+                match images {
+                    Images::Periodic(_) => format!(
+                        " with periodic images, k = 0 mode excluded, kernel table {}×{}",
+                        info.grid.0, info.grid.1
+                    ),
+                    Images::Isolated => ", isolated sample".into(),
+                },
+                counterface_conduction(spec),
+                t.elapsed().as_secs_f64()
+            );
+            meta["conductance"]["definition"] = serde_json::json!(
+                "I model: the spots (isothermal discs of conductance G(a_i) = 4 k1 a psi(a) per body, the two \
+                 bodies in series) heat each other through both bodies' point-source fields: \
+                 sum_j (delta_ij / G_i + I_ij) Q_j = dT, h_c = sum Q_i / (dT A0), I_ij the temperature rise \
+                 at spot i per unit heat into spot j (periodic images with the uniform k = 0 mode excluded, \
+                 or an isolated sample) (physics.md 6.2)"
+            );
+            meta["conductance"]["kernel"] = serde_json::json!({
+                "grid": [info.grid.0, info.grid.1],
+                "ewald_width": info.sigma,
+                "spectrum_extent": info.rho_max,
+                "self_images": info.self_images,
+            });
+            h
+        }
+    };
+    let tcs = tc.elapsed().as_secs_f64();
+    log_psi_cache(&sum.cache_log(), quiet);
+    meta["conductance"]["seconds"] = serde_json::json!(tcs);
+    meta["conductance_steps"] = serde_json::Value::Array(
+        h.iter()
+            .map(|h| serde_json::json!({ "conductance": h }))
+            .collect(),
+    );
+    Ok(tcs)
 }
 
 /// One log line per ψ table of the conductance: read from the table cache, or built

@@ -311,7 +311,8 @@ fn solve_asperities(
 
 /// The capped N and I models (`[plasticity]`): the engine's scene solve at the sample
 /// separations (loading only: the asperity models have no unloading branch, so the law
-/// carries the hardness and an empty unloading curve, and its note says so).
+/// carries the hardness and an empty unloading curve, and its note says so), with the
+/// capped spots' conductance when the scene asks for it.
 #[allow(clippy::too_many_arguments)]
 fn solve_capped_asperities(
     scene: &Scene,
@@ -345,7 +346,11 @@ fn solve_capped_asperities(
         nominal_area,
         surface: surface_json,
         warnings,
-        conductance: None,
+        // the capped tips' spots at the same solves (the engine's, with [conductance])
+        conductance: scene
+            .conductance
+            .as_ref()
+            .map(|spec| (spec.kind, conductance_steps(&sol.meta))),
         unloading: Some((pl.hardness, Vec::new())),
     })
 }

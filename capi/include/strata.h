@@ -403,8 +403,8 @@ int32_t strata_law_options_default(struct StrataLawOptions *out);
 // `[plasticity] hardness`; the response table's ring solves take ~20 CPU-s on a
 // layered stack); with `conductance_kind` the interface conductance h_c at every
 // sample (`strata law` on a scene with `[conductance]`: the CSV's `conductance`
-// column), queried with `strata_law_conductance*`. `solver_options` NULL: the
-// defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
+// column), queried with `strata_law_conductance*`; with both, h_c of the capped
+// tips' spots. `solver_options` NULL: the defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
 // (`options.hardness`); a stack without the conductivity the kind needs is
 // `STRATA_ERR_STACK` naming the layer and field.
 int32_t strata_law_new_with_law_options(const struct StrataTable *table,

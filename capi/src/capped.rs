@@ -18,7 +18,7 @@ use strata_runtime::Stack;
 use strata_runtime::interface::{InterfaceError, InterfaceLaw, sample_bytes, sample_gaps};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources::{ResourceError, check_memory};
-use strata_runtime::rough::{Model, Params, RoughContact, RoughError};
+use strata_runtime::rough::{Model, Params, RoughContact, RoughError, Step};
 use strata_runtime::surface::Surface;
 use strata_tablegen::plastic_asperity::{PlasticAsperityError, RESPONSE_Y, response};
 use thiserror::Error;
@@ -55,10 +55,21 @@ pub enum CappedError {
     Resource(#[from] ResourceError),
 }
 
+/// A capped law with the steps it was sampled from.
+pub struct CappedLaw {
+    /// The loading curve.
+    pub law: InterfaceLaw,
+    /// The capped steps at the samples' separations, first contact first.
+    pub steps: Vec<Step>,
+    /// The samples' separations (m), in the steps' order.
+    pub gaps: Vec<f64>,
+}
+
 /// The capped law of `surface` on `stack` with hardness `hardness` (Pa, finite > 0):
 /// `samples` separations from first contact down to `min_gap` (m), by `model`; `law` is
 /// the elastic asperity law of the stack (the I model's interactions and elastic
-/// steps), `params` the solver's.
+/// steps), `params` the solver's. The steps come with it (their contact radii are the
+/// spots of the conductance, as `strata law` takes them).
 pub fn capped_law(
     law: &dyn AsperityLaw,
     stack: &Stack,
@@ -67,7 +78,7 @@ pub fn capped_law(
     hardness: f64,
     (min_gap, samples): (f64, usize),
     params: Params,
-) -> Result<InterfaceLaw, CappedError> {
+) -> Result<CappedLaw, CappedError> {
     // first contact and the area need no elastic law
     let hom = Homogeneous {
         e_star: stack.contact_modulus(),
@@ -110,5 +121,9 @@ pub fn capped_law(
         .into_iter()
         .map(|(s, _)| s)
         .collect();
-    Ok(InterfaceLaw::from_steps(&steps, nominal_area)?)
+    Ok(CappedLaw {
+        law: InterfaceLaw::from_steps(&steps, nominal_area)?,
+        steps,
+        gaps,
+    })
 }

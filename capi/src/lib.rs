@@ -387,15 +387,6 @@ impl StrataLawOptions {
                 ));
             }
         };
-        if hardness.is_some() && kind.is_some() {
-            return Err(invalid(
-                "options.conductance_kind",
-                "a conductance with options.hardness (capped tips) is not solved in this version: \
-                 the capped asperity models give no spot conductances yet (as `strata law`); \
-                 set STRATA_CONDUCTANCE_NONE or an elastic hardness (0 or INFINITY)"
-                    .into(),
-            ));
-        }
         Ok(LawEffects {
             hardness,
             conductance: kind.map(|k| (k, counterface)),
@@ -1055,6 +1046,28 @@ fn spot_sum(
 }
 
 /// What `strata_law_new_with_law_options` computes: the law of `surface` on `stack` by
+/// h_c of `steps` (the N model's spots in parallel, the I model's interacting through
+/// both bodies; `rc` gives the summits, the cell and the nominal area) against the
+/// samples' separations `gaps`.
+fn law_conductance(
+    sum: &SpotSum,
+    model: Model,
+    steps: &[strata_runtime::rough::Step],
+    rc: &RoughContact<'_>,
+    gaps: &[f64],
+) -> Result<ConductanceCurve, CapiError> {
+    let h = match model {
+        Model::Independent => sum.conductances(steps, rc.area()),
+        Model::Interacting(images) => sum.interacting(steps, rc.summits(), rc.extent(), images),
+    }
+    .map_err(|e| CapiError::Solve(format!("conductance: {e}")))?;
+    ConductanceCurve::new(gaps, &h).ok_or_else(|| {
+        CapiError::Solve(format!(
+            "conductance: the samples' h_c {h:?} are not finite and ≥ 0"
+        ))
+    })
+}
+
 /// `model` with the effects of `effects` — with a hardness the capped law
 /// ([`capped::capped_law`]), else the elastic law of [`build_law_with`] and, with a
 /// conductance, h_c at its samples (the N or I model's spots on the steps re-solved at
@@ -1102,10 +1115,24 @@ pub fn build_law_with_effects(
             CappedError::Resource(e) => CapiError::Resource(e),
             e => CapiError::Solve(e.to_string()),
         })?;
+        // the capped tips' spots (their contact radii) conduct as elastic ones do
+        let conductance = match sum {
+            None => None,
+            Some((kind, sum)) => {
+                let hom = Homogeneous {
+                    e_star: stack.contact_modulus(),
+                };
+                let rc = RoughContact::from_surface(&hom, surface)?;
+                Some((
+                    kind,
+                    law_conductance(&sum, model, &il.steps, &rc, &il.gaps)?,
+                ))
+            }
+        };
         return Ok(StrataLaw {
-            law: il,
+            law: il.law,
             hardness: Some(h),
-            conductance: None,
+            conductance,
         });
     }
     let rc = RoughContact::from_surface(law.as_ref(), surface)?.with_params(params);
@@ -1117,19 +1144,7 @@ pub fn build_law_with_effects(
             let gaps: Vec<f64> = il.samples().map(|s| s.0).collect();
             let deltas: Vec<f64> = gaps.iter().map(|&g| rc.top_to_mean() - g).collect();
             let steps = rc.curve(model, &deltas)?;
-            let h = match model {
-                Model::Independent => sum.conductances(&steps, rc.area()),
-                Model::Interacting(images) => {
-                    sum.interacting(&steps, rc.summits(), rc.extent(), images)
-                }
-            }
-            .map_err(|e| CapiError::Solve(format!("conductance: {e}")))?;
-            let curve = ConductanceCurve::new(&gaps, &h).ok_or_else(|| {
-                CapiError::Solve(format!(
-                    "conductance: the samples' h_c {h:?} are not finite and ≥ 0"
-                ))
-            })?;
-            Some((kind, curve))
+            Some((kind, law_conductance(&sum, model, &steps, &rc, &gaps)?))
         }
     };
     Ok(StrataLaw {
@@ -1896,8 +1911,8 @@ mod exported {
     /// `[plasticity] hardness`; the response table's ring solves take ~20 CPU-s on a
     /// layered stack); with `conductance_kind` the interface conductance h_c at every
     /// sample (`strata law` on a scene with `[conductance]`: the CSV's `conductance`
-    /// column), queried with `strata_law_conductance*`. `solver_options` NULL: the
-    /// defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
+    /// column), queried with `strata_law_conductance*`; with both, h_c of the capped
+    /// tips' spots. `solver_options` NULL: the defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
     /// (`options.hardness`); a stack without the conductivity the kind needs is
     /// `STRATA_ERR_STACK` naming the layer and field.
     #[unsafe(no_mangle)]

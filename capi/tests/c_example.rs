@@ -1644,6 +1644,63 @@ fn effects_example_matches_strata_law() {
             }
         }
     }
+    // 2b. both effects in one law: the capped tips' spots conduct (N and I model), the
+    // CSV and every printed h_c equal `strata law`'s on the equivalent scene; h_c grows
+    // along the loading path
+    for (label, model, text) in [
+        (
+            "capped_n",
+            STRATA_MODEL_INDEPENDENT,
+            "kind = \"independent\"",
+        ),
+        (
+            "capped_i",
+            STRATA_MODEL_INTERACTING_PERIODIC,
+            "kind = \"interacting\"\nimages = \"periodic\"",
+        ),
+    ] {
+        let scene = capped_scene(text).replace(
+            "poisson = 0.15\n",
+            "poisson = 0.15\nthermal_conductivity = 0.5\n",
+        ) + "[counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n\
+             [conductance]\nkind = \"thermal\"\n";
+        let (header, cli) = strata_law_csv(&dir, label, &scene, 8, 0.0);
+        let col = |name: &str| header.iter().position(|h| h == name).expect(name);
+        let (hc_col, p_col) = (col("conductance"), col("mean_pressure"));
+        let (c_header, c_csv) = csv_table(
+            &std::fs::read_to_string(out_dir.join(format!("capped-conductance-{model}.csv")))
+                .expect("C csv"),
+        );
+        assert_eq!(header, c_header, "{label}: CSV header");
+        assert_eq!(cli.len(), 8);
+        for (a, b) in cli.iter().zip(&c_csv) {
+            for (x, y) in a.iter().zip(b) {
+                worst = worst.max(rel(*x, *y));
+                assert!(rel(*x, *y) <= 1e-12, "{label}: CSV {a:?} vs {b:?}");
+            }
+        }
+        let printed: Vec<&Vec<&str>> = of("conductance")
+            .into_iter()
+            .filter(|f| f[1] == label)
+            .collect();
+        assert_eq!(printed.len(), 15);
+        for (i, f) in printed.iter().enumerate().filter(|(i, _)| i % 2 == 0) {
+            let row = &cli[i / 2];
+            assert_eq!(num(f[2]).to_bits(), row[0].to_bits(), "{label}: gap");
+            assert!(rel(num(f[3]), row[p_col]) <= 1e-12, "{label}: p");
+            worst = worst.max(rel(num(f[4]), row[hc_col]));
+            assert!(
+                rel(num(f[4]), row[hc_col]) <= 1e-12,
+                "{label}: h_c {} vs CLI {}",
+                f[4],
+                row[hc_col]
+            );
+        }
+        assert!(
+            cli[7][hc_col] > cli[1][hc_col] && cli[1][hc_col] > 0.0,
+            "{label}: {cli:?}"
+        );
+    }
     let kinds = of("conductance_kind");
     assert_eq!(
         kinds.iter().map(|f| (f[1], f[2])).collect::<Vec<_>>(),
@@ -1665,7 +1722,7 @@ fn effects_example_matches_strata_law() {
         .into_iter()
         .map(|f| (f[1], f[2].parse().unwrap(), f[3..].join(" ")))
         .collect();
-    let want: [(&str, i32, &str); 12] = [
+    let want: [(&str, i32, &str); 11] = [
         (
             "negative_hardness",
             STRATA_ERR_INVALID_ARGUMENT,
@@ -1690,11 +1747,6 @@ fn effects_example_matches_strata_law() {
             "negative_counterface_conductivity",
             STRATA_ERR_INVALID_ARGUMENT,
             "`options.counterface_conductivity`",
-        ),
-        (
-            "hardness_with_conductance",
-            STRATA_ERR_INVALID_ARGUMENT,
-            "`options.conductance_kind`",
         ),
         (
             "options_not_initialised",
@@ -1801,9 +1853,16 @@ fn fortran_effects_example_matches_c() {
             }
         }
     }
-    assert_eq!(errors, 12, "{f_out}");
+    assert_eq!(errors, 11, "{f_out}");
     assert!(numbers > 400, "{numbers} numbers compared");
-    for name in ["capped-0", "capped-2", "conductance-0", "conductance-2"] {
+    for name in [
+        "capped-0",
+        "capped-2",
+        "conductance-0",
+        "conductance-2",
+        "capped-conductance-0",
+        "capped-conductance-2",
+    ] {
         let read = |exe: &str| {
             std::fs::read(dir.join(format!("out-{exe}/{name}.csv")))
                 .unwrap_or_else(|e| panic!("{exe} {name}.csv: {e}"))
