@@ -52,6 +52,8 @@ pub(crate) struct Bounded<'a> {
     /// Acceptance: largest KKT violation (m).
     pub tol: f64,
     pub max_iterations: usize,
+    /// Checked before every product ([`crate::BemSolver::with_cancel`]).
+    pub cancel: &'a strata_runtime::cancel::Cancel,
 }
 
 fn bem_error(e: BoundedError<BemError>) -> BemError {
@@ -78,7 +80,10 @@ impl Bounded<'_> {
         let b: Vec<f64> = self.z.iter().map(|z| z - c).collect();
         let mut work = self.op.work();
         let uniform = self.uniform;
-        let mut apply = |x: &[f64], y: &mut [f64]| self.op.apply(x, y, uniform, &mut work);
+        let mut apply = |x: &[f64], y: &mut [f64]| {
+            self.cancel.check()?;
+            self.op.apply(x, y, uniform, &mut work)
+        };
         Mprgp {
             upper: self.hardness,
             alpha: self.alpha,
@@ -273,6 +278,7 @@ impl<'s> PlasticPath<'s> {
             alpha: self.alpha,
             tol: parts.options.tolerance * parts.z_rms,
             max_iterations: parts.options.max_iterations,
+            cancel: self.solver.cancel_token(),
         };
         let mut capped = Capped {
             op: parts.op,

@@ -910,3 +910,36 @@ fn capped_iteration_equals_mprgp() {
         }
     }
 }
+
+/// The bounded fallback (MPRGP, `plastic::Bounded`) checks the cancellation token before
+/// every product: a tripped token stops it with `BemError::Cancelled` and no result; an
+/// untripped one solves.
+#[test]
+fn bounded_fallback_checks_the_cancel_token() {
+    use crate::plastic::Bounded;
+    let z = sine_surface(32, 1e-3, 1e-6);
+    let stack = Stack::half_space(4e9, 0.3).unwrap();
+    let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).unwrap();
+    let op = solver.operator();
+    let zs: Vec<f64> = z.iter().copied().collect();
+    let zmax = zs.iter().fold(f64::MIN, |m, v| m.max(*v));
+    let cancel = strata_runtime::cancel::Cancel::new();
+    let bounded = Bounded {
+        op,
+        uniform: false,
+        z: &zs,
+        hardness: 2e7,
+        alpha: 1.0 / op.norm_bound(false),
+        tol: 1e-9 * 1e-6,
+        max_iterations: 100_000,
+        cancel: &cancel,
+    };
+    let n = zs.len();
+    let (mut p, mut g) = (vec![0.0; n], vec![0.0; n]);
+    let o = bounded.solve(zmax - 1.5e-6, &mut p, &mut g).unwrap();
+    assert!(o.iterations > 0 && p.iter().any(|&v| v >= 2e7), "{o:?}");
+    cancel.cancel();
+    let (mut p, mut g) = (vec![0.0; n], vec![0.0; n]);
+    let e = bounded.solve(zmax - 1.5e-6, &mut p, &mut g).unwrap_err();
+    assert!(matches!(e, BemError::Cancelled(_)), "{e}");
+}
