@@ -22,27 +22,21 @@
 //! ([`Interactions`]: the same h_c as filling each step's network afresh, bit for bit).
 
 use std::path::PathBuf;
-use std::sync::Mutex;
 
 use anyhow::{Context, Result};
-use strata_runtime::rough::conductance::{Body, Interactions, Kernel, KernelInfo};
-use strata_runtime::rough::{Images, Step};
+use strata_runtime::rough::Images;
+use strata_runtime::rough::Step;
+use strata_runtime::rough::conductance::KernelInfo;
 use strata_runtime::summits::Summit;
 use strata_tablegen::psi_table::CacheUse;
 use strata_tablegen::spot::Spot;
-use strata_tablegen::spot_pair::{SpotSide, spot_conductances};
+use strata_tablegen::spot_pair::{SpotPair, SpotSide};
 
 use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
 
-/// The N model's spot conductances for one scene.
-pub struct SpotSum {
-    a: SpotSide,
-    b: SpotSide,
-    /// The table cache directory of the ψ tables (None: built in memory).
-    cache: Option<PathBuf>,
-    /// What the cache did, per layered side and call.
-    cache_log: Mutex<Vec<CacheUse>>,
-}
+/// The N and I models' spot conductances for one scene: the shared
+/// [`SpotPair`] built from the scene's stack and `[conductance]`.
+pub struct SpotSum(SpotPair);
 
 impl SpotSum {
     /// Both bodies' spot conductances from the scene's `[conductance]` (the first body's
@@ -53,7 +47,8 @@ impl SpotSum {
                 SpotSide::of(Spot::new(c, spec.kind).context("counterface")?)
             }
             (CounterfaceConduction::Stack, None) => anyhow::bail!("counterface: internal error"),
-            (other, _) => Self::rigid(other),
+            (CounterfaceConduction::HalfSpace(k), _) => SpotSide::Homogeneous(k),
+            (_, _) => SpotSide::Perfect,
         };
         Self::with_counterface(&scene.stack.body(), spec.kind, counterface)
     }
@@ -72,73 +67,40 @@ impl SpotSum {
         Self::with_counterface(&stack.body(), kind, b)
     }
 
-    fn rigid(counterface: CounterfaceConduction) -> SpotSide {
-        match counterface {
-            CounterfaceConduction::HalfSpace(k) => SpotSide::Homogeneous(k),
-            _ => SpotSide::Perfect,
-        }
-    }
-
     fn with_counterface(
         stack: &strata_runtime::Stack,
         kind: strata_runtime::conduction::ConductionKind,
         b: SpotSide,
     ) -> Result<SpotSum> {
         let body = Spot::new(stack, kind).context("stack")?;
-        Ok(SpotSum {
-            a: SpotSide::of(body),
-            b,
-            cache: None,
-            cache_log: Mutex::new(vec![]),
-        })
+        Ok(SpotSum(SpotPair::new(SpotSide::of(body), b)))
     }
 
     /// Keeps the ψ tables in the table cache `dir` ([`strata_tablegen::psi_table::cached`]):
     /// the same h_c bit for bit as without it.
-    pub fn with_cache(mut self, dir: Option<PathBuf>) -> SpotSum {
-        self.cache = dir;
-        self
+    pub fn with_cache(self, dir: Option<PathBuf>) -> SpotSum {
+        SpotSum(self.0.with_cache(dir))
     }
 
     /// What the table cache did with the ψ tables so far (read, written, or not written
     /// and why), per layered side and load path.
     pub fn cache_log(&self) -> Vec<CacheUse> {
-        self.cache_log.lock().map(|l| l.clone()).unwrap_or_default()
+        self.0.cache_log()
     }
 
     /// h_c = Σ G(aᵢ)/A₀ of every step (W/(m²·K) or S/m²), `area` = A₀ (m²).
     pub fn conductances(&self, steps: &[Step], area: f64) -> Result<Vec<f64>> {
-        Ok(self
-            .spot_conductances(steps)?
-            .iter()
-            .map(|g| g.iter().sum::<f64>() / area)
-            .collect())
+        Ok(self.0.conductances(steps, area)?)
     }
 
     /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
     /// series, ψ from one table over all the steps' radii.
     pub fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>> {
-        let (g, uses) = spot_conductances(&self.a, &self.b, steps, self.cache.as_deref())?;
-        if let Ok(mut log) = self.cache_log.lock() {
-            log.extend(uses);
-        }
-        Ok(g)
+        Ok(self.0.spot_conductances(steps)?)
     }
 
-    /// The two bodies as the I model's conduction kernel sees them.
-    fn bodies(&self) -> [Body<'_>; 2] {
-        [&self.a, &self.b].map(|s| match s {
-            SpotSide::Perfect => Body::Perfect,
-            SpotSide::Homogeneous(k) => Body::HalfSpace(*k),
-            SpotSide::Layered(spot) => Body::Layered(spot.compliance()),
-        })
-    }
-
-    /// The I model's interface conductance of every step (physics.md §6.2,
-    /// [`strata_runtime::rough::conductance`]): the spots of each step (the summits in
-    /// contact, at their positions, with their G(aᵢ)) heat each other through both
-    /// bodies, periodically on a cell of sides `extent` (m) or isolated; h_c per step
-    /// (W/(m²·K) or S/m²) and the kernel's parameters.
+    /// The I model's interface conductance of every step ([`SpotPair::interacting`]):
+    /// h_c per step (W/(m²·K) or S/m²) and the kernel's parameters.
     pub fn interacting(
         &self,
         steps: &[Step],
@@ -146,49 +108,12 @@ impl SpotSum {
         extent: (f64, f64),
         images: Images,
     ) -> Result<(Vec<f64>, KernelInfo)> {
-        let [a, b] = self.bodies();
-        let kernel = match images {
-            Images::Periodic(_) => Kernel::periodic(a, b, extent)?,
-            Images::Isolated => Kernel::isolated(a, b)?,
-        };
-        let area = extent.0 * extent.1;
-        let g = self.spot_conductances(steps)?;
-        // the summits in contact at some step: their interactions filled once
-        let touching: Vec<usize> = (0..summits.len())
-            .filter(|&k| g.iter().any(|gs| gs.get(k).is_some_and(|&g| g > 0.0)))
-            .collect();
-        let points: Vec<(f64, f64)> = touching
-            .iter()
-            .map(|&k| (summits[k].x, summits[k].y))
-            .collect();
-        let net = Interactions::new(&kernel, &points)?;
-        let h = g
-            .iter()
-            .enumerate()
-            .map(|(i, gs)| {
-                let spots: Vec<(usize, f64)> = touching
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(r, &k)| gs.get(k).filter(|&&g| g > 0.0).map(|&g| (r, g)))
-                    .collect();
-                net.network(&spots, area)
-                    .map(|n| n.conductance)
-                    .with_context(|| format!("load step {i}: the I model's spot network"))
-            })
-            .collect::<Result<Vec<f64>>>()?;
-        Ok((h, kernel.info()))
+        Ok(self.0.interacting(steps, summits, extent, images)?)
     }
 
     /// G(a) of one spot with both bodies in series (W/K or S), ψ solved directly (no
     /// table): the reference of the tests.
     pub fn direct(&self, a: f64) -> Result<f64> {
-        let r = |s: &SpotSide| -> Result<f64> {
-            Ok(match s {
-                SpotSide::Perfect => 0.0,
-                SpotSide::Homogeneous(k) => 1.0 / (4.0 * k * a),
-                SpotSide::Layered(spot) => 1.0 / spot.conductance(a)?.conductance,
-            })
-        };
-        Ok(1.0 / (r(&self.a)? + r(&self.b)?))
+        Ok(self.0.direct(a)?)
     }
 }

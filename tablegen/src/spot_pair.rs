@@ -2,15 +2,21 @@
 //! radius a conducts G(a) with 1/G = 1/G_A(a) + 1/G_B(a), G_X(a) = 4 k₁,X a ψ_X(a) on a
 //! layered body (ψ from one [`PsiTable`] covering the radii of a load path, from the
 //! table cache when there is one), 4 k a on a
-//! homogeneous one and ∞ on a perfect conductor. The one implementation behind the N and
-//! I models' conductance of `strata` and of the C ABI.
+//! homogeneous one and ∞ on a perfect conductor; and the interface they make
+//! ([`SpotPair`]): the N model's spots in parallel and the I model's spot network. The
+//! one implementation behind the N and I models' conductance of `strata` and of the C ABI.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 
-use strata_runtime::rough::Step;
+use strata_runtime::rough::conductance::{
+    Body, ConductanceError, Interactions, Kernel, KernelInfo,
+};
+use strata_runtime::rough::{Images, Step};
+use strata_runtime::summits::Summit;
 
 use crate::psi_table::{CacheUse, PsiError, PsiTable, build, cached};
-use crate::spot::Spot;
+use crate::spot::{Spot, SpotError};
 
 /// One body's spot conductance.
 pub enum SpotSide {
@@ -95,4 +101,147 @@ pub fn spot_conductances(
         })
         .collect();
     Ok((g, uses))
+}
+
+/// A failed N- or I-model conductance of a load path.
+#[derive(Debug, thiserror::Error)]
+pub enum SpotPairError {
+    /// The ψ table of a layered side.
+    #[error("{0}")]
+    Psi(#[from] PsiError),
+    /// The I model's conduction kernel.
+    #[error("the I model's conduction kernel: {0}")]
+    Kernel(ConductanceError),
+    /// The I model's spot network of one load step.
+    #[error("load step {step}: the I model's spot network: {error}")]
+    Network {
+        step: usize,
+        error: ConductanceError,
+    },
+}
+
+/// The two bodies of an interface as their spots conduct (physics.md §6.2): the N
+/// model's spots in parallel ([`SpotPair::conductances`]) and the I model's spot network
+/// ([`SpotPair::interacting`]) — the one implementation of `strata` and the C ABI, which
+/// so give the same h_c bit for bit.
+pub struct SpotPair {
+    a: SpotSide,
+    b: SpotSide,
+    /// The table cache directory of the ψ tables (None: built in memory).
+    cache: Option<PathBuf>,
+    /// What the cache did, per layered side and load path.
+    cache_log: Mutex<Vec<CacheUse>>,
+}
+
+impl SpotPair {
+    /// The first body's side `a` and the counterface's `b`, ψ tables in memory.
+    pub fn new(a: SpotSide, b: SpotSide) -> SpotPair {
+        SpotPair {
+            a,
+            b,
+            cache: None,
+            cache_log: Mutex::new(vec![]),
+        }
+    }
+
+    /// Keeps the ψ tables in the table cache `dir` ([`cached`]): the same h_c bit for bit.
+    pub fn with_cache(mut self, dir: Option<PathBuf>) -> SpotPair {
+        self.cache = dir;
+        self
+    }
+
+    /// What the table cache did with the ψ tables so far, per layered side and load path.
+    pub fn cache_log(&self) -> Vec<CacheUse> {
+        self.cache_log.lock().map(|l| l.clone()).unwrap_or_default()
+    }
+
+    /// G(aᵢ) of every summit of every step (W/K or S; 0 out of contact), both bodies in
+    /// series ([`spot_conductances`]).
+    pub fn spot_conductances(&self, steps: &[Step]) -> Result<Vec<Vec<f64>>, PsiError> {
+        let (g, uses) = spot_conductances(&self.a, &self.b, steps, self.cache.as_deref())?;
+        if let Ok(mut log) = self.cache_log.lock() {
+            log.extend(uses);
+        }
+        Ok(g)
+    }
+
+    /// The N model: h_c = Σ G(aᵢ)/A₀ of every step (W/(m²·K) or S/m²), `area` = A₀ (m²).
+    pub fn conductances(&self, steps: &[Step], area: f64) -> Result<Vec<f64>, PsiError> {
+        Ok(self
+            .spot_conductances(steps)?
+            .iter()
+            .map(|g| g.iter().sum::<f64>() / area)
+            .collect())
+    }
+
+    /// The two bodies as the I model's conduction kernel sees them.
+    fn bodies(&self) -> [Body<'_>; 2] {
+        [&self.a, &self.b].map(|s| match s {
+            SpotSide::Perfect => Body::Perfect,
+            SpotSide::Homogeneous(k) => Body::HalfSpace(*k),
+            SpotSide::Layered(spot) => Body::Layered(spot.compliance()),
+        })
+    }
+
+    /// The I model's interface conductance of every step (physics.md §6.2,
+    /// [`strata_runtime::rough::conductance`]): the spots of each step (the summits in
+    /// contact, at their positions, with their G(aᵢ)) heat each other through both
+    /// bodies, Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀), periodically on a
+    /// cell of sides `extent` (m) or isolated; the interactions of every summit that
+    /// touches at some step filled once for the path ([`Interactions`]: the same h_c as
+    /// filling each step's network afresh, bit for bit). h_c per step (W/(m²·K) or S/m²)
+    /// and the kernel's parameters.
+    pub fn interacting(
+        &self,
+        steps: &[Step],
+        summits: &[Summit],
+        extent: (f64, f64),
+        images: Images,
+    ) -> Result<(Vec<f64>, KernelInfo), SpotPairError> {
+        let [a, b] = self.bodies();
+        let kernel = match images {
+            Images::Periodic(_) => Kernel::periodic(a, b, extent),
+            Images::Isolated => Kernel::isolated(a, b),
+        }
+        .map_err(SpotPairError::Kernel)?;
+        let area = extent.0 * extent.1;
+        let g = self.spot_conductances(steps)?;
+        // the summits in contact at some step: their interactions filled once
+        let touching: Vec<usize> = (0..summits.len())
+            .filter(|&k| g.iter().any(|gs| gs.get(k).is_some_and(|&g| g > 0.0)))
+            .collect();
+        let points: Vec<(f64, f64)> = touching
+            .iter()
+            .map(|&k| (summits[k].x, summits[k].y))
+            .collect();
+        let net = Interactions::new(&kernel, &points).map_err(SpotPairError::Kernel)?;
+        let h = g
+            .iter()
+            .enumerate()
+            .map(|(step, gs)| {
+                let spots: Vec<(usize, f64)> = touching
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(r, &k)| gs.get(k).filter(|&&g| g > 0.0).map(|&g| (r, g)))
+                    .collect();
+                net.network(&spots, area)
+                    .map(|n| n.conductance)
+                    .map_err(|error| SpotPairError::Network { step, error })
+            })
+            .collect::<Result<Vec<f64>, SpotPairError>>()?;
+        Ok((h, kernel.info()))
+    }
+
+    /// G(a) of one spot with both bodies in series (W/K or S), ψ solved directly (no
+    /// table): the reference of the tests.
+    pub fn direct(&self, a: f64) -> Result<f64, SpotError> {
+        let r = |s: &SpotSide| -> Result<f64, SpotError> {
+            Ok(match s {
+                SpotSide::Perfect => 0.0,
+                SpotSide::Homogeneous(k) => 1.0 / (4.0 * k * a),
+                SpotSide::Layered(spot) => 1.0 / spot.conductance(a)?.conductance,
+            })
+        };
+        Ok(1.0 / (r(&self.a)? + r(&self.b)?))
+    }
 }
