@@ -19,7 +19,7 @@
 //! G(aᵢ) on the diagonal of the spot network of [`strata_runtime::rough::conductance`],
 //! Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀), the interactions I_ij of every
 //! summit that touches at some step filled once for the whole path
-//! ([`Interactions`]: the same h_c as filling each step's network afresh, bit for bit).
+//! ([`strata_runtime::rough::conductance::Interactions`]: the same h_c as filling each step's network afresh, bit for bit).
 
 use std::path::PathBuf;
 
