@@ -312,8 +312,16 @@ impl<'s> PlasticPath<'s> {
                 // result.
                 let (settled, set_steps, set_products) =
                     self.active_set(&parts, &z_e, control, &mut p)?;
+                let mut ran_bounded = true;
                 let (c, mut out, offset_iterations) = match settled {
-                    Some(c) => (c, bounded.solve(c, &mut p, &mut g)?, 0),
+                    Some(c) => {
+                        // the check at the settled offset: the capped preconditioned
+                        // iteration from the active-set pressure (MPRGP only if it stalls;
+                        // force control leaves the uniform mode out, as both start)
+                        let (o, ran) = solve_at(&bounded, &capped, c, &mut p, &mut g)?;
+                        ran_bounded = ran;
+                        (c, o, 0)
+                    }
                     None => {
                         if target >= self.hardness {
                             return Err(BemError::Load {
@@ -330,7 +338,7 @@ impl<'s> PlasticPath<'s> {
                 };
                 out.iterations += set_steps;
                 out.products += set_products;
-                fallback = true;
+                fallback = ran_bounded;
                 (c, out, offset_iterations, set_steps)
             }
         };

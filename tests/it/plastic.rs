@@ -147,9 +147,19 @@ fn force_control_equals_displacement_control() {
         .solve_plastic_curve(&[BemLoad::Approach(f.approach)], hardness)
         .unwrap()
         .remove(0);
+    let e = solver.solve(BemLoad::MeanPressure(2e7)).unwrap();
     eprintln!(
-        "force control: {} secant steps; δ {:e}; p {:e} vs {:e}",
-        fi.offset_iterations, f.approach, f.mean_pressure, d.mean_pressure
+        "force control: {} secant steps, {} active-set steps, fallback {}; δ {:e}; p {:e} vs {:e}; \
+         products: force {}, displacement {}, elastic force {}",
+        fi.offset_iterations,
+        fi.active_set_steps,
+        fi.bounded_fallback,
+        f.approach,
+        f.mean_pressure,
+        d.mean_pressure,
+        f.products,
+        d.products,
+        e.products
     );
     assert!(rel(f.mean_pressure, d.mean_pressure) < 1e-8);
     assert_eq!(fi.plastic_points, di.plastic_points);
