@@ -2,7 +2,9 @@
 //! layered stack without `stack.table` in `solve`, `law`, `compare`, `sweep`, and
 //! `asperity --model approx` without `--table`). A table is named after the stack's
 //! nondimensional fingerprint (`stack-<hex>.strata`), so every scene and command with
-//! the same stack shares it.
+//! the same stack shares it. Beside them: the ψ tables of conducting stacks
+//! (`psi-<hex>.strata`) and the capped asperity's response tables of `[plasticity]`
+//! scenes with the N and I models (`capped-<hex>.strata`, [`capped_response`]).
 //!
 //! Location, first that applies:
 //! 1. `--cache-dir DIR` of the command;
