@@ -13,7 +13,7 @@
 //! power law F ∝ x^{3/2}, G ∝ x^{1/2} continues the first node, above it the last
 //! cell's log–log slopes; y is clamped to its range.
 //!
-//! The table's file form (the table cache keeps it) is in [`file`].
+//! The table's file form (the table cache keeps it) is in [`file`](mod@file).
 
 pub mod file;
 
