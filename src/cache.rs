@@ -2,7 +2,9 @@
 //! layered stack without `stack.table` in `solve`, `law`, `compare`, `sweep`, and
 //! `asperity --model approx` without `--table`). A table is named after the stack's
 //! nondimensional fingerprint (`stack-<hex>.strata`), so every scene and command with
-//! the same stack shares it.
+//! the same stack shares it. Beside them: the ψ tables of conducting stacks
+//! (`psi-<hex>.strata`) and the capped asperity's response tables of `[plasticity]`
+//! scenes with the N and I models (`capped-<hex>.strata`, [`capped_response`]).
 //!
 //! Location, first that applies:
 //! 1. `--cache-dir DIR` of the command;
@@ -16,6 +18,8 @@
 
 use std::path::{Path, PathBuf};
 
+use strata_runtime::rough::plastic::PlasticResponse;
+use strata_tablegen::plastic_asperity::{PlasticAsperityError, ResponseCacheUse, cached_response};
 use thiserror::Error;
 
 /// A cache directory that cannot take a table.
@@ -63,6 +67,44 @@ pub fn ensure_writable(dir: &Path, origin: &'static str) -> Result<(), CacheErro
     let probe = dir.join(format!(".strata-write-test-{}", std::process::id()));
     std::fs::write(&probe, b"").map_err(fail)?;
     std::fs::remove_file(&probe).map_err(fail)
+}
+
+/// The capped asperity's response table of `stack` at `hardness` (Pa; physics.md §9,
+/// `[plasticity]` with the N and I models) from the table cache `dir` (file
+/// `capped-<hex>.strata`, `strata_tablegen::plastic_asperity::cached_response`): read
+/// when held, else built by ring solves (13–18 CPU-s on a layered stack) and kept
+/// there. One log line says which; a cache that cannot be written is a warning, not an
+/// error (the table built is used and solved again next time). The same table, bit
+/// for bit, as a build in memory.
+pub fn capped_response(
+    stack: &strata_runtime::Stack,
+    hardness: f64,
+    dir: &Path,
+    quiet: bool,
+) -> Result<PlasticResponse, PlasticAsperityError> {
+    let t0 = std::time::Instant::now();
+    let (resp, used) = cached_response(stack, hardness, dir)?;
+    let s = t0.elapsed().as_secs_f64();
+    let line = match used {
+        ResponseCacheUse::Read(p) => format!(
+            "plasticity: the capped asperity's response table read from the table cache {}",
+            p.display()
+        ),
+        ResponseCacheUse::Written(p) => format!(
+            "plasticity: the capped asperity's response table built (ring solves, {s:.1} s) into the table cache {}",
+            p.display()
+        ),
+        ResponseCacheUse::NotWritten(why) => {
+            crate::progress::warn(format_args!(
+                "plasticity: the capped asperity's response table could not be kept in the table cache ({why}); it is built again next time"
+            ));
+            return Ok(resp);
+        }
+    };
+    if !quiet {
+        crate::progress::log(line);
+    }
+    Ok(resp)
 }
 
 #[cfg(test)]

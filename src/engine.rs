@@ -827,9 +827,10 @@ fn solve_plastic_asperities(
     let t0 = Instant::now();
     log!(
         quiet,
-        "plasticity: pressure capped by the hardness H = {hardness:e} Pa; building the capped asperity's response table (ring solves)"
+        "plasticity: pressure capped by the hardness H = {hardness:e} Pa; the capped asperity's response table (ring solves, kept in the table cache)"
     );
-    let resp = strata_tablegen::plastic_asperity::response(&scene.stack, hardness)
+    let cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
+    let resp = crate::cache::capped_response(&scene.stack, hardness, &cache, quiet)
         .context("plasticity")?;
     if let Some((r, y)) = found
         .summits

@@ -233,6 +233,27 @@ fn prepare_tables(cases: &mut [Case], sweep: &Sweep, opts: &EngineOptions) -> Re
     Ok(())
 }
 
+/// Reads (or builds into the cache) the capped asperity's response table of every
+/// distinct stack and hardness of the cases with `[plasticity]` and the N or I model once,
+/// before the parallel part, so that no two workers build the same table (each case then
+/// reads it from the cache, `crate::cache::capped_response`).
+fn prepare_capped_tables(cases: &[Case], opts: &EngineOptions) -> Result<()> {
+    let dir = crate::cache::dir(opts.cache_dir.as_deref()).0;
+    let mut seen: Vec<(&strata_runtime::Stack, f64)> = Vec::new();
+    for c in cases {
+        let s = &c.scene;
+        let Some(pl) = s.plasticity else { continue };
+        let capped = s.model.kind != ModelKind::Bem && !s.unload && s.conductance.is_none();
+        if !capped || seen.contains(&(&s.stack, pl.hardness)) {
+            continue;
+        }
+        crate::cache::capped_response(&s.stack, pl.hardness, &dir, false)
+            .with_context(|| format!("case {}: plasticity", c.id))?;
+        seen.push((&s.stack, pl.hardness));
+    }
+    Ok(())
+}
+
 /// A solved (or, with --keep-going, failed) case and its wall time (s).
 struct CaseOut {
     steps: Result<Vec<Step>, String>,
@@ -312,6 +333,7 @@ fn run_sweep(a: Args) -> Result<()> {
         ..Default::default()
     };
     prepare_tables(&mut cases, &sweep, &opts)?;
+    prepare_capped_tables(&cases, &opts)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

@@ -24,8 +24,12 @@
 //! plastic core above it; P ≤ Hπa² always and P/(Hπa²) → 1 as δ grows; the 3-D BEM
 //! of one capped paraboloid converges to it with the grid.
 
+use std::path::{Path, PathBuf};
+
 use strata_runtime::Stack;
 use strata_runtime::bounded::{BoundedError, Mprgp, norm_estimate};
+use strata_runtime::hash::Fnv1a;
+use strata_runtime::rough::plastic::PlasticResponse;
 use thiserror::Error;
 
 /// Errors of the capped asperity.
@@ -186,17 +190,16 @@ impl PlasticAsperity {
 pub const RESPONSE_X: (f64, f64, usize) = (1e-2, 1e2, 25);
 /// See [`RESPONSE_X`].
 pub const RESPONSE_Y: (f64, f64, usize) = (1e-3, 3.0, 11);
+/// Rings of each node's solve of the response table (see [`RESPONSE_X`]).
+pub const RESPONSE_RINGS: usize = 200;
 
 /// The capped asperity's response table of `stack` and `hardness` for the N model
 /// (`strata_runtime::rough::plastic`): F = P/P_c, G = a/a_c and Φ = a_p/a at every
 /// node (x, y), each from one ring solve (in parallel).
-pub fn response(
-    stack: &Stack,
-    hardness: f64,
-) -> Result<strata_runtime::rough::plastic::PlasticResponse, PlasticAsperityError> {
-    use strata_runtime::rough::plastic::{LogAxis, PlasticResponse};
+pub fn response(stack: &Stack, hardness: f64) -> Result<PlasticResponse, PlasticAsperityError> {
+    use strata_runtime::rough::plastic::LogAxis;
     let mut solver = PlasticAsperity::new(stack, hardness)?;
-    solver.rings = 200;
+    solver.rings = RESPONSE_RINGS;
     let e = solver.e_star;
     let h1 = if stack.is_homogeneous() {
         None
@@ -258,6 +261,113 @@ pub fn response(
         out.phi.push(p);
     }
     Ok(out)
+}
+
+/// The key of `stack`'s response table at `hardness`: FNV-1a 64 over the exact bits of
+/// everything [`response`] reads — every layer's thickness, Young modulus and Poisson
+/// ratio, the base, the counterface's likewise (in the order given), the hardness and
+/// the table's grid ([`RESPONSE_X`], [`RESPONSE_Y`], [`RESPONSE_RINGS`]). Unlike the
+/// mechanics tables' nondimensional fingerprint, nothing is scaled: a cached table is
+/// the one [`response`] would build, bit for bit. The stack's name and conduction
+/// properties do not enter.
+pub fn response_key(stack: &Stack, hardness: f64) -> u64 {
+    let mut h = Fnv1a::default();
+    h.part(b"strata capped asperity response");
+    let mut eat = |v: f64| {
+        h.update(&v.to_le_bytes());
+    };
+    for v in [RESPONSE_X.0, RESPONSE_X.1, RESPONSE_Y.0, RESPONSE_Y.1] {
+        eat(v);
+    }
+    for n in [RESPONSE_X.2, RESPONSE_Y.2, RESPONSE_RINGS] {
+        eat(n as f64);
+    }
+    eat(hardness);
+    let bodies = std::iter::once(stack.body()).chain(stack.counterface().cloned());
+    for (i, body) in bodies.enumerate() {
+        // a separator that no value hashes as: NaN for the counterface, −2 for a body
+        eat(if i > 0 { f64::NAN } else { -2.0 });
+        eat(body.layers().len() as f64);
+        for l in body.layers() {
+            eat(l.thickness);
+            eat(l.young);
+            eat(l.poisson);
+        }
+        match body.base() {
+            strata_runtime::Base::Rigid => eat(-1.0),
+            strata_runtime::Base::Elastic { young, poisson } => {
+                eat(young);
+                eat(poisson);
+            }
+        }
+    }
+    h.finish()
+}
+
+/// The file of `stack`'s response table at `hardness` in the cache directory `dir`:
+/// `capped-<key>.strata` ([`response_key`]), beside the mechanics tables'
+/// `stack-<hex>.strata` and the ψ tables' `psi-<hex>.strata`.
+pub fn response_cache_path(stack: &Stack, hardness: f64, dir: &Path) -> PathBuf {
+    dir.join(format!(
+        "capped-{:016x}.strata",
+        response_key(stack, hardness)
+    ))
+}
+
+/// What [`cached_response`] did with the cache file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ResponseCacheUse {
+    /// The table was read from the file (the path).
+    Read(PathBuf),
+    /// The table was built (no file, or an unreadable, damaged or foreign one) and
+    /// written to the file (the path).
+    Written(PathBuf),
+    /// The table was built but the file could not be written (the message): the
+    /// table is used all the same.
+    NotWritten(String),
+}
+
+/// `stack`'s response table at `hardness` from the cache directory `dir`: read from
+/// [`response_cache_path`] when that file holds a valid table of this key, stack and
+/// hardness; else built by [`response`] and written atomically (a temporary file of
+/// its own, renamed). A damaged or foreign file is rebuilt; a directory that cannot be
+/// written costs only the file ([`ResponseCacheUse::NotWritten`]). The table is that of
+/// [`response`] bit for bit, cached or not.
+pub fn cached_response(
+    stack: &Stack,
+    hardness: f64,
+    dir: &Path,
+) -> Result<(PlasticResponse, ResponseCacheUse), PlasticAsperityError> {
+    let key = response_key(stack, hardness);
+    let path = response_cache_path(stack, hardness, dir);
+    let h1 = (!stack.is_homogeneous())
+        .then(|| stack.top_thickness())
+        .flatten();
+    let same = |r: &PlasticResponse| {
+        r.e_star.to_bits() == stack.contact_modulus().to_bits()
+            && r.hardness.to_bits() == hardness.to_bits()
+            && r.h1.map(f64::to_bits) == h1.map(f64::to_bits)
+    };
+    let held = std::fs::read(&path)
+        .ok()
+        .and_then(|b| PlasticResponse::from_bytes(&b).ok())
+        .filter(|(k, r)| *k == key && same(r));
+    if let Some((_, r)) = held {
+        return Ok((r, ResponseCacheUse::Read(path)));
+    }
+    let table = response(stack, hardness)?;
+    let written = std::fs::create_dir_all(dir)
+        .map_err(|e| format!("{}: {e}", dir.display()))
+        .and_then(|()| {
+            // (the error names the path)
+            strata_runtime::output::write_atomic(&path, &table.to_bytes(key))
+                .map_err(|e| e.to_string())
+        });
+    let used = match written {
+        Ok(()) => ResponseCacheUse::Written(path),
+        Err(e) => ResponseCacheUse::NotWritten(e),
+    };
+    Ok((table, used))
 }
 
 #[cfg(test)]
@@ -363,5 +473,139 @@ mod tests {
         }
         eprintln!("response table vs rings: worst {worst:.1e}");
         assert!(worst < 2.5e-2, "{worst:e}");
+    }
+
+    /// The cache gives the bits of a direct build: written, then read; a damaged file
+    /// rebuilt; an unwritable directory costs only the file; no temporary file left.
+    #[test]
+    fn cached_response_equals_a_direct_build() {
+        // a homogeneous pair (cheap: one y node, Hertz below the yield onset)
+        let st = Stack::half_space(4e9, 0.15)
+            .unwrap()
+            .against(Stack::half_space(210e9, 0.3).unwrap())
+            .unwrap();
+        let h = 0.2e9;
+        let direct = response(&st, h).unwrap();
+        let dir = std::env::temp_dir().join(format!("strata-capped-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let path = response_cache_path(&st, h, &dir);
+        assert!(
+            path.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("capped-")
+        );
+        let (t, u) = cached_response(&st, h, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, ResponseCacheUse::Written(path.clone())));
+        let (t, u) = cached_response(&st, h, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, ResponseCacheUse::Read(path.clone())));
+        // bit for bit, not merely ==: the file holds the same bits
+        let bits = |r: &PlasticResponse| -> Vec<u64> {
+            r.ln_f
+                .iter()
+                .chain(&r.ln_g)
+                .chain(&r.phi)
+                .map(|v| v.to_bits())
+                .collect()
+        };
+        assert_eq!(bits(&t), bits(&direct));
+        // another hardness is another file
+        assert_ne!(response_cache_path(&st, 0.3e9, &dir), path);
+        // a damaged file is rebuilt (and written again)
+        let mut bytes = std::fs::read(&path).unwrap();
+        let mid = bytes.len() / 2;
+        bytes[mid] ^= 0x10;
+        std::fs::write(&path, &bytes).unwrap();
+        let (t, u) = cached_response(&st, h, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, ResponseCacheUse::Written(path.clone())));
+        std::fs::write(&path, &bytes[..100]).unwrap();
+        let (t, u) = cached_response(&st, h, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, ResponseCacheUse::Written(path.clone())));
+        // a valid file of another key under this name is not used
+        let other = response(&Stack::half_space(4e9, 0.15).unwrap(), h).unwrap();
+        std::fs::write(&path, other.to_bytes(response_key(&st, h) ^ 1)).unwrap();
+        let (t, u) = cached_response(&st, h, &dir).unwrap();
+        assert_eq!((&t, u), (&direct, ResponseCacheUse::Written(path.clone())));
+        // a plain file where the directory should be: nothing written, same table
+        let blocked = dir.join("plain-file");
+        std::fs::write(&blocked, b"x").unwrap();
+        let (t, u) = cached_response(&st, h, &blocked.join("sub")).unwrap();
+        assert_eq!(t, direct);
+        assert!(matches!(u, ResponseCacheUse::NotWritten(_)), "{u:?}");
+        assert_eq!(std::fs::read(&blocked).unwrap(), b"x");
+        let mut names: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .collect();
+        names.sort();
+        let file = path.file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(names, [file, "plain-file".to_string()]);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// The key changes with every input of the table (each layer's thickness, modulus
+    /// and Poisson ratio, the base, the counterface, the hardness) and with no other.
+    #[test]
+    fn response_key_covers_the_stack_and_hardness() {
+        use strata_runtime::stack::{Base, Layer};
+        let layer = |thickness, young, poisson| Layer {
+            thickness,
+            young,
+            poisson,
+        };
+        let make = |l: Vec<Layer>, b: Base| Stack::new(l, b).unwrap();
+        let base = Base::Elastic {
+            young: 2e11,
+            poisson: 0.3,
+        };
+        let two = |h2: f64, e2: f64, nu2: f64| {
+            make(vec![layer(5e-6, 1e9, 0.3), layer(h2, e2, nu2)], base)
+        };
+        let st = two(1e-5, 3e9, 0.35);
+        let k = response_key(&st, 1e8);
+        let steel = Stack::half_space(2.1e11, 0.3).unwrap();
+        let variants = [
+            response_key(&st, 1.0000001e8),
+            response_key(&two(1.0000001e-5, 3e9, 0.35), 1e8),
+            response_key(&two(1e-5, 3.0000001e9, 0.35), 1e8),
+            response_key(&two(1e-5, 3e9, 0.3500001), 1e8),
+            response_key(
+                &make(
+                    vec![layer(5e-6, 1e9, 0.3), layer(1e-5, 3e9, 0.35)],
+                    Base::Rigid,
+                ),
+                1e8,
+            ),
+            response_key(
+                &make(
+                    vec![layer(5e-6, 1e9, 0.3), layer(1e-5, 3e9, 0.35)],
+                    Base::Elastic {
+                        young: 2e11,
+                        poisson: 0.31,
+                    },
+                ),
+                1e8,
+            ),
+            response_key(&st.clone().against(steel.clone()).unwrap(), 1e8),
+            response_key(
+                &st.clone()
+                    .against(Stack::half_space(2.1e11, 0.29).unwrap())
+                    .unwrap(),
+                1e8,
+            ),
+            response_key(&steel.clone().against(st.clone()).unwrap(), 1e8),
+        ];
+        for (i, v) in variants.iter().enumerate() {
+            assert_ne!(*v, k, "variant {i}");
+        }
+        let named = st.clone().with_name("x");
+        assert_eq!(response_key(&named, 1e8), k);
+        use strata_runtime::stack::{BaseConduction, Conductivity};
+        let k1 = Conductivity::thermal;
+        let conducting = named
+            .with_conduction(vec![k1(0.3), k1(20.0)], k1(50.0), BaseConduction::HalfSpace)
+            .unwrap();
+        assert_eq!(response_key(&conducting, 1e8), k);
     }
 }

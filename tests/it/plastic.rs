@@ -729,3 +729,56 @@ fn asperity_with_a_huge_hardness_is_the_elastic_asperity() {
         assert!(soft[k][3] > 0.0 && soft[k][2] < elastic[k][2] && soft[k][1] > elastic[k][1]);
     }
 }
+
+/// The capped asperity's response table is kept in the table cache: a capped N-model
+/// scene on the paper's layered stack solved twice with one cache directory builds the
+/// table once (`capped-<hex>.strata`, the second run reads it, and says so) and gives
+/// the same steps bit for bit; no temporary file is left in the cache.
+#[test]
+fn capped_response_table_is_cached() {
+    let d = crate::support::fresh_dir("plastic", "cached-response");
+    let text = scene_text(
+        "[load]\napproach = { from = 2e-6, to = 6e-6, steps = 3 }\n[plasticity]\nhardness = 0.2e9\n",
+    )
+    .replace("kind = \"bem\"", "kind = \"independent\"");
+    let scene = d.join("capped.toml");
+    std::fs::write(&scene, &text).unwrap();
+    let run = |name: &str| {
+        let out = d.join(name);
+        let o = crate::support::strata_in(&d)
+            .args(["solve", "--no-plots", "--force"])
+            .arg(&scene)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(o.status.success(), "{name}: {err}");
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap())
+                .unwrap();
+        (json["steps"].clone(), err)
+    };
+    let (first, log1) = run("first");
+    let cached = |d: &std::path::Path| -> Vec<String> {
+        std::fs::read_dir(d)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .map(|e| e.file_name().to_string_lossy().into_owned())
+            .filter(|n| n.starts_with("capped-") || n.contains(".tmp"))
+            .collect()
+    };
+    let files = cached(&d);
+    assert!(
+        files.len() == 1 && files[0].starts_with("capped-") && files[0].ends_with(".strata"),
+        "{files:?}"
+    );
+    assert!(log1.contains("built (ring solves"), "{log1}");
+    let (second, log2) = run("second");
+    assert!(log2.contains("read from the table cache"), "{log2}");
+    assert_eq!(cached(&d), files);
+    let steps = first.as_array().unwrap();
+    assert_eq!(steps.len(), 3);
+    assert!(steps[2]["plastic_area_fraction"].as_f64().unwrap() > 0.0);
+    assert_eq!(first, second);
+}

@@ -648,3 +648,60 @@ fn merge_refuses_truncated_cut_and_physics_changed_shards() {
     assert!(e.contains("different sweep") && e.contains("stack"), "{e}");
     half_space("4e9");
 }
+
+/// A sweep of capped N-model cases (`[plasticity]`) builds the capped asperity's response
+/// table once, before the parallel part, into the table cache (one `capped-*.strata`,
+/// the log says so once); every case equals its own `strata solve` reading the cache.
+#[test]
+fn capped_cases_share_one_response_table() {
+    let dir = tmp("capped");
+    let cache = dir.join("cache");
+    let text = format!(
+        "{BASE}[scene.plasticity]\nhardness = 0.2e9\n[sweep]\nsurface.seed = {{ from = 1, count = 4 }}\n"
+    );
+    let sw = write_sweep(&dir, "sweep.toml", &text);
+    let out = dir.join("out");
+    let err = ok(&strata(&[
+        "sweep",
+        s(&sw),
+        "--out",
+        s(&out),
+        "--no-plots",
+        "--threads",
+        "2",
+        "--cache-dir",
+        s(&cache),
+    ]));
+    assert_eq!(
+        err.matches("response table built (ring solves").count(),
+        1,
+        "{err}"
+    );
+    let files: Vec<String> = std::fs::read_dir(&cache)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(
+        files.len() == 1 && files[0].starts_with("capped-"),
+        "{files:?}"
+    );
+    // a second sweep reads it
+    let err = ok(&strata(&[
+        "sweep",
+        s(&sw),
+        "--out",
+        s(&dir.join("out2")),
+        "--no-plots",
+        "--cache-dir",
+        s(&cache),
+    ]));
+    assert!(
+        err.contains("response table read from the table cache"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(out.join("sweep.csv")).unwrap(),
+        std::fs::read_to_string(dir.join("out2/sweep.csv")).unwrap()
+    );
+}

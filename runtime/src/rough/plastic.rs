@@ -12,6 +12,10 @@
 //! Φ on a grid uniform in (ln x, ln y), bilinear; below its x range the elastic
 //! power law F ∝ x^{3/2}, G ∝ x^{1/2} continues the first node, above it the last
 //! cell's log–log slopes; y is clamped to its range.
+//!
+//! The table's file form (the table cache keeps it) is in [`file`](mod@file).
+
+pub mod file;
 
 use super::{Diagnostics, Model, RoughContact, RoughError, Step, Validity};
 
