@@ -282,6 +282,44 @@ kind = "thermal"
     assert plain.conductance is None
 
 
+def test_conductance_of_capped_tips(tmp_path):
+    """[conductance] with [plasticity] in the N and I models: the capped tips' spots
+    conduct (h_c > 0, growing with the load); a hardness that never bites gives the
+    elastic h_c (the I model bit for bit, the N model to round-off)."""
+    text = """
+[stack]
+[stack.base]
+kind = "elastic"
+young = 4e9
+poisson = 0.15
+thermal_conductivity = 0.5
+[surface]
+[surface.generate]
+size = 1e-3
+grid = 64
+fractal_dimension = 2.4
+k_min = 2
+k_max = 10
+rms = 3.4e-6
+seed = 5
+[load]
+approach = { from = 1e-6, to = 6e-6, steps = 4 }
+[conductance]
+kind = "thermal"
+[counterface]
+kind = "rigid"
+thermal_conductivity = 50
+"""
+    for model in ['kind = "independent"', 'kind = "interacting"\nimages = "periodic"']:
+        scene = text + "[model]\n" + model + "\n"
+        capped = strata.Scene.from_toml(scene + "[plasticity]\nhardness = 0.2e9\n", tmp_path).solve()
+        h = capped.conductance
+        assert h.shape == (4,) and (h > 0).all() and (np.diff(h) > 0).all()
+        never = strata.Scene.from_toml(scene + "[plasticity]\nhardness = 1e15\n", tmp_path).solve()
+        elastic = strata.Scene.from_toml(scene, tmp_path).solve()
+        np.testing.assert_allclose(never.conductance, elastic.conductance, rtol=1e-14, atol=0)
+
+
 def test_plasticity_dict_equals_scene_file(tmp_path):
     """Scene(..., plasticity={"hardness": H}) caps the BEM, the N and the I model (each
     carries less than its elastic self at the deepest step); bad hardness and a return

@@ -75,8 +75,9 @@ pub struct Args {
     /// Overwrite existing output files.
     #[arg(long)]
     pub force: bool,
-    /// Table cache for layered stacks without `stack.table` (default: STRATA_CACHE_DIR,
-    /// else $XDG_CACHE_HOME/strata or ~/.cache/strata).
+    /// Table cache: the tables of layered stacks without `stack.table`, the ψ tables of
+    /// conducting ones and the capped response tables (default: STRATA_CACHE_DIR, else
+    /// $XDG_CACHE_HOME/strata or ~/.cache/strata).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
 }

@@ -72,8 +72,9 @@ pub struct Args {
     /// Overwrite: a non-empty DIR (unsharded), or this shard's own files.
     #[arg(long)]
     pub force: bool,
-    /// Table cache for layered stacks without `stack.table` (default: STRATA_CACHE_DIR,
-    /// else $XDG_CACHE_HOME/strata or ~/.cache/strata).
+    /// Table cache: the tables of layered stacks without `stack.table`, the ψ tables of
+    /// conducting ones and the capped response tables (default: STRATA_CACHE_DIR, else
+    /// $XDG_CACHE_HOME/strata or ~/.cache/strata).
     #[arg(long)]
     pub cache_dir: Option<PathBuf>,
     /// Worker threads, at most 4 per core (default: RAYON_NUM_THREADS or all cores).
