@@ -22,6 +22,8 @@
 //! PCG per step; the N and I models: the ψ table, the I model's kernel table and network
 //! solves), so that the share the conductance adds is read off.
 
+use std::path::{Path, PathBuf};
+
 use anyhow::{Context, Result, bail};
 use ndarray::Array2;
 use strata_bem::{
@@ -90,6 +92,9 @@ pub struct Results {
     pub summits: usize,
     pub separations: Vec<f64>,
     pub rows: Vec<Row>,
+    /// The N model's conductance with the stack's ψ table solved (a first run per
+    /// stack: no table cache); None on a homogeneous stack (ψ ≡ 1).
+    pub psi_timing: Option<Timing>,
 }
 
 /// The scene's stack with thermal conductivities (its own, else the defaults above).
@@ -181,14 +186,18 @@ fn bem_curve(
     Ok((sols.iter().map(bem_step).collect(), h, sets))
 }
 
-/// The N or I model's h_c of `steps` (W/(m²·K)).
+/// The N or I model's h_c of `steps` (W/(m²·K)), the stack's ψ table read from (or
+/// solved into) the table cache `cache` as `strata solve` does, or solved in memory
+/// (None).
 fn spot_conductances(
     stack: &Stack,
     rc: &RoughContact<'_>,
     model: Model,
     steps: &[Step],
+    cache: Option<&Path>,
 ) -> Result<Vec<f64>> {
-    let sum = SpotSum::against_rigid(stack, ConductionKind::Thermal, Some(FLAT_CONDUCTIVITY))?;
+    let sum = SpotSum::against_rigid(stack, ConductionKind::Thermal, Some(FLAT_CONDUCTIVITY))?
+        .with_cache(cache.map(Path::to_path_buf));
     match model {
         Model::Independent => sum.conductances(steps, rc.area()),
         Model::Interacting(images) => {
@@ -204,11 +213,21 @@ fn asperity_curve(
     stack: &Stack,
     model: Model,
     deltas: &[f64],
+    cache: &Path,
 ) -> Result<(Vec<Step>, Vec<f64>)> {
     let rc = RoughContact::from_surface(law, surface)?;
     let steps = rc.curve(model, deltas)?;
-    let h = spot_conductances(stack, &rc, model, &steps)?;
+    let h = spot_conductances(stack, &rc, model, &steps, Some(cache))?;
     Ok((steps, h))
+}
+
+/// A table cache private to one study run (removed when dropped).
+struct StudyCache(PathBuf);
+
+impl Drop for StudyCache {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
 }
 
 fn max_abs(v: impl Iterator<Item = f64>) -> (f64, usize) {
@@ -293,6 +312,12 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
             steps,
         ));
     }
+    // The N and I models read the stack's ψ table from a table cache, as `strata solve`
+    // does (the first call solves it there): a private one, so that the first run is
+    // this study's; that first solve is timed on its own (`psi_timing`).
+    let cache =
+        StudyCache(std::env::temp_dir().join(format!("strata-study-psi-{}", std::process::id())));
+    let mut psi_timing = None;
     for (label, model) in [
         ("N model", Model::Independent),
         (
@@ -300,14 +325,22 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
             Model::Interacting(Images::Periodic(2)),
         ),
     ] {
-        let (steps, hc) =
-            runner.exact(|| asperity_curve(law.as_ref(), &surface, &stack, model, &deltas))?;
+        let (steps, hc) = runner
+            .exact(|| asperity_curve(law.as_ref(), &surface, &stack, model, &deltas, &cache.0))?;
+        if model == Model::Independent && layered {
+            // the ψ table's first solve: the N model's conductance without the cache
+            psi_timing = Some(runner.time(
+                "conductance",
+                "N model: conductance, ψ table solved (no table cache)",
+                || spot_conductances(&stack, &rc, model, &steps, None),
+            )?);
+        }
         let timing = runner.time("conductance", label, || {
-            asperity_curve(law.as_ref(), &surface, &stack, model, &deltas)
+            asperity_curve(law.as_ref(), &surface, &stack, model, &deltas, &cache.0)
         })?;
         let conductance_timing =
             runner.time("conductance", &format!("{label}: conductance"), || {
-                spot_conductances(&stack, &rc, model, &steps)
+                spot_conductances(&stack, &rc, model, &steps, Some(&cache.0))
             })?;
         rows.push((
             Row {
@@ -370,6 +403,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
         summits: rc.summits().len(),
         separations,
         rows: rows.into_iter().map(|(r, _)| r).collect(),
+        psi_timing,
     })
 }
 
@@ -413,9 +447,16 @@ pub fn markdown(r: &Results) -> String {
          \"steps\" counts them), as `strata compare` reports them. Time per curve: the \
          mechanics and the conductance; the conductance's own time on the same curve \
          (the BEM: the conduction operator and a warm-started PCG per step; the N and I \
-         models: the ψ table, the I model's kernel table and spot network), and what it \
-         adds to the mechanics.\n",
-        r.stack, r.summits
+         models: the ψ table read from the table cache as `strata solve` reads it, the I \
+         model's kernel table and spot network), and what it adds to the mechanics.{}\n",
+        r.stack,
+        r.summits,
+        r.psi_timing.as_ref().map_or(String::new(), |t| format!(
+            " A first run per stack solves the ψ table into the cache: the N model's \
+             conductance then takes {} ({} runs).",
+            super::fmt_time(t.median),
+            t.runs
+        ))
     );
     let _ = writeln!(
         w,
