@@ -86,11 +86,15 @@ fn capped_tips_conduct_through_their_contact_radii() {
     let he = conductances(&en);
     for ((hc, he), f) in h.iter().zip(&he).zip(&plastic) {
         eprintln!(
-            "capped/elastic h_c {:.4} (plastic area fraction {f:.3})",
-            hc / he
+            "capped/elastic h_c − 1 = {:.3e} (plastic area fraction {f:.3e})",
+            hc / he - 1.0
         );
         if *f > 0.0 {
-            assert_ne!(hc, he);
+            // a yielded tip's contact grows (flattening): measured +0.23 … +1.2 %
+            assert!(hc > he, "{hc} vs {he}");
+        } else {
+            // no tip yields: the Hertz branch, to round-off (measured 0)
+            assert!((hc / he - 1.0).abs() < 3e-15, "{hc} vs {he}");
         }
     }
     for (model, name) in [(n_model, "n"), (i_model, "i")] {
