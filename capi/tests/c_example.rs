@@ -1422,6 +1422,18 @@ fn csv_table(text: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     (header, rows)
 }
 
+/// The largest relative difference of two law CSVs' numbers, each asserted ≤ 1e-12.
+fn csv_agree(label: &str, cli: &[Vec<f64>], c: &[Vec<f64>]) -> f64 {
+    let mut worst: f64 = 0.0;
+    for (a, b) in cli.iter().zip(c) {
+        for (x, y) in a.iter().zip(b) {
+            worst = worst.max(rel(*x, *y));
+            assert!(rel(*x, *y) <= 1e-12, "{label}: CSV {a:?} vs {b:?}");
+        }
+    }
+    worst
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     if a == b {
         0.0
@@ -1532,12 +1544,7 @@ fn effects_example_matches_strata_law() {
         assert_eq!(header, c_header, "capped CSV header");
         assert_eq!(cli.len(), 8);
         assert_eq!(c_csv.len(), 8);
-        for (a, b) in cli.iter().zip(&c_csv) {
-            for (x, y) in a.iter().zip(b) {
-                worst = worst.max(rel(*x, *y));
-                assert!(rel(*x, *y) <= 1e-12, "capped {model}: CSV {a:?} vs {b:?}");
-            }
-        }
+        worst = worst.max(csv_agree(&format!("capped {model}"), &cli, &c_csv));
         let printed: Vec<&Vec<&str>> = of("capped").into_iter().filter(|f| f[1] == m).collect();
         assert_eq!(printed.len(), 8);
         for (f, row) in printed.iter().zip(&cli) {
@@ -1604,12 +1611,7 @@ fn effects_example_matches_strata_law() {
                 .expect("C csv"),
         );
         assert_eq!(header, c_header);
-        for (a, b) in cli.iter().zip(&c_csv) {
-            for (x, y) in a.iter().zip(b) {
-                worst = worst.max(rel(*x, *y));
-                assert!(rel(*x, *y) <= 1e-12, "{label}: CSV {a:?} vs {b:?}");
-            }
-        }
+        worst = worst.max(csv_agree(label, &cli, &c_csv));
         let printed: Vec<&Vec<&str>> = of("conductance")
             .into_iter()
             .filter(|f| f[1] == label)
@@ -1673,12 +1675,7 @@ fn effects_example_matches_strata_law() {
         );
         assert_eq!(header, c_header, "{label}: CSV header");
         assert_eq!(cli.len(), 8);
-        for (a, b) in cli.iter().zip(&c_csv) {
-            for (x, y) in a.iter().zip(b) {
-                worst = worst.max(rel(*x, *y));
-                assert!(rel(*x, *y) <= 1e-12, "{label}: CSV {a:?} vs {b:?}");
-            }
-        }
+        worst = worst.max(csv_agree(label, &cli, &c_csv));
         let printed: Vec<&Vec<&str>> = of("conductance")
             .into_iter()
             .filter(|f| f[1] == label)
