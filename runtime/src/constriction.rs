@@ -22,21 +22,15 @@
 //! of one stack agree bit for bit wherever they overlap: a table read from a file and
 //! one built for a single load path give the same ψ.
 //!
-//! # File form (little endian)
-//! ```text
-//!   bytes 0..8    magic "STRATAPS"
-//!   bytes 8..12   format version (u32, [`FORMAT_VERSION`])
-//!   bytes 12..20  the stack's fingerprint (u64)
-//!   bytes 20..28  h₁ (f64, m)
-//!   bytes 28..32  first decade d₀ (i32)
-//!   bytes 32..36  node count n = 8·decades + 1 (u32)
-//!   bytes 36..    n node values ψ (f64)
-//!   last 8 bytes  FNV-1a 64 of everything before them
-//! ```
+//! # File form
+//! The framed form of every strata table file (`table::codec::frame`: magic
+//! "STRATAPS", version [`FORMAT_VERSION`], payload length, FNV-1a 64 checksum), the
+//! payload bincode of (the stack's fingerprint, h₁, first decade d₀, the 8·decades + 1
+//! node values).
 
 use thiserror::Error;
 
-use crate::hash::fnv1a;
+use crate::table::codec::{FrameError, frame, from_payload, to_payload, unframe};
 
 /// Chebyshev–Lobatto nodes per decade piece (the end nodes shared with the neighbours:
 /// 8 solves per decade).
@@ -51,8 +45,6 @@ pub const MAGIC: &[u8; 8] = b"STRATAPS";
 /// Most decades a table may span (a/h₁ from 1e−40 to 1e40: far beyond any contact).
 pub const MAX_DECADES: i32 = 80;
 
-const HEADER: usize = 36;
-
 /// A ψ table that cannot be read or is inconsistent.
 #[derive(Debug, Error, Clone, PartialEq)]
 #[non_exhaustive]
@@ -63,10 +55,8 @@ pub enum PsiTableError {
         "ψ table format version {found} is not supported (this strata reads version {FORMAT_VERSION})"
     )]
     WrongVersion { found: u32 },
-    #[error("ψ table is truncated or has trailing bytes: expected {expected} bytes, found {found}")]
-    Length { expected: u64, found: u64 },
-    #[error("ψ table checksum mismatch (the file was modified or damaged)")]
-    Checksum,
+    #[error("ψ table is damaged: {0}")]
+    Damaged(String),
     #[error("ψ table is inconsistent: {0}")]
     Invalid(String),
 }
@@ -199,67 +189,22 @@ impl PsiTable {
 
     /// The file form (module docs).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let mut out = Vec::with_capacity(HEADER + 8 * self.psi.len() + 8);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        out.extend_from_slice(&self.key.to_le_bytes());
-        out.extend_from_slice(&self.h1.to_le_bytes());
-        out.extend_from_slice(&self.first.to_le_bytes());
-        out.extend_from_slice(&(self.psi.len() as u32).to_le_bytes());
-        for v in &self.psi {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-        let sum = fnv1a(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        out
+        // bincode cannot fail on these plain values; were it to, the empty payload
+        // would read back as damaged and the table be solved again
+        let payload = to_payload(&(self.key, self.h1, self.first, &self.psi)).unwrap_or_default();
+        frame(MAGIC, FORMAT_VERSION, &payload)
     }
 
     /// Parses and validates the file form. Never panics.
     pub fn from_bytes(b: &[u8]) -> Result<Self, PsiTableError> {
-        if b.len() < MAGIC.len() || &b[..MAGIC.len()] != MAGIC {
-            return Err(PsiTableError::NotATable);
-        }
-        let word = |at: usize| -> [u8; 8] {
-            let mut w = [0u8; 8];
-            w.copy_from_slice(&b[at..at + 8]);
-            w
-        };
-        let half = |at: usize| -> [u8; 4] {
-            let mut w = [0u8; 4];
-            w.copy_from_slice(&b[at..at + 4]);
-            w
-        };
-        if b.len() < HEADER + 8 {
-            return Err(PsiTableError::Length {
-                expected: (HEADER + 8) as u64,
-                found: b.len() as u64,
-            });
-        }
-        let version = u32::from_le_bytes(half(8));
-        if version != FORMAT_VERSION {
-            return Err(PsiTableError::WrongVersion { found: version });
-        }
-        let n = u32::from_le_bytes(half(32)) as u64;
-        let expected = HEADER as u64 + 8 * n + 8;
-        if b.len() as u64 != expected {
-            return Err(PsiTableError::Length {
-                expected,
-                found: b.len() as u64,
-            });
-        }
-        let body = b.len() - 8;
-        if fnv1a(&b[..body]) != u64::from_le_bytes(word(body)) {
-            return Err(PsiTableError::Checksum);
-        }
-        let psi = (0..n as usize)
-            .map(|i| f64::from_le_bytes(word(HEADER + 8 * i)))
-            .collect();
-        PsiTable::from_nodes(
-            u64::from_le_bytes(word(12)),
-            f64::from_le_bytes(word(20)),
-            i32::from_le_bytes(half(28)),
-            psi,
-        )
+        let (_, payload) = unframe(b, MAGIC, &[FORMAT_VERSION]).map_err(|e| match e {
+            FrameError::Magic => PsiTableError::NotATable,
+            FrameError::Version(found) => PsiTableError::WrongVersion { found },
+            other => PsiTableError::Damaged(format!("{other:?}")),
+        })?;
+        let (key, h1, first, psi): (u64, f64, i32, Vec<f64>) =
+            from_payload(payload).map_err(PsiTableError::Damaged)?;
+        PsiTable::from_nodes(key, h1, first, psi)
     }
 }
 
@@ -317,15 +262,23 @@ mod tests {
         let b = t.to_bytes();
         assert_eq!(PsiTable::from_bytes(&b).unwrap(), t);
         assert_eq!(PsiTable::from_bytes(b"nope"), Err(PsiTableError::NotATable));
-        for cut in [10, 40, b.len() - 1] {
+        for cut in 8..b.len() {
             assert!(matches!(
                 PsiTable::from_bytes(&b[..cut]),
-                Err(PsiTableError::Length { .. })
+                Err(PsiTableError::Damaged(_))
             ));
         }
-        let mut flipped = b.clone();
-        flipped[50] ^= 1;
-        assert_eq!(PsiTable::from_bytes(&flipped), Err(PsiTableError::Checksum));
+        for at in 12..b.len() {
+            let mut flipped = b.clone();
+            flipped[at] ^= 1;
+            assert!(
+                matches!(
+                    PsiTable::from_bytes(&flipped),
+                    Err(PsiTableError::Damaged(_))
+                ),
+                "byte {at}"
+            );
+        }
         let mut v = b.clone();
         v[8] = 9;
         assert_eq!(

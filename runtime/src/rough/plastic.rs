@@ -20,7 +20,7 @@ pub mod file;
 use super::{Diagnostics, Model, RoughContact, RoughError, Step, Validity};
 
 /// A uniform axis in ln of its variable: `n` nodes from `lo` to `hi` (ln values).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LogAxis {
     pub lo: f64,
     pub hi: f64,
@@ -51,7 +51,7 @@ impl LogAxis {
 }
 
 /// The capped asperity's response F, G, Φ over (x, y) (module docs).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PlasticResponse {
     /// The pair's contact modulus E* (Pa).
     pub e_star: f64,

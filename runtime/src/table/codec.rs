@@ -1,5 +1,8 @@
 //! The on-disk format of a table — the ONLY module that touches bincode (2.0.1 is
-//! unmaintained, RUSTSEC-2025-0141: the format can change here alone).
+//! unmaintained, RUSTSEC-2025-0141: the format can change here alone). The framing
+//! ([`frame`], [`unframe`]) and the payload codec ([`to_payload`], [`from_payload`]) are
+//! also the file form of the table cache's ψ tables ([`crate::constriction`]) and capped
+//! response tables (`rough::plastic::file`), each with its own magic.
 //!
 //! Layout (little endian):
 //!
@@ -52,22 +55,105 @@ impl Table {
 
 /// Serialises a table (header and arrays) to bytes.
 pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
-    let config = bincode::config::standard();
     let (version, payload) = match table.header.stack.counterface() {
-        None => (FORMAT_VERSION, bincode::serde::encode_to_vec(table, config)),
-        Some(c) => (
-            PAIR_VERSION,
-            bincode::serde::encode_to_vec((table, c), config),
-        ),
+        None => (FORMAT_VERSION, to_payload(table)),
+        Some(c) => (PAIR_VERSION, to_payload(&(table, c))),
     };
     let payload = payload.map_err(|e| TableError::Corrupt(format!("cannot encode table: {e}")))?;
+    Ok(frame(MAGIC, version, &payload))
+}
+
+/// Why a framed file's bytes are refused before their payload is decoded.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FrameError {
+    /// Not the expected signature.
+    Magic,
+    /// A format version the reader does not accept.
+    Version(u32),
+    /// Fewer bytes than the prefix or the payload length says.
+    Truncated { expected: u64, found: u64 },
+    /// The payload length exceeds [`MAX_PAYLOAD`].
+    TooLarge(u64),
+    /// Bytes after the payload.
+    Trailing(u64),
+    /// The payload's checksum does not match.
+    Checksum,
+}
+
+/// The framed file form of every strata file that keeps numbers (module docs): magic,
+/// version, payload length, FNV-1a 64 of the payload, the payload. Also the form of the
+/// table cache's ψ tables ([`crate::constriction`]) and capped response tables
+/// ([`crate::rough::plastic`]).
+pub fn frame(magic: &[u8; 8], version: u32, payload: &[u8]) -> Vec<u8> {
     let mut out = Vec::with_capacity(PREFIX + payload.len());
-    out.extend_from_slice(MAGIC);
+    out.extend_from_slice(magic);
     out.extend_from_slice(&version.to_le_bytes());
     out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
-    out.extend_from_slice(&fnv1a(&payload).to_le_bytes());
-    out.extend_from_slice(&payload);
-    Ok(out)
+    out.extend_from_slice(&fnv1a(payload).to_le_bytes());
+    out.extend_from_slice(payload);
+    out
+}
+
+/// The version and payload of a framed file (see [`frame`]), checked in this order:
+/// signature, prefix length, version (one of `versions`), payload length, checksum.
+/// Never panics.
+pub fn unframe<'a>(
+    bytes: &'a [u8],
+    magic: &[u8; 8],
+    versions: &[u32],
+) -> Result<(u32, &'a [u8]), FrameError> {
+    if bytes.len() < magic.len() || &bytes[..magic.len()] != magic {
+        return Err(FrameError::Magic);
+    }
+    if bytes.len() < PREFIX {
+        return Err(FrameError::Truncated {
+            expected: PREFIX as u64,
+            found: bytes.len() as u64,
+        });
+    }
+    let mut v = [0u8; 4];
+    v.copy_from_slice(&bytes[8..12]);
+    let version = u32::from_le_bytes(v);
+    if !versions.contains(&version) {
+        return Err(FrameError::Version(version));
+    }
+    let len = u64_at(bytes, 12);
+    let sum = u64_at(bytes, 20);
+    if len > MAX_PAYLOAD {
+        return Err(FrameError::TooLarge(len));
+    }
+    let have = (bytes.len() - PREFIX) as u64;
+    if have < len {
+        return Err(FrameError::Truncated {
+            expected: PREFIX as u64 + len,
+            found: bytes.len() as u64,
+        });
+    }
+    if have > len {
+        return Err(FrameError::Trailing(have - len));
+    }
+    let payload = &bytes[PREFIX..];
+    if fnv1a(payload) != sum {
+        return Err(FrameError::Checksum);
+    }
+    Ok((version, payload))
+}
+
+/// bincode 2 (serde, standard config) of `value`: a framed file's payload.
+pub fn to_payload<T: serde::Serialize>(value: &T) -> Result<Vec<u8>, String> {
+    bincode::serde::encode_to_vec(value, bincode::config::standard()).map_err(|e| e.to_string())
+}
+
+/// A payload decoded by [`to_payload`]'s rules, every byte used, no allocation above
+/// [`MAX_PAYLOAD`]. Never panics.
+pub fn from_payload<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, String> {
+    let config = bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>();
+    let (value, used) = bincode::serde::decode_from_slice::<T, _>(payload, config)
+        .map_err(|e| format!("cannot decode payload: {e}"))?;
+    if used != payload.len() {
+        return Err("payload has unread bytes".into());
+    }
+    Ok(value)
 }
 
 fn u64_at(b: &[u8], at: usize) -> u64 {
@@ -79,67 +165,35 @@ fn u64_at(b: &[u8], at: usize) -> u64 {
 /// Parses bytes into a table, checking magic, version, length and checksum, then
 /// the table's own consistency ([`Table::validate`]). Never panics.
 pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
-    if bytes.len() < MAGIC.len() || &bytes[..MAGIC.len()] != MAGIC {
-        return Err(TableError::NotATable);
-    }
-    if bytes.len() < PREFIX {
-        return Err(TableError::Truncated {
-            expected: PREFIX as u64,
-            found: bytes.len() as u64,
-        });
-    }
-    let mut v = [0u8; 4];
-    v.copy_from_slice(&bytes[8..12]);
-    let version = u32::from_le_bytes(v);
-    if version != FORMAT_VERSION && version != PAIR_VERSION {
-        return Err(TableError::WrongVersion {
-            found: version,
-            expected: FORMAT_VERSION,
-        });
-    }
-    let len = u64_at(bytes, 12);
-    let sum = u64_at(bytes, 20);
-    if len > MAX_PAYLOAD {
-        return Err(TableError::Corrupt(format!(
-            "payload length {len} bytes exceeds the {MAX_PAYLOAD}-byte limit"
-        )));
-    }
-    let have = (bytes.len() - PREFIX) as u64;
-    if have < len {
-        return Err(TableError::Truncated {
-            expected: PREFIX as u64 + len,
-            found: bytes.len() as u64,
-        });
-    }
-    if have > len {
-        return Err(TableError::Corrupt(format!(
-            "{} trailing bytes after the payload",
-            have - len
-        )));
-    }
-    let payload = &bytes[PREFIX..];
-    if fnv1a(payload) != sum {
-        return Err(TableError::Corrupt(
-            "checksum mismatch (the file was modified or damaged)".into(),
-        ));
-    }
-    let config = bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>();
-    let bad =
-        |e: bincode::error::DecodeError| TableError::Corrupt(format!("cannot decode payload: {e}"));
-    let (table, used) = if version == FORMAT_VERSION {
-        bincode::serde::decode_from_slice::<Table, _>(payload, config).map_err(bad)?
+    let (version, payload) =
+        unframe(bytes, MAGIC, &[FORMAT_VERSION, PAIR_VERSION]).map_err(|e| match e {
+            FrameError::Magic => TableError::NotATable,
+            FrameError::Version(found) => TableError::WrongVersion {
+                found,
+                expected: FORMAT_VERSION,
+            },
+            FrameError::Truncated { expected, found } => TableError::Truncated { expected, found },
+            FrameError::TooLarge(len) => TableError::Corrupt(format!(
+                "payload length {len} bytes exceeds the {MAX_PAYLOAD}-byte limit"
+            )),
+            FrameError::Trailing(n) => {
+                TableError::Corrupt(format!("{n} trailing bytes after the payload"))
+            }
+            FrameError::Checksum => {
+                TableError::Corrupt("checksum mismatch (the file was modified or damaged)".into())
+            }
+        })?;
+    let table = if version == FORMAT_VERSION {
+        from_payload::<Table>(payload).map_err(TableError::Corrupt)?
     } else {
-        let ((mut table, counterface), used): ((Table, Stack), usize) =
-            bincode::serde::decode_from_slice(payload, config).map_err(bad)?;
+        let (mut table, counterface): (Table, Stack) =
+            from_payload(payload).map_err(TableError::Corrupt)?;
         // Deserialisation bypasses Stack::new: re-validate before attaching.
         let mut c = Stack::new(counterface.layers().to_vec(), counterface.base())?;
         c.name = counterface.name.clone();
         table.header.stack = table.header.stack.against(c)?;
-        (table, used)
+        table
     };
-    if used != payload.len() {
-        return Err(TableError::Corrupt("payload has unread bytes".into()));
-    }
     table.validate()?;
     Ok(table)
 }

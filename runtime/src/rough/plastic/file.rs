@@ -4,33 +4,22 @@
 //! once per stack and hardness (13–18 CPU-s of ring solves on a layered stack) and read
 //! by every later `strata solve`, `law` and `compare`.
 //!
-//! # File form (little endian)
-//! ```text
-//!   bytes 0..8    magic "STRATAPR"
-//!   bytes 8..12   format version (u32, [`FORMAT_VERSION`])
-//!   bytes 12..20  key (u64): the writer's fingerprint of the stack, hardness and grid
-//!   bytes 20..28  E* (f64, Pa)
-//!   bytes 28..36  H (f64, Pa)
-//!   bytes 36..40  1 when h₁ is given (layered), 0 on a homogeneous solid (u32)
-//!   bytes 40..48  h₁ (f64, m; 0 when not given)
-//!   bytes 48..68  x axis: ln lo, ln hi (f64), nodes n_x (u32)
-//!   bytes 68..88  y axis: ln lo, ln hi (f64), nodes n_y (u32)
-//!   bytes 88..    ln F, ln G, Φ: n_x·n_y f64 each, index j·n_x + i
-//!   last 8 bytes  FNV-1a 64 of everything before them
-//! ```
+//! # File form
+//! The framed form of every strata table file (`table::codec::frame`: magic
+//! "STRATAPR", version [`FORMAT_VERSION`], payload length, FNV-1a 64 checksum), the
+//! payload bincode of (the writer's key: its fingerprint of the stack, hardness and
+//! grid; the table).
 
 use thiserror::Error;
 
-use super::{LogAxis, PlasticResponse};
-use crate::hash::fnv1a;
+use super::PlasticResponse;
+use crate::table::codec::{FrameError, frame, from_payload, to_payload, unframe};
 
 /// Version of the file form written by this build.
 pub const FORMAT_VERSION: u32 = 1;
 
 /// File signature.
 pub const MAGIC: &[u8; 8] = b"STRATAPR";
-
-const HEADER: usize = 88;
 
 /// A response table file that cannot be read or is inconsistent.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -42,12 +31,8 @@ pub enum ResponseFileError {
         "capped asperity table format version {found} is not supported (this strata reads version {FORMAT_VERSION})"
     )]
     WrongVersion { found: u32 },
-    #[error(
-        "capped asperity table is truncated or has trailing bytes: expected {expected} bytes, found {found}"
-    )]
-    Length { expected: u128, found: u64 },
-    #[error("capped asperity table checksum mismatch (the file was modified or damaged)")]
-    Checksum,
+    #[error("capped asperity table is damaged: {0}")]
+    Damaged(String),
     #[error("capped asperity table is inconsistent: {0}")]
     Invalid(String),
 }
@@ -94,104 +79,33 @@ fn check(r: &PlasticResponse) -> Result<(), String> {
 impl PlasticResponse {
     /// The file form (module docs) with the writer's `key`.
     pub fn to_bytes(&self, key: u64) -> Vec<u8> {
-        let n = self.ln_f.len() + self.ln_g.len() + self.phi.len();
-        let mut out = Vec::with_capacity(HEADER + 8 * n + 8);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&FORMAT_VERSION.to_le_bytes());
-        out.extend_from_slice(&key.to_le_bytes());
-        out.extend_from_slice(&self.e_star.to_le_bytes());
-        out.extend_from_slice(&self.hardness.to_le_bytes());
-        out.extend_from_slice(&u32::from(self.h1.is_some()).to_le_bytes());
-        out.extend_from_slice(&self.h1.unwrap_or(0.0).to_le_bytes());
-        for a in [self.x, self.y] {
-            out.extend_from_slice(&a.lo.to_le_bytes());
-            out.extend_from_slice(&a.hi.to_le_bytes());
-            out.extend_from_slice(&(a.n as u32).to_le_bytes());
-        }
-        for v in self.ln_f.iter().chain(&self.ln_g).chain(&self.phi) {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-        let sum = fnv1a(&out);
-        out.extend_from_slice(&sum.to_le_bytes());
-        out
+        // bincode cannot fail on these plain values; were it to, the empty payload
+        // would read back as damaged and the table be solved again
+        let payload = to_payload(&(key, self)).unwrap_or_default();
+        frame(MAGIC, FORMAT_VERSION, &payload)
     }
 
     /// Parses and validates the file form: the writer's key and the table. Never
-    /// panics; refuses a wrong signature or version, a wrong length, a checksum
-    /// mismatch and inconsistent contents (non-finite values, array lengths that do
-    /// not match the axes, Φ outside [0, 1]).
+    /// panics; refuses a wrong signature or version, damage (length, checksum, an
+    /// undecodable payload) and inconsistent contents (non-finite values, array lengths
+    /// that do not match the axes, Φ outside [0, 1]).
     pub fn from_bytes(b: &[u8]) -> Result<(u64, PlasticResponse), ResponseFileError> {
-        if b.len() < MAGIC.len() || &b[..MAGIC.len()] != MAGIC {
-            return Err(ResponseFileError::NotATable);
-        }
-        if b.len() < HEADER + 8 {
-            return Err(ResponseFileError::Length {
-                expected: (HEADER + 8) as u128,
-                found: b.len() as u64,
-            });
-        }
-        let word = |at: usize| -> [u8; 8] {
-            let mut w = [0u8; 8];
-            w.copy_from_slice(&b[at..at + 8]);
-            w
-        };
-        let half = |at: usize| -> u32 {
-            let mut w = [0u8; 4];
-            w.copy_from_slice(&b[at..at + 4]);
-            u32::from_le_bytes(w)
-        };
-        let real = |at: usize| f64::from_le_bytes(word(at));
-        let version = half(8);
-        if version != FORMAT_VERSION {
-            return Err(ResponseFileError::WrongVersion { found: version });
-        }
-        let (nx, ny) = (half(64), half(84));
-        let n = u128::from(nx) * u128::from(ny);
-        let expected = HEADER as u128 + 3 * 8 * n + 8;
-        if b.len() as u128 != expected {
-            return Err(ResponseFileError::Length {
-                expected,
-                found: b.len() as u64,
-            });
-        }
-        let body = b.len() - 8;
-        if fnv1a(&b[..body]) != u64::from_le_bytes(word(body)) {
-            return Err(ResponseFileError::Checksum);
-        }
-        // the length matched: n values of each array lie in the file
-        let n = n as usize;
-        let array =
-            |k: usize| -> Vec<f64> { (0..n).map(|i| real(HEADER + 8 * (k * n + i))).collect() };
-        let h1 = match half(36) {
-            0 => None,
-            1 => Some(real(40)),
-            f => {
-                return Err(ResponseFileError::Invalid(format!("h1 flag {f} (0 or 1)")));
-            }
-        };
-        let axis = |at: usize, n: u32| LogAxis {
-            lo: real(at),
-            hi: real(at + 8),
-            n: n as usize,
-        };
-        let r = PlasticResponse {
-            e_star: real(20),
-            hardness: real(28),
-            h1,
-            x: axis(48, nx),
-            y: axis(68, ny),
-            ln_f: array(0),
-            ln_g: array(1),
-            phi: array(2),
-        };
+        let (_, payload) = unframe(b, MAGIC, &[FORMAT_VERSION]).map_err(|e| match e {
+            FrameError::Magic => ResponseFileError::NotATable,
+            FrameError::Version(found) => ResponseFileError::WrongVersion { found },
+            other => ResponseFileError::Damaged(format!("{other:?}")),
+        })?;
+        let (key, r): (u64, PlasticResponse) =
+            from_payload(payload).map_err(ResponseFileError::Damaged)?;
         check(&r).map_err(ResponseFileError::Invalid)?;
-        Ok((u64::from_le_bytes(word(12)), r))
+        Ok((key, r))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rough::plastic::LogAxis;
 
     /// A small layered table with smooth made-up values (2 × 3 nodes).
     fn table(h1: Option<f64>) -> PlasticResponse {
@@ -233,7 +147,7 @@ mod tests {
                 let want = if cut < MAGIC.len() {
                     matches!(e, ResponseFileError::NotATable)
                 } else {
-                    matches!(e, ResponseFileError::Length { .. })
+                    matches!(e, ResponseFileError::Damaged(_))
                 };
                 assert!(want, "cut at {cut}: {e:?}");
             }
@@ -241,15 +155,17 @@ mod tests {
             long.push(0);
             assert!(matches!(
                 PlasticResponse::from_bytes(&long),
-                Err(ResponseFileError::Length { .. })
+                Err(ResponseFileError::Damaged(_))
             ));
-            // any flipped byte after the header's counts is caught by the checksum
-            for at in (12..64).chain(68..84).chain(88..b.len()) {
+            // any flipped byte after the version: the length or the checksum
+            for at in 12..b.len() {
                 let mut f = b.clone();
                 f[at] ^= 0x04;
-                assert_eq!(
-                    PlasticResponse::from_bytes(&f),
-                    Err(ResponseFileError::Checksum),
+                assert!(
+                    matches!(
+                        PlasticResponse::from_bytes(&f),
+                        Err(ResponseFileError::Damaged(_))
+                    ),
                     "byte {at}"
                 );
             }
@@ -265,15 +181,6 @@ mod tests {
                 PlasticResponse::from_bytes(&m),
                 Err(ResponseFileError::NotATable)
             );
-            // a count changed: the length no longer matches, whatever the count
-            for big in [0u32, 5, u32::MAX] {
-                let mut c = b.clone();
-                c[64..68].copy_from_slice(&big.to_le_bytes());
-                assert!(matches!(
-                    PlasticResponse::from_bytes(&c),
-                    Err(ResponseFileError::Length { .. })
-                ));
-            }
         }
     }
 
@@ -300,14 +207,15 @@ mod tests {
                 "{t:?}"
             );
         }
-        let mut b = table(None).to_bytes(1);
-        b[36] = 7;
-        let body = b.len() - 8;
-        let sum = fnv1a(&b[..body]);
-        b[body..].copy_from_slice(&sum.to_le_bytes());
+        // a payload that decodes to another type's bytes: refused as damaged
+        let other = crate::table::codec::frame(
+            MAGIC,
+            FORMAT_VERSION,
+            &crate::table::codec::to_payload(&(1u64, 2.0f64)).unwrap(),
+        );
         assert!(matches!(
-            PlasticResponse::from_bytes(&b),
-            Err(ResponseFileError::Invalid(_))
+            PlasticResponse::from_bytes(&other),
+            Err(ResponseFileError::Damaged(_))
         ));
     }
 }
