@@ -1120,9 +1120,11 @@ fn log_psi_cache(uses: &[strata_tablegen::psi_table::CacheUse], quiet: bool) {
     for u in uses {
         match u {
             CacheUse::Read => log!(quiet, "conductance: ψ table read from the table cache"),
-            CacheUse::Written { decades: (d0, d1) } => log!(
+            CacheUse::Written { pieces: (k0, k1) } => log!(
                 quiet,
-                "conductance: ψ table solved for a/h1 = 1e{d0} … 1e{d1} (8 Fredholm solves per decade) and kept in the table cache"
+                "conductance: ψ table solved for a/h1 = {:.3e} … {:.3e} (8 Fredholm solves per decade, per half decade above 10) and kept in the table cache",
+                10f64.powf(strata_runtime::constriction::piece_start(*k0)),
+                10f64.powf(strata_runtime::constriction::piece_start(*k1))
             ),
             CacheUse::NotWritten(why) => progress::warn(format_args!(
                 "conductance: the ψ table could not be kept in the table cache ({why}); it is solved again next time"

@@ -15,35 +15,40 @@
 //! models' conductance, physics.md §6.2).
 //!
 //! # Grid
-//! Pieces of one decade of a/h₁ each, aligned on the integer powers of ten: piece d
-//! spans a/h₁ ∈ [10^d, 10^(d+1)] and holds [`PIECE_NODES`] Chebyshev–Lobatto nodes in
+//! Pieces of log₁₀(a/h₁) on one fixed partition: whole decades up to a/h₁ = 10 and half
+//! decades above ([`piece_start`]: piece k spans [k, k + 1] for k ≤ 0 and [1 + (k − 1)/2,
+//! 1 + k/2] for k ≥ 1), each holding [`PIECE_NODES`] Chebyshev–Lobatto nodes in
 //! log₁₀(a/h₁) (neighbouring pieces share their end node), interpolated in barycentric
-//! form. A node's radius depends on (h₁, d, j) alone ([`node_radius`]), so two tables
-//! of one stack agree bit for bit wherever they overlap: a table read from a file and
-//! one built for a single load path give the same ψ.
+//! form. Above a/h₁ = 10 a node is a product-integration solve whose cost grows like
+//! (a/h₁)^1.5 (0.24 s at 100, 7.9 s at 1000), so the half decades keep a table within
+//! √10 of the largest radius it must cover. A node's radius depends on (h₁, k, j) alone
+//! ([`node_radius`]), so two tables of one stack agree bit for bit wherever they
+//! overlap: a table read from a file and one built for a single load path give the
+//! same ψ.
 //!
 //! # File form
 //! The framed form of every strata table file (`table::codec::frame`: magic
 //! "STRATAPS", version [`FORMAT_VERSION`], payload length, FNV-1a 64 checksum), the
-//! payload bincode of (the stack's fingerprint, h₁, first decade d₀, the 8·decades + 1
+//! payload bincode of (the stack's fingerprint, h₁, first piece k₀, the 8·pieces + 1
 //! node values).
 
 use thiserror::Error;
 
 use crate::table::codec::{FrameError, frame, from_payload, to_payload, unframe};
 
-/// Chebyshev–Lobatto nodes per decade piece (the end nodes shared with the neighbours:
-/// 8 solves per decade).
+/// Chebyshev–Lobatto nodes per piece (the end nodes shared with the neighbours: 8 solves
+/// per piece).
 pub const PIECE_NODES: usize = 9;
 
-/// Version of the file form written by this build.
-pub const FORMAT_VERSION: u32 = 1;
+/// Version of the file form written by this build (2: half decades above a/h₁ = 10).
+pub const FORMAT_VERSION: u32 = 2;
 
 /// File signature.
 pub const MAGIC: &[u8; 8] = b"STRATAPS";
 
-/// Most decades a table may span (a/h₁ from 1e−40 to 1e40: far beyond any contact).
-pub const MAX_DECADES: i32 = 80;
+/// Most pieces a table may span (a/h₁ over some 40 decades at least: far beyond any
+/// contact).
+pub const MAX_PIECES: i32 = 80;
 
 /// A ψ table that cannot be read or is inconsistent.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -66,55 +71,82 @@ pub fn lobatto() -> [f64; PIECE_NODES] {
     std::array::from_fn(|j| -(std::f64::consts::PI * j as f64 / (PIECE_NODES - 1) as f64).cos())
 }
 
-/// The radius (m) of node j ∈ 0..[`PIECE_NODES`] of decade piece d of a stack whose top
-/// layer is `h1` thick: a = h₁·10^(d + (x_j + 1)/2). Node 8 of piece d and node 0 of
-/// piece d + 1 are the same bits.
-pub fn node_radius(h1: f64, decade: i32, j: usize) -> f64 {
-    let x = lobatto()[j.min(PIECE_NODES - 1)];
-    h1 * 10f64.powf(f64::from(decade) + 0.5 * (x + 1.0))
+/// log₁₀(a/h₁) at the start of piece k: k for k ≤ 1 (whole decades), 1 + (k − 1)/2
+/// above (half decades); exact in floating point.
+pub fn piece_start(k: i32) -> f64 {
+    if k <= 1 {
+        f64::from(k)
+    } else {
+        1.0 + f64::from(k - 1) / 2.0
+    }
 }
 
-/// The decade pieces [d₀, d₁) that cover radii `lo` ≤ `hi` (m) on a top layer `h1` thick:
-/// d₀ = ⌊log₁₀(lo/h₁)⌋, d₁ = ⌈log₁₀(hi/h₁)⌉, at least one piece; None for radii that are
-/// not finite and positive or would span more than [`MAX_DECADES`].
-pub fn decades(h1: f64, lo: f64, hi: f64) -> Option<(i32, i32)> {
+/// The piece holding u = log₁₀(a/h₁) (its start ≤ u), as a float (callers range-check).
+fn piece_of(u: f64) -> f64 {
+    if u < 1.0 {
+        u.floor()
+    } else {
+        1.0 + (2.0 * (u - 1.0)).floor()
+    }
+}
+
+/// The first piece whose start is ≥ u: the end of a range reaching u.
+fn piece_end(u: f64) -> f64 {
+    if u <= 1.0 {
+        u.ceil()
+    } else {
+        1.0 + (2.0 * (u - 1.0)).ceil()
+    }
+}
+
+/// The radius (m) of node j ∈ 0..[`PIECE_NODES`] of piece k of a stack whose top layer
+/// is `h1` thick: a = h₁·10^(s + (e − s)(x_j + 1)/2), s and e the piece's ends
+/// ([`piece_start`]). Node 8 of piece k and node 0 of piece k + 1 are the same bits.
+pub fn node_radius(h1: f64, piece: i32, j: usize) -> f64 {
+    let x = lobatto()[j.min(PIECE_NODES - 1)];
+    let (s, e) = (piece_start(piece), piece_start(piece + 1));
+    h1 * 10f64.powf(s + (e - s) * 0.5 * (x + 1.0))
+}
+
+/// The pieces [k₀, k₁) that cover radii `lo` ≤ `hi` (m) on a top layer `h1` thick, at
+/// least one; None for radii that are not finite and positive or would span more than
+/// [`MAX_PIECES`].
+pub fn pieces(h1: f64, lo: f64, hi: f64) -> Option<(i32, i32)> {
     if !(h1 > 0.0 && h1.is_finite() && lo > 0.0 && hi >= lo && hi.is_finite()) {
         return None;
     }
-    let (l, h) = ((lo / h1).log10().floor(), (hi / h1).log10().ceil());
+    let (l, h) = (piece_of((lo / h1).log10()), piece_end((hi / h1).log10()));
     if !(l.is_finite() && h.is_finite()) || l < -1e3 || h > 1e3 {
         return None;
     }
-    let (d0, d1) = (l as i32, (h as i32).max(l as i32 + 1));
-    (d1 - d0 <= MAX_DECADES).then_some((d0, d1))
+    let (k0, k1) = (l as i32, (h as i32).max(l as i32 + 1));
+    (k1 - k0 <= MAX_PIECES).then_some((k0, k1))
 }
 
-/// ψ of one layered conductor against a/h₁ over whole decades (module docs): read with
+/// ψ of one layered conductor against a/h₁ over a range of pieces (module docs): read with
 /// [`PsiTable::at`], filled by `strata-tablegen`'s `psi_table`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PsiTable {
     key: u64,
     h1: f64,
     first: i32,
-    /// Node values, piece p (decade first + p) at 8p … 8p + 8.
+    /// Node values, piece p (piece first + p) at 8p … 8p + 8.
     psi: Vec<f64>,
 }
 
 impl PsiTable {
     /// A table of the stack with fingerprint `key` and top layer `h1` (m) from its node
-    /// values over decades first, first + 1, …: 8·decades + 1 values, each finite and
+    /// values over pieces first, first + 1, …: 8·pieces + 1 values, each finite and
     /// positive.
     pub fn from_nodes(key: u64, h1: f64, first: i32, psi: Vec<f64>) -> Result<Self, PsiTableError> {
         let bad = |m: String| Err(PsiTableError::Invalid(m));
         let n = psi.len();
         if n < PIECE_NODES || !(n - 1).is_multiple_of(PIECE_NODES - 1) {
-            return bad(format!(
-                "{n} nodes (need 8·decades + 1, at least one decade)"
-            ));
+            return bad(format!("{n} nodes (need 8·pieces + 1, at least one piece)"));
         }
-        if (n / (PIECE_NODES - 1)) as i64 > i64::from(MAX_DECADES) {
+        if (n / (PIECE_NODES - 1)) as i64 > i64::from(MAX_PIECES) {
             return bad(format!(
-                "{} decades (at most {MAX_DECADES})",
+                "{} pieces (at most {MAX_PIECES})",
                 n / (PIECE_NODES - 1)
             ));
         }
@@ -122,7 +154,7 @@ impl PsiTable {
             return bad(format!("top layer thickness {h1:e} m"));
         }
         if first.unsigned_abs() > 1000 {
-            return bad(format!("first decade {first}"));
+            return bad(format!("first piece {first}"));
         }
         if let Some(v) = psi.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
             return bad(format!("node value {v:e} (ψ must be finite and positive)"));
@@ -145,31 +177,33 @@ impl PsiTable {
         self.h1
     }
 
-    /// The decade pieces [d₀, d₁) held.
-    pub fn decades(&self) -> (i32, i32) {
+    /// The pieces [k₀, k₁) held.
+    pub fn pieces(&self) -> (i32, i32) {
         let pieces = ((self.psi.len() - 1) / (PIECE_NODES - 1)) as i32;
         (self.first, self.first + pieces)
     }
 
-    /// The node values, decade by decade (shared ends once).
+    /// The node values, piece by piece (shared ends once).
     pub fn nodes(&self) -> &[f64] {
         &self.psi
     }
 
-    /// True when the table holds every decade of [d₀, d₁).
-    pub fn covers(&self, (d0, d1): (i32, i32)) -> bool {
-        let (f, e) = self.decades();
-        f <= d0 && d1 <= e
+    /// True when the table holds every piece of [k₀, k₁).
+    pub fn covers(&self, (k0, k1): (i32, i32)) -> bool {
+        let (f, e) = self.pieces();
+        f <= k0 && k1 <= e
     }
 
-    /// ψ(a) at radius `a` (m) by the barycentric Lobatto interpolant of the decade piece
+    /// ψ(a) at radius `a` (m) by the barycentric Lobatto interpolant of the piece
     /// holding a/h₁ (the end pieces extended for radii just outside; a table built for a
     /// load path covers all of its radii).
     pub fn at(&self, a: f64) -> f64 {
-        let (f, e) = self.decades();
-        let t = (a / self.h1).log10() - f64::from(f);
-        let p = (t.floor().max(0.0) as usize).min((e - f - 1) as usize);
-        let x = 2.0 * (t - p as f64) - 1.0;
+        let (f, e) = self.pieces();
+        let u = (a / self.h1).log10();
+        let k = piece_of(u).clamp(f64::from(f), f64::from(e - 1)) as i32;
+        let (s, end) = (piece_start(k), piece_start(k + 1));
+        let x = 2.0 * (u - s) / (end - s) - 1.0;
+        let p = (k - f) as usize;
         let n = PIECE_NODES;
         let v = &self.psi[p * (n - 1)..p * (n - 1) + n];
         let (mut num, mut den) = (0.0, 0.0);
@@ -227,26 +261,33 @@ mod tests {
         PsiTable::from_nodes(7, h1, d0, psi).unwrap()
     }
 
-    /// Shared end nodes are the same bits; the decades cover the radii; the interpolant
+    /// Shared end nodes are the same bits; the pieces cover the radii; the interpolant
     /// is exact at the nodes and close between them (measured 1.9e−7 on this f).
     #[test]
     fn grid_and_interpolation() {
         let h1 = 3e-5;
-        for d in -3..3 {
-            assert_eq!(node_radius(h1, d, 8), node_radius(h1, d + 1, 0));
+        for k in -3..6 {
+            assert_eq!(node_radius(h1, k, 8), node_radius(h1, k + 1, 0));
         }
-        assert_eq!(decades(h1, 0.2 * h1, 30.0 * h1), Some((-1, 2)));
-        assert_eq!(decades(h1, 2.0 * h1, 3.0 * h1), Some((0, 1)));
-        assert_eq!(decades(h1, 0.0, 3.0 * h1), None);
-        assert_eq!(decades(h1, 1e-60 * h1, 1e60 * h1), None);
-        let t = table(h1, -3, 2);
-        assert_eq!(t.decades(), (-3, 2));
+        // whole decades up to a/h₁ = 10, half decades above
+        assert_eq!(
+            (-1..5).map(piece_start).collect::<Vec<_>>(),
+            [-1.0, 0.0, 1.0, 1.5, 2.0, 2.5]
+        );
+        assert_eq!(pieces(h1, 0.2 * h1, 30.0 * h1), Some((-1, 2)));
+        assert_eq!(pieces(h1, 0.2 * h1, 40.0 * h1), Some((-1, 3)));
+        assert_eq!(pieces(h1, 2.0 * h1, 3.0 * h1), Some((0, 1)));
+        assert_eq!(pieces(h1, 150.0 * h1, 200.0 * h1), Some((3, 4)));
+        assert_eq!(pieces(h1, 0.0, 3.0 * h1), None);
+        assert_eq!(pieces(h1, 1e-60 * h1, 1e60 * h1), None);
+        let t = table(h1, -3, 5);
+        assert_eq!(t.pieces(), (-3, 5));
         assert!(t.covers((-2, 1)) && !t.covers((-4, 1)));
         let a3 = node_radius(h1, 0, 3);
         assert!((t.at(a3) / f(a3 / h1) - 1.0).abs() < 1e-14);
         let mut worst: f64 = 0.0;
-        for i in 0..200 {
-            let x = 10f64.powf(-3.0 + 5.0 * (i as f64 + 0.37) / 200.0);
+        for i in 0..300 {
+            let x = 10f64.powf(-3.0 + 6.0 * (i as f64 + 0.37) / 300.0);
             worst = worst.max((t.at(x * h1) / f(x) - 1.0).abs());
         }
         eprintln!("ψ stand-in interpolation: worst {worst:.2e}");

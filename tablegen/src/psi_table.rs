@@ -4,8 +4,9 @@
 //! module and the C ABI's, which so give the same h_c bit for bit), and kept in the
 //! table cache ([`cached`]) so that a stack's table is solved once.
 //!
-//! The table ([`PsiTable`], [`strata_runtime::constriction`]) holds whole decades of
-//! a/h₁, each interpolated through 9 Chebyshev–Lobatto nodes (8 solves per decade); a
+//! The table ([`PsiTable`], [`strata_runtime::constriction`]) holds pieces of a/h₁ —
+//! whole decades up to a/h₁ = 10, half decades above — each interpolated through 9
+//! Chebyshev–Lobatto nodes (8 solves per piece); a
 //! node is solved by Gauss–Legendre Nyström with [`nystrom_nodes`] nodes up to a/h₁ =
 //! [`PSI_NYSTROM_MAX_A_OVER_H`] (under half the spot solver's default, at round-off), by
 //! the spot solver's automatic method beyond. Measured in the tests below and in
@@ -17,7 +18,7 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 pub use strata_runtime::constriction::PsiTable;
-use strata_runtime::constriction::{PIECE_NODES, PsiTableError, decades, node_radius};
+use strata_runtime::constriction::{PIECE_NODES, PsiTableError, node_radius, pieces};
 
 use crate::asperity::Method;
 use crate::fredholm::Discretisation;
@@ -34,9 +35,9 @@ pub enum PsiError {
         a: f64,
         error: SpotError,
     },
-    /// Radii no table covers (not positive and finite, or over 80 decades of a/h₁).
+    /// Radii no table covers (not positive and finite, or over 80 pieces of a/h₁).
     #[error(
-        "spot radii {lo:e} … {hi:e} m: a ψ table needs positive, finite radii within 80 decades of a/h₁"
+        "spot radii {lo:e} … {hi:e} m: a ψ table needs positive, finite radii within 80 pieces (some 40 decades) of a/h₁"
     )]
     Range { lo: f64, hi: f64 },
     #[error(transparent)]
@@ -74,7 +75,8 @@ pub fn psi_node(spot: &Spot, a: f64) -> Result<f64, PsiError> {
     psi.map_err(|error| PsiError::Node { a, error })
 }
 
-/// The ψ table of the layered body `spot` (ψ against a/h₁ in whole decades,
+/// The ψ table of the layered body `spot` (ψ against a/h₁ in pieces of a decade, half
+/// a decade above a/h₁ = 10,
 /// [`strata_runtime::constriction`]) covering the radii `lo` ≤ `hi` (m), nodes solved
 /// in parallel. ψ is analytic in ln a, so the error falls geometrically with the nodes
 /// of a piece: measured ≤ 1.2e−6 over four decades of a/h₁ on a plating and insulating
@@ -86,7 +88,7 @@ pub fn build(spot: &Spot, lo: f64, hi: f64) -> Result<PsiTable, PsiError> {
 }
 
 /// `table` (a ψ table of `spot`, or None) extended to cover the radii `lo` ≤ `hi` (m):
-/// the decades it holds are kept bit for bit, the missing ones solved (in parallel).
+/// the pieces it holds are kept bit for bit, the missing ones solved (in parallel).
 /// A table of another stack (its fingerprint) is ignored and rebuilt.
 pub fn extend(
     table: Option<&PsiTable>,
@@ -96,10 +98,10 @@ pub fn extend(
 ) -> Result<PsiTable, PsiError> {
     let key = spot.compliance().fingerprint();
     let h1 = spot.top_thickness().unwrap_or(1.0);
-    let (mut d0, mut d1) = decades(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
+    let (mut d0, mut d1) = pieces(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
     let old = table.filter(|t| t.key() == key && t.top_thickness() == h1);
     if let Some(t) = old {
-        let (f, e) = t.decades();
+        let (f, e) = t.pieces();
         // keep the table contiguous
         (d0, d1) = (d0.min(f), d1.max(e));
     }
@@ -107,7 +109,7 @@ pub fn extend(
     let n = (d1 - d0) as usize * m + 1;
     let held = |i: usize| -> Option<f64> {
         let t = old?;
-        let (f, _) = t.decades();
+        let (f, _) = t.pieces();
         let at = i as i64 - i64::from(f - d0) * m as i64;
         (at >= 0)
             .then(|| t.nodes().get(at as usize).copied())
@@ -138,10 +140,10 @@ pub fn cache_path(spot: &Spot, dir: &Path) -> PathBuf {
 /// What [`cached`] did with the cache file.
 #[derive(Debug, Clone, PartialEq)]
 pub enum CacheUse {
-    /// The file held every decade needed.
+    /// The file held every piece needed.
     Read,
     /// The table was built (missing or unreadable file) or extended, and written.
-    Written { decades: (i32, i32) },
+    Written { pieces: (i32, i32) },
     /// Built or extended, but the file could not be written (the message): the table
     /// is used all the same.
     NotWritten(String),
@@ -149,7 +151,7 @@ pub enum CacheUse {
 
 /// `spot`'s ψ table covering the radii `lo` ≤ `hi` (m) from the cache directory `dir`:
 /// read when the file there covers them, else built (or the file's table extended by
-/// the missing decades, [`extend`]) and written back atomically (a temporary file
+/// the missing pieces, [`extend`]) and written back atomically (a temporary file
 /// renamed). An unreadable, damaged or foreign file is rebuilt; a directory that
 /// cannot be written costs only the file ([`CacheUse::NotWritten`]). The values are
 /// those of [`build`] bit for bit, cached or not.
@@ -157,7 +159,7 @@ pub fn cached(spot: &Spot, lo: f64, hi: f64, dir: &Path) -> Result<(PsiTable, Ca
     let path = cache_path(spot, dir);
     let key = spot.compliance().fingerprint();
     let h1 = spot.top_thickness().unwrap_or(1.0);
-    let need = decades(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
+    let need = pieces(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
     let old = std::fs::read(&path)
         .ok()
         .and_then(|b| PsiTable::from_bytes(&b).ok())
@@ -169,7 +171,7 @@ pub fn cached(spot: &Spot, lo: f64, hi: f64, dir: &Path) -> Result<(PsiTable, Ca
     let table = extend(old.as_ref(), spot, lo, hi)?;
     let used = match write_atomic(&path, &table.to_bytes()) {
         Ok(()) => CacheUse::Written {
-            decades: table.decades(),
+            pieces: table.pieces(),
         },
         Err(e) => CacheUse::NotWritten(format!("{}: {e}", path.display())),
     };
@@ -230,15 +232,16 @@ mod tests {
     /// The interpolated ψ against direct Fredholm solves (the spot solver's automatic
     /// method) between the nodes, over four decades of a/h₁ on a plating, an insulating
     /// layer on a half-space and one on an isothermal sink; a narrow range takes one
-    /// decade, the same bits as the wide table's.
+    /// piece, the same bits as the wide table's.
     #[test]
     fn interpolated_psi_matches_direct_solves() {
         let h = 1e-5;
         for (k1, kb) in [(200.0, Some(20.0)), (0.5, Some(40.0)), (0.5, None)] {
             let spot = one_layer(h, k1, kb);
             let t = build(&spot, 1.01e-2 * h, 0.99e2 * h).unwrap();
-            assert_eq!(t.decades(), (-2, 2));
-            assert_eq!(t.nodes().len(), 4 * (PIECE_NODES - 1) + 1);
+            // decades to a/h₁ = 10, then the half decades 10 … 31.6 … 100
+            assert_eq!(t.pieces(), (-2, 3));
+            assert_eq!(t.nodes().len(), 5 * (PIECE_NODES - 1) + 1);
             let mut worst: f64 = 0.0;
             for i in 0..40 {
                 let a = h * 10f64.powf(-2.0 + 4.0 * (i as f64 + 0.37) / 40.0);
@@ -246,16 +249,16 @@ mod tests {
                 worst = worst.max((t.at(a) / exact - 1.0).abs());
             }
             let narrow = build(&spot, 0.3 * h, 0.5 * h).unwrap();
-            assert_eq!(narrow.decades(), (-1, 0));
+            assert_eq!(narrow.pieces(), (-1, 0));
             assert_eq!(narrow.nodes(), &t.nodes()[8..17]);
             eprintln!("ψ table k1/kb = {k1}/{kb:?}: worst {worst:.2e}");
-            // measured 1.24e-6, 1.17e-6, 5.5e-7 (the pieces across a/h₁ = 0.1…10, where ψ
+            // measured 1.24e-6, 5.3e-7, 5.5e-7 (the pieces across a/h₁ = 0.1…10, where ψ
             // changes most)
             assert!(worst < 1.2e-5, "{worst}");
         }
     }
 
-    /// A table extended by decades, and the cache (written, read, extended, a damaged
+    /// A table extended by pieces, and the cache (written, read, extended, a damaged
     /// file rebuilt, an unwritable directory), give the bits of one direct build.
     #[test]
     fn extended_and_cached_tables_equal_a_direct_build() {
@@ -274,12 +277,12 @@ mod tests {
         let (t, u) = cached(&spot, 0.5 * h, 0.6 * h, &dir).unwrap();
         assert_eq!(
             (t, u),
-            (small.clone(), CacheUse::Written { decades: (-1, 0) })
+            (small.clone(), CacheUse::Written { pieces: (-1, 0) })
         );
         let (t, u) = cached(&spot, 0.4 * h, 0.7 * h, &dir).unwrap();
         assert_eq!((t, u), (small, CacheUse::Read));
         let (t, u) = cached(&spot, lo, hi, &dir).unwrap();
-        assert_eq!((&t, u), (&direct, CacheUse::Written { decades: (-2, 2) }));
+        assert_eq!((&t, u), (&direct, CacheUse::Written { pieces: (-2, 2) }));
         assert_eq!(
             cached(&spot, lo, hi, &dir).unwrap(),
             (direct.clone(), CacheUse::Read)
@@ -289,7 +292,7 @@ mod tests {
         bytes[60] ^= 0x10;
         std::fs::write(&path, &bytes).unwrap();
         let (t, u) = cached(&spot, lo, hi, &dir).unwrap();
-        assert_eq!((&t, u), (&direct, CacheUse::Written { decades: (-2, 2) }));
+        assert_eq!((&t, u), (&direct, CacheUse::Written { pieces: (-2, 2) }));
         // a plain file where the directory should be: nothing written, same table
         let blocked = dir.join("plain-file");
         std::fs::write(&blocked, b"x").unwrap();
@@ -341,7 +344,7 @@ mod tests {
             for spot in spots {
                 let h = 5e-6;
                 let t = build(&spot, 1e-3 * h, 10.0 * h).unwrap();
-                assert_eq!(t.decades(), (-3, 1));
+                assert_eq!(t.pieces(), (-3, 1));
                 assert!(t.nodes().iter().all(|v| v.is_finite() && *v > 0.0));
                 for ah in [2.3e-3, 0.047, 0.61, 7.7] {
                     let e = spot.psi(ah * h).unwrap();
