@@ -448,7 +448,10 @@ pub fn markdown(r: &Results) -> String {
          mechanics and the conductance; the conductance's own time on the same curve \
          (the BEM: the conduction operator and a warm-started PCG per step; the N and I \
          models: the ψ table read from the table cache as `strata solve` reads it, the I \
-         model's kernel table and spot network), and what it adds to the mechanics.{}\n",
+         model's kernel table and spot network), and what it adds to the mechanics. The \
+         BEM's curve here is one solve per step; `strata solve` also probes each step's \
+         stiffness dP/dδ (a second solve), whose pressure increment starts the conduction \
+         solve there, so its share is about half of this one's (docs/performance.md).{}\n",
         r.stack,
         r.summits,
         r.psi_timing.as_ref().map_or(String::new(), |t| format!(
