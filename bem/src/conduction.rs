@@ -756,7 +756,8 @@ mod tests {
             twice.iterations,
             rel(&twice)
         );
-        assert!(rel(&warm) < 1e-9 && rel(&twice) < 1e-9);
+        // measured 3.4e-12 (both)
+        assert!(rel(&warm) < 3e-11 && rel(&twice) < 3e-11);
         assert!(
             2 * warm.iterations <= cold.iterations,
             "{} {}",

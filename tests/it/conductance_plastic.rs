@@ -72,7 +72,8 @@ fn capped_tips_conduct_through_their_contact_radii() {
         worst = worst.max((got / (sum / area) - 1.0).abs());
     }
     eprintln!("capped N model: h_c vs Σ 4 k_s a / A0: {worst:.1e}");
-    assert!(worst < 1e-13, "{worst}");
+    // measured 2.2e-16
+    assert!(worst < 3e-15, "{worst}");
     assert!(h.windows(2).all(|w| w[1] > w[0]), "{h:?}");
 
     let en = solve(&d, "elastic-n", &scene(n_model));
