@@ -153,6 +153,81 @@ pub fn bytes_for(count: u64, size: u64) -> u64 {
     count.saturating_mul(size)
 }
 
+/// The size cap on a text input file (stack, scene, sweep): 16 MiB. A thousand-layer
+/// stack is about 100 kB; the cap stops an endless stream (`/dev/zero`, a FIFO) or a huge
+/// file early instead of reading it into memory.
+pub const TEXT_FILE_CAP: u64 = 16 << 20;
+
+/// Reads the whole of a text input file (`what`: "a stack file", "a scene file", ...),
+/// refusing one larger than `cap` bytes or than the memory limit, whichever is smaller.
+/// At most `cap + 1` bytes are read, so an endless stream is refused after that many.
+/// The error names the cap (or limit); the caller names the file.
+pub fn read_text_capped(path: &std::path::Path, cap: u64, what: &str) -> std::io::Result<String> {
+    let bytes = read_capped(path, cap, what)?;
+    String::from_utf8(bytes).map_err(|_| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("{what} must be UTF-8 text"),
+        )
+    })
+}
+
+/// Reads the whole of an input file as bytes, refusing one larger than `cap` bytes or
+/// than the memory limit (whichever is smaller); see [`read_text_capped`].
+pub fn read_capped(path: &std::path::Path, cap: u64, what: &str) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let (limit, source) = memory_limit().map_err(std::io::Error::other)?;
+    let (bound, named) = if cap <= limit {
+        (cap, format!("the {} cap on {what}", human_bytes(cap)))
+    } else {
+        (
+            limit,
+            format!("the memory limit {} ({source})", human_bytes(limit)),
+        )
+    };
+    let too_big = || {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("larger than {named}; not read"),
+        )
+    };
+    let file = std::fs::File::open(path)?;
+    let meta = file.metadata()?;
+    if meta.is_dir() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("a directory, not {what}"),
+        ));
+    }
+    if meta.is_file() && meta.len() > bound {
+        return Err(too_big());
+    }
+    let mut v = Vec::with_capacity(if meta.is_file() {
+        meta.len() as usize
+    } else {
+        0
+    });
+    file.take(bound.saturating_add(1)).read_to_end(&mut v)?;
+    if v.len() as u64 > bound {
+        return Err(too_big());
+    }
+    Ok(v)
+}
+
+/// Reads the whole of a data file (a table, a cache file) that has no size cap of its
+/// own: it must be a regular file (a device or FIFO can be an endless stream) and no
+/// larger than the memory limit.
+pub fn read_data_file(path: &std::path::Path, what: &str) -> std::io::Result<Vec<u8>> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() && !meta.is_dir() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("not a regular file (a device, FIFO or socket); {what} is read from a file"),
+        ));
+    }
+    read_capped(path, u64::MAX, what)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

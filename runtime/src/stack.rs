@@ -581,7 +581,12 @@ impl Stack {
     #[cfg(feature = "toml")]
     /// Reads a stack from a TOML file. See the module docs for the format.
     pub fn from_toml_file(path: &Path) -> Result<Self, StackError> {
-        let text = std::fs::read_to_string(path).map_err(|e| StackError::Io {
+        let text = crate::resources::read_text_capped(
+            path,
+            crate::resources::TEXT_FILE_CAP,
+            "a stack file",
+        )
+        .map_err(|e| StackError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;

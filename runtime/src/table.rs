@@ -375,10 +375,11 @@ impl Table {
 
     /// Loads a table file, checking signature, version, length, checksum and contents.
     pub fn load(path: &Path) -> Result<Self, TableError> {
-        let bytes = std::fs::read(path).map_err(|e| TableError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+        let bytes =
+            crate::resources::read_data_file(path, "a table").map_err(|e| TableError::Io {
+                path: path.display().to_string(),
+                message: e.to_string(),
+            })?;
         Self::from_bytes(&bytes)
     }
 

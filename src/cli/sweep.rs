@@ -402,7 +402,8 @@ fn run_sweep(a: Args) -> Result<()> {
         .inputs
         .iter()
         .map(|p| {
-            let sum = std::fs::read(p).map(|b| format!("{:016x}", fnv1a(&b)));
+            let sum = strata_runtime::resources::read_data_file(p, "an input file")
+                .map(|b| format!("{:016x}", fnv1a(&b)));
             serde_json::json!({"path": p.display().to_string(),
                                "fnv1a": sum.unwrap_or_else(|e| format!("unreadable: {e}"))})
         })
@@ -542,8 +543,12 @@ fn merge(a: MergeArgs) -> Result<()> {
     for f in &found {
         let side = f.csv.with_extension("json");
         let meta: serde_json::Value = serde_json::from_str(
-            &std::fs::read_to_string(&side)
-                .with_context(|| format!("merge: sidecar {}", side.display()))?,
+            &strata_runtime::resources::read_text_capped(
+                &side,
+                strata_runtime::resources::TEXT_FILE_CAP,
+                "a shard sidecar",
+            )
+            .with_context(|| format!("merge: sidecar {}", side.display()))?,
         )
         .with_context(|| format!("merge: sidecar {} is not valid JSON", side.display()))?;
         let sh = &meta["shard"];
@@ -593,7 +598,8 @@ fn merge(a: MergeArgs) -> Result<()> {
                 .or(meta["title"].as_str())
                 .map(str::to_string);
         }
-        let bytes = std::fs::read(&f.csv).with_context(|| format!("merge: {}", f.csv.display()))?;
+        let bytes = strata_runtime::resources::read_data_file(&f.csv, "a shard CSV")
+            .with_context(|| format!("merge: {}", f.csv.display()))?;
         // The shard must be exactly what its run wrote: row count and checksum.
         let (want_rows, want_sum) = (meta["rows"].as_u64(), meta["csv_fnv1a"].as_str());
         let (Some(want_rows), Some(want_sum)) = (want_rows, want_sum) else {

@@ -374,7 +374,12 @@ impl SurfaceSpec {
 impl Scene {
     /// Reads and validates a scene file; relative paths resolve against its directory.
     pub fn from_file(path: &Path) -> Result<Scene, SceneError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        let text = strata_runtime::resources::read_text_capped(
+            path,
+            strata_runtime::resources::TEXT_FILE_CAP,
+            "a scene file",
+        )
+        .map_err(|e| SceneError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
         })?;

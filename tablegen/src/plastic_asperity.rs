@@ -348,7 +348,7 @@ pub fn cached_response(
             && r.hardness.to_bits() == hardness.to_bits()
             && r.h1.map(f64::to_bits) == h1.map(f64::to_bits)
     };
-    let held = std::fs::read(&path)
+    let held = strata_runtime::resources::read_data_file(&path, "a cache file")
         .ok()
         .and_then(|b| PlasticResponse::from_bytes(&b).ok())
         .filter(|(k, r)| *k == key && same(r));

@@ -160,7 +160,7 @@ pub fn cached(spot: &Spot, lo: f64, hi: f64, dir: &Path) -> Result<(PsiTable, Ca
     let key = spot.compliance().fingerprint();
     let h1 = spot.top_thickness().unwrap_or(1.0);
     let need = pieces(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
-    let old = std::fs::read(&path)
+    let old = strata_runtime::resources::read_data_file(&path, "a cache file")
         .ok()
         .and_then(|b| PsiTable::from_bytes(&b).ok())
         .filter(|t| t.key() == key && t.top_thickness() == h1);

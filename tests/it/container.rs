@@ -267,3 +267,37 @@ fn a_container_topography_solves_to_the_curve_of_the_same_heights_from_npy() {
         assert!(curves[0].lines().count() >= 4, "{}", curves[0]);
     }
 }
+
+/// A "billion laughs" meta.yml (9 levels of 9 aliases: 9⁹ ≈ 3.9·10⁸ nodes from a few
+/// kB; it grew to 6.8 GB) is refused from its alias count, naming the member and the
+/// cap, under the default memory limit; a meta.yml that uses an alias sparingly still
+/// reads.
+#[test]
+fn a_yaml_alias_bomb_in_meta_yml_is_refused() {
+    let d = temp_dir("container-bomb");
+    let mut bomb = String::from(
+        "a0: &a0 [\"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\", \"lol\"]\n",
+    );
+    for l in 1..=9 {
+        let p = l - 1;
+        bomb.push_str(&format!(
+            "a{l}: &a{l} [*a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}, *a{p}]\n"
+        ));
+    }
+    bomb.push_str(LEGACY);
+    let zip = legacy_container(&d, &bomb);
+    let o = crate::support::strata_in(&d)
+        .args(["surface", "info"])
+        .arg(&zip)
+        .output()
+        .unwrap();
+    let e = crate::support::stderr_of(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("legacy.zip") && e.contains("meta.yml") && e.contains("cap of 1000000"),
+        "{e}"
+    );
+    // an anchor used once: read as before
+    let zip = legacy_container(&d, &format!("unit0: &u µm\n{LEGACY}"));
+    assert_eq!(list(&zip).unwrap().len(), 1);
+}

@@ -353,3 +353,44 @@ fn bem_maps_are_written_as_they_come() {
     assert!(!d.join(".out.strata-new").exists());
     assert!(d.join("out/maps/gap_step_02.png").is_file());
 }
+
+/// A stack, counterface or scene "file" that is an endless stream (`/dev/zero`) is
+/// refused after the 16 MiB text-file cap, naming the file and the cap, under the
+/// default memory limit (it was read without bound: 7.5 GB).
+#[test]
+fn endless_stack_and_scene_files_are_refused_at_the_text_cap() {
+    if !Path::new("/dev/zero").exists() {
+        return;
+    }
+    let d = dir("dev-zero");
+    let stack = crate::support::repo().join("tables/stacks/half-space-steel.toml");
+    let stack = stack.to_str().unwrap();
+    let out = d.join("t.strata");
+    for args in [
+        vec!["compliance", "/dev/zero", "--rho-h", "1"],
+        vec![
+            "asperity",
+            stack,
+            "--radius",
+            "1e-4",
+            "--delta",
+            "1e-7",
+            "--counterface",
+            "/dev/zero",
+        ],
+        vec![
+            "table",
+            "build",
+            stack,
+            "--out",
+            out.to_str().unwrap(),
+            "--counterface",
+            "/dev/zero",
+        ],
+        vec!["solve", "/dev/zero", "--out", d.join("o").to_str().unwrap()],
+    ] {
+        let o = strata_in(&d).args(&args).output().unwrap();
+        refused(&o, &["/dev/zero", "16.00 MiB cap"]);
+    }
+    assert!(!out.exists() && !d.join("o").exists());
+}

@@ -201,6 +201,94 @@ fn entries(doc: &Yaml, path: &Path, meta: &str) -> Result<Vec<Entry>, SurfaceErr
     Ok(out)
 }
 
+/// The most YAML nodes a container's metadata may expand to (aliases counted at their
+/// expanded size): a contact.engineering `meta.yml` has some tens of nodes per topography,
+/// so a million is thousands of topographies. A "billion laughs" document (9 levels of 9
+/// aliases, 21 kB) expands to 9⁹ ≈ 3.9·10⁸ nodes and is refused here, before the loader
+/// copies them.
+pub const MAX_YAML_NODES: u64 = 1_000_000;
+
+/// Bytes the loader holds per expanded node (its `Yaml` value and container slot).
+const YAML_NODE_BYTES: u64 = 64;
+
+/// Counts the nodes `text` expands to (each alias at the size of the node it names) in
+/// one pass of the event parser, and refuses more than [`MAX_YAML_NODES`] or than the
+/// memory limit allows.
+fn check_yaml_expansion(text: &str, path: &Path, meta: &str) -> Result<(), SurfaceError> {
+    use std::collections::HashMap;
+    use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
+    use yaml_rust2::scanner::Marker;
+
+    #[derive(Default)]
+    struct Count {
+        /// Expanded size (nodes, scalar bytes) of each anchor.
+        anchors: HashMap<usize, (u64, u64)>,
+        /// Open collections: their anchor id and the running total where they began
+        /// (a collection's size is the total's growth until it ends).
+        open: Vec<(usize, (u64, u64))>,
+        total: (u64, u64),
+    }
+    impl Count {
+        fn add(&mut self, nodes: u64, bytes: u64) {
+            self.total.0 = self.total.0.saturating_add(nodes);
+            self.total.1 = self.total.1.saturating_add(bytes);
+        }
+    }
+    impl MarkedEventReceiver for Count {
+        fn on_event(&mut self, ev: Event, _mark: Marker) {
+            match ev {
+                Event::Scalar(v, _, anchor, _) => {
+                    let b = v.len() as u64;
+                    if anchor > 0 {
+                        self.anchors.insert(anchor, (1, b));
+                    }
+                    self.add(1, b);
+                }
+                Event::Alias(id) => {
+                    let (n, b) = self.anchors.get(&id).copied().unwrap_or((1, 0));
+                    self.add(n, b);
+                }
+                Event::SequenceStart(anchor, _) | Event::MappingStart(anchor, _) => {
+                    self.open.push((anchor, self.total));
+                    self.add(1, 0);
+                }
+                Event::SequenceEnd | Event::MappingEnd => {
+                    if let Some((anchor, (n0, b0))) = self.open.pop() {
+                        if anchor > 0 {
+                            let size = (self.total.0 - n0, self.total.1 - b0);
+                            self.anchors.insert(anchor, size);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut count = Count::default();
+    // Syntax errors are left to the loader's own message.
+    if Parser::new_from_str(text).load(&mut count, true).is_err() {
+        return Ok(());
+    }
+    let (nodes, bytes) = count.total;
+    if nodes > MAX_YAML_NODES {
+        return Err(format_error(
+            path,
+            format!(
+                "{meta} expands to {nodes} YAML nodes through its aliases, more than the cap of \
+                 {MAX_YAML_NODES} (an alias bomb?); not loaded"
+            ),
+        ));
+    }
+    check_memory(
+        format!(
+            "{meta} of {} (expanded through its aliases)",
+            path.display()
+        ),
+        nodes.saturating_mul(YAML_NODE_BYTES).saturating_add(bytes),
+    )?;
+    Ok(())
+}
+
 /// The topographies a container lists, in order (`meta.yml`, else `index.json`).
 pub fn list(path: &Path) -> Result<Vec<Entry>, SurfaceError> {
     let mut zip = open(path)?;
@@ -228,6 +316,7 @@ fn list_in<R: Read + Seek>(
     let bytes = member(zip, meta, path)?;
     let text = String::from_utf8(bytes)
         .map_err(|e| format_error(path, format!("{meta} is not UTF-8 text: {e}")))?;
+    check_yaml_expansion(&text, path, meta)?;
     let docs = YamlLoader::load_from_str(&text)
         .map_err(|e| format_error(path, format!("{meta} is not valid YAML: {e}")))?;
     let doc = docs

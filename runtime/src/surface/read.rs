@@ -546,10 +546,15 @@ fn regular_file(path: &Path) -> Result<(), SurfaceError> {
 fn read_text_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     regular_file(path)?;
     let p = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SurfaceError::Io {
-        path: p.clone(),
-        message: e.to_string(),
-    })?;
+    let text = crate::resources::read_data_file(path, "a height map")
+        .and_then(|b| {
+            String::from_utf8(b)
+                .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))
+        })
+        .map_err(|e| SurfaceError::Io {
+            path: p.clone(),
+            message: e.to_string(),
+        })?;
     let mut z = Vec::new();
     let (mut n0, mut n1) = (0usize, 0usize);
     for (ln, line) in text.lines().enumerate() {

@@ -403,8 +403,12 @@ fn flatten<'a>(prefix: &str, t: &'a toml::Table, out: &mut Vec<(String, &'a Toml
 impl Sweep {
     /// Reads and validates a sweep file.
     pub fn from_file(path: &Path) -> Result<Sweep> {
-        let text = std::fs::read_to_string(path)
-            .with_context(|| format!("sweep {}: cannot read it", path.display()))?;
+        let text = strata_runtime::resources::read_text_capped(
+            path,
+            strata_runtime::resources::TEXT_FILE_CAP,
+            "a sweep file",
+        )
+        .with_context(|| format!("sweep {}: cannot read it", path.display()))?;
         Sweep::from_str_at(&text, path).with_context(|| format!("sweep {}", path.display()))
     }
 
@@ -428,8 +432,12 @@ impl Sweep {
             None => bail!("scene: missing (a path to a scene file, or an inline [scene] table)"),
             Some(Toml::String(p)) => {
                 let p = dir.join(p);
-                let t = std::fs::read_to_string(&p)
-                    .with_context(|| format!("scene: cannot read {}", p.display()))?;
+                let t = strata_runtime::resources::read_text_capped(
+                    &p,
+                    strata_runtime::resources::TEXT_FILE_CAP,
+                    "a scene file",
+                )
+                .with_context(|| format!("scene: cannot read {}", p.display()))?;
                 let s =
                     Scene::from_str_in(&t, p.parent().unwrap_or(Path::new("."))).map_err(|e| {
                         crate::scene::SceneError::InFile {
@@ -523,7 +531,7 @@ impl Sweep {
             .part(scene_text.as_bytes());
         let inputs = input_files(&base);
         for f in &inputs {
-            let bytes = std::fs::read(f)
+            let bytes = strata_runtime::resources::read_data_file(f, "an input file")
                 .with_context(|| format!("reading {} for the sweep's fingerprint", f.display()))?;
             hash.part(&bytes);
         }
