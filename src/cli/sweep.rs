@@ -9,7 +9,9 @@
 //!   where the swept columns are the axes in case order except `model.kind` (that is
 //!   the `model` column); `case` and `step` count from 0; results are SI and full
 //!   precision (`{:e}`), as in `strata solve`'s curve.csv; `valid` 1/0 (inside the
-//!   model's validity);
+//!   model's validity); then, as in curve.csv, `plastic_area_fraction` when the base
+//!   scene has `[plasticity]` and `conductance` (empty where infinite) when it has
+//!   `[conductance]`, in that order;
 //! - `DIR/sweep.json`: the sidecar (strata version, sweep fingerprint, case count,
 //!   shard, columns, axes, per-case wall times, the CSV's row count and FNV-1a
 //!   checksum, the input files and their checksums);
@@ -137,16 +139,39 @@ fn shard_stem(i: usize, n: usize) -> String {
     format!("shard-{i}-of-{n}")
 }
 
-/// `case,<columns>,model,step,…`.
+/// The effect columns after `valid`, as `strata solve` writes them to curve.csv:
+/// `plastic_area_fraction` when the base scene has `[plasticity]`, `conductance` when it
+/// has `[conductance]`, in that order (every case shares the base scene's sections).
+fn effect_header(sweep: &Sweep) -> Vec<&'static str> {
+    let mut h = Vec::new();
+    if sweep.base.plasticity.is_some() {
+        h.push("plastic_area_fraction");
+    }
+    if sweep.base.conductance.is_some() {
+        h.push("conductance");
+    }
+    h
+}
+
+/// `case,<columns>,model,step,…,valid[,plastic_area_fraction][,conductance]`.
 fn header(sweep: &Sweep) -> Vec<String> {
     let mut h = vec!["case".to_string()];
     h.extend(sweep.column_axes().map(|(_, a)| a.name.clone()));
     h.extend(RESULT_COLUMNS.split(',').map(String::from));
+    h.extend(effect_header(sweep).into_iter().map(String::from));
     h
 }
 
-/// The CSV records of one case's steps.
-fn case_rows(sweep: &Sweep, case: &Case, steps: &[Step], out: &mut Vec<Vec<String>>) {
+/// The CSV records of one case's steps; `effects` are the case's effect columns
+/// ([`crate::cli::solve::effect_columns`] of its solution).
+fn case_rows(
+    sweep: &Sweep,
+    case: &Case,
+    steps: &[Step],
+    effects: &[(&str, Vec<f64>)],
+    out: &mut Vec<Vec<String>>,
+) {
+    let wanted = effect_header(sweep);
     let mut prefix = vec![case.id.to_string()];
     prefix.extend(sweep.column_axes().map(|(k, _)| case.values[k].to_string()));
     prefix.push(Sweep::model_name(&case.scene).to_string());
@@ -163,6 +188,13 @@ fn case_rows(sweep: &Sweep, case: &Case, steps: &[Step], out: &mut Vec<Vec<Strin
             num(st.stiffness),
             u8::from(st.validity.is_valid()).to_string(),
         ]);
+        r.extend(wanted.iter().map(|w| {
+            let v = effects
+                .iter()
+                .find(|(name, _)| name == w)
+                .and_then(|(_, v)| v.get(i).copied());
+            num(v.unwrap_or(f64::NAN))
+        }));
         out.push(r);
     }
 }
@@ -257,7 +289,7 @@ fn prepare_capped_tables(cases: &[Case], opts: &EngineOptions) -> Result<()> {
 
 /// A solved (or, with --keep-going, failed) case and its wall time (s).
 struct CaseOut {
-    steps: Result<Vec<Step>, String>,
+    steps: Result<(Vec<Step>, Vec<(&'static str, Vec<f64>)>), String>,
     seconds: f64,
 }
 
@@ -372,7 +404,10 @@ fn run_sweep(a: Args) -> Result<()> {
                     .with_context(|| format!("case {} ({})", c.id, sweep.describe(&c.values)));
                 bar.inc();
                 let steps = match sol {
-                    Ok(sol) => Ok(sol.steps),
+                    Ok(sol) => {
+                        let effects = crate::cli::solve::effect_columns(&sol.meta);
+                        Ok((sol.steps, effects))
+                    }
                     Err(e) if keep_going => {
                         progress::log(format!("sweep: error (continuing): {e:#}"));
                         Err(format!("{e:#}"))
@@ -390,7 +425,7 @@ fn run_sweep(a: Args) -> Result<()> {
     let mut failed = Vec::new();
     for (k, r) in &solved {
         match &r.steps {
-            Ok(steps) => case_rows(&sweep, &cases[*k], steps, &mut rows),
+            Ok((steps, effects)) => case_rows(&sweep, &cases[*k], steps, effects, &mut rows),
             Err(e) => failed.push(serde_json::json!({"case": cases[*k].id, "error": e})),
         }
     }

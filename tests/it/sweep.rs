@@ -705,3 +705,88 @@ fn capped_cases_share_one_response_table() {
         std::fs::read_to_string(dir.join("out2/sweep.csv")).unwrap()
     );
 }
+
+/// The effects a scene runs reach sweep.csv as they reach curve.csv: a conducting
+/// scene's sweep carries `conductance`, a capped scene's `plastic_area_fraction`, after
+/// `valid`, equal to `strata solve`'s columns for the same case (they were dropped).
+#[test]
+fn sweeps_carry_the_conductance_and_plastic_columns_of_solve() {
+    let d = tmp("effects");
+    let scene = |extra: &str| {
+        format!(
+            "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+             thermal_conductivity = 0.5\n\
+             [counterface]\nkind = \"rigid\"\nthermal_conductivity = 50\n\
+             [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+             fractal_dimension = 2.4\nk_min = 2\nk_max = 10\nrms = 3.4e-6\nseed = 5\n\
+             [model]\nkind = \"independent\"\n\
+             [load]\napproach = {{ from = 1e-6, to = 6e-6, steps = 4 }}\n{extra}"
+        )
+    };
+    for (name, extra, column, absent) in [
+        (
+            "conducting",
+            "[conductance]\nkind = \"thermal\"\n",
+            "conductance",
+            "plastic_area_fraction",
+        ),
+        (
+            "capped",
+            "[plasticity]\nhardness = 0.2e9\n",
+            "plastic_area_fraction",
+            "conductance",
+        ),
+    ] {
+        let sc = d.join(format!("{name}.toml"));
+        std::fs::write(&sc, scene(extra)).unwrap();
+        let sw = d.join(format!("{name}-sweep.toml"));
+        std::fs::write(
+            &sw,
+            format!("scene = \"{name}.toml\"\n[sweep]\nsurface.seed = [5, 6]\n"),
+        )
+        .unwrap();
+        let out = d.join(format!("{name}-out"));
+        let cache = d.join("cache");
+        ok(&strata(&[
+            "sweep",
+            s(&sw),
+            "--out",
+            s(&out),
+            "--no-plots",
+            "--cache-dir",
+            s(&cache),
+        ]));
+        let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+        let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+        assert_eq!(head.last(), Some(&column), "{name}: {head:?}");
+        assert!(!head.contains(&absent), "{name}: {head:?}");
+        let solved = d.join(format!("{name}-solve"));
+        ok(&strata(&[
+            "solve",
+            s(&sc),
+            "--out",
+            s(&solved),
+            "--no-plots",
+            "--cache-dir",
+            s(&cache),
+        ]));
+        let curve = std::fs::read_to_string(solved.join("curve.csv")).unwrap();
+        let want: Vec<&str> = curve
+            .lines()
+            .skip(1)
+            .map(|l| l.rsplit(',').next().unwrap())
+            .collect();
+        let got: Vec<&str> = csv
+            .lines()
+            .skip(1)
+            .filter(|l| l.starts_with("0,"))
+            .map(|l| l.rsplit(',').next().unwrap())
+            .collect();
+        assert_eq!(got.len(), 4, "{name}");
+        assert_eq!(got, want, "{name}");
+        assert!(
+            got.iter().any(|v| v.parse::<f64>().is_ok_and(|x| x > 0.0)),
+            "{name}: {got:?}"
+        );
+    }
+}
