@@ -685,77 +685,109 @@ fn solve_bem(
     let mut conductance_steps = Vec::new();
     let mut conductance_seconds = 0.0;
     let mut flux: Option<Vec<f64>> = None;
+    let mut failed = None;
     for (k, (name, load)) in loads.into_iter().enumerate() {
         opts.cancel.check()?;
-        let (sol, next, dd) = if let Some(path) = plastic.as_mut() {
-            // the tangent from a copy of the path: the state is advanced by `step` only
-            let mut probe = path.clone();
-            let (sol, info) = path.step(load).with_context(|| name.clone())?;
-            let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
-            let (next, _) = probe
-                .step(BemLoad::Approach(sol.approach + dd))
-                .with_context(|| format!("{name}: stiffness"))?;
-            plastic_steps.push(serde_json::json!({
-                "plastic_area_fraction": info.plastic_area_fraction,
-                "plastic_points": info.plastic_points,
-                "plastic_depth_max": info.plastic_depth_max,
-                "plastic_depth_mean": info.plastic_depth_mean,
-                "kkt_bounded": sol.error,
-                "bounded_iterations": sol.iterations,
-                "offset_iterations": info.offset_iterations,
-                "active_set_steps": info.active_set_steps,
-                "bounded_fallback": info.bounded_fallback,
-            }));
-            (sol, next, dd)
-        } else {
-            let sol = solver
-                .solve_from(load, warm.as_deref())
-                .with_context(|| name.clone())?;
+        // One step; an error here stops the path (below: a partial curve or the error).
+        let mut one_step = || -> Result<strata_bem::BemSolution> {
+            let (sol, next, dd) = if let Some(path) = plastic.as_mut() {
+                // the tangent from a copy of the path: the state is advanced by `step` only
+                let mut probe = path.clone();
+                let (sol, info) = path.step(load).with_context(|| name.clone())?;
+                let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
+                let (next, _) = probe
+                    .step(BemLoad::Approach(sol.approach + dd))
+                    .with_context(|| format!("{name}: stiffness"))?;
+                plastic_steps.push(serde_json::json!({
+                    "plastic_area_fraction": info.plastic_area_fraction,
+                    "plastic_points": info.plastic_points,
+                    "plastic_depth_max": info.plastic_depth_max,
+                    "plastic_depth_mean": info.plastic_depth_mean,
+                    "kkt_bounded": sol.error,
+                    "bounded_iterations": sol.iterations,
+                    "offset_iterations": info.offset_iterations,
+                    "active_set_steps": info.active_set_steps,
+                    "bounded_fallback": info.bounded_fallback,
+                }));
+                (sol, next, dd)
+            } else {
+                let sol = solver
+                    .solve_from(load, warm.as_deref())
+                    .with_context(|| name.clone())?;
+                let flat: Vec<f64> = sol.pressure.iter().copied().collect();
+                let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
+                let next = solver
+                    .solve_from(BemLoad::Approach(sol.approach + dd), Some(&flat))
+                    .with_context(|| format!("{name}: stiffness"))?;
+                (sol, next, dd)
+            };
             let flat: Vec<f64> = sol.pressure.iter().copied().collect();
-            let dd = 1e-4 * sol.approach.abs().max(1e-3 * surface.rms());
-            let next = solver
-                .solve_from(BemLoad::Approach(sol.approach + dd), Some(&flat))
-                .with_context(|| format!("{name}: stiffness"))?;
-            (sol, next, dd)
+            worst_error = worst_error.max(sol.error).max(next.error);
+            let mut st = Step::default();
+            st.delta = sol.approach;
+            st.gap = sol.separation;
+            st.load = sol.total_load;
+            st.mean_pressure = sol.mean_pressure;
+            st.pressure_ratio = sol.pressure_ratio;
+            st.area_fraction = sol.area_fraction;
+            st.contacts = sol.patches;
+            st.stiffness = (next.total_load - sol.total_load) / dd;
+            st.iterations = sol.iterations;
+            steps.push(st);
+            if let Some(cs) = &conduction {
+                // physics.md §6.2: a unit jump on this step's contact set (p > 0)
+                let tc = Instant::now();
+                let set: Vec<bool> = flat.iter().map(|&p| p > 0.0).collect();
+                // the start: the previous step's flux and this step's pressure increment
+                // (the exact flux on homogeneous bodies by Barber's analogy), best combined
+                let dp: Vec<f64> = next
+                    .pressure
+                    .iter()
+                    .zip(&flat)
+                    .map(|(a, b)| a - b)
+                    .collect();
+                let guesses: Vec<&[f64]> = flux.as_deref().into_iter().chain([&dp[..]]).collect();
+                let h = cs
+                    .solve_from_guesses(&set, &guesses)
+                    .with_context(|| format!("{name}: conductance"))?;
+                conductance_seconds += tc.elapsed().as_secs_f64();
+                conductance_steps.push(serde_json::json!({
+                    "conductance": h.conductance,
+                    "conductance_iterations": h.iterations,
+                    "conductance_residual": h.residual,
+                }));
+                flux = h.conductance.is_finite().then_some(h.flux);
+            }
+            warm = Some(flat);
+            Ok(sol)
         };
-        let flat: Vec<f64> = sol.pressure.iter().copied().collect();
-        worst_error = worst_error.max(sol.error).max(next.error);
-        let mut st = Step::default();
-        st.delta = sol.approach;
-        st.gap = sol.separation;
-        st.load = sol.total_load;
-        st.mean_pressure = sol.mean_pressure;
-        st.pressure_ratio = sol.pressure_ratio;
-        st.area_fraction = sol.area_fraction;
-        st.contacts = sol.patches;
-        st.stiffness = (next.total_load - sol.total_load) / dd;
-        st.iterations = sol.iterations;
-        steps.push(st);
-        if let Some(cs) = &conduction {
-            // physics.md §6.2: a unit jump on this step's contact set (p > 0)
-            let tc = Instant::now();
-            let set: Vec<bool> = flat.iter().map(|&p| p > 0.0).collect();
-            // the start: the previous step's flux and this step's pressure increment
-            // (the exact flux on homogeneous bodies by Barber's analogy), best combined
-            let dp: Vec<f64> = next
-                .pressure
-                .iter()
-                .zip(&flat)
-                .map(|(a, b)| a - b)
-                .collect();
-            let guesses: Vec<&[f64]> = flux.as_deref().into_iter().chain([&dp[..]]).collect();
-            let h = cs
-                .solve_from_guesses(&set, &guesses)
-                .with_context(|| format!("{name}: conductance"))?;
-            conductance_seconds += tc.elapsed().as_secs_f64();
-            conductance_steps.push(serde_json::json!({
-                "conductance": h.conductance,
-                "conductance_iterations": h.iterations,
-                "conductance_residual": h.residual,
-            }));
-            flux = h.conductance.is_finite().then_some(h.flux);
-        }
-        warm = Some(flat);
+        let sol = match one_step() {
+            Ok(sol) => sol,
+            // Cancelled, no step converged, or no partial curve asked: the error.
+            Err(e) if opts.cancel.is_cancelled() || k == 0 || !opts.keep_partial => {
+                return Err(e);
+            }
+            Err(e) => {
+                // the steps before this one stand; this one's partial records go
+                steps.truncate(k);
+                plastic_steps.truncate(k);
+                conductance_steps.truncate(k);
+                log!(
+                    quiet,
+                    "{name} failed: {e:#}; the {k} steps before it are kept (a partial curve)"
+                );
+                failed = Some(StepFailure {
+                    step: k,
+                    delta: match load {
+                        BemLoad::Approach(d) => d,
+                        BemLoad::Separation(g) => top_to_mean - g,
+                        _ => f64::NAN,
+                    },
+                    error: format!("{e:#}"),
+                });
+                break;
+            }
+        };
         maps(k, total, sol)?;
         if let Some(b) = &bar {
             b.inc();
@@ -799,11 +831,17 @@ fn solve_bem(
         meta["conductance"]["seconds"] = serde_json::json!(conductance_seconds);
         meta["conductance_steps"] = serde_json::Value::Array(conductance_steps);
     }
+    if let Some(f) = &failed {
+        meta["partial"] = serde_json::json!({
+            "failed_step": f.step, "delta": f.delta, "error": f.error,
+            "note": "the path stopped at this step: the steps before it are written",
+        });
+    }
     Ok(SceneSolution {
         steps,
         meta,
         seconds,
-        failed: None,
+        failed,
     })
 }
 

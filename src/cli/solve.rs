@@ -35,7 +35,7 @@
 //! `stack.table` or builds the table once into the cache and says so; the independent
 //! model forms no pairs. The log (stderr) says which effects were simulated.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::csv_out;
@@ -123,11 +123,25 @@ pub fn run(a: Args) -> Result<()> {
     let sol = solve_scene_with_maps(&scene, &a.scene, &opts, &mut |k, n, m| maps.accept(k, n, m))
         .with_context(|| format!("scene {}", a.scene.display()))?;
     maps.finish()?;
+    if let Some(f) = &sol.failed {
+        // A failing run never replaces complete results (docs/conventions.md).
+        if holds_complete_curve(&a.out) {
+            bail!(
+                "scene {}: load step {} (δ = {:e} m) failed: {}; {} holds the complete results of an earlier run, which are kept (a partial curve never replaces a complete one): the {} steps before the failure were not written (give another --out to keep them)",
+                a.scene.display(),
+                f.step,
+                f.delta,
+                f.error,
+                a.out.display(),
+                f.step,
+            );
+        }
+    }
     write_outputs(&set, a.no_plots, &sol.steps, sol.meta)?;
     set.commit()?;
     if let Some(f) = &sol.failed {
         bail!(
-            "scene {}: load step {} (δ = {:e} m) failed: {}; the {} steps before it were written to {} as a partial curve (curve.json: \"partial\")",
+            "scene {}: load step {} (δ = {:e} m) failed: {}; the {} steps before it were written to {} as a partial curve (curve.csv: a `partial` column; curve.json: \"partial\")",
             a.scene.display(),
             f.step,
             f.delta,
@@ -365,7 +379,22 @@ pub fn effect_columns(meta: &serde_json::Value) -> Vec<(&'static str, Vec<f64>)>
     .collect()
 }
 
-/// Writes curve.csv, curve.json (`meta` plus the steps) and the plots into `set`.
+/// Whether `dir` holds the curve of an earlier complete run: a `curve.csv` beside a
+/// readable `curve.json` without a `partial` record.
+fn holds_complete_curve(dir: &Path) -> bool {
+    if !dir.join("curve.csv").is_file() {
+        return false;
+    }
+    strata_runtime::resources::read_data_file(&dir.join("curve.json"), "curve.json")
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        .is_some_and(|j| j.get("partial").is_none_or(serde_json::Value::is_null))
+}
+
+/// Writes curve.csv, curve.json (`meta` plus the steps) and the plots into `set`. A
+/// partial curve (`meta["partial"]` set: the path stopped at a failing step) gets a last
+/// column `partial`, 1 on every row, so that CSV readers see it too; a complete curve has
+/// no such column.
 pub fn write_outputs(
     set: &OutputSet,
     no_plots: bool,
@@ -406,11 +435,19 @@ pub fn write_outputs(
             .collect();
         extra.push((column, values));
     }
-    let csv = if extra.is_empty() {
+    let mut csv = if extra.is_empty() {
         curve_csv(steps)?
     } else {
         curve_csv_extra(steps, &extra)?
     };
+    if !meta["partial"].is_null() {
+        // the last column `partial`: 1 on every row (numeric cells only before it)
+        csv = csv
+            .lines()
+            .enumerate()
+            .map(|(i, l)| format!("{l},{}\n", if i == 0 { "partial" } else { "1" }))
+            .collect();
+    }
     set.write("curve.csv", csv.as_bytes())?;
     set.write(
         "curve.json",

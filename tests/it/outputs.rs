@@ -654,3 +654,125 @@ fn inputs_inside_an_output_directory() {
     );
     assert!(out.join("curve.csv").is_file());
 }
+
+/// A 32² BEM scene on a half-space whose load path `separations` is given; the fifth
+/// separation of [`FAILING`] is negative: on an elastic base a periodic cell's approach
+/// must stay below z_M − z̄, so the BEM refuses that step and only that step.
+fn bem_scene(d: &Path, name: &str, separations: &str) -> PathBuf {
+    let p = d.join(name);
+    std::fs::write(
+        &p,
+        format!(
+            "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+             [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 32\n\
+             fractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 3.4e-6\nseed = 5\n\
+             [model]\nkind = \"bem\"\n[load]\nseparations = {separations}\n"
+        ),
+    )
+    .unwrap();
+    p
+}
+
+const FIRST_FOUR: &str = "[6e-6, 5e-6, 4e-6, 3e-6]";
+const FAILING: &str = "[6e-6, 5e-6, 4e-6, 3e-6, -1e-3, 2e-6]";
+
+/// A BEM run whose fifth step fails leaves the four converged steps as a partial curve
+/// (it discarded them all), equal to the rows of a run of those four steps, with the
+/// `partial` column in curve.csv and the failed step in curve.json; exit status 1.
+#[test]
+fn a_bem_run_whose_fifth_step_fails_leaves_the_first_four() {
+    let d = dir("bem-partial");
+    let four = bem_scene(&d, "four.toml", FIRST_FOUR);
+    let failing = bem_scene(&d, "failing.toml", FAILING);
+    let (a, b) = (d.join("a"), d.join("b"));
+    let go = |s: &Path, o: &Path| {
+        run(
+            &d,
+            &[
+                "solve",
+                s.to_str().unwrap(),
+                "--out",
+                o.to_str().unwrap(),
+                "--no-plots",
+            ],
+            None,
+        )
+    };
+    ok(&go(&four, &a));
+    let o = go(&failing, &b);
+    let e = stderr_of(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("load step 4") && e.contains("partial curve"),
+        "{e}"
+    );
+    let whole = std::fs::read_to_string(a.join("curve.csv")).unwrap();
+    let part = std::fs::read_to_string(b.join("curve.csv")).unwrap();
+    let mut lines = part.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        format!("{},partial", whole.lines().next().unwrap())
+    );
+    let rows: Vec<String> = lines.map(String::from).collect();
+    let want: Vec<String> = whole.lines().skip(1).map(|l| format!("{l},1")).collect();
+    assert_eq!(rows, want);
+    let j: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(b.join("curve.json")).unwrap()).unwrap();
+    assert_eq!(j["partial"]["failed_step"], 4, "{j}");
+    assert_eq!(j["steps"].as_array().unwrap().len(), 4);
+    // a complete curve has no `partial` column
+    assert!(!whole.lines().next().unwrap().contains("partial"));
+}
+
+/// A failing run with `--force` on a directory holding an earlier complete set leaves
+/// that set byte for byte (it was replaced by the partial curve, marked only in
+/// curve.json); the error says so. An earlier partial set is replaced as before.
+#[test]
+fn a_failing_forced_run_leaves_an_earlier_complete_set_as_it_was() {
+    let d = dir("force-partial");
+    let four = bem_scene(&d, "four.toml", FIRST_FOUR);
+    let failing = bem_scene(&d, "failing.toml", FAILING);
+    let out = d.join("out");
+    let o = out.to_str().unwrap();
+    ok(&run(
+        &d,
+        &["solve", four.to_str().unwrap(), "--out", o, "--no-plots"],
+        None,
+    ));
+    let before = snapshot(&out);
+    let r = run(
+        &d,
+        &[
+            "solve",
+            failing.to_str().unwrap(),
+            "--out",
+            o,
+            "--no-plots",
+            "--force",
+        ],
+        None,
+    );
+    let e = stderr_of(&r);
+    assert_eq!(r.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("complete results of an earlier run, which are kept"),
+        "{e}"
+    );
+    assert_eq!(snapshot(&out), before);
+    // over a partial set, a partial set is written (nothing complete is lost)
+    let p = d.join("p");
+    let ps = p.to_str().unwrap();
+    let args = [
+        "solve",
+        failing.to_str().unwrap(),
+        "--out",
+        ps,
+        "--no-plots",
+        "--force",
+    ];
+    assert_eq!(run(&d, &args, None).status.code(), Some(1));
+    let first = std::fs::read(p.join("curve.csv")).unwrap();
+    assert_eq!(run(&d, &args, None).status.code(), Some(1));
+    assert_eq!(std::fs::read(p.join("curve.csv")).unwrap(), first);
+    assert!(String::from_utf8(first).unwrap().starts_with("delta,"));
+}
