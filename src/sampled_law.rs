@@ -99,21 +99,19 @@ impl SampledLaw {
     /// (CalculiX's source: gapconductances.f, springstiff_n2f_th.f, springforc_f2f_th.f;
     /// checked by tests/it/calculix_thermal.rs); empty otherwise.
     pub fn gap_conductance_block(&self) -> String {
-        let Some((kind, h)) = &self.conductance else {
+        let Some((kind, _)) = &self.conductance else {
             return String::new();
         };
-        let mut lines = String::new();
-        let mut n = 0;
-        let mut last = f64::NEG_INFINITY;
-        for ((_, p, _, _), &hc) in self.law.samples().zip(h) {
-            // strictly increasing pressures; an infinite h_c (full contact) ends the table
-            if p.is_nan() || p <= last || !hc.is_finite() {
-                continue;
-            }
-            last = p;
-            n += 1;
-            lines.push_str(&format!("{}, {}\n", abaqus_real(hc), abaqus_real(p)));
-        }
+        let (rows, _) = self.gap_conductance_rows();
+        let n = rows.len();
+        let lines: String = rows
+            .iter()
+            .map(|(hc, p)| format!("{}, {}\n", abaqus_real(*hc), abaqus_real(*p)))
+            .collect();
+        let dropped = self
+            .gap_conductance_dropped()
+            .map(|w| format!("** NOTE: {w}.\n"))
+            .unwrap_or_default();
         let unit = kind.interface_conductance_unit();
         format!(
             "** strata law: {} gap conductance of the rough interface against contact pressure.\n\
@@ -137,9 +135,64 @@ impl SampledLaw {
              **   step (LINEAR there gives the last line's conductance; without NLGEOM the\n\
              **   undeformed pressure's); the contact pressure then follows that law, not\n\
              **   strata's. Tested deck: strata's examples/calculix/thermal_block.inp.\n\
+             {dropped}\
              *GAP CONDUCTANCE, PRESSURE\n{lines}",
             kind.name()
         )
+    }
+
+    /// The data lines of the `*GAP CONDUCTANCE` block, (h_c, p) with p strictly
+    /// increasing, and the samples left out: (at full contact: h_c infinite, with the
+    /// first such pressure; pressure not above the previous line's).
+    fn gap_conductance_rows(&self) -> (Vec<(f64, f64)>, (usize, Option<f64>, usize)) {
+        let Some((_, h)) = &self.conductance else {
+            return (Vec::new(), (0, None, 0));
+        };
+        let mut rows = Vec::new();
+        let (mut full, mut first_full, mut flat) = (0, None, 0);
+        let mut last = f64::NEG_INFINITY;
+        for ((_, p, _, _), &hc) in self.law.samples().zip(h) {
+            if !hc.is_finite() {
+                // full contact: the interface conducts without bound
+                full += 1;
+                first_full = first_full.or(Some(p));
+                continue;
+            }
+            if p.is_nan() || p <= last {
+                flat += 1;
+                continue;
+            }
+            last = p;
+            rows.push((hc, p));
+        }
+        (rows, (full, first_full, flat))
+    }
+
+    /// Why the `*GAP CONDUCTANCE` block has fewer data lines than samples (a warning
+    /// and a `**` note in the deck), or `None` when every sample is written.
+    pub fn gap_conductance_dropped(&self) -> Option<String> {
+        let (rows, (full, first_full, flat)) = self.gap_conductance_rows();
+        if full + flat == 0 {
+            return None;
+        }
+        let mut why = Vec::new();
+        if full > 0 {
+            why.push(format!(
+                "{full} at full contact (h_c infinite, from p = {} Pa on: the table's last line holds above it)",
+                abaqus_real(first_full.unwrap_or(f64::NAN))
+            ));
+        }
+        if flat > 0 {
+            why.push(format!(
+                "{flat} whose pressure does not rise above the previous line's"
+            ));
+        }
+        Some(format!(
+            "the *GAP CONDUCTANCE block has {} data lines for {} samples: {} left out",
+            rows.len(),
+            rows.len() + full + flat,
+            why.join(", ")
+        ))
     }
 }
 
@@ -498,4 +551,64 @@ fn solve_bem(
         conductance,
         unloading,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// 20 samples of which the last 10 are at full contact (h_c infinite): the block
+    /// holds the 10 finite ones and says, in a `**` note and in the warning, that 10 were
+    /// left out at full contact and from which pressure (the deck said nothing).
+    #[test]
+    fn gap_conductance_block_says_what_full_contact_left_out() {
+        let n = 20;
+        let gaps: Vec<f64> = (0..n).map(|i| 1e-6 * (n - i) as f64).collect();
+        let p: Vec<f64> = (0..n).map(|i| 1e5 * (i * i) as f64).collect();
+        let k: Vec<f64> = (0..n).map(|i| 1e11 * (1 + i) as f64).collect();
+        let a: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
+        let law = InterfaceLaw::from_samples(&gaps, &p, &k, &a).unwrap();
+        let h: Vec<f64> = (0..n)
+            .map(|i| {
+                if i < 10 {
+                    1e3 * i as f64
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        let s = SampledLaw {
+            law,
+            model: "test".into(),
+            solid: "test".into(),
+            e_star: 1e9,
+            nominal_area: 1e-6,
+            surface: serde_json::Value::Null,
+            warnings: Vec::new(),
+            conductance: Some((ConductionKind::Thermal, h)),
+            unloading: None,
+        };
+        let block = s.gap_conductance_block();
+        let data = block
+            .split_once("*GAP CONDUCTANCE, PRESSURE\n")
+            .unwrap()
+            .1
+            .lines()
+            .count();
+        assert_eq!(data, 10);
+        let w = s.gap_conductance_dropped().unwrap();
+        assert!(
+            w.contains("10 data lines for 20 samples") && w.contains("10 at full contact"),
+            "{w}"
+        );
+        assert!(w.contains(&format!("p = {} Pa", abaqus_real(1e7))), "{w}");
+        assert!(block.contains(&format!("** NOTE: {w}.")), "{block}");
+        // every sample finite: no note
+        let all = SampledLaw {
+            conductance: Some((ConductionKind::Thermal, (0..n).map(|i| i as f64).collect())),
+            ..s
+        };
+        assert!(all.gap_conductance_dropped().is_none());
+        assert!(!all.gap_conductance_block().contains("NOTE"));
+    }
 }

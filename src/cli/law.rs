@@ -244,6 +244,9 @@ pub fn run(a: Args) -> Result<()> {
         for w in solved.law.calculix_warnings() {
             crate::stdio::eprint_line(format_args!("warning: {w}"));
         }
+        if let Some(w) = solved.gap_conductance_dropped() {
+            crate::stdio::eprint_line(format_args!("warning: {w}"));
+        }
     }
     for (f, p) in &outs {
         let text = match f {
