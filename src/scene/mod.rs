@@ -498,6 +498,35 @@ impl Scene {
         // [counterface] (absent: a rigid smooth flat)
         let counter = parse_counterface(&top, dir)?;
         let mut stack = stack;
+        // One counterface, given in one place: a stack file's own [counterface] is
+        // neither replaced by the scene's nor overridden by an explicit rigid flat.
+        if stack.counterface().is_some() {
+            let own = match &stack_file {
+                Some(f) => format!("the stack file {} has its own [counterface]", f.display()),
+                None => "[stack] has its own [stack.counterface]".to_string(),
+            };
+            let given = if counter.stack.is_some() {
+                Some("an elastic [counterface] too")
+            } else if top
+                .get("counterface")
+                .and_then(|c| c.get("kind"))
+                .and_then(|k| k.as_str())
+                == Some("rigid")
+            {
+                Some("`kind = \"rigid\"`")
+            } else {
+                None
+            };
+            if let Some(given) = given {
+                return Err(SceneError::Invalid {
+                    field: "counterface".into(),
+                    reason: format!(
+                        "{own}, and the scene gives {given}: give the counterface in one place \
+                         (remove the stack file's [counterface], or the scene's)"
+                    ),
+                });
+            }
+        }
         if let Some(c) = &counter.stack {
             if table_path.is_some() {
                 return Err(SceneError::Invalid {

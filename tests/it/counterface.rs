@@ -746,3 +746,67 @@ fn extreme_pairs_stay_finite() {
         );
     }
 }
+
+/// A stack file with its own `[counterface]` is neither replaced silently by a scene's
+/// elastic `[counterface]` or `--counterface`, nor overridden by a scene's explicit rigid
+/// flat: each ambiguity is refused naming the field and the stack file (the stack
+/// file's was replaced, or used, without a word); alone it is used.
+#[test]
+fn a_stack_files_own_counterface_is_not_replaced_silently() {
+    let d = fresh_dir("counterface", "two-counterfaces");
+    let own = d.join("paired.toml");
+    std::fs::write(
+        &own,
+        "[[layer]]\nthickness = 1e-4\nyoung = 4e9\npoisson = 0.3\n\
+         [base]\nkind = \"elastic\"\nyoung = 210e9\npoisson = 0.3\n\
+         [counterface]\n[counterface.base]\nkind = \"elastic\"\nyoung = 70e9\npoisson = 0.3\n",
+    )
+    .unwrap();
+    let steel = stack_file("half-space-steel.toml");
+    let surface = "[surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 32\n\
+                   fractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 1e-6\nseed = 1\n\
+                   [model]\nkind = \"bem\"\n[load]\nseparations = [2e-6]\n";
+    let scene =
+        |counterface: &str| format!("[stack]\nfile = \"paired.toml\"\n{counterface}{surface}");
+    for (cf, what) in [
+        (
+            format!("[counterface]\nfile = {:?}\n", steel.display().to_string()),
+            "an elastic [counterface] too",
+        ),
+        (
+            "[counterface]\nkind = \"rigid\"\n".to_string(),
+            "kind = \"rigid\"",
+        ),
+    ] {
+        let e = strata::scene::Scene::from_str_in(&scene(&cf), &d)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("counterface") && e.contains("paired.toml") && e.contains(what),
+            "{e}"
+        );
+    }
+    // alone, the stack file's counterface is the one used
+    let s = strata::scene::Scene::from_str_in(&scene(""), &d).unwrap();
+    assert!(s.stack.counterface().is_some());
+    // the command line: --counterface on such a stack
+    let o = strata_in(&d)
+        .args([
+            "asperity",
+            own.to_str().unwrap(),
+            "--radius",
+            "1e-4",
+            "--delta",
+            "1e-7",
+        ])
+        .arg("--counterface")
+        .arg(&steel)
+        .output()
+        .unwrap();
+    let e = crate::support::stderr_of(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("--counterface") && e.contains("paired.toml") && e.contains("one place"),
+        "{e}"
+    );
+}
