@@ -245,6 +245,12 @@ pub fn law_for(
             e_star: stack.contact_modulus(),
         }));
     }
+    // With an elastic counterface the scene's table is `counterface.table` (of the pair).
+    let (field, what) = if stack.counterface().is_some() {
+        ("counterface.table", "pair (stack and counterface)")
+    } else {
+        ("stack.table", "stack")
+    };
     let table = match (&opts.table, &scene.table) {
         (Some(t), _) => {
             log!(quiet, "stack: layered, table given in memory");
@@ -252,13 +258,14 @@ pub fn law_for(
         }
         (None, Some(p)) => {
             log!(quiet, "stack: layered, table {}", p.display());
-            Table::load(p).with_context(|| format!("stack.table {}", p.display()))?
+            Table::load(p).with_context(|| format!("{field} {}", p.display()))?
         }
         (None, None) => cached_table(stack, opts.cache_dir.as_deref(), quiet, None)?.0,
     };
-    let law = table
-        .law_for(stack)
-        .context("stack.table does not serve the scene's stack")?;
+    let law = table.law_for(stack).with_context(|| match &scene.table {
+        Some(p) => format!("{field} {} does not serve the scene's {what}", p.display()),
+        None => format!("the table does not serve the scene's {what}"),
+    })?;
     Ok(Box::new(law))
 }
 

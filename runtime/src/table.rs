@@ -424,8 +424,11 @@ impl Table {
                     stack.contact_modulus(),
                 );
                 let rt = (t.top_thickness().unwrap_or(1.0), t.contact_modulus());
-                for (what, s, tt) in [("body", &sa, &ta), ("counterface", &sb, &tb)] {
-                    same_body(s, tt, rs, rt).map_err(|m| nf(format!("pair's {what}: {m}")))?;
+                let scaled_same = [(&sa, &ta), (&sb, &tb)]
+                    .iter()
+                    .all(|(s, tt)| same_body(s, tt, rs, rt).is_ok());
+                if !scaled_same {
+                    return Err(nf(pair_difference(stack, t, rs, rt)));
                 }
                 return Ok(0.0);
             }
@@ -617,6 +620,100 @@ fn same_body(s: &Stack, t: &Stack, rs: (f64, f64), rt: (f64, f64)) -> Result<(),
         ) if (ps - pt).abs() <= 1e-12 && close(ys / rs.1, yt / rt.1) => Ok(()),
         _ => Err("its base differs from the table's".into()),
     }
+}
+
+/// The parts of `s` that differ physically from `t` (layers by number, the base), each
+/// with both values; empty when the two bodies are the same.
+fn physical_differences(s: &Stack, t: &Stack) -> Vec<String> {
+    if s.layers().len() != t.layers().len() {
+        return vec![format!(
+            "it has {} layers, the table's has {}",
+            s.layers().len(),
+            t.layers().len()
+        )];
+    }
+    let mut out = Vec::new();
+    for (i, (ls, lt)) in s.layers().iter().zip(t.layers()).enumerate() {
+        if !close(ls.thickness, lt.thickness)
+            || !close(ls.young, lt.young)
+            || (ls.poisson - lt.poisson).abs() > 1e-12
+        {
+            out.push(format!(
+                "layer {} (h, E, ν) = ({:e} m, {:e} Pa, {}), the table's ({:e} m, {:e} Pa, {})",
+                i + 1,
+                ls.thickness,
+                ls.young,
+                ls.poisson,
+                lt.thickness,
+                lt.young,
+                lt.poisson
+            ));
+        }
+    }
+    let base = |b: Base| match b {
+        Base::Rigid => "rigid".to_string(),
+        Base::Elastic { young, poisson } => format!("(E, ν) = ({young:e} Pa, {poisson})"),
+    };
+    let same_base = match (s.base(), t.base()) {
+        (Base::Rigid, Base::Rigid) => true,
+        (
+            Base::Elastic {
+                young: ys,
+                poisson: ps,
+            },
+            Base::Elastic {
+                young: yt,
+                poisson: pt,
+            },
+        ) => close(ys, yt) && (ps - pt).abs() <= 1e-12,
+        _ => false,
+    };
+    if !same_base {
+        out.push(format!(
+            "base {}, the table's {}",
+            base(s.base()),
+            base(t.base())
+        ));
+    }
+    out
+}
+
+/// Why a pair `stack` is not the pair of table stack `t` (which did not match scaled by
+/// `rs`, `rt`): the body or counterface and the layer or base that differ, matched
+/// against the table's two bodies in whichever order differs least (a pair and its swap
+/// share a table); the scaled comparison's message when no part differs in physical
+/// units (a pair scaled unevenly).
+fn pair_difference(stack: &Stack, t: &Stack, rs: (f64, f64), rt: (f64, f64)) -> String {
+    let (Some(sb), Some(tb)) = (stack.counterface(), t.counterface()) else {
+        return "the table is not of this pair".into();
+    };
+    let (sa, ta) = (stack.body(), t.body());
+    let order = |x: &Stack, y: &Stack| (physical_differences(&sa, x), physical_differences(sb, y));
+    let (d1, d2) = (order(&ta, tb), order(tb, &ta));
+    let (body, counter) = if d1.0.len() + d1.1.len() <= d2.0.len() + d2.1.len() {
+        d1
+    } else {
+        d2
+    };
+    let mut parts = Vec::new();
+    if !body.is_empty() {
+        parts.push(format!("the first body's {}", body.join("; ")));
+    }
+    if !counter.is_empty() {
+        parts.push(format!("the counterface's {}", counter.join("; ")));
+    }
+    if parts.is_empty() {
+        // same bodies physically: the pair differs only by a scaling the table cannot take
+        let (ca, cb) = stack.canonical_pair().unwrap_or((sa.clone(), sb.clone()));
+        let (ka, kb) = t.canonical_pair().unwrap_or((ta.clone(), tb.clone()));
+        for (what, s, tt) in [("body", &ca, &ka), ("counterface", &cb, &kb)] {
+            if let Err(m) = same_body(s, tt, rs, rt) {
+                return format!("pair's {what}: {m}");
+            }
+        }
+        return "the table is not of this pair".into();
+    }
+    format!("the table is of another pair: {}", parts.join("; "))
 }
 
 /// χ, ζ, g, S of one stack from a table ([`Table::law_for`]).
@@ -822,6 +919,45 @@ impl AsperityLaw for TableLaw {
 mod tests {
     use super::*;
     use crate::stack::Layer;
+
+    /// A pair table asked for a pair whose counterface differs (steel → aluminium):
+    /// the error names the counterface and its base, not the first body's identical
+    /// layer 1 (the scaled comparison blamed it, E* having changed); a swapped first body
+    /// is named as such.
+    #[test]
+    fn a_wrong_pair_names_the_body_and_part_that_differ() {
+        let body = Stack::paper_two_layer(5.0).unwrap();
+        let steel = Stack::half_space(210e9, 0.3).unwrap();
+        let mut t = synthetic();
+        t.header.family = None;
+        t.header.stack = body.clone().against(steel.clone()).unwrap();
+        let alu = Stack::half_space(70e9, 0.3).unwrap();
+        let e = t
+            .family_coordinate(&body.clone().against(alu).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(
+                "the counterface's base (E, ν) = (7e10 Pa, 0.3), the table's (E, ν) = (2.1e11 Pa, 0.3)"
+            ) && !e.contains("layer 1"),
+            "{e}"
+        );
+        let other = Stack::paper_two_layer(2.0).unwrap();
+        let e = t
+            .family_coordinate(&other.against(steel.clone()).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("the first body's layer 2") && !e.contains("counterface's"),
+            "{e}"
+        );
+        // the pair itself and its swap are served
+        assert!(
+            t.family_coordinate(&body.clone().against(steel.clone()).unwrap())
+                .is_ok()
+        );
+        assert!(t.family_coordinate(&steel.against(body).unwrap()).is_ok());
+    }
 
     /// A small synthetic two-layer family table with analytic contents (for format and
     /// lookup tests; the physics of the contents is tested in strata-tablegen).

@@ -425,7 +425,11 @@ fn pair_table_serves_the_pair_only() {
         .law_for(&sp.clone().against(sp.clone()).unwrap())
         .unwrap_err()
         .to_string();
-    assert!(other.contains("pair's"), "{other}");
+    // the part that differs is named: the counterface's layer 2 (its modulus)
+    assert!(
+        other.contains("the counterface's layer 2") && !other.contains("first body"),
+        "{other}"
+    );
     // The paper's coating against the same coating (issue 33): built within the
     // table tolerance (the builder checks 1 000 points and refuses a table above it).
     let same = d.join("same.strata");
@@ -807,6 +811,41 @@ fn a_stack_files_own_counterface_is_not_replaced_silently() {
     assert_eq!(o.status.code(), Some(1), "{e}");
     assert!(
         e.contains("--counterface") && e.contains("paired.toml") && e.contains("one place"),
+        "{e}"
+    );
+}
+
+/// A pair scene whose `counterface.table` is a table of the stack alone: the error
+/// names `counterface.table` (it named `stack.table`, which the scene does not have).
+#[test]
+fn a_wrong_pair_table_names_counterface_table() {
+    let d = fresh_dir("counterface", "wrong-pair-table");
+    let table = repo().join("tables/paper-two-layer.strata");
+    let scene = d.join("s.toml");
+    std::fs::write(
+        &scene,
+        format!(
+            "[stack]\nfile = {:?}\n[counterface]\nfile = {:?}\ntable = {:?}\n\
+             [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 32\n\
+             fractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 1e-6\nseed = 1\n\
+             [model]\nkind = \"independent\"\n[load]\nseparations = [2e-6]\n",
+            stack_file("paper-two-layer.toml").display().to_string(),
+            stack_file("half-space-steel.toml").display().to_string(),
+            table.display().to_string(),
+        ),
+    )
+    .unwrap();
+    let o = strata_in(&d)
+        .args(["solve", scene.to_str().unwrap(), "--no-plots", "--out"])
+        .arg(d.join("out"))
+        .output()
+        .unwrap();
+    let e = crate::support::stderr_of(&o);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(
+        e.contains("counterface.table")
+            && e.contains("paper-two-layer.strata")
+            && !e.contains("stack.table"),
         "{e}"
     );
 }
