@@ -60,14 +60,67 @@ pub fn run(a: Args) -> Result<()> {
     let in_file = |e: SpotError| anyhow!("stack file {}: {e}", a.stack.display());
     let spot = Spot::new(&stack, kind).map_err(in_file)?;
     let mut rows = Vec::with_capacity(radii.len());
+    // Progress per spot (a log line every few seconds in batch jobs), and a note where
+    // spots are large against the top layer: each is then a product-integration solve
+    // whose cost grows as (a/h1)^1.5 (minutes above a/h1 ≈ 1000).
+    let h1 = stack.top_thickness();
+    if let Some(note) = h1.and_then(|h| large_spot_note(&radii, h)) {
+        crate::progress::log(note);
+    }
+    let bar = crate::progress::bar(radii.len() as u64, "conductance: spots");
     for r in radii {
+        if let Some(h) = h1 {
+            bar.set_message(format!(
+                "conductance: spot a = {r:e} m (a/h1 = {:.3e})",
+                r / h
+            ));
+        }
         let g = spot
             .conductance(r)
             .map_err(|e| anyhow!("stack file {}: a = {r:e} m: {e}", a.stack.display()))?;
         rows.push([num(g.a), num(g.conductance), num(g.psi)]);
+        bar.inc();
     }
+    drop(bar);
     crate::stdio::print(|o| {
         csv_out::write(o, ["a", "conductance", "psi"], rows).map_err(Into::into)
     })?;
     Ok(())
+}
+
+/// Spots at which a/h₁ ≥ [`LARGE_SPOT`]: a note saying how many and that each costs a
+/// product-integration solve growing as (a/h₁)^1.5; `None` when there is none.
+pub fn large_spot_note(radii: &[f64], h1: f64) -> Option<String> {
+    let large: Vec<f64> = radii
+        .iter()
+        .map(|r| r / h1)
+        .filter(|x| *x >= LARGE_SPOT)
+        .collect();
+    let worst = large.iter().copied().fold(0.0_f64, f64::max);
+    (!large.is_empty()).then(|| {
+        format!(
+            "note: {} of the {} spots have a/h1 ≥ {LARGE_SPOT} (largest {worst:.3e}): each is a \
+             product-integration solve whose cost grows as (a/h1)^1.5 — minutes above a/h1 ≈ 1000",
+            large.len(),
+            radii.len()
+        )
+    })
+}
+
+/// a/h₁ from which `strata conductance` notes the cost of a spot.
+pub const LARGE_SPOT: f64 = 100.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn large_spots_are_noted_with_their_count_and_largest_ratio() {
+        assert!(large_spot_note(&[1e-6, 1e-5], 1e-6).is_none());
+        let n = large_spot_note(&[1e-6, 2e-4, 2e-3], 1e-6).unwrap();
+        assert!(
+            n.contains("2 of the 3 spots") && n.contains("2.000e3"),
+            "{n}"
+        );
+    }
 }

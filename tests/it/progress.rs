@@ -140,3 +140,31 @@ fn a_terminal_gets_bars_and_quiet_gets_nothing() {
     assert!(o.status.success());
     assert_eq!(stderr_of(&o), "");
 }
+
+/// `strata conductance --a` reports progress per spot (it ran minutes at a/h1 ≥ 2000
+/// without a line) and notes the spots large against the top layer, whose cost grows
+/// as (a/h1)^1.5; a/h1 = 100 here (20 µm coating, a = 2 mm) keeps it short.
+#[test]
+fn conductance_reports_progress_per_spot_and_notes_large_spots() {
+    let d = crate::support::fresh_dir("progress", "conductance");
+    let stack = crate::support::repo().join("tables/stacks/coating-on-steel-conducting.toml");
+    let o = crate::support::strata_in(&d)
+        .env("STRATA_PROGRESS", "log")
+        .env("STRATA_LOG_INTERVAL", "0.05")
+        .arg("conductance")
+        .arg(&stack)
+        .args(["--a", "1e-6,2e-3"])
+        .output()
+        .unwrap();
+    let e = crate::support::stderr_of(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(
+        e.contains("note: 1 of the 2 spots have a/h1 ≥ 100 (largest 1.000e2)"),
+        "{e}"
+    );
+    assert!(
+        e.contains("conductance: spot a = 2e-3 m (a/h1 = 1.000e2): 2/2 (100 %)")
+            && e.contains("(done)"),
+        "{e}"
+    );
+}
