@@ -137,13 +137,7 @@ fn centred(n: usize, d: f64) -> (Vec<f64>, f64) {
 /// orthogonal, so the normal equations are solved, in coordinates scaled to the grid),
 /// evaluated at every point of the n0 × n1 grid. `Detrend::None` gives zeros. The fit
 /// is linear in z: adding a plane (quadric, for `"curvature"`) to z adds it to the form.
-pub(super) fn fit_form(
-    z: &[f64],
-    keep: &[bool],
-    n0: usize,
-    n1: usize,
-    kind: Detrend,
-) -> Vec<f64> {
+pub(super) fn fit_form(z: &[f64], keep: &[bool], n0: usize, n1: usize, kind: Detrend) -> Vec<f64> {
     let m = match kind {
         Detrend::None => return vec![0.0; z.len()],
         Detrend::Plane => 3,

@@ -59,9 +59,9 @@ pub use form::{Detrend, Form, KEPT_FORM_FRACTION, REMOVED_FORM_RATIO};
 #[cfg(feature = "spectral")]
 pub use generate::{GENERATE_BYTES_PER_POINT, GenerateParams};
 pub use read::{FileKind, HeightUnit, ReadOptions};
+pub use repair::{FILL_TOLERANCE, MAX_FILL_FRACTION, RepairReport};
 #[cfg(feature = "spectral")]
 pub use spectrum::{Density, PsdBin};
-pub use repair::{FILL_TOLERANCE, MAX_FILL_FRACTION, RepairReport};
 pub use stats::{MAX_RMS_HEIGHT_FRACTION, MAX_RMS_SLOPE, MIN_RMS_HEIGHT, SurfaceStats};
 
 use thiserror::Error;
@@ -416,9 +416,16 @@ impl Surface {
             });
         }
         let valid: Vec<bool> = invalid.iter().map(|b| !b).collect();
-        let residual = |form: &[f64]| -> Vec<f64> { z.iter().zip(form).map(|(a, f)| a - f).collect() };
+        let residual =
+            |form: &[f64]| -> Vec<f64> { z.iter().zip(form).map(|(a, f)| a - f).collect() };
         let form = form::fit_form(&z, &valid, n0, n1, judge);
-        let bad = suspect_points(&residual(&form), n0, n1, periodic);
+        // round-off of the heights: 1e-12 × the largest |z| (a plane of 1e-5 m leaves
+        // ~1e-21 m of noise after its removal; 1e-17 m is no roughness)
+        let floor = 1e-12
+            * z.iter()
+                .filter(|v| v.is_finite())
+                .fold(0.0_f64, |m, v| m.max(v.abs()));
+        let bad = suspect_points(&residual(&form), n0, n1, periodic, floor);
         if repair == Repair::Refuse {
             // the worst spike: a spike also disturbs its neighbours' predictions a little
             let worst = bad.iter().fold(None::<(usize, f64)>, |w, &(k, s)| match w {
@@ -685,7 +692,17 @@ fn predict(
 /// Non-finite heights and spikes (module documentation), in row-major order, each
 /// with its distance from its smooth prediction ([`predict`]) in robust standard
 /// deviations of those residuals over the map (∞ for a non-finite height).
-fn suspect_points(z: &[f64], n0: usize, n1: usize, periodic: bool) -> Vec<(usize, f64)> {
+///
+/// σ_r is at least `floor` (m): the round-off of the heights the residuals were taken
+/// from (a form subtracted from large heights leaves noise of ~1e-16 × their size,
+/// which is not a spike).
+fn suspect_points(
+    z: &[f64],
+    n0: usize,
+    n1: usize,
+    periodic: bool,
+    floor: f64,
+) -> Vec<(usize, f64)> {
     let finite: Vec<f64> = z.iter().copied().filter(|v| v.is_finite()).collect();
     let nf = finite.len().max(1) as f64;
     let mean = finite.iter().sum::<f64>() / nf;
@@ -705,7 +722,8 @@ fn suspect_points(z: &[f64], n0: usize, n1: usize, periodic: bool) -> Vec<(usize
         let mut dev: Vec<f64> = r.iter().map(|v| (v - c).abs()).collect();
         1.4826 * median(&mut dev)
     }
-    .max(1e-3 * rms);
+    .max(1e-3 * rms)
+    .max(floor);
     let mut out = Vec::new();
     for k in 0..z.len() {
         if !z[k].is_finite() {
@@ -895,7 +913,7 @@ mod tests {
                 ..params()
             })
             .unwrap();
-            let worst = suspect_points(s.heights(), 256, 256, true);
+            let worst = suspect_points(s.heights(), 256, 256, true, 0.0);
             assert!(worst.is_empty(), "D_f {d}: {worst:?}");
         }
     }
@@ -922,7 +940,7 @@ mod tests {
             ("tilt", &tilt),
             ("sharp lay", &sharp),
         ] {
-            let worst = suspect_points(&field(f), n0, n1, false);
+            let worst = suspect_points(&field(f), n0, n1, false, 0.0);
             assert!(
                 worst.is_empty(),
                 "{name}: {:?}",
@@ -945,7 +963,7 @@ mod tests {
             for k in [7 * n1 + 11, 5, n1 * (n0 - 1) + 20] {
                 zs[k] += 2e-5;
             }
-            let flagged: Vec<usize> = suspect_points(&zs, n0, n1, false)
+            let flagged: Vec<usize> = suspect_points(&zs, n0, n1, false, 0.0)
                 .iter()
                 .map(|b| b.0)
                 .collect();

@@ -352,7 +352,10 @@ mod tests {
                         / scale;
                     worst = worst.max(err);
                     // the fill is harmonic: the discrete Laplacian vanishes on the hole
-                    assert!(err < 1e-10, "({i0}, {j0}) periodic {periodic} {px:?}: {err:e}");
+                    assert!(
+                        err < 1e-10,
+                        "({i0}, {j0}) periodic {periodic} {px:?}: {err:e}"
+                    );
                 }
             }
         }

@@ -120,7 +120,9 @@ impl Surface {
         st.rms_height = (kept.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n).sqrt();
         let (lo, hi) = kept
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| (a.min(v), b.max(v)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
         st.peak_to_valley = hi - lo;
         let (dx, dy) = self.pixel_size();
         let p = self.is_periodic();
@@ -167,7 +169,9 @@ impl Surface {
                 }
                 if let Some(cut) = line.find(": heights in metres declared as a smaller unit") {
                     line.truncate(cut);
-                    line.push_str(": the file gives its height unit; check the instrument's export");
+                    line.push_str(
+                        ": the file gives its height unit; check the instrument's export",
+                    );
                 }
             }
         }
