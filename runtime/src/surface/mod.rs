@@ -976,6 +976,7 @@ mod tests {
                 .zip(&z)
                 .map(|(a, b)| (a - b).abs())
                 .fold(0.0, f64::max);
+            eprintln!("{name}: repaired to within {err:e} m of the profile");
             assert!(
                 err < bound,
                 "{name}: repaired to within {err:e} m of the profile"
