@@ -117,19 +117,11 @@ pub fn check_generate_memory(g: &GenerateParams) -> Result<()> {
     Ok(())
 }
 
-/// The scene's surface, read or generated after a memory check, with a log line on
-/// repairs.
-pub fn load_surface(scene: &Scene, quiet: bool) -> Result<Surface> {
+/// The scene's surface, read or generated after a memory check (what repair filled
+/// is in its log, printed with the surface report).
+pub fn load_surface(scene: &Scene, _quiet: bool) -> Result<Surface> {
     check_surface_memory(scene)?;
-    let surface = scene.load_surface()?;
-    if surface.repaired() > 0 {
-        log!(
-            quiet,
-            "surface: {} points (NaN/inf or spikes) replaced by the median of their neighbours (surface.repair)",
-            surface.repaired()
-        );
-    }
-    Ok(surface)
+    Ok(scene.load_surface()?)
 }
 
 /// Table build options of the command line: progress through [`progress`].
@@ -169,10 +161,10 @@ pub fn cached_table(
 }
 
 /// The reader's warnings and the plausibility warnings of the statistics
-/// (`strata_runtime::surface::SurfaceStats::plausibility`).
+/// (`strata_runtime::surface::Surface::plausibility`).
 pub fn surface_warnings(surface: &Surface) -> Vec<String> {
     let mut w: Vec<String> = surface.warnings().to_vec();
-    w.extend(surface.stats().plausibility());
+    w.extend(surface.plausibility());
     w
 }
 
@@ -181,10 +173,16 @@ pub fn surface_warnings(surface: &Surface) -> Vec<String> {
 pub fn surface_json(surface: &Surface) -> serde_json::Value {
     let mut json = serde_json::to_value(surface.stats()).unwrap_or_default();
     json["repaired_points"] = serde_json::json!(surface.repaired());
+    json["repair"] = surface
+        .repair_report()
+        .map_or(serde_json::Value::Null, |r| {
+            serde_json::to_value(r).unwrap_or_default()
+        });
     json["read"] = serde_json::json!(surface.log());
     json["form"] = surface.form().map_or(serde_json::Value::Null, form_json);
     json["units"] = serde_json::json!({"shape": "points (x, y)", "pixel_size": "m", "size": "m",
         "mean_height": "m", "rms_height": "m", "rms_slope": "1", "peak_to_valley": "m",
+        "repair": {"fraction": "1", "iterations": "1", "else": "points"},
         "form": {"slope_x": "1", "slope_y": "1", "curvature_xx": "1/m", "curvature_xy": "1/m",
                  "curvature_yy": "1/m", "form_rms": "m", "roughness_rms": "m"}});
     json
@@ -308,6 +306,9 @@ pub fn solve_surface_with_maps(
     opts: &EngineOptions,
     maps: MapSink<'_>,
 ) -> Result<SceneSolution> {
+    if let Some(e) = surface.nothing_left() {
+        return Err(e.into());
+    }
     let model = match scene.model.kind {
         ModelKind::Independent => Model::Independent,
         ModelKind::Interacting => Model::Interacting(scene.model.images),

@@ -19,7 +19,8 @@ use crate::errors::{Kind, err, require_file, to_py};
 /// heights: 2-D float array (m); size: the length of the first axis (m, square
 /// pixels) or (Lx, Ly); pixel_size: (dx, dy) (m). Exactly one of size and pixel_size.
 /// Non-finite heights and spikes are refused (strata.SurfaceError naming the row and
-/// column) unless repair="median" replaces them by the median of their neighbours.
+/// column) unless repair="median" (or "harmonic") fills them, clusters included, by
+/// harmonic interpolation from the valid points around them.
 #[pyclass(name = "Surface", module = "strata", frozen)]
 pub struct PySurface {
     pub surface: Surface,
@@ -61,10 +62,10 @@ fn spacing(
 fn repair_of(s: &str) -> PyResult<Repair> {
     match s {
         "none" | "refuse" => Ok(Repair::Refuse),
-        "median" => Ok(Repair::Median),
+        "median" | "harmonic" => Ok(Repair::Median),
         other => Err(to_py(
             Kind::Surface,
-            anyhow::anyhow!("repair: `{other}` is not one of \"none\", \"median\""),
+            anyhow::anyhow!("repair: `{other}` is not one of \"none\", \"median\", \"harmonic\""),
         )),
     }
 }

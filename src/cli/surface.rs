@@ -10,7 +10,10 @@
 //!   [--height-unit U] [--periodic] [--detrend K] [--repair] [--json]`: grid, pixel
 //!   sizes, sample size, periodic flag, RMS height, RMS slope, peak-to-valley, what the
 //!   reader did, and the plausibility warnings (also on stderr). An `.x3p` needs no
-//!   size; a `.npy`/text file does.
+//!   size; a `.npy`/text file does. A raw file (NaN/inf, spikes) is described, not
+//!   refused: the statistics over its valid points, the count and largest cluster of
+//!   its invalid points and of its spikes, and what `repair = "median"` would fill;
+//!   `--repair` shows the filled surface instead.
 
 use std::path::PathBuf;
 
@@ -73,7 +76,9 @@ pub struct InfoArgs {
     /// Remove a least-squares form first: none, plane, curvature.
     #[arg(long, default_value = "none")]
     pub detrend: String,
-    /// Replace invalid points and spikes by the median of their neighbours (else refused).
+    /// Show the surface with its invalid points and spikes filled by harmonic
+    /// interpolation (as `repair = "median"` does); without it, the statistics are over
+    /// the valid points and what repair would do is listed.
     #[arg(long)]
     pub repair: bool,
     /// Print JSON instead of text.
@@ -237,11 +242,9 @@ fn info(a: InfoArgs) -> Result<()> {
             &ReadOptions {
                 spacing,
                 periodic: a.periodic,
-                repair: if a.repair {
-                    Repair::Median
-                } else {
-                    Repair::Refuse
-                },
+                // always checked and filled, so that a raw file is described; without
+                // --repair the statistics are over the valid points
+                repair: Repair::Median,
                 height_unit,
                 detrend,
             },
@@ -261,13 +264,38 @@ fn info(a: InfoArgs) -> Result<()> {
         plot_surface(&surface, &set, &a.file.display().to_string(), ext)?;
         set.commit()?;
     }
-    let stats = surface.stats();
+    // a file read here without --repair: statistics over the points measured
+    let over_valid = !is_scene && !a.repair;
+    let stats = if over_valid {
+        surface.stats_over_valid()
+    } else {
+        surface.stats()
+    };
+    let repair_lines = repair_lines(&surface, over_valid);
     let warnings = crate::engine::surface_warnings(&surface);
     for w in &warnings {
         eprint_line(format_args!("WARNING: surface: {w}"));
     }
     if a.json {
         let mut v = crate::engine::surface_json(&surface);
+        if over_valid {
+            let st = serde_json::to_value(stats)?;
+            if let (Some(obj), Some(st)) = (v.as_object_mut(), st.as_object()) {
+                for (k, x) in st {
+                    obj.insert(k.clone(), x.clone());
+                }
+            }
+            v["repaired_points"] = serde_json::json!(0);
+            v["statistics_over"] = serde_json::json!("valid points (NaN/inf and spikes left out)");
+            v["read"] = serde_json::json!(
+                surface
+                    .log()
+                    .iter()
+                    .filter(|l| !l.starts_with("repair:"))
+                    .collect::<Vec<_>>()
+            );
+        }
+        v["repair_summary"] = serde_json::json!(repair_lines);
         v["file"] = serde_json::json!(a.file.display().to_string());
         v["warnings"] = serde_json::json!(warnings);
         let text = serde_json::to_string_pretty(&v)?;
@@ -295,7 +323,14 @@ fn info(a: InfoArgs) -> Result<()> {
         writeln!(o, "RMS height: {:e} m", stats.rms_height)?;
         writeln!(o, "RMS slope: {:e}", stats.rms_slope)?;
         writeln!(o, "peak-to-valley: {:e} m", stats.peak_to_valley)?;
-        for l in surface.log() {
+        for l in &repair_lines {
+            writeln!(o, "{l}")?;
+        }
+        for l in surface
+            .log()
+            .iter()
+            .filter(|l| !(over_valid && l.starts_with("repair:")))
+        {
             writeln!(o, "read: {l}")?;
         }
         for w in &warnings {
@@ -304,6 +339,47 @@ fn info(a: InfoArgs) -> Result<()> {
         Ok(())
     })?;
     Ok(())
+}
+
+/// What checking the heights found (invalid points and spikes, their clusters) and what
+/// repair does (`over_valid`: the file was filled only to be described) or did.
+fn repair_lines(surface: &Surface, over_valid: bool) -> Vec<String> {
+    let Some(r) = surface.repair_report() else {
+        return Vec::new();
+    };
+    let mut v = vec![
+        format!(
+            "invalid points (NaN/inf): {} in {} clusters, the largest {} points",
+            r.invalid, r.invalid_clusters, r.invalid_largest
+        ),
+        format!(
+            "spikes (judged after removing the least-squares plane): {} in {} clusters, the largest {} points",
+            r.spikes, r.spike_clusters, r.spike_largest
+        ),
+    ];
+    v.push(if r.repaired == 0 {
+        "repair: nothing to repair".to_string()
+    } else if over_valid {
+        format!(
+            "repair: [surface] repair = \"median\" would fill {} points ({:.3} % of the map) in {} \
+             clusters, the largest {}, by harmonic interpolation; without it a solve refuses \
+             this file; the statistics above are over the valid points",
+            r.repaired,
+            100.0 * r.fraction,
+            r.clusters,
+            r.largest
+        )
+    } else {
+        format!(
+            "repair: filled {} points ({:.3} % of the map) in {} clusters, the largest {}, by \
+             harmonic interpolation",
+            r.repaired,
+            100.0 * r.fraction,
+            r.clusters,
+            r.largest
+        )
+    });
+    v
 }
 
 /// psd (log–log C(q) against q), heights and slopes (densities beside the Gaussian of

@@ -19,8 +19,9 @@
 //!                              # (least-squares form removed after reading; periodic
 //!                              # files: "none", the only choice: a tilt is not periodic)
 //! periodic = true              # default: true for generated surfaces, false for files
-//! repair = "median"            # files only: replace NaN/inf heights, invalid points and
-//!                              # spikes by the median of their neighbours (default: refuse)
+//! repair = "median"            # files only: fill NaN/inf heights, invalid points and
+//!                              # spikes (clusters of any size) by harmonic interpolation
+//!                              # ("harmonic" is the same; default: refuse)
 //! [surface.generate]           # size, grid, fractal_dimension, k_min, k_max, rms, seed
 //! [model]
 //! kind = "interacting"         # "independent" | "interacting" | "bem"
@@ -1146,8 +1147,8 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
     let periodic = boolean(sf, "periodic", "surface.periodic")?;
     let repair = match string(sf, "repair", "surface.repair")? {
         None | Some("none") => Repair::Refuse,
-        Some("median") if sf.contains_key("file") => Repair::Median,
-        Some("median") => {
+        Some("median" | "harmonic") if sf.contains_key("file") => Repair::Median,
+        Some("median" | "harmonic") => {
             return Err(SceneError::Invalid {
                 field: "surface.repair".into(),
                 reason: "applies to measured surfaces (surface.file), not generated ones".into(),
@@ -1156,7 +1157,10 @@ fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
         Some(other) => {
             return Err(SceneError::Invalid {
                 field: "surface.repair".into(),
-                reason: format!("`{other}` is not one of \"none\", \"median\""),
+                reason: format!(
+                    "`{other}` is not one of \"none\", \"median\", \"harmonic\" (the last two \
+                     the same harmonic fill)"
+                ),
             });
         }
     };

@@ -30,6 +30,7 @@ mod law;
 mod limits;
 mod maps;
 mod measured_law;
+mod measured_scans;
 mod module_cycles;
 mod netcdf_surface;
 mod outputs;

@@ -507,6 +507,7 @@ pub fn read_container(
         log.push(format!("heights in {u} (the container's `unit`)"));
     }
     let mut s = Surface::read_file(&tmp.0, &inner).map_err(|err| rename(err, &tmp.0, &shown))?;
+    s.unit_from_file |= file_unit || e.unit.is_some();
     if let Some((lx, ly)) = meta_spacing.filter(|_| file_lengths) {
         let (ex, ey) = s.extent();
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-4 * a.abs().max(b.abs());

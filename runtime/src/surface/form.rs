@@ -132,6 +132,73 @@ fn centred(n: usize, d: f64) -> (Vec<f64>, f64) {
     (u, m2)
 }
 
+/// The least-squares form `kind` (module docs) fitted to the heights at the points
+/// where `keep` is set (a map with invalid points or spikes: the basis is no longer
+/// orthogonal, so the normal equations are solved, in coordinates scaled to the grid),
+/// evaluated at every point of the n0 × n1 grid. `Detrend::None` gives zeros. The fit
+/// is linear in z: adding a plane (quadric, for `"curvature"`) to z adds it to the form.
+pub(super) fn fit_form(z: &[f64], keep: &[bool], n0: usize, n1: usize, kind: Detrend) -> Vec<f64> {
+    let m = match kind {
+        Detrend::None => return vec![0.0; z.len()],
+        Detrend::Plane => 3,
+        Detrend::Curvature => 6,
+    };
+    // scaled centred coordinates in [−1, 1]: the fit is the same for any dx, dy
+    let (u, _) = centred(n0, 2.0 / (n0 as f64 - 1.0).max(1.0));
+    let (v, _) = centred(n1, 2.0 / (n1 as f64 - 1.0).max(1.0));
+    let phi = |k: usize| -> [f64; 6] {
+        let (a, b) = (u[k / n1], v[k % n1]);
+        [1.0, a, b, a * a, a * b, b * b]
+    };
+    let mut ata = [[0.0f64; 6]; 6];
+    let mut atz = [0.0f64; 6];
+    for k in (0..z.len()).filter(|&k| keep[k]) {
+        let p = phi(k);
+        for r in 0..m {
+            atz[r] += p[r] * z[k];
+            for c in 0..m {
+                ata[r][c] += p[r] * p[c];
+            }
+        }
+    }
+    // Gaussian elimination with partial pivoting; a singular direction (too few points
+    // along an axis) is left out (coefficient 0)
+    let scale = ata[0][0].max(1.0);
+    let mut coef = [0.0f64; 6];
+    let mut piv_ok = [false; 6];
+    for col in 0..m {
+        let best = (col..m)
+            .max_by(|&a, &b| ata[a][col].abs().total_cmp(&ata[b][col].abs()))
+            .unwrap_or(col);
+        ata.swap(col, best);
+        atz.swap(col, best);
+        if ata[col][col].abs() <= 1e-12 * scale {
+            continue;
+        }
+        piv_ok[col] = true;
+        for r in col + 1..m {
+            let f = ata[r][col] / ata[col][col];
+            for c in col..m {
+                ata[r][c] -= f * ata[col][c];
+            }
+            atz[r] -= f * atz[col];
+        }
+    }
+    for r in (0..m).rev() {
+        if !piv_ok[r] {
+            continue;
+        }
+        let s: f64 = (r + 1..m).map(|c| ata[r][c] * coef[c]).sum();
+        coef[r] = (atz[r] - s) / ata[r][r];
+    }
+    (0..z.len())
+        .map(|k| {
+            let p = phi(k);
+            (0..m).map(|r| coef[r] * p[r]).sum()
+        })
+        .collect()
+}
+
 impl Surface {
     /// Removes the least-squares form `kind` (module docs) from the heights and logs
     /// it; returns the removed form. `Detrend::None` changes nothing.

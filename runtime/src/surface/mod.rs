@@ -48,6 +48,7 @@ mod generate;
 pub mod netcdf;
 mod open;
 mod read;
+mod repair;
 #[cfg(feature = "spectral")]
 mod spectrum;
 mod stats;
@@ -58,6 +59,7 @@ pub use form::{Detrend, Form, KEPT_FORM_FRACTION, REMOVED_FORM_RATIO};
 #[cfg(feature = "spectral")]
 pub use generate::{GENERATE_BYTES_PER_POINT, GenerateParams};
 pub use read::{FileKind, HeightUnit, ReadOptions};
+pub use repair::{FILL_TOLERANCE, MAX_FILL_FRACTION, RepairReport};
 #[cfg(feature = "spectral")]
 pub use spectrum::{Density, PsdBin};
 pub use stats::{MAX_RMS_HEIGHT_FRACTION, MAX_RMS_SLOPE, MIN_RMS_HEIGHT, SurfaceStats};
@@ -98,10 +100,29 @@ pub enum SurfaceError {
         value: f64,
         sigmas: f64,
     },
+    /// More of the map is invalid (or spikes) than repair fills.
     #[error(
-        "surface: cannot repair row {row}, column {col} (0-based): none of its neighbours is valid"
+        "surface: {:.1} % of the points are invalid (NaN/inf) or spikes: too little is measured \
+         to mean anything (repair fills at most {:.0} % of a map)",
+        100.0 * fraction,
+        100.0 * limit
     )]
-    Unrepairable { row: usize, col: usize },
+    TooLittleValid { fraction: f64, limit: f64 },
+    /// Nothing is left after form removal: the heights were (to round-off) the form.
+    #[error(
+        "surface: nothing is left after removing the form (detrend = \"{detrend}\"): the remaining \
+         roughness has an RMS of {rms:e} m, below the atomic scale ({limit:e} m), after a removed \
+         form of RMS {form_rms:e} m (slopes z_x = {slope_x:e}, z_y = {slope_y:e}); the file is a \
+         plane or a quadric, not a rough surface"
+    )]
+    NothingLeft {
+        detrend: &'static str,
+        rms: f64,
+        limit: f64,
+        form_rms: f64,
+        slope_x: f64,
+        slope_y: f64,
+    },
     /// The message includes the limit's; no `source` (a chain would print it twice).
     #[error("surface: {0}")]
     Resources(crate::resources::ResourceError),
@@ -128,9 +149,10 @@ impl From<crate::resources::ResourceError> for SurfaceError {
 pub const SPIKE_LIMIT: f64 = 20.0;
 
 /// Bytes per grid point that checking a measured surface allocates beside its heights
-/// (the spike residuals, their sorted copies, the built surface): an estimate for the
+/// (the masks, the fitted form, the residuals and their sorted copies, the harmonic
+/// fill's index and conjugate-gradient vectors, the built surface): an estimate for the
 /// memory limit.
-pub const MEASURED_BYTES_PER_POINT: u64 = 40;
+pub const MEASURED_BYTES_PER_POINT: u64 = 96;
 
 /// What the file readers do with non-finite heights and spikes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -138,7 +160,9 @@ pub enum Repair {
     /// Refuse them with the file and the grid index (default).
     #[default]
     Refuse,
-    /// Replace each by the median of its valid 8 neighbours.
+    /// Fill them, clusters of any size included, by harmonic interpolation from the
+    /// valid points around them (module `repair`; scene `repair = "median"` or
+    /// `"harmonic"`, the same fill).
     Median,
 }
 
@@ -202,6 +226,12 @@ pub struct Surface {
     warnings: Vec<String>,
     /// The form removed when read ([`Surface::detrend`]).
     form: Option<Form>,
+    /// What checking the measured heights found and what was filled.
+    report: Option<RepairReport>,
+    /// Flat indices of the filled points.
+    filled: Vec<usize>,
+    /// Whether the file gave the height unit (.x3p, a NetCDF or container with a unit).
+    unit_from_file: bool,
 }
 
 /// A value as a person reads it: plain between 1e−4 and 1e15, else in exponent form
@@ -273,6 +303,9 @@ impl Surface {
             log: Vec::new(),
             warnings: Vec::new(),
             form: None,
+            report: None,
+            filled: Vec::new(),
+            unit_from_file: false,
         };
         // Finite heights whose statistics overflow (|z| ~ 1e300 m, or a pixel of 1e−300 m)
         // would reach the models as RMS = inf and give contradictory curves: refused here,
@@ -325,70 +358,145 @@ impl Surface {
         Ok(())
     }
 
-    /// [`Surface::measured`] with any [`Spacing`].
+    /// [`Surface::measured`] with any [`Spacing`]; spikes are judged on the heights less
+    /// their least-squares plane (none on a periodic grid), see
+    /// [`Surface::measured_judged`].
     pub fn measured_with(
-        mut z: Vec<f64>,
+        z: Vec<f64>,
         n0: usize,
         n1: usize,
         spacing: Spacing,
         periodic: bool,
         repair: Repair,
     ) -> Result<Self, SurfaceError> {
+        Self::measured_judged(z, n0, n1, spacing, periodic, repair, Detrend::Plane)
+    }
+
+    /// Checks (or repairs) measured heights in one order: mark the invalid points
+    /// (non-finite) → fit the form `judge` on the valid points (none on a periodic grid)
+    /// → judge spikes on the heights less that form → refit the form without the spikes
+    /// → fill invalid points and spikes harmonically (module `repair`) on the heights
+    /// less the form, and add the form back. Everything after the first step sees the
+    /// heights less a least-squares form, so adding a plane (or, with `judge =
+    /// Curvature`, a quadric) to z changes nothing but that form, to round-off.
+    /// [`Repair::Refuse`] refuses the first non-finite height, else the worst spike; more
+    /// than [`MAX_FILL_FRACTION`] of the map to fill is refused. What was found and
+    /// filled is in [`Surface::repair_report`].
+    pub fn measured_judged(
+        mut z: Vec<f64>,
+        n0: usize,
+        n1: usize,
+        spacing: Spacing,
+        periodic: bool,
+        repair: Repair,
+        judge: Detrend,
+    ) -> Result<Self, SurfaceError> {
         if z.len() != n0 * n1 || n0 < 3 || n1 < 3 {
             return Surface::with_spacing(z, n0, n1, spacing, periodic);
         }
         Self::check_measured_memory(n0, n1)?;
-        spacing.pixel(n0, n1)?;
-        let bad = suspect_points(&z, n0, n1, periodic);
+        let (dx, dy) = spacing.pixel(n0, n1)?;
+        let judge = if periodic { Detrend::None } else { judge };
+        let invalid: Vec<bool> = z.iter().map(|v| !v.is_finite()).collect();
+        let n_invalid = invalid.iter().filter(|&&b| b).count();
+        if repair == Repair::Refuse
+            && let Some(k) = invalid.iter().position(|&b| b)
+        {
+            return Err(SurfaceError::NonFinite {
+                row: k / n1,
+                col: k % n1,
+                value: z[k],
+            });
+        }
+        let total = z.len() as f64;
+        if n_invalid as f64 > MAX_FILL_FRACTION * total {
+            return Err(SurfaceError::TooLittleValid {
+                fraction: n_invalid as f64 / total,
+                limit: MAX_FILL_FRACTION,
+            });
+        }
+        let valid: Vec<bool> = invalid.iter().map(|b| !b).collect();
+        let residual =
+            |form: &[f64]| -> Vec<f64> { z.iter().zip(form).map(|(a, f)| a - f).collect() };
+        let form = form::fit_form(&z, &valid, n0, n1, judge);
+        // round-off of the heights: 1e-12 × the largest |z| (a plane of 1e-5 m leaves
+        // ~1e-21 m of noise after its removal; 1e-17 m is no roughness)
+        let floor = 1e-12
+            * z.iter()
+                .filter(|v| v.is_finite())
+                .fold(0.0_f64, |m, v| m.max(v.abs()));
+        let bad = suspect_points(&residual(&form), n0, n1, periodic, floor);
         if repair == Repair::Refuse {
-            // the worst point (the first non-finite one, else the largest deviation): a
-            // spike also disturbs its neighbours' predictions a little
+            // the worst spike: a spike also disturbs its neighbours' predictions a little
             let worst = bad.iter().fold(None::<(usize, f64)>, |w, &(k, s)| match w {
                 Some((_, ws)) if ws >= s => w,
                 _ => Some((k, s)),
             });
             if let Some((k, sigmas)) = worst {
-                let (row, col, value) = (k / n1, k % n1, z[k]);
-                return Err(if value.is_finite() {
-                    SurfaceError::Spike {
-                        row,
-                        col,
-                        value,
-                        sigmas,
-                    }
-                } else {
-                    SurfaceError::NonFinite { row, col, value }
+                return Err(SurfaceError::Spike {
+                    row: k / n1,
+                    col: k % n1,
+                    value: z[k],
+                    sigmas,
                 });
             }
             return Surface::with_spacing(z, n0, n1, spacing, periodic);
         }
-        let flagged: std::collections::HashSet<usize> = bad.iter().map(|b| b.0).collect();
-        let usable = |m: usize| !flagged.contains(&m);
-        let mut fixed = Vec::with_capacity(bad.len());
+        let mut spike = vec![false; z.len()];
         for &(k, _) in &bad {
-            // the smooth prediction from the points kept, else the neighbours' median
-            let v = predict(&z, n0, n1, periodic, k, &usable).or_else(|| {
-                let mut nb: Vec<f64> = neighbours(n0, n1, periodic, k)
-                    .filter(|&m| usable(m))
-                    .map(|m| z[m])
-                    .filter(|v| v.is_finite())
-                    .collect();
-                (!nb.is_empty()).then(|| median(&mut nb))
+            spike[k] = !invalid[k];
+        }
+        let fill: Vec<bool> = invalid.iter().zip(&spike).map(|(a, b)| *a || *b).collect();
+        let n_fill = fill.iter().filter(|&&b| b).count();
+        if n_fill as f64 > MAX_FILL_FRACTION * total {
+            return Err(SurfaceError::TooLittleValid {
+                fraction: n_fill as f64 / total,
+                limit: MAX_FILL_FRACTION,
             });
-            let Some(v) = v else {
-                return Err(SurfaceError::Unrepairable {
-                    row: k / n1,
-                    col: k % n1,
-                });
-            };
-            fixed.push((k, v));
         }
-        for &(k, v) in &fixed {
-            z[k] = v;
+        let kept: Vec<bool> = fill.iter().map(|b| !b).collect();
+        let form = if n_fill > n_invalid {
+            form::fit_form(&z, &kept, n0, n1, judge)
+        } else {
+            form
+        };
+        let mut r = residual(&form);
+        let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic)?;
+        for k in (0..z.len()).filter(|&k| fill[k]) {
+            z[k] = r[k] + form[k];
         }
+        let (ic, il) = repair::clusters(&invalid, n0, n1, periodic);
+        let (sc, sl) = repair::clusters(&spike, n0, n1, periodic);
+        let (fc, fl) = repair::clusters(&fill, n0, n1, periodic);
+        let report = RepairReport {
+            invalid: n_invalid,
+            invalid_clusters: ic,
+            invalid_largest: il,
+            spikes: n_fill - n_invalid,
+            spike_clusters: sc,
+            spike_largest: sl,
+            repaired: n_fill,
+            clusters: fc,
+            largest: fl,
+            fraction: n_fill as f64 / total,
+            iterations,
+        };
         let mut s = Surface::with_spacing(z, n0, n1, spacing, periodic)?;
-        s.repaired = fixed.len();
+        s.repaired = n_fill;
+        s.report = Some(report);
+        s.filled = (0..fill.len()).filter(|&k| fill[k]).collect();
         Ok(s)
+    }
+
+    /// What checking the measured heights found and what repair filled (`None` for a
+    /// surface not read with [`Repair::Median`]).
+    pub fn repair_report(&self) -> Option<&RepairReport> {
+        self.report.as_ref()
+    }
+
+    /// Flat indices (row-major) of the points repair filled.
+    pub fn filled_points(&self) -> &[usize] {
+        &self.filled
     }
 
     /// Number of points replaced when the surface was read with [`Repair::Median`].
@@ -436,6 +544,12 @@ impl Surface {
             self.periodic,
         )?;
         s.repaired = self.repaired + c.repaired;
+        s.report = self.report;
+        let mut filled: Vec<usize> = self.filled.iter().chain(&c.filled).copied().collect();
+        filled.sort_unstable();
+        filled.dedup();
+        s.filled = filled;
+        s.unit_from_file = self.unit_from_file && c.unit_from_file;
         s.log = self.log.clone();
         s.log
             .extend(c.log.iter().map(|l| format!("counterface: {l}")));
@@ -578,7 +692,17 @@ fn predict(
 /// Non-finite heights and spikes (module documentation), in row-major order, each
 /// with its distance from its smooth prediction ([`predict`]) in robust standard
 /// deviations of those residuals over the map (∞ for a non-finite height).
-fn suspect_points(z: &[f64], n0: usize, n1: usize, periodic: bool) -> Vec<(usize, f64)> {
+///
+/// σ_r is at least `floor` (m): the round-off of the heights the residuals were taken
+/// from (a form subtracted from large heights leaves noise of ~1e-16 × their size,
+/// which is not a spike).
+fn suspect_points(
+    z: &[f64],
+    n0: usize,
+    n1: usize,
+    periodic: bool,
+    floor: f64,
+) -> Vec<(usize, f64)> {
     let finite: Vec<f64> = z.iter().copied().filter(|v| v.is_finite()).collect();
     let nf = finite.len().max(1) as f64;
     let mean = finite.iter().sum::<f64>() / nf;
@@ -598,7 +722,8 @@ fn suspect_points(z: &[f64], n0: usize, n1: usize, periodic: bool) -> Vec<(usize
         let mut dev: Vec<f64> = r.iter().map(|v| (v - c).abs()).collect();
         1.4826 * median(&mut dev)
     }
-    .max(1e-3 * rms);
+    .max(1e-3 * rms)
+    .max(floor);
     let mut out = Vec::new();
     for k in 0..z.len() {
         if !z[k].is_finite() {
@@ -757,9 +882,23 @@ mod tests {
                 z[i * n + j] = f64::NAN;
             }
         }
+        // a 3 × 3 cluster (refused before: its centre had no valid neighbour) is filled
+        let s = Surface::measured(z.clone(), n, n, 1e-3, false, Repair::Median).unwrap();
+        let r = s.repair_report().unwrap();
+        assert_eq!((r.repaired, r.clusters, r.largest), (9, 1, 9), "{r:?}");
+        let err = (0..n * n)
+            .map(|k| (s.heights()[k] - base[k]).abs())
+            .fold(0.0, f64::max);
+        // maximum principle: |error| ≤ max|∇²z| a²/4 with a = 2 pixels from the hole's
+        // centre to its valid boundary, max|∇²z| = 1e-6 (0.7² + 0.4²) per pixel²:
+        // 6.5e-7 m (measured 3.0e-7 m)
+        assert!(err < 1e-6 * (0.49 + 0.16) * 4.0 / 4.0, "{err:e}");
+        // more than half of the map invalid: refused, naming the fraction
+        let mut z = base.clone();
+        z[..n * n / 2 + 1].fill(f64::NAN);
         let e = Surface::measured(z, n, n, 1e-3, false, Repair::Median).unwrap_err();
         assert!(
-            matches!(e, SurfaceError::Unrepairable { row: 5, col: 5 }),
+            matches!(e, SurfaceError::TooLittleValid { .. }) && e.to_string().contains("50.4 %"),
             "{e}"
         );
         // Flat: nothing to flag.
@@ -774,7 +913,7 @@ mod tests {
                 ..params()
             })
             .unwrap();
-            let worst = suspect_points(s.heights(), 256, 256, true);
+            let worst = suspect_points(s.heights(), 256, 256, true, 0.0);
             assert!(worst.is_empty(), "D_f {d}: {worst:?}");
         }
     }
@@ -801,7 +940,7 @@ mod tests {
             ("tilt", &tilt),
             ("sharp lay", &sharp),
         ] {
-            let worst = suspect_points(&field(f), n0, n1, false);
+            let worst = suspect_points(&field(f), n0, n1, false, 0.0);
             assert!(
                 worst.is_empty(),
                 "{name}: {:?}",
@@ -824,7 +963,7 @@ mod tests {
             for k in [7 * n1 + 11, 5, n1 * (n0 - 1) + 20] {
                 zs[k] += 2e-5;
             }
-            let flagged: Vec<usize> = suspect_points(&zs, n0, n1, false)
+            let flagged: Vec<usize> = suspect_points(&zs, n0, n1, false, 0.0)
                 .iter()
                 .map(|b| b.0)
                 .collect();
@@ -837,6 +976,7 @@ mod tests {
                 .zip(&z)
                 .map(|(a, b)| (a - b).abs())
                 .fold(0.0, f64::max);
+            eprintln!("{name}: repaired to within {err:e} m of the profile");
             assert!(
                 err < bound,
                 "{name}: repaired to within {err:e} m of the profile"

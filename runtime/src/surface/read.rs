@@ -182,16 +182,34 @@ impl Surface {
                 (z, n0, n1, spacing, vec![line], Vec::new())
             }
         };
-        let mut s = Surface::measured_with(z, n0, n1, spacing, periodic, opts.repair)
+        // spikes are judged on the heights less the form to be removed (a plane when
+        // none is: a tilt must not decide what is a spike)
+        let judge = match detrend {
+            Detrend::None => Detrend::Plane,
+            k => k,
+        };
+        let unit_from_file = match kind {
+            FileKind::X3p => true,
+            FileKind::NetCdf => log.iter().any(|l| l.contains("(the file's unit)")),
+            _ => false,
+        };
+        let seam = if periodic {
+            seam_warning(&z, n0, n1)
+        } else {
+            None
+        };
+        let mut s = Surface::measured_judged(z, n0, n1, spacing, periodic, opts.repair, judge)
             .map_err(|e| format_err(path, e))?;
-        if s.repaired > 0 {
-            log.push(format!(
-                "{} points (NaN/inf, invalid or spikes) replaced by the median of their neighbours (repair = \"median\")",
-                s.repaired
-            ));
+        if let Some(r) = s.repair_report() {
+            log.push(format!("checked: {}", r.found()));
+            if r.repaired > 0 {
+                log.push(r.describe());
+            }
         }
         s.log = log;
         s.warnings = warnings;
+        s.warnings.extend(seam);
+        s.unit_from_file = unit_from_file;
         match detrend {
             Detrend::None => s.warnings.extend(s.kept_form_warning()),
             kind => {
@@ -377,6 +395,59 @@ fn read_x3p_raw(path: &Path, _: &ReadOptions) -> Result<Raw, SurfaceError> {
         "{}: .x3p files need the runtime feature `x3p`",
         path.display()
     )))
+}
+
+/// Largest ratio of the RMS height step across a periodic sample's seams to the RMS
+/// step between neighbours inside it before [`seam_warning`] speaks: for a sample that
+/// really is one cell of a periodic pattern the seam is a step like any other (ratio
+/// near 1); a measured scan's edges do not meet (a tilt, a form, uncorrelated heights).
+pub const SEAM_RATIO: f64 = 3.0;
+
+/// The warning for heights declared periodic whose opposite edges do not meet: the
+/// RMS step across the x (y) seam, z[0, j] − z[n0 − 1, j], exceeds [`SEAM_RATIO`] ×
+/// the RMS step between x (y) neighbours inside the grid. Non-finite heights are left
+/// out.
+pub(super) fn seam_warning(z: &[f64], n0: usize, n1: usize) -> Option<String> {
+    let rms = |pairs: &mut dyn Iterator<Item = (usize, usize)>| {
+        let (mut s, mut c) = (0.0, 0usize);
+        for (a, b) in pairs {
+            let d = z[a] - z[b];
+            if d.is_finite() {
+                s += d * d;
+                c += 1;
+            }
+        }
+        (s / c.max(1) as f64).sqrt()
+    };
+    let mut found = Vec::new();
+    for (axis, seam, inside) in [
+        (
+            "x",
+            rms(&mut (0..n1).map(|j| (j, (n0 - 1) * n1 + j))),
+            rms(&mut (0..(n0 - 1) * n1).map(|k| (k, k + n1))),
+        ),
+        (
+            "y",
+            rms(&mut (0..n0).map(|i| (i * n1, i * n1 + n1 - 1))),
+            rms(&mut (0..n0 * n1).filter(|k| k % n1 + 1 < n1).map(|k| (k, k + 1))),
+        ),
+    ] {
+        if seam > SEAM_RATIO * inside {
+            found.push(format!(
+                "{axis}: RMS step {seam:.3e} m across the seam, {:.1} × the {inside:.3e} m between neighbours inside",
+                seam / inside.max(f64::MIN_POSITIVE)
+            ));
+        }
+    }
+    (!found.is_empty()).then(|| {
+        format!(
+            "the heights are declared periodic (periodic = true) but the opposite edges do not meet \
+             ({}; warning above {SEAM_RATIO} ×): a measured scan is not one cell of a periodic \
+             pattern, and its seams act as steps in the contact; set periodic = false (the \
+             contact is then solved on the non-periodic sample)",
+            found.join("; ")
+        )
+    })
 }
 
 /// Metres per unit of a SurfaceTopography unit string.

@@ -97,6 +97,106 @@ impl Surface {
     }
 }
 
+impl Surface {
+    /// The statistics over the points that were measured: the repaired points
+    /// ([`Surface::filled_points`]) left out of the mean, RMS height and peak-to-valley,
+    /// and every difference touching one left out of the RMS slope. Equal to
+    /// [`Surface::stats`] when nothing was repaired.
+    pub fn stats_over_valid(&self) -> SurfaceStats {
+        let mut st = self.stats();
+        if self.filled_points().is_empty() {
+            return st;
+        }
+        let (n0, n1) = self.shape();
+        let mut keep = vec![true; n0 * n1];
+        for &k in self.filled_points() {
+            keep[k] = false;
+        }
+        let z = self.heights();
+        let kept: Vec<f64> = (0..z.len()).filter(|&k| keep[k]).map(|k| z[k]).collect();
+        let n = kept.len().max(1) as f64;
+        let mean = kept.iter().sum::<f64>() / n;
+        st.mean_height = mean;
+        st.rms_height = (kept.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / n).sqrt();
+        let (lo, hi) = kept
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        st.peak_to_valley = hi - lo;
+        let (dx, dy) = self.pixel_size();
+        let p = self.is_periodic();
+        let (mut sx, mut cx, mut sy, mut cy) = (0.0, 0usize, 0.0, 0usize);
+        for i in 0..n0 {
+            for j in 0..n1 {
+                let k = i * n1 + j;
+                if !keep[k] {
+                    continue;
+                }
+                if i + 1 < n0 || p {
+                    let m = ((i + 1) % n0) * n1 + j;
+                    if keep[m] {
+                        sx += ((z[m] - z[k]) / dx).powi(2);
+                        cx += 1;
+                    }
+                }
+                if j + 1 < n1 || p {
+                    let m = i * n1 + (j + 1) % n1;
+                    if keep[m] {
+                        sy += ((z[m] - z[k]) / dy).powi(2);
+                        cy += 1;
+                    }
+                }
+            }
+        }
+        st.rms_slope = (sx / cx.max(1) as f64 + sy / cy.max(1) as f64).sqrt();
+        st
+    }
+
+    /// The plausibility warnings of [`Surface::stats`] ([`SurfaceStats::plausibility`]);
+    /// where the file gave the height unit (an .x3p, a NetCDF file or container with a
+    /// unit, where `height_unit` is refused), without the advice to set it.
+    pub fn plausibility(&self) -> Vec<String> {
+        let mut w = self.stats().plausibility();
+        if self.unit_from_file {
+            for line in &mut w {
+                if let Some(cut) = line.find(": are the heights in µm or nm") {
+                    line.truncate(cut);
+                    line.push_str(
+                        ": the file gives its height unit; check the instrument's export \
+                         (heights or lateral sizes in the wrong unit?)",
+                    );
+                }
+                if let Some(cut) = line.find(": heights in metres declared as a smaller unit") {
+                    line.truncate(cut);
+                    line.push_str(
+                        ": the file gives its height unit; check the instrument's export",
+                    );
+                }
+            }
+        }
+        w
+    }
+
+    /// The refusal of a surface with nothing left after form removal: a form was
+    /// removed when read and the remaining roughness has an RMS below
+    /// [`MIN_RMS_HEIGHT`] (the heights were a plane or a quadric, to round-off); `None`
+    /// otherwise. Solvers call it before any work.
+    pub fn nothing_left(&self) -> Option<super::SurfaceError> {
+        let f = self.form()?;
+        (f.kind != super::Detrend::None && self.rms() < MIN_RMS_HEIGHT).then(|| {
+            super::SurfaceError::NothingLeft {
+                detrend: f.kind.name(),
+                rms: self.rms(),
+                limit: MIN_RMS_HEIGHT,
+                form_rms: f.rms,
+                slope_x: f.slope.0,
+                slope_y: f.slope.1,
+            }
+        })
+    }
+}
+
 impl SurfaceStats {
     /// Warnings for implausible values (module docs), each naming the statistic; empty
     /// when all is plausible.
