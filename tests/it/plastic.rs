@@ -620,10 +620,41 @@ fn plastic_law_has_a_loading_and_an_unloading_curve() {
         below >= 3,
         "the unloading curve lies below the loading one: {below}"
     );
+    // dp_dg on the unloading rows (it was NaN): the one-sided difference along the
+    // unloading branch, from the turning point (the deepest loading row) on
+    let turn = load[11];
+    let mut prev = (num(turn[0]), num(turn[2]));
+    let mut steep = 0;
+    for (k, u) in back.iter().enumerate() {
+        let (g, p, dp) = (num(u[0]), num(u[2]), num(u[4]));
+        assert!(
+            dp.is_finite() && dp <= 0.0,
+            "unloading row {k}: dp_dg {}",
+            u[4]
+        );
+        // row k's forward difference is towards row k + 1; the last one's backward
+        let want = match back.get(k + 1) {
+            Some(n) => (num(n[2]) - p) / (num(n[0]) - g),
+            None => (p - prev.1) / (g - prev.0),
+        };
+        assert!(
+            (dp - want).abs() <= 1e-9 * want.abs().max(1.0),
+            "row {k}: {dp} vs {want}"
+        );
+        if dp < 0.0 {
+            steep += 1;
+        }
+        prev = (g, p);
+    }
+    assert!(steep >= 3, "unloading slopes: {steep} non-zero");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.join("law.json")).unwrap()).unwrap();
     assert_eq!(json["plasticity"]["hardness"], 0.2e9);
     assert_eq!(json["unloading"].as_array().unwrap().len(), 12);
+    assert!(
+        json["unloading"][0]["dp_dg"].as_f64().unwrap() < 0.0,
+        "the unloading slope at the turning point"
+    );
     let inp = std::fs::read_to_string(d.join("law.inp")).unwrap();
     assert!(
         inp.contains("PLASTIC INTERFACE") && inp.contains("LOADING curve"),
@@ -925,4 +956,42 @@ fn huge_hardness_on_the_paper_stack_is_elastic() {
     }
     eprintln!("paper stack, H = 1e15 vs elastic (N and I): worst {worst:.1e}");
     assert!(worst < 1e-12, "{worst:e}");
+}
+
+/// The capped N model past A/A₀ = 1 is refused as the elastic models refuse it (H at
+/// its lower end, 1e-3 Pa: the capped areas summed to A/A₀ = 2.8 with exit 0).
+#[test]
+fn capped_area_above_nominal_is_refused() {
+    let d = crate::support::fresh_dir("plastic", "area-above-nominal");
+    let half = "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+                [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                fractal_dimension = 2.4\nk_min = 2\nk_max = 6\nrms = 3.4e-6\nseed = 5\n\
+                [model]\nkind = \"independent\"\n";
+    let (o, out) = solve(
+        &d,
+        "soft",
+        &format!(
+            "{half}[load]\napproach = {{ from = 2e-6, to = 9e-6, steps = 3 }}\n\
+             [plasticity]\nhardness = 1e-3\n"
+        ),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("load step 2") && err.contains("A/A₀") && err.contains("> 1"),
+        "{err}"
+    );
+    assert!(!out.join("curve.csv").exists());
+    // the steps below it are solved
+    let (o, out) = solve(
+        &d,
+        "soft-shallow",
+        &format!(
+            "{half}[load]\napproach = {{ from = 2e-6, to = 5.5e-6, steps = 2 }}\n\
+             [plasticity]\nhardness = 1e-3\n"
+        ),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = rows(&std::fs::read_to_string(out.join("curve.csv")).unwrap());
+    assert!(r.iter().all(|r| r[4] <= 1.0 && r[8] > 0.0));
 }
