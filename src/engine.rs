@@ -868,39 +868,71 @@ fn solve_plastic_asperities(
     model: Model,
 ) -> Result<SceneSolution> {
     let quiet = opts.quiet;
+    let e_star = scene.stack.contact_modulus();
+    // Summits that stay below the response table's range (x = δ/δ_c < ELASTIC_X) on the
+    // whole path are elastic: when every summit does, the capped model is the elastic
+    // model exactly and no table is built (H → ∞ on any stack).
+    let approaches = {
+        let hom = Homogeneous { e_star };
+        let rc = RoughContact::from_surface(&hom, &surface)?;
+        scene
+            .load
+            .approaches(rc.top_to_mean(), f64::INFINITY)
+            .context("load")?
+            .map(|d| (rc.first_summit_past_elastic(e_star, hardness, &d), d))
+    };
+    if !matches!(approaches, Some((Some(_), _))) {
+        if let Some(sol) =
+            solve_elastic_tips(scene, scene_path, surface.clone(), opts, hardness, model)?
+        {
+            return Ok(sol);
+        }
+    }
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);
     let t0 = Instant::now();
+    // the elastic law: the I model's interactions, and every summit below the table
+    let law = law_for(scene, scene_path, opts)?;
+    let rc =
+        RoughContact::from_surface(law.as_ref(), &surface)?.with_params(solver_params(scene, opts));
     log!(
         quiet,
         "plasticity: pressure capped by the hardness H = {hardness:e} Pa; the capped asperity's response table (ring solves, kept in the table cache)"
     );
+    // a summit loaded past the table's lower end where the table has no y for it:
+    // refused before the table is built (when the approaches are known)
+    let uncovered_summit = |k: usize, r: f64, y: f64| {
+        anyhow::anyhow!(
+            "plasticity: summit {k} (radius {r:e} m) is loaded past δ = {:e}·δ_c (δ_c = (πH/2E*)²R, \
+             the capped asperity's table's lower end) and would yield at a contact radius \
+             a_c = πHR/(2E*) of {y:.3e} h1, outside the table (a_c/h1 in [{:e}, {:e}]): the hardness is \
+             too high for this stack's top layer to be treated this way at this load; use \
+             model.kind = \"bem\"",
+            strata_runtime::rough::plastic::ELASTIC_X,
+            strata_tablegen::plastic_asperity::RESPONSE_Y.0,
+            strata_tablegen::plastic_asperity::RESPONSE_Y.1
+        )
+    };
+    if let Some((_, d)) = &approaches
+        && let Some(h1) = scene
+            .stack
+            .top_thickness()
+            .filter(|_| !scene.stack.is_homogeneous())
+    {
+        let (lo, hi, _) = strata_tablegen::plastic_asperity::RESPONSE_Y;
+        let past = rc
+            .summits_past_elastic(e_star, hardness, d)
+            .find_map(|(k, r)| {
+                let y = std::f64::consts::PI * hardness * r / (2.0 * e_star) / h1;
+                (!(lo * (1.0 - 1e-9)..=hi * (1.0 + 1e-9)).contains(&y)).then_some((k, r, y))
+            });
+        if let Some((k, r, y)) = past {
+            return Err(uncovered_summit(k, r, y));
+        }
+    }
     let cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
     let resp = crate::cache::capped_response(&scene.stack, hardness, &cache, quiet)
         .context("plasticity")?;
-    if let Some((r, y)) = found
-        .summits
-        .iter()
-        .find_map(|s| resp.uncovered(s.radius).map(|y| (s.radius, y)))
-    {
-        bail!(
-            "plasticity: a summit of radius {r:e} m yields at a contact radius a_c = πHR/(2E*) of {y:.3e} h1, \
-             outside the capped asperity's table (a_c/h1 in [{:e}, {:e}]): the hardness is too high for \
-             this stack's top layer to be treated this way; use model.kind = \"bem\"",
-            strata_tablegen::plastic_asperity::RESPONSE_Y.0,
-            strata_tablegen::plastic_asperity::RESPONSE_Y.1
-        );
-    }
-    // The N model needs no elastic law (the response table holds the layers); the I
-    // model's interactions do.
-    let law: Box<dyn AsperityLaw> = match model {
-        Model::Interacting(_) => law_for(scene, scene_path, opts)?,
-        _ => Box::new(Homogeneous {
-            e_star: scene.stack.contact_modulus(),
-        }),
-    };
-    let rc =
-        RoughContact::from_surface(law.as_ref(), &surface)?.with_params(solver_params(scene, opts));
     let interacting = match model {
         Model::Interacting(images) => Some(images),
         _ => None,
@@ -964,11 +996,22 @@ fn solve_plastic_asperities(
     // steps where no summit yields are the elastic steps bit for bit); mean pressures:
     // each step at the approach its bisection found.
     let solved: Vec<(Step, f64)> = if matches!(scene.load, LoadSpec::MeanPressures(_)) {
+        if let Some((k, r, y)) = rc.first_uncovered_loaded(&resp, &deltas) {
+            return Err(uncovered_summit(k, r, y));
+        }
         let mut out = Vec::with_capacity(deltas.len());
         let mut warm: Vec<f64> = Vec::new();
         for (i, &d) in deltas.iter().enumerate() {
             opts.cancel.check()?;
             let r = solve(d, &warm).with_context(|| format!("load step {i}"))?;
+            if r.0.area_fraction > 1.0 {
+                let e = RoughError::AreaAboveNominal {
+                    delta: d,
+                    area: r.0.area_fraction,
+                    interacting: interacting.is_some(),
+                };
+                return Err(anyhow::Error::from(e).context(format!("load.mean_pressures[{i}]")));
+            }
             warm = r.0.radii.clone();
             out.push(r);
         }
@@ -1028,6 +1071,60 @@ fn solve_plastic_asperities(
         seconds,
         failed: None,
     })
+}
+
+/// The capped N or I scene when no summit reaches the capped response table's range
+/// (x = δ/δ_c < `plastic::ELASTIC_X`) anywhere on its load path: the elastic scene's
+/// solution exactly (every summit elastic, no table built), with the plastic area
+/// fraction 0 at every step; `None` when some summit does reach it (N model: its
+/// geometric interference at some step; I model: its effective interference δ_I(a_k)
+/// at the elastic I model's solution).
+fn solve_elastic_tips(
+    scene: &Scene,
+    scene_path: &Path,
+    surface: Surface,
+    opts: &EngineOptions,
+    hardness: f64,
+    model: Model,
+) -> Result<Option<SceneSolution>> {
+    let e_star = scene.stack.contact_modulus();
+    let mut elastic = scene.clone();
+    elastic.plasticity = None;
+    let law = law_for(scene, scene_path, opts)?;
+    let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
+    let mut sol =
+        solve_surface_with_maps(&elastic, scene_path, surface, opts, &mut |_, _, _| Ok(()))?;
+    let deltas: Vec<f64> = sol.steps.iter().map(|s| s.delta).collect();
+    let elastic_tips = match model {
+        Model::Independent => rc
+            .first_summit_past_elastic(e_star, hardness, &deltas)
+            .is_none(),
+        Model::Interacting(_) => sol
+            .steps
+            .iter()
+            .all(|s| rc.elastic_i_step_below_table(s, e_star, hardness)),
+    };
+    if !elastic_tips {
+        return Ok(None);
+    }
+    log!(
+        opts.quiet,
+        "plasticity: no summit reaches δ = {:e}·δ_c (δ_c = (πH/2E*)²R, H = {hardness:e} Pa) on this path: every tip is elastic, the elastic model's solution is the capped one (no response table needed)",
+        strata_runtime::rough::plastic::ELASTIC_X
+    );
+    sol.meta["plasticity"] = serde_json::json!({
+        "hardness": hardness,
+        "note": "elastic–perfectly plastic tips (physics.md §9); no summit reaches the capped response \
+                 table's range (δ ≥ 0.01 δ_c, δ_c = (πH/2E*)²R) on this load path, so every tip is elastic \
+                 and the steps are the elastic model's; loading only",
+    });
+    sol.meta["plastic_steps"] = serde_json::Value::Array(
+        sol.steps
+            .iter()
+            .map(|_| serde_json::json!({"plastic_area_fraction": 0.0}))
+            .collect(),
+    );
+    Ok(Some(sol))
 }
 
 /// The conduction solver of a `[conductance]` scene on the BEM's periodic grid

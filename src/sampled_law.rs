@@ -20,6 +20,28 @@ use crate::scene::{LoadSpec, ModelKind, Scene};
 /// area fraction).
 pub type UnloadingSample = (f64, f64, f64);
 
+/// The unloading branch's slopes dp/dg (Pa/m, ≤ 0) at its samples `back` (deepest
+/// first, gaps growing): the one-sided difference along the branch, forward (towards
+/// the next, larger gap) at every sample but the last, backward there — at the deepest
+/// sample the unloading slope, not the loading one (the tips flowed on the way in); 0
+/// where two samples share a gap.
+pub fn unloading_slopes(back: &[UnloadingSample]) -> Vec<f64> {
+    let n = back.len();
+    (0..n)
+        .map(|j| {
+            let (a, b) = if j + 1 < n {
+                (back[j], back[j + 1])
+            } else if j > 0 {
+                (back[j - 1], back[j])
+            } else {
+                return 0.0;
+            };
+            let dg = b.0 - a.0;
+            if dg == 0.0 { 0.0 } else { (b.1 - a.1) / dg }
+        })
+        .collect()
+}
+
 /// A sampled contact law and what was solved, for the headers.
 #[derive(Debug, Clone)]
 pub struct SampledLaw {

@@ -164,6 +164,11 @@ fn parts(s: &crate::BemSolver) -> Parts<'_> {
     }
 }
 
+/// Relative margin below the hardness within which a point counts as plastic
+/// (p ≥ H(1 − margin)): the bounded solves meet their KKT tolerance, not p = H exactly,
+/// where a flattened point is reloaded.
+pub const PLASTIC_SHARE: f64 = 1e-6;
+
 /// A load path of elastic–perfectly plastic contact on one [`crate::BemSolver`]: the
 /// plastic depth u_pl accumulates from step to step, so a path may load and unload in
 /// any order and unloading follows the flattened surface (physics.md §6.3).
@@ -342,7 +347,9 @@ impl<'s> PlasticPath<'s> {
                 (c, out, offset_iterations, set_steps)
             }
         };
-        let h = self.hardness;
+        // at the cap within the solve's tolerance: reloading to a state reached before
+        // meets the cap from below, to the solve's accuracy, at the points that flowed
+        let h = self.hardness * (1.0 - PLASTIC_SHARE);
         let mut plastic_points = 0;
         let mut gap_sum = 0.0;
         for i in 0..n {

@@ -18,6 +18,7 @@ use strata_runtime::Stack;
 use strata_runtime::interface::{InterfaceError, InterfaceLaw, sample_bytes, sample_gaps};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources::{ResourceError, check_memory};
+use strata_runtime::rough::plastic::hardness_problem;
 use strata_runtime::rough::{Model, Params, RoughContact, RoughError, Step};
 use strata_runtime::surface::Surface;
 use strata_tablegen::plastic_asperity::{PlasticAsperityError, RESPONSE_Y, response};
@@ -29,9 +30,14 @@ pub enum CappedError {
     /// The hardness is refused by the capped asperity (or its ring solve failed).
     #[error("{0}")]
     Response(PlasticAsperityError),
-    /// A summit yields outside the response table's range of a_c/h₁.
+    /// The hardness lies outside its admissible range.
+    #[error("{0}")]
+    Hardness(String),
+    /// A summit loaded past the response table's lower end (x = δ/δ_c ≥ 0.01) yields
+    /// outside its range of a_c/h₁.
     #[error(
-        "a summit of radius {radius:e} m yields at a contact radius a_c = πHR/(2E*) of {y:.3e} h1, \
+        "a summit of radius {radius:e} m is loaded past 0.01 δ_c (δ_c = (πH/2E*)²R, the table's \
+         lower end) and yields at a contact radius a_c = πHR/(2E*) of {y:.3e} h1, \
          outside the capped asperity's table (a_c/h1 in [{lo:e}, {hi:e}]): the hardness is too \
          high for this stack's top layer to be treated this way",
         lo = RESPONSE_Y.0,
@@ -99,22 +105,58 @@ pub fn capped_law(
         sample_bytes(samples, first.summits().len()),
     )?;
     let gaps = sample_gaps(g0, min_gap, samples);
-    let resp = response(stack, hardness).map_err(CappedError::Response)?;
-    if let Some((radius, y)) = first
-        .summits()
-        .iter()
-        .find_map(|s| resp.uncovered(s.radius).map(|y| (s.radius, y)))
-    {
-        return Err(CappedError::Uncovered { radius, y });
+    if let Some(why) = hardness_problem(hardness) {
+        return Err(CappedError::Hardness(why));
     }
-    // The N model needs no elastic law (the response table holds the layers); the I
-    // model's interactions do.
-    let elastic: &dyn AsperityLaw = match model {
-        Model::Interacting(_) => law,
-        Model::Independent => &hom,
-    };
-    let rc = RoughContact::from_surface(elastic, surface)?.with_params(params);
+    // the elastic law: the I model's interactions, and every summit below the table
+    let rc = RoughContact::from_surface(law, surface)?.with_params(params);
     let deltas: Vec<f64> = gaps.iter().map(|&g| rc.top_to_mean() - g).collect();
+    let e_star = stack.contact_modulus();
+    // every summit below the response table's range on the whole path: the elastic
+    // model's curve is the capped one, no table needed (the engine's rule)
+    if rc
+        .first_summit_past_elastic(e_star, hardness, &deltas)
+        .is_none()
+    {
+        let steps = match model {
+            Model::Independent => Some(rc.curve(model, &deltas)?),
+            Model::Interacting(_) => {
+                let steps = rc.curve(model, &deltas)?;
+                steps
+                    .iter()
+                    .all(|s| rc.elastic_i_step_below_table(s, e_star, hardness))
+                    .then_some(steps)
+            }
+        };
+        if let Some(steps) = steps {
+            if let Some(s) = steps.iter().find(|s| s.area_fraction > 1.0) {
+                return Err(CappedError::Rough(RoughError::AreaAboveNominal {
+                    delta: s.delta,
+                    area: s.area_fraction,
+                    interacting: matches!(model, Model::Interacting(_)),
+                }));
+            }
+            return Ok(CappedLaw {
+                law: InterfaceLaw::from_steps(&steps, nominal_area)?,
+                steps,
+                gaps,
+            });
+        }
+    }
+    if let Some(h1) = stack.top_thickness().filter(|_| !stack.is_homogeneous()) {
+        // a summit loaded past the table's lower end outside its y range: refused
+        // before the table is built
+        if let Some((radius, y)) = rc
+            .summits_past_elastic(e_star, hardness, &deltas)
+            .map(|(_, r)| (r, std::f64::consts::PI * hardness * r / (2.0 * e_star) / h1))
+            .find(|&(_, y)| {
+                !(RESPONSE_Y.0 * (1.0 - 1e-9)..=RESPONSE_Y.1 * (1.0 + 1e-9)).contains(&y)
+            })
+        {
+            return Err(CappedError::Uncovered { radius, y });
+        }
+    }
+    let resp = response(stack, hardness).map_err(CappedError::Response)?;
     let steps: Vec<_> = rc
         .capped_curve(&resp, model, &deltas)
         .map_err(|(step, error)| CappedError::Step { step, error })?

@@ -340,13 +340,13 @@ impl StrataLawOptions {
         let h = self.hardness;
         let hardness = if h == 0.0 || h == f64::INFINITY {
             None
-        } else if h.is_finite() && h > 0.0 {
-            Some(h)
-        } else {
+        } else if let Some(why) = strata_runtime::rough::plastic::hardness_problem(h) {
             return Err(invalid(
                 "options.hardness",
-                format!("{h} must be > 0 Pa (0 or INFINITY: elastic tips)"),
+                format!("{why} (0 or INFINITY: elastic tips)"),
             ));
+        } else {
+            Some(h)
         };
         let kind = match self.conductance_kind {
             STRATA_CONDUCTANCE_NONE => None,
@@ -1103,10 +1103,12 @@ pub fn build_law_with_effects(
             params,
         )
         .map_err(|e| match e {
-            CappedError::Response(_) | CappedError::Uncovered { .. } => CapiError::Invalid {
-                name: "options.hardness",
-                reason: e.to_string(),
-            },
+            CappedError::Response(_) | CappedError::Uncovered { .. } | CappedError::Hardness(_) => {
+                CapiError::Invalid {
+                    name: "options.hardness",
+                    reason: e.to_string(),
+                }
+            }
             CappedError::MinGap { .. } => CapiError::Invalid {
                 name: "min_gap",
                 reason: e.to_string(),

@@ -211,3 +211,30 @@ fn coarse_area(law: &StrataLaw, g: f64) -> f64 {
     eval_into(law.law(), &[g], &mut p, &mut a, &mut d).unwrap();
     a[0]
 }
+
+/// A hardness outside [1e-3, 1e15] Pa is refused naming `options.hardness` (1e-30 gave
+/// A/A₀ = 4294; 1e-100 … 1e-305 empty values or a hang); its ends, 0 and INFINITY
+/// (elastic tips) are accepted.
+#[test]
+fn hardness_outside_its_range_is_refused() {
+    for h in [1e-30, 1e-305, 9.9e-4, 1.1e15, 1e300, -1.0, f64::NAN] {
+        let o = StrataLawOptions {
+            hardness: h,
+            ..Default::default()
+        };
+        let e = o.effects().unwrap_err().to_string();
+        assert!(e.contains("options.hardness"), "H = {h}: {e}");
+    }
+    for (h, want) in [
+        (1e-3, Some(1e-3)),
+        (1e15, Some(1e15)),
+        (0.0, None),
+        (f64::INFINITY, None),
+    ] {
+        let o = StrataLawOptions {
+            hardness: h,
+            ..Default::default()
+        };
+        assert_eq!(o.effects().unwrap().hardness, want, "H = {h}");
+    }
+}

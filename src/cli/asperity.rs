@@ -129,6 +129,9 @@ pub fn run(a: Args) -> Result<()> {
         if a.profile.is_some() || a.plot.is_some() {
             bail!("--hardness: --profile and --plot are not written for the capped asperity yet");
         }
+        if let Some(why) = strata_runtime::rough::plastic::hardness_problem(h) {
+            bail!("--hardness: {why}");
+        }
         let s = strata_tablegen::plastic_asperity::PlasticAsperity::new(&stack, h)
             .context("--hardness")?;
         // Where the elastic (Fredholm) asperity's pressure stays at or below H nothing

@@ -863,6 +863,17 @@ pub fn run(a: Args) -> Result<()> {
                 p.display()
             );
         }
+        if scene.plasticity.is_some()
+            && let Some((field, what)) = scene.load.first_reversal()
+        {
+            bail!(
+                "scene {}: {field}: {what}: with [plasticity] a path that unloads is solved by the \
+                 BEM only; the capped N and I models follow the loading path, so there is nothing to \
+                 compare on the way back: give a loading path to compare the loading curves, \
+                 `strata solve` gives the BEM's",
+                p.display()
+            );
+        }
         refuse_inputs("--out", &a.out, &scene.inputs(p))?;
     }
     let set = OutputSet::dir("--out", &a.out, a.force)?;

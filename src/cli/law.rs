@@ -116,8 +116,9 @@ const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zb
 /// The law's CSV; with `[conductance]` a `conductance` column after `valid` (h_c,
 /// W/(m²·K) or S/m², empty where infinite: full contact); with `[plasticity]` a
 /// `branch` column (`loading`, then `unloading` from the deepest sample back to first
-/// contact: gap, overclosure, pressure, area; dp_dg and valid of the loading branch
-/// only, NaN and 1 on the unloading rows, the conductance NaN).
+/// contact: gap, overclosure, pressure, area, dp_dg the one-sided difference along the
+/// unloading branch (`sampled_law::unloading_slopes`); valid 1 and the conductance NaN
+/// on the unloading rows).
 fn csv(s: &SampledLaw) -> String {
     let base = s.law.csv();
     let mut out = String::new();
@@ -141,9 +142,10 @@ fn csv(s: &SampledLaw) -> String {
     if let Some((_, back)) = &s.unloading {
         let g0 = s.law.first_contact_gap();
         let hc = if h.is_some() { ",NaN" } else { "" };
-        for (g, p, a) in back.iter().skip(1) {
+        let slopes = crate::sampled_law::unloading_slopes(back);
+        for ((g, p, a), d) in back.iter().zip(&slopes).skip(1) {
             out.push_str(&format!(
-                "{g:e},{:e},{p:e},{a:e},NaN,1{hc},unloading\n",
+                "{g:e},{:e},{p:e},{a:e},{d:e},1{hc},unloading\n",
                 g0 - g
             ));
         }
@@ -201,11 +203,13 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
                  (Abaqus/CalculiX tabular laws are elastic: they retrace the loading curve)"
             },
         });
+        let slopes = crate::sampled_law::unloading_slopes(back);
         v["unloading"] = serde_json::Value::Array(
             back.iter()
-                .map(|(g, p, a)| {
+                .zip(&slopes)
+                .map(|((g, p, a), d)| {
                     serde_json::json!({"gap": g, "overclosure": g0 - g, "mean_pressure": p,
-                                       "area_fraction": a})
+                                       "area_fraction": a, "dp_dg": d})
                 })
                 .collect(),
         );

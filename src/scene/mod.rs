@@ -780,6 +780,12 @@ impl Scene {
             let pt = table(&top, "plasticity", "plasticity")?;
             check_keys(pt, "plasticity.", &["hardness"], "hardness")?;
             let hardness = positive(pt, "hardness", "plasticity.hardness")?;
+            if let Some(reason) = strata_runtime::rough::plastic::hardness_problem(hardness) {
+                return Err(SceneError::Invalid {
+                    field: "plasticity.hardness".into(),
+                    reason,
+                });
+            }
             Some(PlasticitySpec { hardness })
         } else {
             None
@@ -790,6 +796,18 @@ impl Scene {
                 reason: "a return path is solved by the BEM (model.kind = \"bem\"); the N and I \
                          models follow the loading path only (with [plasticity] too)"
                     .into(),
+            });
+        }
+        if plasticity.is_some()
+            && kind != ModelKind::Bem
+            && let Some((field, what)) = load.first_reversal()
+        {
+            return Err(SceneError::Invalid {
+                field,
+                reason: format!(
+                    "{what}: a path that unloads is solved by the BEM (model.kind = \"bem\"); the \
+                     N and I models follow the loading path only (with [plasticity] too)"
+                ),
             });
         }
         let conductance = parse_conductance(&top, &counter, &stack, kind, &surface)?;
@@ -1334,6 +1352,42 @@ fn container_pick(sf: &Table, file: &Path) -> Result<Option<Pick>, SceneError> {
 }
 
 impl LoadSpec {
+    /// The first step at which the load goes back (a separation that grows, an approach
+    /// or a mean pressure that falls), as (its field, e.g. `load.separations[2]`, and a
+    /// description): such a path unloads, which only the BEM follows with `[plasticity]`
+    /// (the capped N and I models answer every step as a virgin loading). Equal
+    /// neighbours do not go back.
+    pub fn first_reversal(&self) -> Option<(String, String)> {
+        let back = |v: &[f64], rises: bool| {
+            v.windows(2)
+                .position(|w| if rises { w[1] > w[0] } else { w[1] < w[0] })
+        };
+        match self {
+            LoadSpec::Separations(g) => back(g, true).map(|i| {
+                (
+                    format!("load.separations[{}]", i + 1),
+                    format!("{:e} m after {:e} m goes back up (unloads)", g[i + 1], g[i]),
+                )
+            }),
+            LoadSpec::MeanPressures(p) => back(p, false).map(|i| {
+                (
+                    format!("load.mean_pressures[{}]", i + 1),
+                    format!(
+                        "{:e} Pa after {:e} Pa goes back down (unloads)",
+                        p[i + 1],
+                        p[i]
+                    ),
+                )
+            }),
+            LoadSpec::Approach { from, to, steps } => (*steps > 1 && to < from).then(|| {
+                (
+                    "load.approach".into(),
+                    format!("from {from:e} m to {to:e} m goes back (unloads)"),
+                )
+            }),
+        }
+    }
+
     /// The approaches δ (m) for displacement-type loads, given z_M − z̄ (m) and the
     /// admissible maximum z_M − z_min (m); errors name the offending entry. None for
     /// pressure control.

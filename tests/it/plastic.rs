@@ -260,7 +260,7 @@ fn plastic_scenes_through_solve() {
     let (o1, e1) = solve(
         &d,
         "hard",
-        &scene_text(&format!("{load}[plasticity]\nhardness = 1e300\n")),
+        &scene_text(&format!("{load}[plasticity]\nhardness = 1e15\n")),
     );
     let (o2, e2) = solve(&d, "elastic", &scene_text(load));
     assert!(o1.status.success() && o2.status.success());
@@ -620,10 +620,41 @@ fn plastic_law_has_a_loading_and_an_unloading_curve() {
         below >= 3,
         "the unloading curve lies below the loading one: {below}"
     );
+    // dp_dg on the unloading rows (it was NaN): the one-sided difference along the
+    // unloading branch, from the turning point (the deepest loading row) on
+    let turn = load[11];
+    let mut prev = (num(turn[0]), num(turn[2]));
+    let mut steep = 0;
+    for (k, u) in back.iter().enumerate() {
+        let (g, p, dp) = (num(u[0]), num(u[2]), num(u[4]));
+        assert!(
+            dp.is_finite() && dp <= 0.0,
+            "unloading row {k}: dp_dg {}",
+            u[4]
+        );
+        // row k's forward difference is towards row k + 1; the last one's backward
+        let want = match back.get(k + 1) {
+            Some(n) => (num(n[2]) - p) / (num(n[0]) - g),
+            None => (p - prev.1) / (g - prev.0),
+        };
+        assert!(
+            (dp - want).abs() <= 1e-9 * want.abs().max(1.0),
+            "row {k}: {dp} vs {want}"
+        );
+        if dp < 0.0 {
+            steep += 1;
+        }
+        prev = (g, p);
+    }
+    assert!(steep >= 3, "unloading slopes: {steep} non-zero");
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(d.join("law.json")).unwrap()).unwrap();
     assert_eq!(json["plasticity"]["hardness"], 0.2e9);
     assert_eq!(json["unloading"].as_array().unwrap().len(), 12);
+    assert!(
+        json["unloading"][0]["dp_dg"].as_f64().unwrap() < 0.0,
+        "the unloading slope at the turning point"
+    );
     let inp = std::fs::read_to_string(d.join("law.inp")).unwrap();
     assert!(
         inp.contains("PLASTIC INTERFACE") && inp.contains("LOADING curve"),
@@ -781,4 +812,186 @@ fn capped_response_table_is_cached() {
     assert_eq!(steps.len(), 3);
     assert!(steps[2]["plastic_area_fraction"].as_f64().unwrap() > 0.0);
     assert_eq!(first, second);
+}
+
+/// Reloading to the loaded state flows again at the same points: the plastic area
+/// fraction counts the points at the cap within the solver's tolerance, so it equals
+/// the first loading's (it read 0.17 % for 30 % when only p == H exactly counted).
+#[test]
+fn reloading_reports_the_same_plastic_fraction() {
+    let h = heights(64, 11);
+    let solver = BemSolver::new(
+        &h,
+        1e-3,
+        &Stack::half_space(4e9, 0.15).unwrap(),
+        BemOptions::default(),
+    )
+    .unwrap();
+    let mut path = PlasticPath::new(&solver, 0.2e9).unwrap();
+    let (d0, d1) = (2e-6, 6e-6);
+    path.step(BemLoad::Approach(d0)).unwrap();
+    let (_, first) = path.step(BemLoad::Approach(d1)).unwrap();
+    path.step(BemLoad::Approach(d0)).unwrap();
+    let (_, again) = path.step(BemLoad::Approach(d1)).unwrap();
+    eprintln!(
+        "plastic fraction: loading {:.4e} ({} points), reloading {:.4e} ({} points)",
+        first.plastic_area_fraction,
+        first.plastic_points,
+        again.plastic_area_fraction,
+        again.plastic_points
+    );
+    assert!(first.plastic_points > 10);
+    assert_eq!(again.plastic_points, first.plastic_points);
+}
+
+/// A path that goes down and back (separations 2, 0.3, 1.5 µm) is refused for the
+/// capped N and I models with the `unload` message, naming the step that unloads (they
+/// answered each step as a virgin loading: 4.4e7 Pa where the BEM gives 0), and by
+/// `strata compare` on a BEM scene (which runs them); the BEM solves it.
+#[test]
+fn capped_asperity_models_refuse_an_unloading_path() {
+    let d = crate::support::fresh_dir("plastic", "unloading-path");
+    let load = "[load]\nseparations = [2e-6, 0.3e-6, 1.5e-6]\n[plasticity]\nhardness = 2e9\n";
+    for model in ["independent", "interacting"] {
+        let (o, _) = solve(
+            &d,
+            model,
+            &scene_text(load).replace("kind = \"bem\"", &format!("kind = \"{model}\"")),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{model}: {err}");
+        assert!(
+            err.contains("load.separations[2]") && err.contains("loading path only"),
+            "{model}: {err}"
+        );
+        assert!(err.contains(".toml"), "{model}: the file is named: {err}");
+    }
+    // a loading path is solved, and an elastic N model may go up and down
+    let (o, _) = solve(
+        &d,
+        "elastic-n",
+        &scene_text("[load]\nseparations = [2e-6, 0.3e-6, 1.5e-6]\n")
+            .replace("kind = \"bem\"", "kind = \"independent\""),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let bem = d.join("bem.toml");
+    std::fs::write(&bem, scene_text(load)).unwrap();
+    let o = crate::support::strata_in(&d)
+        .arg("compare")
+        .arg(&bem)
+        .arg("--out")
+        .arg(d.join("cmp"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(err.contains("load.separations[2]"), "{err}");
+}
+
+/// A hardness outside [1e-3, 1e15] Pa is refused naming `plasticity.hardness` and the
+/// file (1e-30 gave A/A₀ = 4294 with exit 0; 1e-100 … 1e-305 empty cells or a hang).
+#[test]
+fn hardness_outside_its_range_is_refused() {
+    let d = crate::support::fresh_dir("plastic", "hardness-range");
+    let load = "[load]\napproach = { from = 1e-6, to = 4e-6, steps = 2 }\n";
+    for (name, h) in [("tiny", "1e-30"), ("tinier", "1e-305"), ("huge", "1e300")] {
+        for model in ["independent", "bem"] {
+            let (o, _) = solve(
+                &d,
+                &format!("{name}-{model}"),
+                &scene_text(&format!("{load}[plasticity]\nhardness = {h}\n"))
+                    .replace("kind = \"bem\"", &format!("kind = \"{model}\"")),
+            );
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert!(!o.status.success(), "H = {h}, {model}");
+            assert!(
+                err.contains("plasticity.hardness") && err.contains(&format!("{name}-{model}")),
+                "H = {h}: {err}"
+            );
+        }
+    }
+}
+
+/// H = 1e15 on the paper's two-layer stack (scenes/paper-E2E1-5-*.toml's stack and
+/// table): no summit reaches the capped table's range, so the capped N and I models are
+/// the elastic ones (they were refused after the table's ring solves: summits would
+/// yield at a_c/h₁ > 3), and no table is built.
+#[test]
+fn huge_hardness_on_the_paper_stack_is_elastic() {
+    let d = crate::support::fresh_dir("plastic", "paper-huge");
+    let repo = crate::support::repo();
+    let table = repo.join("tables/paper-two-layer.strata");
+    let text = |model: &str, extra: &str| {
+        scene_text(&format!(
+            "[load]\napproach = {{ from = 1e-6, to = 6e-6, steps = 4 }}\n{extra}"
+        ))
+        .replace("kind = \"bem\"", &format!("kind = \"{model}\""))
+        .replace(
+            "[surface]",
+            &format!("table = \"{}\"\n[surface]", table.display()),
+        )
+    };
+    let mut worst: f64 = 0.0;
+    for model in ["independent", "interacting"] {
+        let (o, e) = solve(&d, &format!("{model}-elastic"), &text(model, ""));
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let (o, h) = solve(
+            &d,
+            &format!("{model}-huge"),
+            &text(model, "[plasticity]\nhardness = 1e15\n"),
+        );
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{model}: {err}");
+        let (e, h) = (
+            rows(&std::fs::read_to_string(e.join("curve.csv")).unwrap()),
+            rows(&std::fs::read_to_string(h.join("curve.csv")).unwrap()),
+        );
+        assert_eq!(e.len(), 4);
+        for (a, b) in e.iter().zip(&h) {
+            for c in 0..7 {
+                worst = worst.max(rel(a[c], b[c]));
+            }
+            assert_eq!(b[8], 0.0, "no plastic area");
+        }
+    }
+    eprintln!("paper stack, H = 1e15 vs elastic (N and I): worst {worst:.1e}");
+    assert!(worst < 1e-12, "{worst:e}");
+}
+
+/// The capped N model past A/A₀ = 1 is refused as the elastic models refuse it (H at
+/// its lower end, 1e-3 Pa: the capped areas summed to A/A₀ = 2.8 with exit 0).
+#[test]
+fn capped_area_above_nominal_is_refused() {
+    let d = crate::support::fresh_dir("plastic", "area-above-nominal");
+    let half = "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+                [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                fractal_dimension = 2.4\nk_min = 2\nk_max = 6\nrms = 3.4e-6\nseed = 5\n\
+                [model]\nkind = \"independent\"\n";
+    let (o, out) = solve(
+        &d,
+        "soft",
+        &format!(
+            "{half}[load]\napproach = {{ from = 2e-6, to = 9e-6, steps = 3 }}\n\
+             [plasticity]\nhardness = 1e-3\n"
+        ),
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "{err}");
+    assert!(
+        err.contains("load step 2") && err.contains("A/A₀") && err.contains("> 1"),
+        "{err}"
+    );
+    assert!(!out.join("curve.csv").exists());
+    // the steps below it are solved
+    let (o, out) = solve(
+        &d,
+        "soft-shallow",
+        &format!(
+            "{half}[load]\napproach = {{ from = 2e-6, to = 5.5e-6, steps = 2 }}\n\
+             [plasticity]\nhardness = 1e-3\n"
+        ),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = rows(&std::fs::read_to_string(out.join("curve.csv")).unwrap());
+    assert!(r.iter().all(|r| r[4] <= 1.0 && r[8] > 0.0));
 }

@@ -13,11 +13,53 @@
 //! power law F ∝ x^{3/2}, G ∝ x^{1/2} continues the first node, above it the last
 //! cell's log–log slopes; y is clamped to its range.
 //!
+//! # Elastic summits
+//! Below x = [`ELASTIC_X`] (peak pressure 0.1 H on a half-space) a summit is taken as
+//! elastic and answered by the elastic asperity law itself, whatever y: a scene whose
+//! summits all stay below it on its whole load path is the elastic model exactly (no
+//! table is needed, so H → ∞ is the elastic model on every stack), and only a summit
+//! loaded past it needs the table's range of y.
+//!
 //! The table's file form (the table cache keeps it) is in [`file`](mod@file).
 
 pub mod file;
 
-use super::{Diagnostics, Model, RoughContact, RoughError, Step, Validity};
+use super::{Diagnostics, IndependentError, Model, RoughContact, RoughError, Step, Validity};
+use crate::law::{AsperityLaw, contact_radius, force};
+use crate::rough::local::Local;
+
+/// Admissible hardnesses H (Pa), inclusive: the Young moduli's range
+/// ([`YOUNG_RANGE`](crate::stack::YOUNG_RANGE)), from far below the softest gels to far
+/// above diamond (H ≈ 1e11 Pa). Below it a capped contact is fully plastic at any
+/// approach and its scales δ_c = (πH/2E*)²R underflow beside the surface's heights
+/// (1e-30 Pa gave A/A₀ = 4294; 1e-100 … 1e-305 empty cells or a hang); 1e15 Pa is an
+/// uncapped contact on every admissible stack (H → ∞).
+pub const HARDNESS_RANGE: (f64, f64) = (1e-3, 1e15);
+
+/// Why `hardness` (Pa) is not admissible ([`HARDNESS_RANGE`]), if it is not.
+pub fn hardness_problem(hardness: f64) -> Option<String> {
+    let (lo, hi) = HARDNESS_RANGE;
+    (!(hardness.is_finite() && (lo..=hi).contains(&hardness))).then(|| {
+        format!("{hardness:e} Pa: the hardness must lie in [{lo:e}, {hi:e}] Pa (the Young moduli's range)")
+    })
+}
+
+/// The smallest x = δ/δ_c of the capped model's response table: below it a summit is
+/// elastic (module docs). On a half-space its peak pressure is √x·H = 0.1 H there.
+pub const ELASTIC_X: f64 = 1e-2;
+
+/// The yield scale δ_c = (πH/2E*)² R (m) of a summit of radius `radius` (m) for the
+/// contact modulus `e_star` and hardness `hardness` (Pa): a half-space's yield onset.
+pub fn yield_interference(e_star: f64, hardness: f64, radius: f64) -> f64 {
+    let c = std::f64::consts::PI * hardness / (2.0 * e_star);
+    c * c * radius
+}
+
+/// Whether a summit of radius `radius` (m) at interference `delta` (m) is below the
+/// response table's range, x = δ/δ_c < [`ELASTIC_X`] (elastic, module docs).
+pub fn below_table(e_star: f64, hardness: f64, delta: f64, radius: f64) -> bool {
+    delta < ELASTIC_X * yield_interference(e_star, hardness, radius)
+}
 
 /// A uniform axis in ln of its variable: `n` nodes from `lo` to `hi` (ln values).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -146,13 +188,112 @@ impl PlasticResponse {
     }
 }
 
+/// An elastic summit of radius `radius` at interference `delta` (m) through the elastic
+/// law, as the elastic N model takes it: a from ζ(a)a²/R = δ, P = (4/3)E*χ(a)a³/R,
+/// dP/dδ = (4/3)E* Q′/δ′.
+fn elastic_summit(law: &dyn AsperityLaw, delta: f64, radius: f64) -> Option<CappedContact> {
+    let a = contact_radius(law, radius, delta)?;
+    let l = Local::at(law, a, radius);
+    Some(CappedContact {
+        a,
+        force: force(law, a, radius),
+        stiffness: 4.0 / 3.0 * law.e_star() * l.dq / l.ddelta(a, radius),
+        a_plastic: 0.0,
+    })
+}
+
 impl RoughContact<'_> {
+    /// The first summit (index, radius) that some approach of `deltas` (m) loads past
+    /// the response table's lower end x = [`ELASTIC_X`] (by its geometric interference,
+    /// the N model's), for contact modulus `e_star` and hardness `hardness` (Pa); `None`
+    /// when every summit stays elastic on the whole path (module docs). The largest
+    /// approach decides: interference grows with it.
+    pub fn first_summit_past_elastic(
+        &self,
+        e_star: f64,
+        hardness: f64,
+        deltas: &[f64],
+    ) -> Option<(usize, f64)> {
+        self.summits_past_elastic(e_star, hardness, deltas).next()
+    }
+
+    /// Every summit (index, radius) loaded past x = [`ELASTIC_X`] on the path `deltas`
+    /// ([`first_summit_past_elastic`](Self::first_summit_past_elastic)).
+    pub fn summits_past_elastic(
+        &self,
+        e_star: f64,
+        hardness: f64,
+        deltas: &[f64],
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let max = deltas
+            .iter()
+            .copied()
+            .filter(|d| d.is_finite())
+            .fold(f64::NEG_INFINITY, f64::max);
+        (0..self.summits.len())
+            .filter(move |&k| {
+                let dk = self.interference(k, max);
+                dk > 0.0 && !below_table(e_star, hardness, dk, self.summits[k].radius)
+            })
+            .map(|k| (k, self.summits[k].radius))
+    }
+
+    /// The first summit (index, radius, y = a_c/h₁) loaded past the table's lower end on
+    /// the path `deltas` (m) whose y lies outside the table `resp` ([`PlasticResponse::
+    /// uncovered`]): the capped model cannot answer it.
+    pub fn first_uncovered_loaded(
+        &self,
+        resp: &PlasticResponse,
+        deltas: &[f64],
+    ) -> Option<(usize, f64, f64)> {
+        let max = deltas
+            .iter()
+            .copied()
+            .filter(|d| d.is_finite())
+            .fold(f64::NEG_INFINITY, f64::max);
+        self.summits.iter().enumerate().find_map(|(k, s)| {
+            let dk = self.interference(k, max);
+            if dk <= 0.0 || below_table(resp.e_star, resp.hardness, dk, s.radius) {
+                return None;
+            }
+            resp.uncovered(s.radius).map(|y| (k, s.radius, y))
+        })
+    }
+
     /// The capped N or I model along the approaches `deltas` (m): every step and its
     /// plastic area fraction, or the first failure with its step's index. The I model
     /// solves its elastic curve first (a load path, as an elastic scene does) and caps
     /// each step from it (`capped_from_elastic`: where no summit yields, the elastic step
-    /// bit for bit); the N model takes every summit through `resp` at each approach.
+    /// bit for bit); the N model takes every summit through `resp` at each approach
+    /// (summits below the table's range through the elastic law). A step whose contact
+    /// areas sum to more than the nominal area is refused
+    /// ([`RoughError::AreaAboveNominal`]), as the elastic models refuse it.
     pub fn capped_curve(
+        &self,
+        resp: &PlasticResponse,
+        model: Model,
+        deltas: &[f64],
+    ) -> Result<Vec<(Step, f64)>, (usize, RoughError)> {
+        let steps = self.capped_steps(resp, model, deltas)?;
+        // more real contact than the nominal area: refused, as the elastic models refuse it
+        if let Some((i, (s, _))) = steps
+            .iter()
+            .enumerate()
+            .find(|(_, (s, _))| s.area_fraction > 1.0)
+        {
+            return Err((
+                i,
+                RoughError::AreaAboveNominal {
+                    delta: s.delta,
+                    area: s.area_fraction,
+                    interacting: matches!(model, Model::Interacting(_)),
+                },
+            ));
+        }
+        Ok(steps)
+    }
+
+    fn capped_steps(
         &self,
         resp: &PlasticResponse,
         model: Model,
@@ -198,7 +339,15 @@ impl RoughContact<'_> {
             if dk <= 0.0 {
                 continue;
             }
-            let c = resp.at(dk, s.radius);
+            let c = if below_table(resp.e_star, resp.hardness, dk, s.radius) {
+                elastic_summit(self.law, dk, s.radius).ok_or(IndependentError::NoRoot {
+                    index: k,
+                    delta: dk,
+                    radius: s.radius,
+                })?
+            } else {
+                resp.at(dk, s.radius)
+            };
             radii[k] = c.a;
             load += c.force;
             stiffness += c.stiffness;

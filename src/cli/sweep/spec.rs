@@ -771,6 +771,16 @@ impl Sweep {
                 );
             }
         }
+        if scene.plasticity.is_some()
+            && scene.model.kind != ModelKind::Bem
+            && let Some((field, what)) = scene.load.first_reversal()
+        {
+            bail!(
+                "{field}: {what}: a path that unloads is solved by the BEM (model.kind = \"bem\"); \
+                 the N and I models follow the loading path only (with [plasticity] too) \
+                 (sweep.model.kind)"
+            );
+        }
         Ok(scene)
     }
 

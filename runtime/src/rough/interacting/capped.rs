@@ -31,7 +31,7 @@ use super::Problem;
 use super::energy::State;
 use crate::law::{AsperityLaw, contact_radius, force};
 use crate::rough::local::Local;
-use crate::rough::plastic::PlasticResponse;
+use crate::rough::plastic::{PlasticResponse, below_table};
 use crate::rough::{Images, Model, NewtonError, RoughContact, RoughError, Step};
 
 /// Iterations of the fixed point (and of the stiffness's linear fixed point).
@@ -67,8 +67,12 @@ fn answer(law: &dyn AsperityLaw, resp: &PlasticResponse, d: f64, radius: f64) ->
     if d.is_nan() || d <= 0.0 {
         return Answer::default();
     }
-    let c = resp.at(d, radius);
-    if c.a_plastic > 0.0 {
+    let c = if below_table(resp.e_star, resp.hardness, d, radius) {
+        None
+    } else {
+        Some(resp.at(d, radius))
+    };
+    if let Some(c) = c.filter(|c| c.a_plastic > 0.0) {
         let el = force(law, c.a, radius);
         return Answer {
             a: c.a,
@@ -254,6 +258,23 @@ fn solve_small(mut a: Vec<f64>, mut b: Vec<f64>, m: usize) -> Option<Vec<f64>> {
 }
 
 impl RoughContact<'_> {
+    /// Whether every contact of the elastic I model's step `elastic` stays below the
+    /// capped response table's range (x = δ_I(a_k)/δ_c < `plastic::ELASTIC_X`, its
+    /// effective interference δ_I(a_k) at the I model's solution) for contact modulus
+    /// `e_star` and hardness `hardness` (Pa): then the capped I model's step is
+    /// `elastic` itself, and no table is needed.
+    pub fn elastic_i_step_below_table(&self, elastic: &Step, e_star: f64, hardness: f64) -> bool {
+        self.summits.iter().zip(&elastic.radii).all(|(s, &a)| {
+            a <= 0.0
+                || below_table(
+                    e_star,
+                    hardness,
+                    own_interference(self.law, a, s.radius),
+                    s.radius,
+                )
+        })
+    }
+
     /// The I model with capped tips at approach δ (m) from `warm` (contact radii per
     /// summit, m): the step (its `radii` the contact radii, `kkt_residual` the fixed
     /// point's residual relative to the largest interference) and the plastic area
@@ -285,11 +306,12 @@ impl RoughContact<'_> {
         // At the I model's solution every contact meets δ_I(a_k) = δ_k − D̃_k: its
         // effective interference is δ_I(a_k), so the yield check needs no sums.
         let yielded = self.summits.iter().zip(&elastic.radii).any(|(s, &a)| {
-            a > 0.0
-                && resp
-                    .at(own_interference(law, a, s.radius), s.radius)
-                    .a_plastic
-                    > 0.0
+            if a <= 0.0 {
+                return false;
+            }
+            let d = own_interference(law, a, s.radius);
+            !below_table(resp.e_star, resp.hardness, d, s.radius)
+                && resp.at(d, s.radius).a_plastic > 0.0
         });
         if !(yielded || always) {
             return Ok((elastic, 0.0));
