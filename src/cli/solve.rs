@@ -24,7 +24,8 @@
 //!   With `[output] format = ["npy", "netcdf"]` (or `"netcdf"` alone: no .npy maps)
 //!   also `DIR/maps/results_step_KK.nc`, contact.engineering's per-step `results.nc`
 //!   (NetCDF-3, 64-bit offsets): `pressure` (Pa), `contacting_points`, `gap` and
-//!   `displacement` (m) on dimensions (x, y), i.e. the .npy maps transposed, with
+//!   `displacement` (m) on dimensions (x, y), x the input's first axis (the .npy maps'
+//!   rows: a field is the .npy map element for element), with
 //!   `mean_pressure`, `total_contact_area` and the step's summary as attributes
 //!   ([`strata_bem::netcdf`]); maps.csv then has a `netcdf_file` column.
 //!   The contact-patch count of every step is also curve.csv's `contacts` column.
