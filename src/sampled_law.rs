@@ -73,13 +73,37 @@ impl SampledLaw {
     /// The Abaqus/CalculiX `*SURFACE BEHAVIOR` block with its `**` comment lines
     /// naming the scene (`scene`: how it is shown), the model and the solid.
     pub fn abaqus_block(&self, scene: &str) -> String {
+        let (h_max, p_max) = self.fe_range();
         self.law.abaqus_block(&[
             "strata law: pressure-overclosure table of a rough (layered) interface".into(),
             format!("scene: {scene}"),
             format!("model: {}", self.model),
             format!("solid: {}", self.solid),
+            format!(
+                "FE RANGE: this table covers overclosure 0 <= h <= {} m, pressure 0 <= p <= {} Pa.\n  \
+                 Size the FE load so that no contact node's overclosure exceeds h_max = {} m: beyond\n  \
+                 it CalculiX holds p = {} Pa (no stiffness) and reports nothing; check the run's\n  \
+                 contact pressures (*CONTACT PRINT) against p_max, or sample deeper (--min-gap).",
+                abaqus_real(h_max),
+                abaqus_real(p_max),
+                abaqus_real(h_max),
+                abaqus_real(p_max)
+            ),
         ]) + &self.plastic_note()
             + &self.gap_conductance_block()
+    }
+
+    /// The FE range the table covers: the largest overclosure h_max = g₀ − g_min (m) and
+    /// the pressure there, p_max (Pa). An FE interface driven beyond h_max leaves the
+    /// table (CalculiX holds p_max with zero stiffness).
+    pub fn fe_range(&self) -> (f64, f64) {
+        let g0 = self.law.first_contact_gap();
+        let p_max = self
+            .law
+            .samples()
+            .map(|(_, p, _, _)| p)
+            .fold(0.0_f64, f64::max);
+        (g0 - self.law.min_gap(), p_max)
     }
 
     /// With `[plasticity]`: `**` lines saying that the tabular law above is elastic in

@@ -121,7 +121,10 @@ mod update;
 
 pub use conduction::{Conductance, ConductanceOptions, ConductanceSolver, Conductor};
 pub use error::BemError;
-pub use maps::{BemSolution, count_patches, read_heights_npy, resample_rect, resample_spectral};
+pub use maps::{
+    BemSolution, count_patches, median_patch_size, patch_sizes, read_heights_npy, resample_rect,
+    resample_spectral,
+};
 pub use ndarray::Array2;
 pub use netcdf::NETCDF_MAP_VARIABLES;
 pub use plastic::{PlasticInfo, PlasticPath};

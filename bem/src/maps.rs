@@ -103,6 +103,12 @@ pub fn read_heights_npy(path: &Path) -> Result<Array2<f64>, BemError> {
 /// Number of connected components of `mask` (ny×nx, row-major), 4-connected, with
 /// wrap-around when `periodic`.
 pub fn count_patches(mask: &[bool], ny: usize, nx: usize, periodic: bool) -> usize {
+    patch_sizes(mask, ny, nx, periodic).len()
+}
+
+/// The sizes (pixels) of the contact patches of `mask` (ny × nx, row-major): the
+/// connected components of [`count_patches`], in no particular order.
+pub fn patch_sizes(mask: &[bool], ny: usize, nx: usize, periodic: bool) -> Vec<usize> {
     let mut parent: Vec<usize> = (0..mask.len()).collect();
     fn find(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
@@ -129,9 +135,27 @@ pub fn count_patches(mask: &[bool], ny: usize, nx: usize, periodic: bool) -> usi
             }
         }
     }
-    (0..mask.len())
-        .filter(|&a| mask[a] && find(&mut parent, a) == a)
-        .count()
+    let mut size = vec![0usize; mask.len()];
+    for a in 0..mask.len() {
+        if mask[a] {
+            let r = find(&mut parent, a);
+            size[r] += 1;
+        }
+    }
+    size.into_iter().filter(|&n| n > 0).collect()
+}
+
+/// The median of patch sizes (pixels): the middle one, the mean of the two middle ones
+/// for an even count; `None` without patches.
+pub fn median_patch_size(sizes: &[usize]) -> Option<f64> {
+    let mut s = sizes.to_vec();
+    s.sort_unstable();
+    let n = s.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(s[n / 2] as f64),
+        _ => Some((s[n / 2 - 1] + s[n / 2]) as f64 / 2.0),
+    }
 }
 
 /// Spectral (Fourier) resampling of a periodic n×n field to m×m (m even ≥ 4): the

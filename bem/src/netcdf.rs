@@ -4,9 +4,13 @@
 //!
 //! # Layout
 //! NetCDF-3 with 64-bit offsets (CDF-2, `NETCDF3_64BIT`, the format contact.engineering
-//! writes), dimensions `x` (nx, the columns of strata's maps) and `y` (ny, the rows), x
-//! first as in contact.engineering and SurfaceTopography: `pressure[i, j]` is the value
-//! at x = i·Lx/nx, y = j·Ly/ny, i.e. strata's `.npy` map transposed.
+//! writes), dimensions `x` and `y` with x the first axis of the input heights, as in
+//! contact.engineering, SurfaceTopography and strata's surface inputs (`surface info`'s
+//! Lx): `x` has the maps' first-index points (the rows of strata's `.npy` maps, which
+//! keep the input's orientation) and spans that axis' side, `y` the second index.
+//! `pressure[i, j]` is the value at x = i·Lx/n₀, y = j·Ly/n₁, i.e. strata's `.npy` map
+//! element for element. (The BEM names its grid the other way round internally —
+//! [`BemSolution::sides`] is (columns, rows) — which is why the sides are swapped here.)
 //!
 //! | variable | dims | type | units |
 //! |---|---|---|---|
@@ -52,15 +56,12 @@ impl BemSolution {
         let set = self
             .netcdf_definition(step, hardness)
             .map_err(|e| err(e.to_string()))?;
-        let (ny, nx) = self.pressure.dim();
-        // x first: element (i, j) of a variable is the map's (row j, column i).
-        let transposed = |m: &ndarray::Array2<f64>| -> Vec<f64> { m.t().iter().copied().collect() };
-        let contact: Vec<i8> = self
-            .pressure
-            .t()
-            .iter()
-            .map(|&p| i8::from(p > 0.0))
-            .collect();
+        // x = the input's first axis = the maps' rows: element (i, j) of a variable is
+        // the map's (row i, column j), the map in its own (row-major) order.
+        let (n0, n1) = self.pressure.dim();
+        let [lx, ly] = self.physical_sizes();
+        let flat = |m: &ndarray::Array2<f64>| -> Vec<f64> { m.iter().copied().collect() };
+        let contact: Vec<i8> = self.pressure.iter().map(|&p| i8::from(p > 0.0)).collect();
         let coords = |n: usize, side: f64| -> Vec<f64> {
             (0..n).map(|i| i as f64 * side / n as f64).collect()
         };
@@ -68,19 +69,23 @@ impl BemSolution {
             let io = |e: netcdf3::WriteError| std::io::Error::other(format!("{e:?}"));
             let mut w = FileWriter::open(tmp).map_err(io)?;
             w.set_def(&set, Version::Offset64Bit, 0).map_err(io)?;
-            w.write_var_f64("x", &coords(nx, self.sides[0]))
-                .map_err(io)?;
-            w.write_var_f64("y", &coords(ny, self.sides[1]))
-                .map_err(io)?;
-            w.write_var_f64("pressure", &transposed(&self.pressure))
+            w.write_var_f64("x", &coords(n0, lx)).map_err(io)?;
+            w.write_var_f64("y", &coords(n1, ly)).map_err(io)?;
+            w.write_var_f64("pressure", &flat(&self.pressure))
                 .map_err(io)?;
             w.write_var_i8("contacting_points", &contact).map_err(io)?;
-            w.write_var_f64("gap", &transposed(&self.gap)).map_err(io)?;
-            w.write_var_f64("displacement", &transposed(&self.displacement))
+            w.write_var_f64("gap", &flat(&self.gap)).map_err(io)?;
+            w.write_var_f64("displacement", &flat(&self.displacement))
                 .map_err(io)?;
             w.close().map_err(io)
         })
         .map_err(|e| err(e.to_string()))
+    }
+
+    /// The physical sizes (Lx, Ly) (m) in the NetCDF's (and the input's) axes: Lx along
+    /// the maps' first index (rows), Ly along the second.
+    pub fn physical_sizes(&self) -> [f64; 2] {
+        [self.sides[1], self.sides[0]]
     }
 
     /// The header: dimensions, variables and attributes.
@@ -89,18 +94,18 @@ impl BemSolution {
         step: usize,
         hardness: Option<f64>,
     ) -> Result<DataSet, netcdf3::InvalidDataSet> {
-        let (ny, nx) = self.pressure.dim();
+        let (n0, n1) = self.pressure.dim();
         let mut d = DataSet::new();
-        d.add_fixed_dim("x", nx)?;
-        d.add_fixed_dim("y", ny)?;
+        d.add_fixed_dim("x", n0)?;
+        d.add_fixed_dim("y", n1)?;
         for (name, long) in [
             (
                 "x",
-                "position along x (the maps' columns in strata's .npy files)",
+                "position along x, the input's first axis (the rows of strata's .npy maps)",
             ),
             (
                 "y",
-                "position along y (the maps' rows in strata's .npy files)",
+                "position along y, the input's second axis (the columns of strata's .npy maps)",
             ),
         ] {
             d.add_var_f64(name, &[name])?;
@@ -169,7 +174,7 @@ impl BemSolution {
         d.add_global_attr_i32("contact_patches", vec![int(self.patches)])?;
         d.add_global_attr_i32("iterations", vec![int(self.iterations)])?;
         d.add_global_attr_f64("error", vec![self.error])?;
-        d.add_global_attr_f64("physical_sizes", self.sides.to_vec())?;
+        d.add_global_attr_f64("physical_sizes", self.physical_sizes().to_vec())?;
         d.add_global_attr_string("physical_sizes_units", "m")?;
         d.add_global_attr_string(
             "source",

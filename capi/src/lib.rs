@@ -37,7 +37,8 @@
 #![allow(clippy::missing_safety_doc)]
 
 pub mod capped;
-pub mod conductance_curve;
+/// h_c(g), h_c(p) between a law's samples: the runtime's, shared with the Python package.
+pub use strata_runtime::interface::conductance_curve;
 pub mod spots;
 
 use std::cell::RefCell;

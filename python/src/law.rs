@@ -7,6 +7,7 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use strata::sampled_law::SampledLaw;
+use strata_runtime::interface::conductance_curve::ConductanceCurve;
 
 use crate::conv;
 use crate::errors::{Kind, err};
@@ -20,6 +21,24 @@ pub struct PyContactLaw {
     pub sampled: SampledLaw,
     /// The scene, for the Abaqus block's comments.
     pub scene: String,
+}
+
+impl PyContactLaw {
+    /// The conductance between the samples (the C ABI's), or a LawError when the law
+    /// has none.
+    fn curve(&self) -> PyResult<ConductanceCurve> {
+        let Some((_, h)) = &self.sampled.conductance else {
+            return Err(err(Kind::Law)(anyhow::anyhow!(
+                "this law has no conductance: add [conductance] to the scene (thermal or electrical)"
+            )));
+        };
+        let gaps: Vec<f64> = self.sampled.law.samples().map(|(g, ..)| g).collect();
+        ConductanceCurve::new(&gaps, h).ok_or_else(|| {
+            err(Kind::Law)(anyhow::anyhow!(
+                "the law's conductances are not finite and ≥ 0 at every sample (full contact): h_c is infinite there"
+            ))
+        })
+    }
 }
 
 #[pymethods]
@@ -76,6 +95,9 @@ impl PyContactLaw {
         out.set_item("dp_dg", d.into_pyarray(py))?;
         let valid: Vec<bool> = l.validity().map(|v| v.is_valid()).collect();
         out.set_item("valid", valid.into_pyarray(py))?;
+        if let Some((_, h)) = &self.sampled.conductance {
+            out.set_item("conductance", h.clone().into_pyarray(py))?;
+        }
         Ok(out)
     }
 
@@ -115,9 +137,50 @@ impl PyContactLaw {
         self.sampled.nominal_area
     }
 
-    /// The samples as CSV text (`strata law --format csv`).
+    /// Interface conductance h_c(g) (W/(m²·K) thermal, S/m² electrical) at separation
+    /// g (m; scalar or array), as the C ABI's `strata_law_conductance`: the solved
+    /// values at the samples, a monotone cubic (PCHIP) between them (∝ √δ next to first
+    /// contact), 0 at and above first contact; below the smallest sample an error.
+    /// Needs `[conductance]` in the scene.
+    fn conductance<'py>(
+        &self,
+        py: Python<'py>,
+        gap: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = self.curve()?;
+        conv::map(py, gap, "gap", Kind::Law, |g| Ok(c.at_gap(g)?))
+    }
+
+    /// h_c at mean contact pressure p (Pa; scalar or array), as the C ABI's
+    /// `strata_law_conductance_at_pressure`: at the largest separation where the law's
+    /// p(g) equals p (bisection on the monotone p(g)), h_c(g) there; a sample's own
+    /// pressure gives its h_c exactly; above the largest sampled pressure an error.
+    fn conductance_at_pressure<'py>(
+        &self,
+        py: Python<'py>,
+        pressure: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = self.curve()?;
+        let law = &self.sampled.law;
+        conv::map(py, pressure, "pressure", Kind::Law, |p| {
+            Ok(c.at_pressure(p, |g| law.eval(g).map_or(f64::NAN, |q| q.pressure))?)
+        })
+    }
+
+    /// `"thermal"` (W/(m²·K)), `"electrical"` (S/m²) or None: the conductance the law
+    /// carries (the scene's `[conductance]`).
+    #[getter]
+    fn conductance_kind(&self) -> Option<&'static str> {
+        self.sampled.conductance.as_ref().map(|(k, _)| match k {
+            strata_runtime::conduction::ConductionKind::Thermal => "thermal",
+            strata_runtime::conduction::ConductionKind::Electrical => "electrical",
+        })
+    }
+
+    /// The samples as CSV text, the columns of `strata law --format csv` (with
+    /// `[conductance]` its `conductance` column, with `[plasticity]` its `branch`).
     fn csv(&self) -> String {
-        self.sampled.law.csv()
+        strata::cli::law::csv(&self.sampled)
     }
 
     /// The `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block for Abaqus and

@@ -63,6 +63,25 @@ def test_sigint_stops_a_1024_bem_solve_within_one_second():
     assert np.all(small.solve().mean_pressure > 0)
 
 
+@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(),
+                    reason="signals reach the main thread only")
+def test_the_last_status_after_an_interrupt_says_where_it_stopped(capsys):
+    """After Ctrl-C the call's last status line is the step the solve stopped at, marked
+    interrupted: it used to read `40/40 (100 %) … (interrupted)`."""
+    scene = strata.Scene(STEEL, rough(1024), model="bem",
+                         load={"approach": {"from": 2e-7, "to": 3e-6, "steps": 40}})
+    timer = threading.Timer(1.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            scene.solve(progress=True)
+    finally:
+        timer.cancel()
+    last = [l for l in capsys.readouterr().err.splitlines() if l.strip()][-1]
+    assert "load steps: stopped at " in last and last.endswith("(interrupted)"), last
+    assert "/40 (100 %)" not in last, last
+
+
 CONCURRENT = r"""
 import sys, threading
 import numpy as np

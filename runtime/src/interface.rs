@@ -52,6 +52,8 @@ use crate::rough::{Model, RoughContact, RoughError, Step, Validity};
 
 pub mod abaqus;
 pub use abaqus::abaqus_real;
+/// h_c(g) and h_c(p) between the samples of a law (PCHIP in g, bisection on p(g)).
+pub mod conductance_curve;
 
 /// Largest number of samples [`InterfaceLaw::sample`] accepts (the command line's
 /// `--samples` and the C ABI's `STRATA_MAX_SAMPLES` share it). 100 000 samples resolve

@@ -750,7 +750,6 @@ fn compare_scene(
                 crate::scene::MapsSpec::None
             },
             !a.no_plots,
-            &scene.surface,
         )
         .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
         let sol = solve_scene_with_maps(&sc, path, &opts, &mut |k, n, m| maps.accept(k, n, m))

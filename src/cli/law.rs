@@ -118,8 +118,8 @@ const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zb
 /// `branch` column (`loading`, then `unloading` from the deepest sample back to first
 /// contact: gap, overclosure, pressure, area, dp_dg the one-sided difference along the
 /// unloading branch (`sampled_law::unloading_slopes`); valid 1 and the conductance NaN
-/// on the unloading rows).
-fn csv(s: &SampledLaw) -> String {
+/// on the unloading rows). The Python package's `ContactLaw.csv()` writes this text too.
+pub fn csv(s: &SampledLaw) -> String {
     let base = s.law.csv();
     let mut out = String::new();
     let h = s.conductance.as_ref().map(|(_, h)| h);
@@ -180,6 +180,12 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
             "local_where_p_above_1pc_of_max": s.law.linear_table_deviation().local,
         },
         "validity_warnings": s.law.validity_warnings(),
+        "fe_range": {
+            "overclosure_max": s.fe_range().0,
+            "pressure_max": s.fe_range().1,
+            "note": "the FE overclosure/pressure range the table covers: an FE interface driven beyond \
+                     overclosure_max leaves the table (CalculiX holds pressure_max with no stiffness)",
+        },
         "surface": s.surface,
         "warnings": s.warnings,
         "convention": CONVENTION,
@@ -289,6 +295,11 @@ pub fn run(a: Args) -> Result<()> {
         } else {
             String::new()
         }
+    ));
+    let (h_max, p_max) = solved.fe_range();
+    progress::log(format!(
+        "FE range: the table covers overclosure 0 to {h_max:e} m (pressure 0 to {p_max:e} Pa); \
+         an FE interface driven beyond it leaves the table (CalculiX holds {p_max:e} Pa, no stiffness)"
     ));
     Ok(())
 }

@@ -24,7 +24,8 @@
 //!   With `[output] format = ["npy", "netcdf"]` (or `"netcdf"` alone: no .npy maps)
 //!   also `DIR/maps/results_step_KK.nc`, contact.engineering's per-step `results.nc`
 //!   (NetCDF-3, 64-bit offsets): `pressure` (Pa), `contacting_points`, `gap` and
-//!   `displacement` (m) on dimensions (x, y), i.e. the .npy maps transposed, with
+//!   `displacement` (m) on dimensions (x, y), x the input's first axis (the .npy maps'
+//!   rows: a field is the .npy map element for element), with
 //!   `mean_pressure`, `total_contact_area` and the step's summary as attributes
 //!   ([`strata_bem::netcdf`]); maps.csv then has a `netcdf_file` column.
 //!   The contact-patch count of every step is also curve.csv's `contacts` column.
@@ -41,7 +42,7 @@ use std::time::Instant;
 use crate::csv_out;
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
-use crate::scene::{MapFormats, MapsSpec, Scene, SurfaceSpec};
+use crate::scene::{MapFormats, MapsSpec, Scene};
 use anyhow::{Context, Result, bail};
 use strata_bem::BemSolution;
 use strata_runtime::rough::Step;
@@ -118,7 +119,7 @@ pub fn run(a: Args) -> Result<()> {
         keep_partial: true,
         ..Default::default()
     };
-    let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots, &scene.surface)
+    let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots)
         .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
     let sol = solve_scene_with_maps(&scene, &a.scene, &opts, &mut |k, n, m| maps.accept(k, n, m))
         .with_context(|| format!("scene {}", a.scene.display()))?;
@@ -173,30 +174,17 @@ pub struct MapWriter<'a> {
     formats: MapFormats,
     /// The hardness (Pa) of a plastic solve, for the NetCDF files' attributes.
     hardness: Option<f64>,
-    /// The scene's surface: the sample size for the pictures' axes.
-    surface: &'a SurfaceSpec,
     rows: Vec<Vec<String>>,
     last: Option<(usize, usize, BemSolution)>,
 }
 
 impl<'a> MapWriter<'a> {
-    pub fn new(
-        set: &'a OutputSet,
-        which: MapsSpec,
-        pictures: bool,
-        surface: &'a SurfaceSpec,
-    ) -> Self {
-        Self::in_dir(set, "maps/", which, pictures, surface)
+    pub fn new(set: &'a OutputSet, which: MapsSpec, pictures: bool) -> Self {
+        Self::in_dir(set, "maps/", which, pictures)
     }
 
     /// A writer into `dir` of the set (`sub/maps/`).
-    pub fn in_dir(
-        set: &'a OutputSet,
-        dir: &str,
-        which: MapsSpec,
-        pictures: bool,
-        surface: &'a SurfaceSpec,
-    ) -> Self {
+    pub fn in_dir(set: &'a OutputSet, dir: &str, which: MapsSpec, pictures: bool) -> Self {
         MapWriter {
             set,
             dir: dir.to_string(),
@@ -204,7 +192,6 @@ impl<'a> MapWriter<'a> {
             pictures,
             formats: MapFormats::default(),
             hardness: None,
-            surface,
             rows: Vec::new(),
             last: None,
         }
@@ -293,9 +280,11 @@ impl<'a> MapWriter<'a> {
         }
         self.rows.push(row);
         let (n0, n1) = m.pressure.dim();
-        // Pictures need the sample's size; an .x3p scene's size is known only to the file.
-        let size = self.surface.first_axis_length(n0);
-        if self.pictures && size.is_finite() {
+        // The pictures' axes: the solved sample's own length along the first axis (from
+        // the surface as read, so a file that carries its sizes — .x3p, .nc, .zip — is
+        // drawn too; the scene's keys alone left those without pictures).
+        let size = m.physical_sizes()[0];
+        if self.pictures && size.is_finite() && size > 0.0 {
             let p: Vec<f64> = m.pressure.iter().map(|v| v * 1e-6).collect();
             crate::plot::heatmap(
                 &self

@@ -356,6 +356,21 @@ fn check_cargo(
 ) {
     let tokens: Vec<&str> = code.split_whitespace().collect();
     for (i, w) in tokens.windows(2).enumerate() {
+        // An install that ignores Cargo.lock re-resolves every dependency to the newest
+        // semver-compatible version, not the tested ones: the docs show `--locked`.
+        if w[0] == "cargo" && w[1] == "install" {
+            let locked = tokens[i + 2..]
+                .iter()
+                .take_while(|t| !matches!(**t, "&&" | "||" | ";" | "|"))
+                .any(|t| *t == "--locked");
+            if !locked {
+                problems.push(
+                    "`cargo install` without `--locked` (ignores Cargo.lock: untested versions)"
+                        .to_string(),
+                );
+            }
+            continue;
+        }
         if w[0] != "cargo" || !matches!(w[1], "test" | "bench" | "run" | "build") {
             continue;
         }
@@ -603,7 +618,8 @@ fn stale_references_are_found() {
         &mut p,
     );
     check_strata("strata solv scene.toml", &subcommands, &mut p);
-    assert_eq!(p.len(), 6, "{p:#?}");
+    check_cargo("cargo install --path .", &packages, &it_modules, &mut p);
+    assert_eq!(p.len(), 7, "{p:#?}");
     // And these are fine.
     let mut ok = Vec::new();
     check_cargo(
@@ -619,6 +635,12 @@ fn stale_references_are_found() {
         &mut ok,
     );
     check_strata("strata solve s.toml --out out/x", &subcommands, &mut ok);
+    check_cargo(
+        "cargo install --locked --path .",
+        &packages,
+        &it_modules,
+        &mut ok,
+    );
     assert!(ok.is_empty(), "{ok:#?}");
     for (token, checked) in [
         (

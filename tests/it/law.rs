@@ -206,6 +206,32 @@ fn homogeneous_law_is_the_gw_sum_and_a_valid_abaqus_table() {
     // Default --min-gap: the separation of the scene's largest mean pressure (1e7 Pa).
     let p_last = s[199][2];
     assert!((p_last - 1e7).abs() <= 1e-9 * 1e7, "{p_last}");
+    // The FE range the table covers, stated in the log, the JSON and the deck's comments
+    // (an FE run beyond it leaves the table: CalculiX holds the last pressure silently).
+    let (h_max, p_max) = (s[199][1], s[199][2]);
+    assert_eq!(json["fe_range"]["overclosure_max"].as_f64(), Some(h_max));
+    assert_eq!(json["fe_range"]["pressure_max"].as_f64(), Some(p_max));
+    assert!(
+        err.contains("FE range: the table covers overclosure 0 to"),
+        "{err}"
+    );
+    let inp = std::fs::read_to_string(stem.with_extension("inp")).expect("inp");
+    let range = inp
+        .lines()
+        .find(|l| l.starts_with("** FE RANGE:"))
+        .unwrap_or_else(|| panic!("no FE RANGE comment:\n{inp}"));
+    let h_field = range
+        .split("<= h <= ")
+        .nth(1)
+        .and_then(|r| r.split(" m,").next())
+        .and_then(read_f20)
+        .expect("h_max in the FE RANGE line");
+    assert!((h_field / h_max - 1.0).abs() < 1e-13, "{range}");
+    assert_eq!(
+        abq.last().map(|l| l.1),
+        Some(h_field),
+        "the table's last overclosure"
+    );
 
     // Closed form on the scene's own surface.
     let sc = Scene::from_file(&root().join(scene)).expect("scene");

@@ -283,18 +283,15 @@ fn netcdf_maps_are_the_npy_maps_in_contact_engineering_layout() {
             assert_eq!(nc_text(&set, Some(v), "units"), unit, "{v}");
         }
         assert_eq!(nc_text(&set, Some("contacting_points"), "dtype"), "bool");
-        // (x, y): element [i, j] is the .npy map's row j, column i — bit for bit.
+        // (x, y) with x the input's first axis: element [i, j] is the .npy map's row i,
+        // column j — bit for bit.
         let field = |v: &str| vars[v].get_f64().unwrap().to_vec();
-        let transposed =
-            |m: &ndarray::Array2<f64>| -> Vec<u64> { m.t().iter().map(|v| v.to_bits()).collect() };
+        let same =
+            |m: &ndarray::Array2<f64>| -> Vec<u64> { m.iter().map(|v| v.to_bits()).collect() };
         let bits = |v: Vec<f64>| -> Vec<u64> { v.iter().map(|v| v.to_bits()).collect() };
-        assert_eq!(
-            bits(field("pressure")),
-            transposed(&p),
-            "step {k}: pressure"
-        );
-        assert_eq!(bits(field("gap")), transposed(&g), "step {k}: gap");
-        let mask: Vec<i8> = p.t().iter().map(|&v| i8::from(v > 0.0)).collect();
+        assert_eq!(bits(field("pressure")), same(&p), "step {k}: pressure");
+        assert_eq!(bits(field("gap")), same(&g), "step {k}: gap");
+        let mask: Vec<i8> = p.iter().map(|&v| i8::from(v > 0.0)).collect();
         assert_eq!(vars["contacting_points"].get_i8().unwrap(), &mask[..]);
         // The summary: contact.engineering's attributes are curve.csv's step.
         let nn = (N * N) as f64;
@@ -351,6 +348,113 @@ fn netcdf_maps_are_the_npy_maps_in_contact_engineering_layout() {
         .collect();
     names.sort();
     assert_eq!(names, ["maps.csv", "results_step_02.nc"]);
+}
+
+/// A rectangular 64 × 128 input (x the first axis, Lx = 1 mm, Ly = 2 mm, as `surface
+/// info` says) is written with `x` of 64 points spanning Lx and `y` of 128 spanning Ly,
+/// the fields in the input's orientation (contact.engineering's and SurfaceTopography's
+/// convention): read back with the netcdf3 crate. The file used to swap them (x of 128
+/// points spanning 2 mm).
+#[test]
+fn netcdf_maps_keep_the_input_axes_on_a_rectangular_grid() {
+    let d = dir("netcdf-rect");
+    let (n0, n1, lx, ly) = (64usize, 128usize, 1e-3, 2e-3);
+    // A smooth non-periodic bump, higher along x than along y, so a swap shows.
+    let z: Vec<f64> = (0..n0 * n1)
+        .map(|k| {
+            let (i, j) = (k / n1, k % n1);
+            let (x, y) = (i as f64 / n0 as f64 - 0.4, j as f64 / n1 as f64 - 0.5);
+            -1e-6 * (20.0 * x * x + 4.0 * y * y)
+        })
+        .collect();
+    strata_runtime::surface::Surface::with_spacing(
+        z,
+        n0,
+        n1,
+        strata_runtime::surface::Spacing::Pixel(lx / n0 as f64, ly / n1 as f64),
+        false,
+    )
+    .unwrap()
+    .write_npy(&d.join("z.npy"))
+    .unwrap();
+    let sc = d.join("scene.toml");
+    std::fs::write(
+        &sc,
+        format!(
+            r#"[stack]
+[[stack.layer]]
+thickness = 1e-3
+young = 4e9
+poisson = 0.15
+[stack.base]
+kind = "elastic"
+young = 4e9
+poisson = 0.15
+[surface]
+file = "z.npy"
+size = [{lx:e}, {ly:e}]
+periodic = false
+detrend = "none"
+[model]
+kind = "bem"
+[load]
+approach = {{ from = 2e-7, to = 4e-7, steps = 2 }}
+[output]
+maps = "last"
+format = ["npy", "netcdf"]
+"#
+        ),
+    )
+    .unwrap();
+    let info = strata(&["surface", "info", sc.to_str().unwrap()]);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    let out = d.join("out");
+    let o = solve(&sc, &out, &["--no-plots"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let p = read_heights_npy(&out.join("maps/pressure_step_01.npy")).unwrap();
+    assert_eq!(p.dim(), (n0, n1));
+    let mut f = netcdf3::FileReader::open(out.join("maps/results_step_01.nc")).unwrap();
+    let vars = f.read_all_vars().unwrap();
+    let (set, _) = f.close();
+    assert_eq!(set.dim_names(), ["x", "y"]);
+    assert_eq!(set.dim_size("x"), Some(n0));
+    assert_eq!(set.dim_size("y"), Some(n1));
+    let x = vars["x"].get_f64().unwrap();
+    let y = vars["y"].get_f64().unwrap();
+    assert_eq!((x.len(), y.len()), (n0, n1));
+    // Pixel positions i·L/n: the last one is L(n−1)/n, the step L/n.
+    assert!((x[1] / (lx / n0 as f64) - 1.0).abs() < 1e-15, "{}", x[1]);
+    assert!((x[n0 - 1] / (lx * (n0 - 1) as f64 / n0 as f64) - 1.0).abs() < 1e-15);
+    assert!((y[1] / (ly / n1 as f64) - 1.0).abs() < 1e-15, "{}", y[1]);
+    assert!((y[n1 - 1] / (ly * (n1 - 1) as f64 / n1 as f64) - 1.0).abs() < 1e-15);
+    let sizes = set
+        .get_global_attr("physical_sizes")
+        .unwrap()
+        .get_f64()
+        .unwrap()
+        .to_vec();
+    assert_eq!(sizes, [lx, ly]);
+    let field = vars["pressure"].get_f64().unwrap();
+    assert_eq!(field.len(), n0 * n1);
+    let bits: Vec<u64> = field.iter().map(|v| v.to_bits()).collect();
+    let npy: Vec<u64> = p.iter().map(|v| v.to_bits()).collect();
+    assert_eq!(bits, npy, "pressure[i, j] is the .npy map's [i, j]");
+    // The contact sits at the bump's top (x = 0.4 Lx, y = 0.5 Ly): element [i, j] with
+    // i along x.
+    let (imax, _) =
+        field.iter().enumerate().fold(
+            (0, f64::MIN),
+            |(k, m), (i, &v)| if v > m { (i, v) } else { (k, m) },
+        );
+    let (i, j) = (imax / n1, imax % n1);
+    assert!(
+        (x[i] / lx - 0.4).abs() < 0.05 && (y[j] / ly - 0.5).abs() < 0.05,
+        "{i} {j}"
+    );
 }
 
 /// Writes a BEM run with NetCDF maps for tests/python/run.sh, which opens them with

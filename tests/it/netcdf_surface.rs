@@ -299,3 +299,83 @@ fn a_scene_solves_the_netcdf_file_as_the_same_npy() {
     assert_eq!(curves[0], curves[1]);
     assert!(curves[0].lines().count() == 4, "{}", curves[0]);
 }
+
+/// Writes `topo` with its unit attributes replaced by `set` (on `heights` and `x`).
+fn write_with_unit(path: &Path, h: &[f64], set: impl Fn(&mut DataSet, &str)) {
+    write(
+        path,
+        &Topo {
+            unit: None,
+            ..topo(h)
+        },
+    );
+    let mut f = netcdf3::FileReader::open(path).unwrap();
+    let vars = f.read_all_vars().unwrap();
+    let (mut d, _) = f.close();
+    set(&mut d, "heights");
+    set(&mut d, "x");
+    let mut w = FileWriter::open(path).unwrap();
+    w.set_def(&d, Version::Offset64Bit, 0).unwrap();
+    for v in ["x", "y", "heights"] {
+        w.write_var_f64(v, vars[v].get_f64().unwrap()).unwrap();
+    }
+    w.close().unwrap();
+}
+
+/// Older writers store "µm" in Latin-1 (one byte 0xB5, not UTF-8's 0xC2 0xB5): it reads as
+/// micrometres, not as "no unit" (metres, a silent ×1e6). A unit that is a number, or
+/// bytes that are neither UTF-8 nor Latin-1 text, is refused naming the file, the variable
+/// and the attribute (it too used to read as metres).
+#[test]
+fn latin1_micrometre_unit_is_read_and_a_numeric_unit_refused() {
+    let d = tmp("latin1");
+    let h = heights_um();
+    let p = d.join("latin1.nc");
+    write_with_unit(&p, &h, |d, v| {
+        d.add_var_attr_u8(v, "unit", vec![0xb5, b'm']).unwrap()
+    });
+    let s = Surface::read(&p, &ReadOptions::default()).unwrap();
+    assert_eq!(s.extent(), (2.0 * 1e-6, 1.5 * 1e-6));
+    let want: Vec<f64> = h.iter().map(|v| v * 1e-6).collect();
+    assert_eq!(s.heights(), &want[..], "Latin-1 µm: heights in µm → m");
+    assert!(s.log().iter().any(|l| l.contains("µm")), "{:?}", s.log());
+    // UTF-8 "µm" (0xC2 0xB5) too.
+    let p = d.join("utf8.nc");
+    write_with_unit(&p, &h, |d, v| {
+        d.add_var_attr_string(v, "unit", "µm").unwrap()
+    });
+    assert_eq!(
+        Surface::read(&p, &ReadOptions::default())
+            .unwrap()
+            .heights(),
+        &want[..]
+    );
+    // A number where the unit should be.
+    let p = d.join("numeric.nc");
+    write_with_unit(&p, &h, |d, v| {
+        d.add_var_attr_f64(v, "unit", vec![1e-6]).unwrap()
+    });
+    let e = Surface::read(&p, &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("numeric.nc")
+            && e.contains("`unit`")
+            && e.contains("`heights`")
+            && e.contains("not text"),
+        "{e}"
+    );
+    // Control bytes: neither UTF-8 nor Latin-1 text.
+    let p = d.join("garbled.nc");
+    write_with_unit(&p, &h, |d, v| {
+        d.add_var_attr_u8(v, "unit", vec![0x85, 0x01, b'm'])
+            .unwrap()
+    });
+    let e = Surface::read(&p, &ReadOptions::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("garbled.nc") && e.contains("`unit`") && e.contains("not readable text"),
+        "{e}"
+    );
+}

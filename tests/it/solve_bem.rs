@@ -144,3 +144,91 @@ fn bem_solves_a_non_periodic_surface() {
     }
     assert!(free[2] != cell[2]);
 }
+
+/// A BEM scene on a generated surface: `grid` points on 1 mm, wavenumbers 2…`k_max`.
+fn diagnostics_scene(
+    grid: usize,
+    k_max: usize,
+    rms: f64,
+    approach: (f64, f64),
+    extra: &str,
+) -> String {
+    crate::support::homogeneous_scene(
+        &format!(
+            "size = 1e-3\n[surface.generate]\ngrid = {grid}\nfractal_dimension = 2.4\nk_min = 2\n\
+             k_max = {k_max}\nrms = {rms:e}\nseed = 7"
+        ),
+        "\"bem\"",
+        &format!(
+            "approach = {{ from = {:e}, to = {:e}, steps = 4 }}\n{extra}",
+            approach.0, approach.1
+        ),
+    )
+}
+
+/// The BEM's resolution diagnostics (curve.json `resolution`, warnings on stderr): the
+/// patch-size warning fires when the median contact patch has fewer than 10 pixels — the
+/// same smooth surface (k ≤ 4, RMS 1 µm) sampled on a 16² grid (medians 2.5, 4, 7.5, 25
+/// pixels) warns, on 128² (60–338 pixels) it stays quiet — and the peak-pressure warning
+/// fires when an elastic peak exceeds 0.1 E* (a steep 32² scan, k to its Nyquist 16, RMS
+/// 3.4 µm: 0.125 E* measured at the last step), with the pointer to [plasticity]; with
+/// [plasticity] given (peak capped at H), or on the gentle scans (≤ 0.015 E*), it stays
+/// quiet.
+#[test]
+fn patch_size_and_peak_pressure_warnings() {
+    let d = dir("diagnostics");
+    let run = |name: &str, text: String| {
+        let (o, out) = crate::support::solve_text(&d, name, &text);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap())
+                .unwrap();
+        (String::from_utf8_lossy(&o.stderr).into_owned(), json)
+    };
+    let smooth = (0.3e-6, 1.2e-6);
+    let (coarse, jc) = run("coarse", diagnostics_scene(16, 4, 1e-6, smooth, ""));
+    let (fine, jf) = run("fine", diagnostics_scene(128, 4, 1e-6, smooth, ""));
+    let medians = |j: &serde_json::Value| -> Vec<f64> {
+        j["resolution"]["steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["median_patch_pixels"].as_f64().unwrap_or(f64::NAN))
+            .collect()
+    };
+    let (mc, mf) = (medians(&jc), medians(&jf));
+    assert_eq!((mc.len(), mf.len()), (4, 4));
+    assert!(mc.iter().any(|&m| m < 10.0), "{mc:?}");
+    assert!(mf.iter().all(|&m| m >= 10.0), "{mf:?}");
+    assert!(
+        coarse
+            .contains("WARNING: BEM resolution: the median contact patch has fewer than 10 pixels"),
+        "{coarse}"
+    );
+    assert!(
+        jc["warnings"].to_string().contains("BEM resolution"),
+        "{}",
+        jc["warnings"]
+    );
+    assert!(!fine.contains("BEM resolution"), "{fine}");
+    assert!(!fine.contains("elastic peak pressure"), "{fine}");
+    assert!(!jf["warnings"].to_string().contains("BEM resolution"));
+    // Peak pressure: a steep scan's elastic peak is beyond any hardness.
+    let steep = |extra: &str| diagnostics_scene(32, 16, 3.4e-6, (2e-6, 6e-6), extra);
+    let (e, j) = run("steep", steep(""));
+    let peak = j["resolution"]["steps"][3]["peak_pressure_over_e_star"]
+        .as_f64()
+        .unwrap();
+    assert!(peak > 0.1, "{peak}");
+    assert!(
+        e.contains("WARNING: elastic peak pressure") && e.contains("[plasticity]"),
+        "{e}"
+    );
+    assert!(!coarse.contains("elastic peak pressure"), "{coarse}");
+    let (e, j) = run("steep-plastic", steep("[plasticity]\nhardness = 2e8"));
+    assert!(!e.contains("elastic peak pressure"), "{e}");
+    let capped = j["resolution"]["steps"][3]["peak_pressure"]
+        .as_f64()
+        .unwrap();
+    assert!(capped <= 2e8 * (1.0 + 1e-9), "{capped}");
+}

@@ -337,6 +337,13 @@ fn slow_walkthrough_runs_as_documented() {
         h_max > 0.5 * h_last,
         "the increments cover too little of the table"
     );
+    // Beyond the table CalculiX holds the last pressure and reports nothing (a linear
+    // look-up that clamps agrees with it): an overrun is a failure, not a pass.
+    assert!(
+        h_max <= h_last * (1.0 + 1e-9),
+        "CalculiX ran past the law's table: overclosure {h_max:e} m > its last line {h_last:e} m \
+         (the law's FE RANGE); size the deck's displacement from the law"
+    );
 }
 
 /// The documented lines are the walkthrough's steps, in order (a fast check of the page

@@ -463,3 +463,59 @@ fn export_round_trip_and_scene() {
     assert!((rms - 3.4e-6).abs() < 1e-12 * 3.4e-6, "{rms}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A BEM scene on an `.x3p` file (its sizes from the file, none in the scene) writes the
+/// PNG pictures of its maps as a generated or `.npy` scene does: they were silently
+/// missing (the pictures took the sample's size from the scene's keys alone).
+#[test]
+fn x3p_scenes_write_png_maps() {
+    let dir = tmp("png-maps");
+    let sg = dir.join("gen.toml");
+    std::fs::write(
+        &sg,
+        scene_with(
+            "size = 1e-3\n[surface.generate]\ngrid = 32\nfractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 3.4e-6\nseed = 3",
+        ),
+    )
+    .expect("scene");
+    let x3p = dir.join("gen.x3p");
+    let o = strata(&[
+        "surface",
+        "export",
+        sg.to_str().unwrap_or_default(),
+        "--out",
+        x3p.to_str().unwrap_or_default(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let sx = dir.join("x3p.toml");
+    std::fs::write(
+        &sx,
+        homogeneous_scene(
+            "file = \"gen.x3p\"\nperiodic = true",
+            "\"bem\"",
+            "approach = { from = 1e-6, to = 3e-6, steps = 2 }\n[output]\nmaps = \"all\"",
+        ),
+    )
+    .expect("scene");
+    let out = dir.join("out");
+    let o = strata(&[
+        "solve",
+        sx.to_str().unwrap_or_default(),
+        "--out",
+        out.to_str().unwrap_or_default(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for f in [
+        "pressure_step_00.png",
+        "gap_step_00.png",
+        "pressure_step_01.png",
+        "gap_step_01.png",
+    ] {
+        let bytes = std::fs::read(out.join("maps").join(f)).unwrap_or_default();
+        assert!(
+            bytes.starts_with(b"\x89PNG"),
+            "maps/{f} missing or not a PNG"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

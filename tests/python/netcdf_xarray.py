@@ -9,7 +9,7 @@ writes it). For every step, xarray (its scipy backend: no C NetCDF library) must
 `maps/results_step_KK.nc` with the variables `pressure`, `contacting_points`, `gap`,
 `displacement` on dimensions (x, y), their units, contact.engineering's attributes
 `mean_pressure` and `total_contact_area`, and fields equal bit for bit to the .npy maps
-transposed (strata's maps are rows = y; the NetCDF's first dimension is x).
+in the same orientation (x, the NetCDF's first dimension, is the maps' first axis).
 """
 import csv
 import sys
@@ -44,9 +44,9 @@ def main(out):
             assert ds["x"].attrs["units"] == "m" and ds["y"].attrs["units"] == "m"
             p = np.load(out / "maps" / row["pressure_file"])
             g = np.load(out / "maps" / row["gap_file"])
-            assert same_bits(ds["pressure"].values, p.T), f"{path}: pressure"
-            assert same_bits(ds["gap"].values, g.T), f"{path}: gap"
-            assert np.array_equal(mask.values, p.T > 0), f"{path}: contacting_points"
+            assert same_bits(ds["pressure"].values, p), f"{path}: pressure"
+            assert same_bits(ds["gap"].values, g), f"{path}: gap"
+            assert np.array_equal(mask.values, p > 0), f"{path}: contacting_points"
             mp, area = float(step["mean_pressure"]), float(step["area_fraction"])
             assert abs(ds.attrs["mean_pressure"] / mp - 1) <= 1e-15, (ds.attrs, mp)
             assert ds.attrs["total_contact_area"] == area, (ds.attrs, area)

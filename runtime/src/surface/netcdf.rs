@@ -7,6 +7,8 @@
 //! physical size along that axis, `periodic` (non-zero: periodic) and the unit of
 //! lengths and heights, `unit` (SurfaceTopography ≥ 1.0) or `length_unit` (older files);
 //! `heights` may carry `unit` too, and `_FillValue` / `missing_value` for missing data.
+//! The unit is text in UTF-8 or Latin-1 (older writers store "µm" as the one byte 0xB5);
+//! a unit attribute that is a number or unreadable is refused naming it.
 //! NetCDF-4 (HDF5) files are refused with a message saying so.
 
 use std::path::Path;
@@ -91,6 +93,68 @@ fn periodic_flag(d: &netcdf3::DataSet) -> Option<bool> {
         .reduce(|a, b| a || b)
 }
 
+/// Text of a char attribute: UTF-8, else Latin-1 (ISO 8859-1, one byte per character,
+/// as older writers store "µm": byte 0xB5), trailing NULs and blanks trimmed. `None`
+/// when the bytes are neither (a Latin-1 reading that holds control characters).
+fn attribute_text(bytes: &[u8]) -> Option<String> {
+    let text = match std::str::from_utf8(bytes) {
+        Ok(s) => s.to_string(),
+        Err(_) => {
+            // Latin-1's printable characters: 0x20–0x7E and 0xA0–0xFF (0x80–0x9F are C1
+            // controls, which no unit name holds).
+            if bytes
+                .iter()
+                .any(|&b| b != 0 && !(0x20..=0x7e).contains(&b) && b < 0xa0)
+            {
+                return None;
+            }
+            bytes.iter().map(|&b| char::from(b)).collect()
+        }
+    };
+    Some(text.trim_end_matches('\0').trim().to_string())
+}
+
+/// The unit of heights and lengths: the first of `heights:unit`, `x:unit`,
+/// `x:length_unit`, `heights:length_unit` the file has. One that is not text (a number),
+/// or text in neither UTF-8 nor Latin-1, is refused naming the file, variable and
+/// attribute: read as "no unit" it would silently be metres (a ×1e6 on a scan in µm).
+fn unit_attribute(path: &Path, d: &netcdf3::DataSet) -> Result<Option<String>, SurfaceError> {
+    for (v, a) in [
+        ("heights", "unit"),
+        ("x", "unit"),
+        ("x", "length_unit"),
+        ("heights", "length_unit"),
+    ] {
+        let Some(attr) = d.get_var_attr(v, a) else {
+            continue;
+        };
+        let Some(bytes) = attr.get_u8() else {
+            return Err(format_error(
+                path,
+                format!(
+                    "attribute `{a}` of variable `{v}` is not text ({:?}): the unit of heights \
+                     and lengths must be a string such as \"um\"",
+                    attr.data_type()
+                ),
+            ));
+        };
+        let text = attribute_text(bytes).ok_or_else(|| {
+            format_error(
+                path,
+                format!(
+                    "attribute `{a}` of variable `{v}` is not readable text (neither UTF-8 nor \
+                     Latin-1: bytes {bytes:02x?}): the unit of heights and lengths must be a \
+                     string such as \"um\""
+                ),
+            )
+        })?;
+        if !text.is_empty() {
+            return Ok(Some(text));
+        }
+    }
+    Ok(None)
+}
+
 /// Reads a SurfaceTopography NetCDF topography (see the module docs).
 pub fn read_netcdf_topography(path: &Path) -> Result<NetcdfTopography, SurfaceError> {
     let len = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
@@ -115,16 +179,7 @@ pub fn read_netcdf_topography(path: &Path) -> Result<NetcdfTopography, SurfaceEr
     }
     let (n0, n1) = (d.dim_size("x").unwrap_or(0), d.dim_size("y").unwrap_or(0));
     let attr = |v: &str, a: &str| d.get_var_attr(v, a);
-    let unit = [
-        ("heights", "unit"),
-        ("x", "unit"),
-        ("x", "length_unit"),
-        ("heights", "length_unit"),
-    ]
-    .iter()
-    .find_map(|(v, a)| attr(v, a).and_then(Attribute::get_as_string))
-    .map(|u| u.trim_end_matches('\0').trim().to_string())
-    .filter(|u| !u.is_empty());
+    let unit = unit_attribute(path, d)?;
     let lengths = match (
         attr("x", "length").and_then(number),
         attr("y", "length").and_then(number),

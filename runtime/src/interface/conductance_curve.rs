@@ -1,4 +1,4 @@
-//! The interface conductance h_c between the samples of a law (issue 34): h_c(g) at a
+//! The interface conductance h_c between the samples of a law: h_c(g) at a
 //! separation g and h_c at a mean contact pressure p, from the conductances solved at
 //! the law's samples (W/(m²·K) or S/m², physics.md §6.2).
 //!
@@ -14,7 +14,7 @@
 //!   pressure (Abaqus' `*GAP CONDUCTANCE, PRESSURE` tabulates the samples and
 //!   interpolates linearly in p between them; this follows the physics between them).
 
-use strata_runtime::interface::{hermite, pchip_slopes};
+use super::{hermite, pchip_slopes};
 use thiserror::Error;
 
 /// Errors of a conductance query.
@@ -48,7 +48,7 @@ pub struct ConductanceCurve {
 
 impl ConductanceCurve {
     /// From samples in loading order (g strictly decreasing from first contact; the
-    /// law's [`strata_runtime::interface::InterfaceLaw::samples`]) and their h_c, at
+    /// law's [`super::InterfaceLaw::samples`]) and their h_c, at
     /// least two. `None` when a value is not finite and ≥ 0 (the N and I models give
     /// finite conductances; full contact would be infinite).
     pub fn new(gaps: &[f64], conductance: &[f64]) -> Option<ConductanceCurve> {
