@@ -757,7 +757,7 @@ impl Scene {
                     .into(),
             });
         }
-        let conductance = parse_conductance(&top, &counter, &stack, kind, &surface)?;
+        let conductance = parse_conductance(&top, &counter, &stack)?;
         Ok(Scene {
             conductance,
             plasticity,
@@ -971,13 +971,11 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
 /// bodies must conduct: every layer (and a half-space base) of the first body, and the
 /// counterface (a rigid flat's `thermal_conductivity`/`electrical_conductivity` or
 /// `conduction = "perfect"`; an elastic one's stack, or `"perfect"`); each missing
-/// property is named. Solved by the periodic BEM and the N model in this version.
+/// property is named. Solved by the BEM (periodic or not), the N and the I model.
 fn parse_conductance(
     top: &Table,
     counter: &CounterfaceSpec,
     stack: &Stack,
-    model: ModelKind,
-    surface: &SurfaceSpec,
 ) -> Result<Option<ConductanceSpec>, SceneError> {
     if !top.contains_key("conductance") {
         return Ok(None);
@@ -999,15 +997,6 @@ fn parse_conductance(
             ));
         }
     };
-    if model == ModelKind::Bem && !surface.read.periodic {
-        return Err(SceneError::Invalid {
-            field: "conductance".into(),
-            reason: "the BEM's conduction solve is periodic only in this version (the \
-                     free-boundary conduction kernel is not built): use a periodic surface \
-                     (surface.periodic = true, or a generated one), or model.kind = \"independent\""
-                .into(),
-        });
-    }
     let pick = |c: &Conductivity| match kind {
         ConductionKind::Thermal => c.thermal,
         ConductionKind::Electrical => c.electrical,
