@@ -42,7 +42,7 @@
 //! max_pressure_iterations = 200 # N and I models: solves per mean pressure
 //! bem_max_iterations = 20000   # BEM: iterations per solve
 //! bem_tolerance = 1e-10        # BEM: convergence tolerance
-//! [conductance]                # optional (model.kind = "bem" on a periodic surface,
+//! [conductance]                # optional (model.kind = "bem", periodic or not,
 //!                              # "independent": Σ of the spots' conductances, or
 //!                              # "interacting": the spots heat each other): the
 //! kind = "thermal"             # interface conductance h_c of every step (physics.md §6.2),
