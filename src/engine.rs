@@ -314,6 +314,13 @@ pub fn solve_surface_with_maps(
         ModelKind::Interacting => Model::Interacting(scene.model.images),
         ModelKind::Bem => return solve_bem(scene, scene_path, surface, opts, maps),
     };
+    // the I model's conduction kernel (its table's cap) checked before any work: a
+    // refusal after the mechanical solve would waste it
+    if let (Some(spec), Model::Interacting(images)) = (&scene.conductance, model) {
+        crate::spots::SpotSum::new(scene, spec)?
+            .check_kernel(surface.extent(), images)
+            .context("[conductance]")?;
+    }
     if let (Some(pl), false) = (scene.plasticity, scene.unload) {
         return solve_plastic_asperities(scene, scene_path, surface, opts, pl.hardness, model);
     }
@@ -845,6 +852,14 @@ fn solve_bem(
     }
     if let Some(spec) = &scene.conductance {
         meta["conductance"] = conductance_meta(scene, spec);
+        if !geometry.periodic {
+            meta["conductance"]["definition"] = serde_json::json!(
+                "interface (spreading) conductance per nominal area h_c = sum(q)/(N dT) for a uniform jump dT \
+                 on the contact set (p > 0) of the isolated sample and no flux elsewhere, both bodies unbounded \
+                 (free-boundary kernel: zero-padded convolution with the pixel coefficients of the layered \
+                 point-source field; no k = 0 mode to exclude) (physics.md 6.2)"
+            );
+        }
         meta["conductance"]["seconds"] = serde_json::json!(conductance_seconds);
         meta["conductance_steps"] = serde_json::Value::Array(conductance_steps);
     }
@@ -1284,9 +1299,14 @@ fn conductance_solver(
     };
     log!(
         quiet,
-        "conductance: {} interface conductance per nominal area on each step's contact set ({}; k = 0 mode excluded)",
+        "conductance: {} interface conductance per nominal area on each step's contact set ({}; {})",
         spec.kind.name(),
-        counterface_conduction(spec)
+        counterface_conduction(spec),
+        if geometry.periodic {
+            "k = 0 mode excluded"
+        } else {
+            "isolated sample on unbounded bodies: free-boundary kernel"
+        }
     );
     ConductanceSolver::new(
         n0,

@@ -99,6 +99,12 @@ impl SpotSum {
         Ok(self.0.spot_conductances(steps)?)
     }
 
+    /// Checks, before the mechanical solve, that the I model's conduction kernel can be
+    /// built on a sample of sides `extent` (m) ([`SpotPair::check_kernel`]).
+    pub fn check_kernel(&self, extent: (f64, f64), images: Images) -> Result<()> {
+        Ok(self.0.check_kernel(extent, images)?)
+    }
+
     /// The I model's interface conductance of every step ([`SpotPair::interacting`]):
     /// h_c per step (W/(m²·K) or S/m²) and the kernel's parameters.
     pub fn interacting(

@@ -37,9 +37,24 @@
 //! An empty set gives h_c = 0; the whole grid in contact gives h_c = ∞ (no
 //! constriction left).
 //!
-//! Only periodic cells: the free-boundary conduction kernel (a pixel's temperature on an
-//! unbounded layered conductor) is not built in this version
-//! ([`BemError::ConductionNonPeriodic`]).
+//! # Non-periodic samples
+//! An isolated sample on unbounded bodies (a measured scan): q = 0 outside the sample,
+//! and the temperature is the linear convolution T_i = Σ_j G(x_i − x_j) q_j with the
+//! real-space coefficients of a uniformly heated pixel, summed over both bodies,
+//!
+//! ```text
+//!   G_X(X, Y) = 1/(2π k₁,X) [ Λ₀(X, Y) + k₀,X Λ_b(X, Y) + ∬_pixel J_X ],
+//! ```
+//!
+//! the elastic free-boundary coefficients of [`crate::influence`] with 2/E*₁ → 1/k₁ and
+//! the elastic compliance S → S_th (k₀ = S_th(0) − 1, b = h₁, J the Hankel transform of
+//! k_th − k₀e^{−bρ}: [`strata_runtime::hankel`]); 1/(2πk) Λ₀ on a homogeneous
+//! half-space, nothing on a perfect conductor. The operator is applied by circulant
+//! embedding on the zero-padded 2ny × 2nx grid, as the elastic one. It has no k = 0 mode
+//! to exclude: 1/h_c is the spreading resistance into the unbounded bodies (on an
+//! isothermal sink it includes the layers' 1-D resistance under the contact), and the
+//! whole sample in contact has a finite conductance. Barber's analogy is again exact on
+//! the grid for homogeneous bodies: G_th = E*/(2k_s) · G_el.
 
 use rayon::prelude::*;
 use strata_runtime::conduction::ConductionCompliance;
@@ -116,11 +131,13 @@ pub struct Conductance {
     pub residual: f64,
 }
 
-/// The conduction operator (C_A + C_B without its k = 0 mode) of one periodic grid,
-/// built once and solved on any number of contact sets.
+/// The conduction operator (periodic: C_A + C_B without its k = 0 mode; non-periodic:
+/// the free-boundary coefficients) of one grid, built once and solved on any number of
+/// contact sets.
 pub struct ConductanceSolver {
     ny: usize,
     nx: usize,
+    periodic: bool,
     op: Operator,
     precond: Option<Operator>,
     options: ConductanceOptions,
@@ -130,14 +147,16 @@ impl std::fmt::Debug for ConductanceSolver {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("ConductanceSolver")
             .field("grid", &(self.ny, self.nx))
+            .field("periodic", &self.periodic)
             .field("options", &self.options)
             .finish_non_exhaustive()
     }
 }
 
 impl ConductanceSolver {
-    /// The two bodies `a` and `b` on the periodic ny × nx grid of `geometry` (row index
-    /// = y). Refuses a non-periodic geometry and two perfect conductors.
+    /// The two bodies `a` and `b` on the ny × nx grid of `geometry` (row index = y):
+    /// a periodic cell, or a non-periodic sample on unbounded bodies (module docs).
+    /// Refuses two perfect conductors.
     pub fn new(
         ny: usize,
         nx: usize,
@@ -160,6 +179,9 @@ impl ConductanceSolver {
                 )));
             }
         }
+        if !geometry.periodic {
+            return Self::free(ny, nx, geometry, a, b, options);
+        }
         Self::with_compliance(
             ny,
             nx,
@@ -169,8 +191,47 @@ impl ConductanceSolver {
         )
     }
 
+    /// The non-periodic sample (module docs): the free-boundary coefficients of both
+    /// bodies, zero-padded convolution.
+    fn free(
+        ny: usize,
+        nx: usize,
+        geometry: Geometry,
+        a: Conductor<'_>,
+        b: Conductor<'_>,
+        options: ConductanceOptions,
+    ) -> Result<Self, BemError> {
+        check_common(ny, nx, 2, geometry, options)?;
+        strata_runtime::resources::check_memory(
+            format!("BEM conduction grid {ny}×{nx} (non-periodic)"),
+            crate::operator::Operator::bytes(ny, nx, false),
+        )?;
+        let g = coefficients(
+            a,
+            b,
+            ny,
+            nx,
+            geometry.lx / nx as f64,
+            geometry.ly / ny as f64,
+        )?;
+        let op = Operator::free(ny, nx, &g)?;
+        let precond = if options.preconditioner {
+            op.inverse()
+        } else {
+            None
+        };
+        Ok(ConductanceSolver {
+            ny,
+            nx,
+            periodic: false,
+            op,
+            precond,
+            options,
+        })
+    }
+
     /// Any compliance C(|k|) (m²·K/W; finite and > 0 for k > 0) on the periodic ny × nx
-    /// grid of `geometry`, evaluated once per distinct wavevector (i ≤ nx/2, j ≤ ny/2).
+    /// grid of `geometry` (a non-periodic geometry is [`BemError::ConductionNonPeriodic`]), evaluated once per distinct wavevector (i ≤ nx/2, j ≤ ny/2).
     /// With C = 2/(E*|k|) this is the zero-mean elastic operator: its "conductance" is
     /// then the stiffness at fixed contact set per nominal area, (dP/dδ)/A₀ (Pa/m).
     pub fn with_compliance(
@@ -183,20 +244,7 @@ impl ConductanceSolver {
         if !geometry.periodic {
             return Err(BemError::ConductionNonPeriodic);
         }
-        for (what, value) in [("Lx", geometry.lx), ("Ly", geometry.ly)] {
-            if !(value.is_finite() && value > 0.0) {
-                return Err(BemError::Size { what, value });
-            }
-        }
-        if ny < 4 || nx < 4 {
-            return Err(BemError::Grid { rows: ny, cols: nx });
-        }
-        if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
-            return Err(BemError::Tolerance(options.tolerance));
-        }
-        if options.max_iterations == 0 {
-            return Err(BemError::MaxIterations);
-        }
+        check_common(ny, nx, 4, geometry, options)?;
         let (hx, hy) = (nx / 2, ny / 2);
         let (dkx, dky) = (
             std::f64::consts::TAU / geometry.lx,
@@ -232,6 +280,7 @@ impl ConductanceSolver {
         Ok(ConductanceSolver {
             ny,
             nx,
+            periodic: true,
             op,
             precond,
             options,
@@ -296,7 +345,7 @@ impl ConductanceSolver {
                 residual: 0.0,
             });
         }
-        if set == n {
+        if set == n && self.periodic {
             return Ok(Conductance {
                 conductance: f64::INFINITY,
                 flux: vec![f64::INFINITY; n],
@@ -463,6 +512,97 @@ impl ConductanceSolver {
             residual: res,
         })
     }
+}
+
+/// The checks shared by both geometries: sides, grid (at least `min` per side), options.
+fn check_common(
+    ny: usize,
+    nx: usize,
+    min: usize,
+    geometry: Geometry,
+    options: ConductanceOptions,
+) -> Result<(), BemError> {
+    for (what, value) in [("Lx", geometry.lx), ("Ly", geometry.ly)] {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(BemError::Size { what, value });
+        }
+    }
+    if ny < min || nx < min {
+        return Err(BemError::Grid { rows: ny, cols: nx });
+    }
+    if !(options.tolerance > 0.0 && options.tolerance < 1.0) {
+        return Err(BemError::Tolerance(options.tolerance));
+    }
+    if options.max_iterations == 0 {
+        return Err(BemError::MaxIterations);
+    }
+    Ok(())
+}
+
+/// Free-boundary conduction coefficients G[dy·nx + dx] (K·m²/W, or Ω·m²) of both bodies
+/// for offsets 0 ≤ dy < ny, 0 ≤ dx < nx of pixels `px` × `py` (m): the temperature rise
+/// at offset (dx·px, dy·py) from a pixel carrying a unit flux (module docs).
+pub fn coefficients(
+    a: Conductor<'_>,
+    b: Conductor<'_>,
+    ny: usize,
+    nx: usize,
+    px: f64,
+    py: f64,
+) -> Result<Vec<f64>, BemError> {
+    use strata_runtime::hankel::{HankelError, Remainder, pixel_integral, tail_start};
+    let diag = (nx as f64 * px).hypot(ny as f64 * py);
+    // per body: 1/(2πk₁) and the layered remainder (None: homogeneous)
+    let mut bodies: Vec<(f64, Option<Remainder>)> = Vec::new();
+    for c in [a, b] {
+        match c {
+            Conductor::Perfect => {}
+            Conductor::HalfSpace(k) => bodies.push((1.0 / (std::f64::consts::TAU * k), None)),
+            Conductor::Layered(cc) => {
+                let rem = match (cc.is_homogeneous(), cc.top_thickness()) {
+                    (false, Some(h1)) => Some(
+                        Remainder::new(
+                            cc.s_at_zero() - 1.0,
+                            h1,
+                            cc.total_thickness(),
+                            diag.min(tail_start(cc.total_thickness(), cc.contrast())),
+                            |rho| cc.k_th(rho),
+                        )
+                        .map_err(|e| match e {
+                            HankelError::NonFinite { rho, value } => BemError::Conduction(
+                                format!("the conduction compliance S_th(ρ = {rho:e} 1/m) = {value} is not finite"),
+                            ),
+                            other => BemError::Conduction(other.to_string()),
+                        })?,
+                    ),
+                    _ => None,
+                };
+                bodies.push((1.0 / (std::f64::consts::TAU * cc.top_conductivity()), rem));
+            }
+        }
+    }
+    let mut g = vec![0.0; ny * nx];
+    g.par_chunks_mut(nx).enumerate().for_each(|(i, row)| {
+        let y = i as f64 * py;
+        for (j, slot) in row.iter_mut().enumerate() {
+            let x = j as f64 * px;
+            let love = pixel_integral(x, y, px, py, 0.0);
+            *slot = bodies
+                .iter()
+                .map(|(c, rem)| {
+                    c * (love + rem.as_ref().map_or(0.0, |r| r.pixel_layered(x, y, px, py)))
+                })
+                .sum();
+        }
+    });
+    if let Some((k, v)) = g.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(BemError::Conduction(format!(
+            "the free-boundary coefficient at offset ({}, {}) is {v}",
+            k / nx,
+            k % nx
+        )));
+    }
+    Ok(g)
 }
 
 /// The Ritz–Galerkin coefficients of the start of [`ConductanceSolver::solve_from_guesses`]:
@@ -706,6 +846,172 @@ mod tests {
         assert!((h - barber).abs() < 1e-10 * barber, "{h} {barber}");
     }
 
+    /// Solves the dense symmetric positive definite m × m system A y = 1 by Cholesky
+    /// (row-major `a`, overwritten) and returns Σ y.
+    fn cholesky_sum_of_solution(mut a: Vec<f64>, m: usize) -> f64 {
+        for j in 0..m {
+            let mut d = a[j * m + j];
+            for k in 0..j {
+                d -= a[j * m + k] * a[j * m + k];
+            }
+            assert!(d > 0.0, "not positive definite at {j}");
+            let d = d.sqrt();
+            a[j * m + j] = d;
+            for i in j + 1..m {
+                let mut s = a[i * m + j];
+                for k in 0..j {
+                    s -= a[i * m + k] * a[j * m + k];
+                }
+                a[i * m + j] = s / d;
+            }
+        }
+        let mut y = vec![1.0; m];
+        for i in 0..m {
+            for k in 0..i {
+                y[i] -= a[i * m + k] * y[k];
+            }
+            y[i] /= a[i * m + i];
+        }
+        for i in (0..m).rev() {
+            for k in i + 1..m {
+                y[i] -= a[k * m + i] * y[k];
+            }
+            y[i] /= a[i * m + i];
+        }
+        y.iter().sum()
+    }
+
+    /// Barber's analogy on a non-periodic sample (the free-boundary kernels), on the
+    /// BEM's own contact set: two homogeneous half-spaces, h_c = 2k_s (dP/dδ)/(E* A₀)
+    /// with dP/dδ at fixed contact set from a dense Cholesky solve of Love's closed-form
+    /// pixel coefficients (Johnson eq. 3.25: no FFT, no zero padding, no CG), on a
+    /// rectangular grid with rectangular pixels.
+    #[test]
+    fn barber_analogy_on_a_non_periodic_sample() {
+        use crate::influence::love;
+        let (ny, nx, lx, ly) = (24, 40, 1.2e-3, 0.9e-3);
+        let (ea, eb) = (2e11, 7e10);
+        let stack = Stack::half_space(ea, 0.3)
+            .unwrap()
+            .against(Stack::half_space(eb, 0.25).unwrap())
+            .unwrap();
+        let e_star = stack.contact_modulus();
+        let t = std::f64::consts::TAU;
+        let z = Array2::from_shape_fn((ny, nx), |(i, j)| {
+            let (y, x) = (t * i as f64 / ny as f64, t * j as f64 / nx as f64);
+            1e-6 * ((x + 0.3).cos() + 0.7 * (1.3 * y - 1.0).cos() + 0.4 * (2.6 * x + 1.7 * y).sin())
+        });
+        let geometry = Geometry {
+            lx,
+            ly,
+            periodic: false,
+        };
+        let bem = BemSolver::with_geometry(&z, geometry, &stack, BemOptions::default()).unwrap();
+        let sol = bem.solve(BemLoad::MeanPressure(1e8)).unwrap();
+        let set: Vec<bool> = sol.pressure.iter().map(|&p| p > 0.0).collect();
+        let count = set.iter().filter(|&&c| c).count();
+        assert!(count > 30 && count < ny * nx / 2, "{count}");
+        let (px, py) = (lx / nx as f64, ly / ny as f64);
+        let idx: Vec<usize> = (0..ny * nx).filter(|&i| set[i]).collect();
+        let m = idx.len();
+        let mut a = vec![0.0; m * m];
+        for (r, &i) in idx.iter().enumerate() {
+            for (c, &j) in idx.iter().enumerate() {
+                let dy = (i / nx).abs_diff(j / nx) as f64 * py;
+                let dx = (i % nx).abs_diff(j % nx) as f64 * px;
+                a[r * m + c] = love(dx, dy, px, py, e_star);
+            }
+        }
+        let stiffness = cholesky_sum_of_solution(a, m) / (ny * nx) as f64;
+        let (ka, kb) = (50.0, 15.0);
+        let ks = 1.0 / (1.0 / ka + 1.0 / kb);
+        for (a, b, k) in [
+            (Conductor::HalfSpace(ka), Conductor::HalfSpace(kb), ks),
+            (Conductor::HalfSpace(ka), Conductor::Perfect, ka),
+            (Conductor::Perfect, Conductor::HalfSpace(kb), kb),
+        ] {
+            let s = ConductanceSolver::new(ny, nx, geometry, a, b, tight()).unwrap();
+            let h = s.solve(&set).unwrap();
+            let barber = 2.0 * k * stiffness / e_star;
+            let rel = (h.conductance - barber).abs() / barber;
+            eprintln!(
+                "non-periodic Barber: h_c {:e} vs {barber:e}: {rel:.2e} ({} iterations)",
+                h.conductance, h.iterations
+            );
+            assert!(rel < 1e-10, "{rel}");
+        }
+        // the whole sample in contact conducts finitely (no k = 0 mode to exclude)
+        let s = ConductanceSolver::new(
+            ny,
+            nx,
+            geometry,
+            Conductor::HalfSpace(ka),
+            Conductor::Perfect,
+            tight(),
+        )
+        .unwrap();
+        let full = s.solve(&vec![true; ny * nx]).unwrap().conductance;
+        assert!(full.is_finite() && full > 0.0, "{full}");
+        // a compliance given as C(|k|) defines a periodic operator only
+        assert_eq!(
+            ConductanceSolver::with_compliance(ny, nx, geometry, |k| 1.0 / k, tight()).unwrap_err(),
+            BemError::ConductionNonPeriodic
+        );
+    }
+
+    /// Holm's single spot on a non-periodic grid: an isothermal disc on two homogeneous
+    /// half-spaces conducts G = 4 k_s a (1/k_s = 1/k_A + 1/k_B; 2ka for two equal
+    /// bodies), with no cell correction (the bodies are unbounded); a the radius of the
+    /// disc's pixel area. The error is first order in the pixel.
+    #[test]
+    fn one_spot_on_a_free_grid_is_4ksa() {
+        let (ka, kb) = (20.0, 60.0);
+        let ks = 1.0 / (1.0 / ka + 1.0 / kb);
+        let mut errors = Vec::new();
+        for a_dx in [4usize, 8, 16, 32] {
+            let n = 2 * a_dx + 4;
+            let dx = 1e-5;
+            let l = n as f64 * dx;
+            let a = a_dx as f64 * dx;
+            let s = ConductanceSolver::new(
+                n,
+                n,
+                Geometry {
+                    lx: l,
+                    ly: l,
+                    periodic: false,
+                },
+                Conductor::HalfSpace(ka),
+                Conductor::HalfSpace(kb),
+                ConductanceOptions::default(),
+            )
+            .unwrap();
+            let set = disc(n, l, a);
+            let pts = set.iter().filter(|&&c| c).count() as f64;
+            let a_eq = (pts / std::f64::consts::PI).sqrt() * dx;
+            let h = s.solve(&set).unwrap();
+            let g = h.conductance * l * l;
+            let e = g / (4.0 * ks * a_eq) - 1.0;
+            eprintln!(
+                "free spot a/dx {a_dx}: G {g:e} vs 4k_s a {:e}: {e:.3e} ({} iterations)",
+                4.0 * ks * a_eq,
+                h.iterations
+            );
+            errors.push(e);
+        }
+        // measured −3.17e-2, −1.54e-2, −7.52e-3, −3.58e-3 at a/dx = 4 … 32 (e·a/dx from
+        // −0.127 to −0.115); Richardson 2e(2n) − e(n): 3.1e-4, 3.6e-4
+        for (e, a_dx) in errors.iter().zip([4.0, 8.0, 16.0, 32.0]) {
+            assert!(*e < 0.0 && -e * a_dx < 0.15, "{errors:?}");
+        }
+        for w in errors.windows(2) {
+            assert!((1.9..2.2).contains(&(w[0] / w[1])), "{errors:?}");
+        }
+        for w in errors.windows(2).skip(1) {
+            assert!((2.0 * w[1] - w[0]).abs() < 4e-3, "{errors:?}");
+        }
+    }
+
     /// The Ritz start of `solve_from_guesses` (homogeneous bodies, the BEM's contact
     /// set): the pressure increment of a neighbouring solve is, by Barber's analogy, the
     /// flux up to the few points where the set moves, so CG starts near the answer;
@@ -904,16 +1210,20 @@ mod tests {
             periodic: false,
             ..g
         };
-        let e = ConductanceSolver::new(
-            n,
-            n,
-            free,
-            Conductor::HalfSpace(3.0),
-            Conductor::Perfect,
-            tight(),
-        )
-        .unwrap_err();
+        let e = ConductanceSolver::with_compliance(n, n, free, |k| 1.0 / (3.0 * k), tight())
+            .unwrap_err();
         assert_eq!(e, BemError::ConductionNonPeriodic);
+        assert!(
+            ConductanceSolver::new(
+                n,
+                n,
+                free,
+                Conductor::HalfSpace(3.0),
+                Conductor::Perfect,
+                tight()
+            )
+            .is_ok()
+        );
         assert!(
             ConductanceSolver::new(n, n, g, Conductor::Perfect, Conductor::Perfect, tight())
                 .is_err()

@@ -69,10 +69,11 @@ pub enum BemError {
     /// The conduction set-up (physics.md §6.2) is invalid.
     #[error("conduction: {0}")]
     Conduction(String),
-    /// The interface conductance of a non-periodic sample.
+    /// A conduction operator given as a spectral compliance C(|k|) on a non-periodic
+    /// sample (only the bodies define the free-boundary kernel).
     #[error(
-        "conduction: the interface conductance is solved on periodic cells only in this version \
-         (the free-boundary conduction kernel is not built); use a periodic surface"
+        "conduction: a compliance C(|k|) defines the operator of a periodic cell only; a \
+         non-periodic sample takes the bodies (ConductanceSolver::new)"
     )]
     ConductionNonPeriodic,
     #[error("cannot read {path}: {message}")]

@@ -210,6 +210,16 @@ impl ConductionCompliance {
         self.s0
     }
 
+    /// h₁: the top layer's thickness (m); `None` without layers.
+    pub fn top_thickness(&self) -> Option<f64> {
+        self.layers.first().map(|&(h, _)| h)
+    }
+
+    /// Σ hᵢ: the layers' total thickness (m), 0 without layers.
+    pub fn total_thickness(&self) -> f64 {
+        self.layers.iter().map(|&(h, _)| h).sum()
+    }
+
     /// Σ hᵢ/kᵢ: the layers' 1-D resistance per unit area (m²·K/W, or m²·Ω).
     pub fn series_resistance(&self) -> f64 {
         self.series

@@ -71,6 +71,8 @@ pub mod constriction;
 /// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).
 #[cfg(feature = "spectral")]
 pub use strata_fft as fft;
+#[cfg(feature = "spectral")]
+pub mod hankel;
 pub mod hash;
 pub mod interface;
 pub mod law;

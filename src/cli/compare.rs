@@ -125,13 +125,25 @@ const SAME: f64 = 1e-12;
 /// to `scale` = z_M − z̄, within 1e-12), else ln p linear in g between the two steps
 /// around g (p linear if one of them is 0); NaN outside the steps' range.
 pub fn pressure_at_separation(steps: &[Step], g: f64, scale: f64) -> (f64, Option<usize>) {
-    if let Some(s) = steps
-        .iter()
-        .find(|s| (s.gap - g).abs() <= SAME * scale.abs().max(g.abs()))
-    {
-        return (s.mean_pressure, Some(s.contacts));
+    let pts: Vec<(f64, f64)> = steps.iter().map(|s| (s.gap, s.mean_pressure)).collect();
+    match value_at_separation(&pts, g, scale) {
+        (v, Some(k)) => (v, Some(steps[k].contacts)),
+        (v, None) => (v, None),
     }
-    let mut pts: Vec<(f64, f64)> = steps.iter().map(|s| (s.gap, s.mean_pressure)).collect();
+}
+
+/// A quantity y (> 0 where it grows with the load: a pressure, a conductance) at
+/// separation `g` (m) from the steps' (gap, y): the step with that separation (its
+/// index; relative to `scale` = z_M − z̄, within 1e-12), else ln y linear in g between
+/// the two steps around g (y linear if one of them is 0); NaN outside their range.
+fn value_at_separation(pts: &[(f64, f64)], g: f64, scale: f64) -> (f64, Option<usize>) {
+    if let Some(k) = pts
+        .iter()
+        .position(|&(gap, _)| (gap - g).abs() <= SAME * scale.abs().max(g.abs()))
+    {
+        return (pts[k].1, Some(k));
+    }
+    let mut pts = pts.to_vec();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     for w in pts.windows(2) {
         let ((g0, p0), (g1, p1)) = (w[0], w[1]);
@@ -152,16 +164,25 @@ pub fn pressure_at_separation(steps: &[Step], g: f64, scale: f64) -> (f64, Optio
 /// is one, else ln A linear in ln p between the steps around p (steps with p > 0 and
 /// A > 0 only); NaN outside their range.
 pub fn area_at_pressure(steps: &[Step], p: f64) -> f64 {
-    if let Some(s) = steps
+    let pts: Vec<(f64, f64)> = steps
         .iter()
-        .find(|s| (s.mean_pressure - p).abs() <= SAME * p.abs())
-    {
-        return s.area_fraction;
+        .map(|s| (s.mean_pressure, s.area_fraction))
+        .collect();
+    value_at_pressure(&pts, p)
+}
+
+/// A quantity y (an area fraction, a conductance) at mean pressure `p` (Pa) from the
+/// steps' (p, y): the step of that pressure (within 1e-12) if there is one, else ln y
+/// linear in ln p between the steps around p (those with p > 0 and y > 0 only); NaN
+/// outside their range.
+fn value_at_pressure(pts: &[(f64, f64)], p: f64) -> f64 {
+    if let Some(&(_, y)) = pts.iter().find(|&&(q, _)| (q - p).abs() <= SAME * p.abs()) {
+        return y;
     }
-    let mut pts: Vec<(f64, f64)> = steps
+    let mut pts: Vec<(f64, f64)> = pts
         .iter()
-        .filter(|s| s.mean_pressure > 0.0 && s.area_fraction > 0.0)
-        .map(|s| (s.mean_pressure.ln(), s.area_fraction.ln()))
+        .filter(|&&(q, y)| q > 0.0 && y > 0.0)
+        .map(|&(q, y)| (q.ln(), y.ln()))
         .collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     if p.is_nan() || p <= 0.0 {
@@ -327,35 +348,19 @@ pub struct ConductanceRow {
 /// A model's h_c at mean pressure `p` (Pa): its own step of equal pressure, else ln h
 /// linear in ln p between its steps (NaN outside them).
 fn conductance_at_pressure(steps: &[Step], h: &[f64], p: f64) -> f64 {
-    // the model's conductances in the place of its areas
-    let as_area: Vec<Step> = steps
+    let pts: Vec<(f64, f64)> = steps
         .iter()
         .zip(h)
-        .map(|(s, &h)| {
-            let mut st = Step::default();
-            st.mean_pressure = s.mean_pressure;
-            st.area_fraction = h;
-            st
-        })
+        .map(|(s, &h)| (s.mean_pressure, h))
         .collect();
-    area_at_pressure(&as_area, p)
+    value_at_pressure(&pts, p)
 }
 
 /// A model's h_c at separation `g` (m): its own step of equal separation, else ln h
 /// linear in g between its steps, as the pressure. `scale` = z_M − z̄ (m).
 fn conductance_at(steps: &[Step], h: &[f64], g: f64, scale: f64) -> f64 {
-    // the model's conductances in the place of its pressures
-    let as_p: Vec<Step> = steps
-        .iter()
-        .zip(h)
-        .map(|(s, &h)| {
-            let mut st = Step::default();
-            st.gap = s.gap;
-            st.mean_pressure = h;
-            st
-        })
-        .collect();
-    pressure_at_separation(&as_p, g, scale).0
+    let pts: Vec<(f64, f64)> = steps.iter().zip(h).map(|(s, &h)| (s.gap, h)).collect();
+    value_at_separation(&pts, g, scale).0
 }
 
 /// With `[conductance]`: the N and I models' h_c at each BEM step's separation against

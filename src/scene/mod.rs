@@ -43,7 +43,7 @@
 //! max_pressure_iterations = 200 # N and I models: solves per mean pressure
 //! bem_max_iterations = 20000   # BEM: iterations per solve
 //! bem_tolerance = 1e-10        # BEM: convergence tolerance
-//! [conductance]                # optional (model.kind = "bem" on a periodic surface,
+//! [conductance]                # optional (model.kind = "bem", periodic or not,
 //!                              # "independent": Σ of the spots' conductances, or
 //!                              # "interacting": the spots heat each other): the
 //! kind = "thermal"             # interface conductance h_c of every step (physics.md §6.2),
@@ -810,7 +810,7 @@ impl Scene {
                 ),
             });
         }
-        let conductance = parse_conductance(&top, &counter, &stack, kind, &surface)?;
+        let conductance = parse_conductance(&top, &counter, &stack)?;
         Ok(Scene {
             conductance,
             plasticity,
@@ -1024,13 +1024,11 @@ fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneEr
 /// bodies must conduct: every layer (and a half-space base) of the first body, and the
 /// counterface (a rigid flat's `thermal_conductivity`/`electrical_conductivity` or
 /// `conduction = "perfect"`; an elastic one's stack, or `"perfect"`); each missing
-/// property is named. Solved by the periodic BEM and the N model in this version.
+/// property is named. Solved by the BEM (periodic or not), the N and the I model.
 fn parse_conductance(
     top: &Table,
     counter: &CounterfaceSpec,
     stack: &Stack,
-    model: ModelKind,
-    surface: &SurfaceSpec,
 ) -> Result<Option<ConductanceSpec>, SceneError> {
     if !top.contains_key("conductance") {
         return Ok(None);
@@ -1052,15 +1050,6 @@ fn parse_conductance(
             ));
         }
     };
-    if model == ModelKind::Bem && !surface.read.periodic {
-        return Err(SceneError::Invalid {
-            field: "conductance".into(),
-            reason: "the BEM's conduction solve is periodic only in this version (the \
-                     free-boundary conduction kernel is not built): use a periodic surface \
-                     (surface.periodic = true, or a generated one), or model.kind = \"independent\""
-                .into(),
-        });
-    }
     let pick = |c: &Conductivity| match kind {
         ConductionKind::Thermal => c.thermal,
         ConductionKind::Electrical => c.electrical,

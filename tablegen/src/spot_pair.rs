@@ -183,6 +183,19 @@ impl SpotPair {
         })
     }
 
+    /// Checks, before any work, that the I model's conduction kernel of a sample of
+    /// sides `extent` (m) can be built (periodic images: its table within the cap and
+    /// the memory limit, [`Kernel::check_periodic`]; isolated: nothing to check).
+    pub fn check_kernel(&self, extent: (f64, f64), images: Images) -> Result<(), SpotPairError> {
+        let [a, b] = self.bodies();
+        match images {
+            Images::Periodic(_) => Kernel::check_periodic(a, b, extent)
+                .map(|_| ())
+                .map_err(SpotPairError::Kernel),
+            Images::Isolated => Ok(()),
+        }
+    }
+
     /// The I model's interface conductance of every step (physics.md §6.2,
     /// [`strata_runtime::rough::conductance`]): the spots of each step (the summits in
     /// contact, at their positions, with their G(aᵢ)) heat each other through both
@@ -201,7 +214,7 @@ impl SpotPair {
         let [a, b] = self.bodies();
         let kernel = match images {
             Images::Periodic(_) => Kernel::periodic(a, b, extent),
-            Images::Isolated => Kernel::isolated(a, b),
+            Images::Isolated => Kernel::isolated(a, b, extent),
         }
         .map_err(SpotPairError::Kernel)?;
         let area = extent.0 * extent.1;

@@ -18,6 +18,7 @@ mod compliance_second_method;
 mod conductance;
 mod conductance_bem;
 mod conductance_interacting;
+mod conductance_measured;
 mod conductance_plastic;
 mod container;
 mod counterface;

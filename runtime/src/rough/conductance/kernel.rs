@@ -39,13 +39,21 @@
 //! ```
 //!
 //! # Isolated
-//! Homogeneous conductors only (a half-space or a perfect conductor on each side):
-//! G(r) = c/(2πr), nothing on the diagonal. A layered body's isolated point-source field
-//! (a Hankel transform of k_th) is not built in this version ([`ConductanceError::IsolatedLayered`]).
+//! The point-source fields of unbounded bodies, summed:
+//!
+//! ```text
+//!   G(r) = c/(2πr) + Σ_X [k₀,X/√(r² + h₁,X²) + J_X(r)] / (2πk₁,X),
+//! ```
+//!
+//! the layered part the Hankel transform of k_th,X ([`crate::hankel::Remainder`]: the
+//! closed form of k₀e^{−h₁ρ} with k₀ = S_th(0) − 1, and the smooth rest J tabulated
+//! once); c/(2πr) alone on homogeneous conductors. Nothing on the diagonal: the layered
+//! part at r = 0 is in the isolated spot conductance (ψ) already.
 
 use strata_fft::RealFft2;
 
 use super::{Body, ConductanceError};
+use crate::hankel::{Remainder, tail_start};
 use crate::resources::{bytes_for, check_memory};
 
 /// Ratio of the table grid's Nyquist wavenumber to the spectrum's extent ρ_max.
@@ -72,7 +80,8 @@ pub struct Kernel {
 }
 
 enum Kind {
-    Isolated,
+    /// Per layered body: 1/(2πk₁) and its layered remainder.
+    Isolated(Vec<(f64, Remainder)>),
     Periodic(Box<Periodic>),
 }
 
@@ -168,18 +177,54 @@ fn layered_at_zero(bodies: [Body<'_>; 2], lo: f64, hi: f64) -> f64 {
 }
 
 impl Kernel {
-    /// The isolated kernel c/(2πr): homogeneous conductors only.
-    pub fn isolated(a: Body<'_>, b: Body<'_>) -> Result<Kernel, ConductanceError> {
-        if [a, b]
-            .iter()
-            .any(|x| matches!(x, Body::Layered(c) if !c.is_homogeneous()))
-        {
-            return Err(ConductanceError::IsolatedLayered);
+    /// The isolated kernel (module docs) of a sample of sides `extent` (m): c/(2πr) plus
+    /// each layered body's layered part, tabulated over the sample's diagonal (or to
+    /// where it is its 1/r³ tail).
+    pub fn isolated(
+        a: Body<'_>,
+        b: Body<'_>,
+        extent: (f64, f64),
+    ) -> Result<Kernel, ConductanceError> {
+        let diag = extent.0.hypot(extent.1);
+        if !(diag.is_finite() && diag > 0.0) {
+            return Err(ConductanceError::Input {
+                field: "extent",
+                value: diag,
+                reason: "the sample's sides must be finite and > 0 (m)".into(),
+            });
+        }
+        let c = conductivity_sum([a, b])?;
+        let mut layered = Vec::new();
+        for x in [a, b] {
+            let Body::Layered(cc) = x else { continue };
+            let Some(h1) = cc.top_thickness().filter(|_| !cc.is_homogeneous()) else {
+                continue;
+            };
+            let depth = cc.total_thickness();
+            let r_tab = diag.min(tail_start(depth, cc.contrast()));
+            let rem = Remainder::new(cc.s_at_zero() - 1.0, h1, depth, r_tab, |rho| cc.k_th(rho))
+                .map_err(|e| ConductanceError::Layered(e.to_string()))?;
+            layered.push((
+                1.0 / (2.0 * std::f64::consts::PI * cc.top_conductivity()),
+                rem,
+            ));
         }
         Ok(Kernel {
-            kind: Kind::Isolated,
-            c: conductivity_sum([a, b])?,
+            kind: Kind::Isolated(layered),
+            c,
         })
+    }
+
+    /// Checks, before any work, that the periodic kernel of a cell of sides `extent` (m)
+    /// can be built: its table within [`MAX_GRID`] per side and the memory it takes
+    /// (the scan of the spectrum only, no table). Returns the table grid (nx, ny).
+    pub fn check_periodic(
+        a: Body<'_>,
+        b: Body<'_>,
+        extent: (f64, f64),
+    ) -> Result<(usize, usize), ConductanceError> {
+        let g = PeriodicGrid::new([a, b], extent)?;
+        Ok((g.nx, g.ny))
     }
 
     /// The periodic kernel on a cell of sides `extent` (m).
@@ -189,53 +234,16 @@ impl Kernel {
         extent: (f64, f64),
     ) -> Result<Kernel, ConductanceError> {
         let bodies = [a, b];
-        let c = conductivity_sum(bodies)?;
-        let (lx, ly) = extent;
-        for v in [lx, ly] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(ConductanceError::Input {
-                    field: "extent",
-                    value: v,
-                    reason: "the cell's sides must be finite and > 0 (m)".into(),
-                });
-            }
-        }
-        let lmin = lx.min(ly);
-        let sigma = lmin / SIGMA_DIVISOR;
+        let PeriodicGrid {
+            c,
+            lx,
+            ly,
+            sigma,
+            rho_max,
+            nx,
+            ny,
+        } = PeriodicGrid::new(bodies, extent)?;
         let area = lx * ly;
-        // ρ_max: the largest scanned ρ (ratio 1.1 up to 1e9/L) where the rest's spectrum
-        // is above the tolerance (k₁-scaled).
-        let kmax = bodies.iter().fold(0.0f64, |m, b| match b {
-            Body::Layered(cc) => m.max(cc.top_conductivity()),
-            Body::HalfSpace(k) => m.max(*k),
-            Body::Perfect => m,
-        });
-        let mut rho_max = 1.0 / lmin;
-        let mut rho = 1.0 / lmin;
-        while rho < 1e9 / lmin {
-            let v = (layered_rest(bodies, rho) * kmax).abs() + erfc(0.5 * rho * sigma);
-            if v >= SPECTRUM_TOL {
-                rho_max = rho * 1.1;
-            }
-            rho *= 1.1;
-        }
-        let side = |l: f64| -> usize {
-            let n = (OVERSAMPLE * rho_max * l / std::f64::consts::PI).ceil() as usize;
-            n.next_power_of_two().max(32)
-        };
-        let (nx, ny) = (side(lx), side(ly));
-        if nx > MAX_GRID || ny > MAX_GRID {
-            return Err(ConductanceError::Grid {
-                nx,
-                ny,
-                cap: MAX_GRID,
-                rho_max,
-            });
-        }
-        check_memory(
-            format!("I-model conduction kernel: a {nx}×{ny} table and its spectrum"),
-            bytes_for((nx * ny) as u64, 8 * 4),
-        )?;
         let fft = RealFft2::new(ny, nx).map_err(|e| ConductanceError::Fft(e.to_string()))?;
         let mut work = fft.work();
         let half = nx / 2 + 1;
@@ -288,7 +296,14 @@ impl Kernel {
     /// the temperature rise at one per unit heat into the other. d = 0 is singular (∞).
     pub fn between(&self, dx: f64, dy: f64) -> f64 {
         match &self.kind {
-            Kind::Isolated => self.c / (2.0 * std::f64::consts::PI * dx.hypot(dy)),
+            Kind::Isolated(layered) => {
+                let r = dx.hypot(dy);
+                self.c / (2.0 * std::f64::consts::PI * r)
+                    + layered
+                        .iter()
+                        .map(|(w, rem)| w * rem.layered(r))
+                        .sum::<f64>()
+            }
             Kind::Periodic(p) => {
                 let dx = dx - p.lx * (dx / p.lx).round();
                 let dy = dy - p.ly * (dy / p.ly).round();
@@ -311,7 +326,7 @@ impl Kernel {
     /// isolated.
     pub fn self_images(&self) -> f64 {
         match &self.kind {
-            Kind::Isolated => 0.0,
+            Kind::Isolated(_) => 0.0,
             Kind::Periodic(p) => p.self_images,
         }
     }
@@ -319,7 +334,7 @@ impl Kernel {
     /// The kernel's parameters.
     pub fn info(&self) -> KernelInfo {
         match &self.kind {
-            Kind::Isolated => KernelInfo {
+            Kind::Isolated(_) => KernelInfo {
                 grid: (0, 0),
                 sigma: 0.0,
                 rho_max: 0.0,
@@ -366,6 +381,78 @@ impl Kernel {
             }
         }
         s / (lx * ly)
+    }
+}
+
+/// The periodic kernel's set-up: c, the cell, σ, ρ_max and the table grid, checked
+/// against [`MAX_GRID`] and the memory limit.
+struct PeriodicGrid {
+    c: f64,
+    lx: f64,
+    ly: f64,
+    sigma: f64,
+    rho_max: f64,
+    nx: usize,
+    ny: usize,
+}
+
+impl PeriodicGrid {
+    fn new(bodies: [Body<'_>; 2], extent: (f64, f64)) -> Result<Self, ConductanceError> {
+        let c = conductivity_sum(bodies)?;
+        let (lx, ly) = extent;
+        for v in [lx, ly] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(ConductanceError::Input {
+                    field: "extent",
+                    value: v,
+                    reason: "the cell's sides must be finite and > 0 (m)".into(),
+                });
+            }
+        }
+        let lmin = lx.min(ly);
+        let sigma = lmin / SIGMA_DIVISOR;
+        // ρ_max: the largest scanned ρ (ratio 1.1 up to 1e9/L) where the rest's spectrum
+        // is above the tolerance (k₁-scaled).
+        let kmax = bodies.iter().fold(0.0f64, |m, b| match b {
+            Body::Layered(cc) => m.max(cc.top_conductivity()),
+            Body::HalfSpace(k) => m.max(*k),
+            Body::Perfect => m,
+        });
+        let mut rho_max = 1.0 / lmin;
+        let mut rho = 1.0 / lmin;
+        while rho < 1e9 / lmin {
+            let v = (layered_rest(bodies, rho) * kmax).abs() + erfc(0.5 * rho * sigma);
+            if v >= SPECTRUM_TOL {
+                rho_max = rho * 1.1;
+            }
+            rho *= 1.1;
+        }
+        let side = |l: f64| -> usize {
+            let n = (OVERSAMPLE * rho_max * l / std::f64::consts::PI).ceil() as usize;
+            n.next_power_of_two().max(32)
+        };
+        let (nx, ny) = (side(lx), side(ly));
+        if nx > MAX_GRID || ny > MAX_GRID {
+            return Err(ConductanceError::Grid {
+                nx,
+                ny,
+                cap: MAX_GRID,
+                rho_max,
+            });
+        }
+        check_memory(
+            format!("I-model conduction kernel: a {nx}×{ny} table and its spectrum"),
+            bytes_for((nx * ny) as u64, 8 * 4),
+        )?;
+        Ok(PeriodicGrid {
+            c,
+            lx,
+            ly,
+            sigma,
+            rho_max,
+            nx,
+            ny,
+        })
     }
 }
 

@@ -50,13 +50,9 @@ pub enum ConductanceError {
     },
     #[error("both bodies are perfect conductors: no constriction resistance")]
     BothPerfect,
-    #[error(
-        "the I model's conduction with an isolated sample (model.images = \"isolated\") needs \
-         homogeneous bodies: the isolated point-source field of a layered conductor is not built \
-         in this version; use model.images = \"periodic\" on a periodic surface, or \
-         model.kind = \"independent\""
-    )]
-    IsolatedLayered,
+    /// The layered point-source field of an isolated sample could not be tabulated.
+    #[error("the I model's isolated conduction kernel of a layered body: {0}")]
+    Layered(String),
     #[error(
         "the I model's conduction kernel needs a {nx}×{ny} table to resolve the layers (its \
          spectrum reaches ρ = {rho_max:.3e} 1/m), above the cap of {cap} per side: the top layer \
