@@ -20,6 +20,10 @@ use crate::scene::{LoadSpec, ModelKind, Scene};
 /// area fraction).
 pub type UnloadingSample = (f64, f64, f64);
 
+/// Samples the `*GAP CONDUCTANCE` block leaves out: (at full contact, the first such
+/// pressure, with a pressure not above the previous line's).
+type LeftOut = (usize, Option<f64>, usize);
+
 /// A sampled contact law and what was solved, for the headers.
 #[derive(Debug, Clone)]
 pub struct SampledLaw {
@@ -144,7 +148,7 @@ impl SampledLaw {
     /// The data lines of the `*GAP CONDUCTANCE` block, (h_c, p) with p strictly
     /// increasing, and the samples left out: (at full contact: h_c infinite, with the
     /// first such pressure; pressure not above the previous line's).
-    fn gap_conductance_rows(&self) -> (Vec<(f64, f64)>, (usize, Option<f64>, usize)) {
+    fn gap_conductance_rows(&self) -> (Vec<(f64, f64)>, LeftOut) {
         let Some((_, h)) = &self.conductance else {
             return (Vec::new(), (0, None, 0));
         };
