@@ -41,6 +41,9 @@ pub fn unloading_slopes(back: &[UnloadingSample]) -> Vec<f64> {
         })
         .collect()
 }
+/// Samples the `*GAP CONDUCTANCE` block leaves out: (at full contact, the first such
+/// pressure, with a pressure not above the previous line's).
+type LeftOut = (usize, Option<f64>, usize);
 
 /// A sampled contact law and what was solved, for the headers.
 #[derive(Debug, Clone)]
@@ -190,7 +193,7 @@ impl SampledLaw {
     /// The data lines of the `*GAP CONDUCTANCE` block, (h_c, p) with p strictly
     /// increasing, and the samples left out: (at full contact: h_c infinite, with the
     /// first such pressure; pressure not above the previous line's).
-    fn gap_conductance_rows(&self) -> (Vec<(f64, f64)>, (usize, Option<f64>, usize)) {
+    fn gap_conductance_rows(&self) -> (Vec<(f64, f64)>, LeftOut) {
         let Some((_, h)) = &self.conductance else {
             return (Vec::new(), (0, None, 0));
         };

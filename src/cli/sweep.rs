@@ -287,9 +287,12 @@ fn prepare_capped_tables(cases: &[Case], opts: &EngineOptions) -> Result<()> {
     Ok(())
 }
 
+/// A case's effect columns (name, one value per step).
+type EffectColumns = Vec<(&'static str, Vec<f64>)>;
+
 /// A solved (or, with --keep-going, failed) case and its wall time (s).
 struct CaseOut {
-    steps: Result<(Vec<Step>, Vec<(&'static str, Vec<f64>)>), String>,
+    steps: Result<(Vec<Step>, EffectColumns), String>,
     seconds: f64,
 }
 

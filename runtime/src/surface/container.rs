@@ -253,11 +253,11 @@ fn check_yaml_expansion(text: &str, path: &Path, meta: &str) -> Result<(), Surfa
                     self.add(1, 0);
                 }
                 Event::SequenceEnd | Event::MappingEnd => {
-                    if let Some((anchor, (n0, b0))) = self.open.pop() {
-                        if anchor > 0 {
-                            let size = (self.total.0 - n0, self.total.1 - b0);
-                            self.anchors.insert(anchor, size);
-                        }
+                    if let Some((anchor, (n0, b0))) = self.open.pop()
+                        && anchor > 0
+                    {
+                        let size = (self.total.0 - n0, self.total.1 - b0);
+                        self.anchors.insert(anchor, size);
                     }
                 }
                 _ => {}
