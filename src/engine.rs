@@ -1034,12 +1034,11 @@ fn solve_plastic_asperities(
             .context("load")?
             .map(|d| (rc.first_summit_past_elastic(e_star, hardness, &d), d))
     };
-    if !matches!(approaches, Some((Some(_), _))) {
-        if let Some(sol) =
+    if !matches!(approaches, Some((Some(_), _)))
+        && let Some(sol) =
             solve_elastic_tips(scene, scene_path, surface.clone(), opts, hardness, model)?
-        {
-            return Ok(sol);
-        }
+    {
+        return Ok(sol);
     }
     let (surface_json, warnings) = surface_report(&surface, quiet);
     let found = find_summits(&surface);

@@ -57,6 +57,10 @@ pub struct BemSolution {
     /// or the half-space); on an isolated sample it is the free solid's absolute
     /// deflection.
     pub displacement: Array2<f64>,
+    /// Plastic depth map u_pl (m), ny×nx, of a capped solve (`None` for an elastic one):
+    /// the overlap flattened so far along the path, so that with the undeformed heights
+    /// z the gap is g = w − (z − u_pl) + c.
+    pub plastic_depth: Option<Array2<f64>>,
     /// Sides of the sample (m): along x (columns) and along y (rows).
     pub sides: [f64; 2],
     /// Whether the sample is one cell of a periodic pattern.
@@ -64,6 +68,21 @@ pub struct BemSolution {
 }
 
 impl BemSolution {
+    /// Writes the plastic depth map (a capped solve's) as an f64 .npy file, atomically;
+    /// nothing for an elastic solve.
+    pub fn write_plastic_depth(&self, path: &Path) -> Result<(), BemError> {
+        let Some(map) = &self.plastic_depth else {
+            return Ok(());
+        };
+        strata_runtime::output::write_atomic_with(path, |tmp| {
+            ndarray_npy::write_npy(tmp, map).map_err(std::io::Error::other)
+        })
+        .map_err(|e| BemError::Write {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })
+    }
+
     /// Writes the pressure and gap maps as f64 .npy files, each atomically
     /// ([`strata_runtime::output::write_atomic_with`]).
     pub fn write_maps(&self, pressure_path: &Path, gap_path: &Path) -> Result<(), BemError> {

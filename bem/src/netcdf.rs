@@ -18,6 +18,7 @@
 //! | `contacting_points` | (x, y) | byte, `dtype = "bool"` (xarray reads a bool array) | 1 where p > 0 |
 //! | `gap` | (x, y) | double | m |
 //! | `displacement` | (x, y) | double | m (the surface's deflection w) |
+//! | `plastic_depth` | (x, y) | double | m (capped solves only: u_pl, g = w − z + u_pl + c) |
 //! | `x`, `y` | (x), (y) | double | m (grid positions, coordinates for xarray) |
 //!
 //! Global attributes: contact.engineering's `mean_pressure` (here in Pa, not in units of
@@ -77,6 +78,10 @@ impl BemSolution {
             w.write_var_f64("gap", &flat(&self.gap)).map_err(io)?;
             w.write_var_f64("displacement", &flat(&self.displacement))
                 .map_err(io)?;
+            if let Some(u) = &self.plastic_depth {
+                w.write_var_f64("plastic_depth", &transposed(u))
+                    .map_err(io)?;
+            }
             w.close().map_err(io)
         })
         .map_err(|e| err(e.to_string()))
@@ -137,8 +142,17 @@ impl BemSolution {
         d.add_var_attr_string(
             "displacement",
             "long_name",
-            "surface deflection into the solid (gap = displacement - heights + flat position)",
+            "surface deflection into the solid (gap = displacement - heights + plastic_depth + flat position)",
         )?;
+        if self.plastic_depth.is_some() {
+            d.add_var_f64("plastic_depth", &xy)?;
+            d.add_var_attr_string("plastic_depth", "units", "m")?;
+            d.add_var_attr_string(
+                "plastic_depth",
+                "long_name",
+                "plastic depth: the overlap flattened so far (gap = displacement - heights + plastic_depth + flat position)",
+            )?;
+        }
         // contact.engineering's attributes first, then strata's summary of the step.
         d.add_global_attr_f64("mean_pressure", vec![self.mean_pressure])?;
         d.add_global_attr_string("mean_pressure_units", "Pa")?;

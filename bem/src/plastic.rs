@@ -260,6 +260,8 @@ impl<'s> PlasticPath<'s> {
                     active_set_steps: 0,
                     bounded_fallback: false,
                 };
+                let mut e = e;
+                e.plastic_depth = Some(ndarray::Array2::zeros((parts.ny, parts.nx)));
                 return Ok((e, info));
             }
             start = Some(
@@ -399,6 +401,10 @@ impl<'s> PlasticPath<'s> {
             .unwrap_or_default(),
             displacement: ndarray::Array2::from_shape_vec((parts.ny, parts.nx), displacement)
                 .unwrap_or_default(),
+            plastic_depth: Some(
+                ndarray::Array2::from_shape_vec((parts.ny, parts.nx), self.depth.clone())
+                    .unwrap_or_default(),
+            ),
             sides: parts.sides,
             periodic: parts.periodic,
         };

@@ -804,6 +804,7 @@ impl BemSolver {
             pressure: Array2::from_shape_vec((ny, nx), p).unwrap_or_default(),
             displacement: Array2::from_shape_vec((ny, nx), displacement).unwrap_or_default(),
             gap: Array2::from_shape_vec((ny, nx), out.gap).unwrap_or_default(),
+            plastic_depth: None,
             sides: [self.geometry.lx, self.geometry.ly],
             periodic: self.geometry.periodic,
         }

@@ -263,6 +263,14 @@ impl<'a> MapWriter<'a> {
         } else {
             (String::new(), String::new())
         };
+        // a capped solve's plastic depth u_pl beside them (g = w − z + u_pl + c)
+        if self.formats.npy && m.plastic_depth.is_some() {
+            m.write_plastic_depth(
+                &self
+                    .set
+                    .path(&format!("{d}plastic_depth_step_{k:0width$}.npy"))?,
+            )?;
+        }
         let mut row = vec![
             k.to_string(),
             csv_out::num(m.approach),
