@@ -386,3 +386,35 @@ fn punched_hole_in_a_real_scan() {
     eprintln!("punched holes: RMS difference / RMS height = {worst:.3}");
     assert!(worst < 0.5, "{worst}");
 }
+
+/// The height-unit advice only where the unit is unknown: heights of 34 µm RMS on a 1 mm
+/// sample (3.4 %) as .npy are warned about with the advice to set `height_unit`; the same
+/// map as .x3p (metres by the standard, `height_unit` refused there) is warned about
+/// without it.
+#[test]
+fn height_unit_advice_only_where_the_unit_is_unknown() {
+    let dir = fresh_dir("measured_scans", "unit");
+    let s = crate::support::paper_like_surface(64, 5);
+    let z: Vec<f64> = s.heights().iter().map(|v| 10.0 * v).collect();
+    let big = Surface::new(z, 64, 64, 1e-3, false).unwrap();
+    let npy = dir.join("big.npy");
+    let x3p = dir.join("big.x3p");
+    big.write_npy(&npy).unwrap();
+    big.write_x3p(&x3p, &Default::default()).unwrap();
+    let info = |args: &[&str]| {
+        let o = run_strata(args);
+        assert!(o.status.success(), "{}", stderr_of(&o));
+        stderr_of(&o)
+    };
+    let e = info(&["surface", "info", npy.to_str().unwrap(), "--size", "1e-3"]);
+    assert!(
+        e.contains("RMS height") && e.contains("Set [surface] height_unit"),
+        "{e}"
+    );
+    let e = info(&["surface", "info", x3p.to_str().unwrap()]);
+    assert!(e.contains("RMS height"), "{e}");
+    assert!(
+        !e.contains("height_unit") && e.contains("the file gives its height unit"),
+        "{e}"
+    );
+}

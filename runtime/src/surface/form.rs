@@ -178,8 +178,9 @@ pub(super) fn fit_form(z: &[f64], keep: &[bool], n0: usize, n1: usize, kind: Det
         piv_ok[col] = true;
         for r in col + 1..m {
             let f = ata[r][col] / ata[col][col];
-            for c in col..m {
-                ata[r][c] -= f * ata[col][c];
+            let pivot_row = ata[col];
+            for (x, p) in ata[r][col..m].iter_mut().zip(&pivot_row[col..m]) {
+                *x -= f * p;
             }
             atz[r] -= f * atz[col];
         }

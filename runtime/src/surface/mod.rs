@@ -19,9 +19,11 @@
 //!   a plain-text matrix, one grid row per line, numbers separated by whitespace or
 //!   commas, `#` starting a comment.
 //!
-//! Measured data (every reader) is checked, not trusted: a non-finite height (NaN or
-//! ±inf, e.g. a dropout, or a point an .x3p file marks invalid) and a spike are refused
-//! with the file and the grid index of the first one. A spike is a height further than
+//! Measured data (every reader) is checked, not trusted, in one order
+//! ([`Surface::measured_judged`]): invalid points marked, the form fitted on the valid
+//! points, spikes judged on the heights less that form, then filled or refused. A
+//! non-finite height (NaN or ±inf, e.g. a dropout, or a point an .x3p file marks
+//! invalid) and a spike are refused with the file and the grid index of the first one. A spike is a height further than
 //! [`SPIKE_LIMIT`] robust standard deviations σ_r from its smooth prediction: the median
 //! over the x, y and diagonal directions of the linear interpolation between its two
 //! neighbours (linear extrapolation from one side at a non-periodic edge), σ_r = 1.4826
@@ -30,9 +32,9 @@
 //! extruded sine stays near 1 σ_r, edges included) and random rough surfaces stay a few
 //! σ_r; one outlier pixel does not (and spoils at most one direction of its
 //! neighbours' predictions). With [`Repair::Median`] (scene key `[surface] repair =
-//! "median"`) such points are replaced by their prediction from the points kept (the
-//! median of their valid neighbours where no direction is left), and
-//! [`Surface::repaired`] counts them.
+//! "median"`) such points, in clusters of any size, are filled by harmonic interpolation
+//! (module `repair`: Laplace's equation on the points to fill), and
+//! [`Surface::repair_report`] says what was found and filled.
 //!
 //! What a reader did (units, repairs, form removal, the file's metadata) is kept as log
 //! lines ([`Surface::log`]); what looks wrong but is not fatal (an .x3p whose main.xml
