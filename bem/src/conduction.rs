@@ -231,7 +231,8 @@ impl ConductanceSolver {
     }
 
     /// Any compliance C(|k|) (m²·K/W; finite and > 0 for k > 0) on the periodic ny × nx
-    /// grid of `geometry` (a non-periodic geometry is [`BemError::ConductionNonPeriodic`]), evaluated once per distinct wavevector (i ≤ nx/2, j ≤ ny/2).
+    /// grid of `geometry` (a non-periodic geometry is [`BemError::ConductionNonPeriodic`]),
+    /// evaluated once per distinct wavevector (i ≤ nx/2, j ≤ ny/2).
     /// With C = 2/(E*|k|) this is the zero-mean elastic operator: its "conductance" is
     /// then the stiffness at fixed contact set per nominal area, (dP/dδ)/A₀ (Pa/m).
     pub fn with_compliance(

@@ -210,7 +210,7 @@ fn spot_models_on_the_bems_own_spots() {
 
 /// `[conductance]` with `model.kind = "interacting"` through `strata solve`: the
 /// `conductance` column and the curve.json summary with the kernel's parameters; an
-/// isolated sample on a layered stack is refused with the reason.
+/// isolated sample on a layered stack solves too (the layered point-source field).
 #[test]
 fn interacting_conductance_through_solve() {
     let d = fresh_dir("conductance_interacting", "solve");
@@ -236,12 +236,21 @@ fn interacting_conductance_through_solve() {
         "{c}"
     );
     assert_eq!(c["kernel"]["grid"][0].as_u64(), Some(256), "{c}");
-    let (o, _) = crate::support::solve_text(
+    // isolated images on the layered stack: the point-source fields of unbounded bodies
+    // (refused before they were built)
+    let (o, iso) = crate::support::solve_text(
         &d,
         "isolated",
         &text.replace("images = \"periodic\"", "images = \"isolated\""),
     );
-    assert!(!o.status.success());
-    let e = stderr_of(&o);
-    assert!(e.contains("[conductance]") && e.contains("isolated"), "{e}");
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let rows_iso =
+        crate::support::csv_rows(&std::fs::read_to_string(iso.join("curve.csv")).unwrap());
+    assert_eq!(rows_iso.len(), 3);
+    for w in rows_iso.windows(2) {
+        assert!(
+            w[1].last() > w[0].last() && w[0].last() > Some(&0.0),
+            "{rows_iso:?}"
+        );
+    }
 }
