@@ -96,6 +96,30 @@ impl SampledLaw {
             + &self.gap_conductance_block()
     }
 
+    /// The name of the amplitude in [`SampledLaw::range_block`].
+    pub const RANGE_AMPLITUDE: &'static str = "STRATA_LAW_RANGE";
+
+    /// A CalculiX/Abaqus `*AMPLITUDE` that rises linearly over the step's time from 0
+    /// to the law's h_max (m, [`SampledLaw::fe_range`]), with `**` comments: a face
+    /// driven by `*BOUNDARY, AMPLITUDE=STRATA_LAW_RANGE` with magnitude −1 moves h_max
+    /// over the step. The interface's overclosure is that motion less the bodies'
+    /// compression (≥ 0 under a compressive load), so it stays inside the table
+    /// whatever the FE model's compliance: the deck is sized from the law.
+    pub fn range_block(&self, law_file: &str) -> String {
+        let (h_max, p_max) = self.fe_range();
+        format!(
+            "** strata law: the FE range of {law_file}: overclosure 0 <= h <= {h} m, pressure\n\
+             ** 0 <= p <= {p} Pa. A face moved by *BOUNDARY, AMPLITUDE={name} with a magnitude\n\
+             ** of -1. moves h_max = {h} m over the step; the interface's overclosure (that\n\
+             ** motion less the bodies' compression) stays inside the table.\n\
+             *AMPLITUDE, NAME={name}\n\
+             0., 0., 1., {h}\n",
+            h = abaqus_real(h_max),
+            p = abaqus_real(p_max),
+            name = Self::RANGE_AMPLITUDE,
+        )
+    }
+
     /// The FE range the table covers: the largest overclosure h_max = g₀ − g_min (m) and
     /// the pressure there, p_max (Pa). An FE interface driven beyond h_max leaves the
     /// table (CalculiX holds p_max with zero stiffness).

@@ -189,9 +189,18 @@ impl PyContactLaw {
         self.sampled.abaqus_block(&self.scene)
     }
 
-    /// Writes the Abaqus block to `path` atomically (a reader never sees half a file).
+    /// Writes the Abaqus block to `path` atomically (a reader never sees half a file),
+    /// and beside it (`law.inp` → `law_range.inp`) its FE range as the amplitude
+    /// `STRATA_LAW_RANGE` (0 to h_max over the step), as `strata law` does.
     fn write_abaqus(&self, path: PathBuf) -> PyResult<()> {
+        let (range, name) = strata::cli::law::range_path(&path);
         strata_runtime::output::write_atomic(&path, self.abaqus().as_bytes())
+            .and_then(|()| {
+                strata_runtime::output::write_atomic(
+                    &range,
+                    self.sampled.range_block(&name).as_bytes(),
+                )
+            })
             .map_err(|e| anyhow::anyhow!("writing {}: {e}", path.display()))
             .map_err(err(Kind::Law))
     }

@@ -111,6 +111,20 @@ fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
     })
 }
 
+/// The file of the law's FE range beside its Abaqus block `inp` (`law.inp` →
+/// `law_range.inp`), and the block's file name for its comment.
+pub fn range_path(inp: &std::path::Path) -> (PathBuf, String) {
+    let stem = inp
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = inp
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    (inp.with_file_name(format!("{stem}_range.inp")), name)
+}
+
 const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (z_M: the highest summit in the N and I models, the highest grid point in the BEM; g, the flat's height above the mean plane, means the same in every model); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
 
 /// The law's CSV; with `[conductance]` a `conductance` column after `valid` (h_c,
@@ -237,7 +251,16 @@ pub fn run(a: Args) -> Result<()> {
     check_min_gap(a.min_gap)?;
     let outs = outputs(&a)?;
     let scene = Scene::from_file(&a.scene)?;
-    let paths: Vec<PathBuf> = outs.iter().map(|(_, p)| p.clone()).collect();
+    // beside the Abaqus block, its FE range as an amplitude that sizes a deck's load
+    let range = outs
+        .iter()
+        .find(|(f, _)| *f == Format::Abaqus)
+        .map(|(_, p)| range_path(p));
+    let paths: Vec<PathBuf> = outs
+        .iter()
+        .map(|(_, p)| p.clone())
+        .chain(range.iter().map(|(p, _)| p.clone()))
+        .collect();
     let inputs = scene.inputs(&a.scene);
     for p in &paths {
         refuse_inputs("--out", p, &inputs)?;
@@ -270,6 +293,13 @@ pub fn run(a: Args) -> Result<()> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default();
         set.write(&name, text.as_bytes())?;
+    }
+    if let Some((p, law_file)) = &range {
+        let name = p
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        set.write(&name, solved.range_block(law_file).as_bytes())?;
     }
     set.commit()?;
     let l = &solved.law;

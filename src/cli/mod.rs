@@ -28,7 +28,7 @@ use clap::{Parser, Subcommand};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
-    /// No progress bars and no log lines on stderr (errors are still printed).
+    /// No progress bars and no log lines on stderr (warnings and errors are still printed).
     #[arg(long, short, global = true)]
     pub quiet: bool,
     /// Largest single allocation strata may attempt, e.g. 512M or 8G (powers of 1024;

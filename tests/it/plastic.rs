@@ -1036,12 +1036,9 @@ fn plastic_depth_map_keeps_the_gap_relation() {
         let mut f =
             netcdf3::FileReader::open(out.join(format!("maps/results_step_{k:02}.nc"))).unwrap();
         let vars = f.read_all_vars().unwrap();
-        // (x, y): element [i, j] is the map's row j, column i
+        // (x, y), x the input's first axis: element [i, j] is the map's row i, column j
         let nc = |v: &str| -> Array2<f64> {
-            Array2::from_shape_vec((64, 64), vars[v].get_f64().unwrap().to_vec())
-                .unwrap()
-                .t()
-                .to_owned()
+            Array2::from_shape_vec((64, 64), vars[v].get_f64().unwrap().to_vec()).unwrap()
         };
         let w = nc("displacement");
         assert_eq!(

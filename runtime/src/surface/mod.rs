@@ -43,6 +43,7 @@
 
 #[cfg(feature = "container")]
 pub mod container;
+mod detrend;
 mod form;
 #[cfg(feature = "spectral")]
 mod generate;
@@ -423,10 +424,13 @@ impl Surface {
         let form = form::fit_form(&z, &valid, n0, n1, judge);
         // round-off of the heights: 1e-12 × the largest |z| (a plane of 1e-5 m leaves
         // ~1e-21 m of noise after its removal; 1e-17 m is no roughness)
-        let floor = 1e-12
+        // and the heights' quantum (an instrument's integer heights times its step): a
+        // smooth form less its fit leaves residuals of a few steps, which are no spikes
+        let floor = (1e-12
             * z.iter()
                 .filter(|v| v.is_finite())
-                .fold(0.0_f64, |m, v| m.max(v.abs()));
+                .fold(0.0_f64, |m, v| m.max(v.abs())))
+        .max(height_quantum(&z));
         let bad = suspect_points(&residual(&form), n0, n1, periodic, floor);
         if repair == Repair::Refuse {
             // the worst spike: a spike also disturbs its neighbours' predictions a little
@@ -463,7 +467,21 @@ impl Surface {
             form
         };
         let mut r = residual(&form);
-        let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic)?;
+        let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic)
+            .map_err(|e| match e {
+                repair::FillError::NothingValid => SurfaceError::TooLittleValid {
+                    fraction: 1.0,
+                    limit: MAX_FILL_FRACTION,
+                },
+                repair::FillError::NotConverged {
+                    points,
+                    iterations,
+                    residual,
+                } => SurfaceError::Unsupported(format!(
+                    "repair: the harmonic fill of {points} points did not converge in \
+                     {iterations} conjugate-gradient iterations (relative residual {residual:e})"
+                )),
+            })?;
         for k in (0..z.len()).filter(|&k| fill[k]) {
             z[k] = r[k] + form[k];
         }
@@ -617,24 +635,6 @@ impl Surface {
     }
 }
 
-/// Flat indices of the (up to) 8 neighbours of flat index k (wrapping when periodic).
-fn neighbours(n0: usize, n1: usize, periodic: bool, k: usize) -> impl Iterator<Item = usize> {
-    let (i, j) = ((k / n1) as isize, (k % n1) as isize);
-    let (n0i, n1i) = (n0 as isize, n1 as isize);
-    (-1isize..=1)
-        .flat_map(move |di| (-1isize..=1).map(move |dj| (di, dj)))
-        .filter(|&(di, dj)| (di, dj) != (0, 0))
-        .filter_map(move |(di, dj)| {
-            let (a, b) = (i + di, j + dj);
-            if periodic {
-                Some((a.rem_euclid(n0i) * n1i + b.rem_euclid(n1i)) as usize)
-            } else if (0..n0i).contains(&a) && (0..n1i).contains(&b) {
-                Some((a * n1i + b) as usize)
-            } else {
-                None
-            }
-        })
-}
 
 fn median(v: &mut [f64]) -> f64 {
     let m = v.len() / 2;
@@ -689,6 +689,20 @@ fn predict(
         }
     }
     (n > 0).then(|| median(&mut p[..n]))
+}
+
+/// The smallest positive difference between two of the finite heights `z` (m): the
+/// height step of an instrument that stores integers (0 when all are equal). On
+/// floating-point heights it is far below any roughness.
+fn height_quantum(z: &[f64]) -> f64 {
+    let mut v: Vec<f64> = z.iter().copied().filter(|v| v.is_finite()).collect();
+    v.sort_unstable_by(f64::total_cmp);
+    let step = v
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|&d| d > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    if step.is_finite() { step } else { 0.0 }
 }
 
 /// Non-finite heights and spikes (module documentation), in row-major order, each

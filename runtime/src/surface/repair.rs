@@ -25,7 +25,6 @@
 
 use serde::Serialize;
 
-use super::SurfaceError;
 
 /// Largest fraction of a map that repair fills (more is refused: too little is valid).
 pub const MAX_FILL_FRACTION: f64 = 0.5;
@@ -105,7 +104,7 @@ pub(super) fn clusters(mask: &[bool], n0: usize, n1: usize, periodic: bool) -> (
         stack.push(start);
         while let Some(k) = stack.pop() {
             size += 1;
-            for m in super::neighbours(n0, n1, periodic, k) {
+            for m in neighbours(n0, n1, periodic, k) {
                 if mask[m] && !seen[m] {
                     seen[m] = true;
                     stack.push(m);
@@ -140,6 +139,38 @@ fn lattice(
     .flatten()
 }
 
+/// Flat indices of the (up to) 8 neighbours of flat index k (wrapping when periodic).
+fn neighbours(n0: usize, n1: usize, periodic: bool, k: usize) -> impl Iterator<Item = usize> {
+    let (i, j) = ((k / n1) as isize, (k % n1) as isize);
+    let (n0i, n1i) = (n0 as isize, n1 as isize);
+    (-1isize..=1)
+        .flat_map(move |di| (-1isize..=1).map(move |dj| (di, dj)))
+        .filter(|&(di, dj)| (di, dj) != (0, 0))
+        .filter_map(move |(di, dj)| {
+            let (a, b) = (i + di, j + dj);
+            if periodic {
+                Some((a.rem_euclid(n0i) * n1i + b.rem_euclid(n1i)) as usize)
+            } else if (0..n0i).contains(&a) && (0..n1i).contains(&b) {
+                Some((a * n1i + b) as usize)
+            } else {
+                None
+            }
+        })
+}
+
+/// Why [`harmonic_fill`] failed.
+#[derive(Debug, Clone, PartialEq)]
+pub(super) enum FillError {
+    /// Every point is to be filled: nothing to interpolate from.
+    NothingValid,
+    /// The conjugate gradients did not reach [`FILL_TOLERANCE`].
+    NotConverged {
+        points: usize,
+        iterations: usize,
+        residual: f64,
+    },
+}
+
 /// Fills the points of `z` where `fill` is set with the solution of Laplace's equation
 /// (module docs) and returns the conjugate-gradient iterations. `z` must be finite off
 /// `fill`, and at least one point must be off it.
@@ -150,17 +181,14 @@ pub(super) fn harmonic_fill(
     n1: usize,
     (dx, dy): (f64, f64),
     periodic: bool,
-) -> Result<usize, SurfaceError> {
+) -> Result<usize, FillError> {
     let unknowns: Vec<usize> = (0..z.len()).filter(|&k| fill[k]).collect();
     let n = unknowns.len();
     if n == 0 {
         return Ok(0);
     }
     if n == z.len() {
-        return Err(SurfaceError::TooLittleValid {
-            fraction: 1.0,
-            limit: MAX_FILL_FRACTION,
-        });
+        return Err(FillError::NothingValid);
     }
     // weights scaled so that the larger is 1 (only their ratio matters)
     let (wx, wy) = {
@@ -211,11 +239,11 @@ pub(super) fn harmonic_fill(
     let mut it = 0;
     while dot(&r, &r).sqrt() > target {
         if it == max_iter {
-            return Err(SurfaceError::Unsupported(format!(
-                "repair: the harmonic fill of {n} points did not converge in {max_iter} \
-                 conjugate-gradient iterations (relative residual {:e})",
-                dot(&r, &r).sqrt() / bnorm
-            )));
+            return Err(FillError::NotConverged {
+                points: n,
+                iterations: max_iter,
+                residual: dot(&r, &r).sqrt() / bnorm,
+            });
         }
         it += 1;
         apply(&p, &mut ap);
