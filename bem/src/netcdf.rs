@@ -79,8 +79,7 @@ impl BemSolution {
             w.write_var_f64("displacement", &flat(&self.displacement))
                 .map_err(io)?;
             if let Some(u) = &self.plastic_depth {
-                w.write_var_f64("plastic_depth", &flat(u))
-                    .map_err(io)?;
+                w.write_var_f64("plastic_depth", &flat(u)).map_err(io)?;
             }
             w.close().map_err(io)
         })

@@ -138,9 +138,12 @@ pub fn run(a: Args) -> Result<()> {
         // flows: its solution is the capped one (so H → ∞ is `--model full` exactly).
         let elastic = Asperity::new(&stack, Options::default())?;
         let mut rows = Vec::with_capacity(deltas.len());
+        let bar = approach_bar(&stack, deltas.len());
         for &d in &deltas {
+            bar.set_message(format!("asperity: delta = {d:e} m"));
             if d == 0.0 {
                 rows.push([0.0, 0.0, 0.0, 0.0]);
+                bar.inc();
                 continue;
             }
             let e = elastic
@@ -150,13 +153,16 @@ pub fn run(a: Args) -> Result<()> {
             let peak = e.pressure(&r).into_iter().fold(0.0, f64::max);
             if peak <= h {
                 rows.push([d, e.a, e.force, 0.0]);
+                bar.inc();
                 continue;
             }
             let c = s
                 .at_delta(d, a.radius)
                 .with_context(|| format!("solving delta = {d:e} m"))?;
             rows.push([d, c.a, c.force, c.a_plastic]);
+            bar.inc();
         }
+        drop(bar);
         crate::stdio::print(|o| {
             csv_out::write(
                 o,
@@ -180,7 +186,9 @@ pub fn run(a: Args) -> Result<()> {
     };
     let mut rows = Vec::with_capacity(deltas.len());
     let mut profile_rows = Vec::new();
+    let bar = approach_bar(&stack, deltas.len());
     for &d in &deltas {
+        bar.set_message(format!("asperity: delta = {d:e} m"));
         if let Some(law) = &approx {
             let (ca, force) = super::table::approx_paraboloid(law, d, a.radius)
                 .with_context(|| format!("solving delta = {d:e} m"))?;
@@ -192,6 +200,7 @@ pub fn run(a: Args) -> Result<()> {
                 }
             }
             rows.push((d, ca, force));
+            bar.inc();
             continue;
         }
         let Some(solver) = &solver else {
@@ -209,7 +218,9 @@ pub fn run(a: Args) -> Result<()> {
             }
         }
         rows.push((d, s.a, s.force));
+        bar.inc();
     }
+    drop(bar);
     crate::stdio::print(|o| {
         csv_out::write(
             o,
@@ -286,6 +297,24 @@ fn file_name(p: &std::path::Path) -> String {
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default()
 }
+
+/// Progress over the approaches (a log line every few seconds in batch jobs): one
+/// Fredholm solve on a stack of hundreds of layers (a graded coating, a 1000-layer
+/// counterface) takes tens of seconds, its kernel ~ the layers' count; the first line
+/// says how many layers the solid has.
+fn approach_bar(stack: &Stack, n: usize) -> crate::progress::Progress {
+    let layers = stack.layers().len() + stack.counterface().map_or(0, |c| c.layers().len());
+    if layers >= MANY_LAYERS {
+        crate::progress::log(format!(
+            "asperity: {layers} layers in the solid (both bodies): each approach's kernel \
+             costs ~{layers} transfer-matrix products per wavenumber"
+        ));
+    }
+    crate::progress::bar(n as u64, "asperity: approaches")
+}
+
+/// From this many layers on, [`approach_bar`] says how many.
+const MANY_LAYERS: usize = 100;
 
 /// `--counterface` on a stack file that has its own `[counterface]`: refused (the
 /// stack file's would be replaced silently); one counterface, given in one place.

@@ -345,7 +345,11 @@ fn check_deck_run(out: &Path, hh: &[f64], p: &[f64], cover: f64, what: &str) {
         let h = h_last * inc.time - p * die_compliance();
         let law = linear(&table, h);
         let e = (p - law).abs() / law;
-        assert!(e <= 1e-3, "{what}: t = {}: RF/A {p:e}, law {law:e}", inc.time);
+        assert!(
+            e <= 1e-3,
+            "{what}: t = {}: RF/A {p:e}, law {law:e}",
+            inc.time
+        );
         worst_rf = worst_rf.max(e);
     }
     let last = incs.last().map_or(0.0, |i| -i.force_z / 1e-6);
@@ -399,7 +403,10 @@ fn slow_walkthrough_deck_stays_inside_a_second_scans_law() {
         String::from_utf8_lossy(&law.stderr)
     );
     let range = std::fs::read_to_string(out.join("law_range.inp")).expect("law_range.inp");
-    assert!(range.contains("*AMPLITUDE, NAME=STRATA_LAW_RANGE"), "{range}");
+    assert!(
+        range.contains("*AMPLITUDE, NAME=STRATA_LAW_RANGE"),
+        "{range}"
+    );
     std::fs::copy(
         repo().join("examples/walkthrough/coated_block.inp"),
         out.join("coated_block.inp"),

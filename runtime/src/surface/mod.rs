@@ -467,8 +467,8 @@ impl Surface {
             form
         };
         let mut r = residual(&form);
-        let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic)
-            .map_err(|e| match e {
+        let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic).map_err(
+            |e| match e {
                 repair::FillError::NothingValid => SurfaceError::TooLittleValid {
                     fraction: 1.0,
                     limit: MAX_FILL_FRACTION,
@@ -481,7 +481,8 @@ impl Surface {
                     "repair: the harmonic fill of {points} points did not converge in \
                      {iterations} conjugate-gradient iterations (relative residual {residual:e})"
                 )),
-            })?;
+            },
+        )?;
         for k in (0..z.len()).filter(|&k| fill[k]) {
             z[k] = r[k] + form[k];
         }
@@ -634,7 +635,6 @@ impl Surface {
         (self.z.iter().map(|v| (v - m) * (v - m)).sum::<f64>() / self.z.len() as f64).sqrt()
     }
 }
-
 
 fn median(v: &mut [f64]) -> f64 {
     let m = v.len() / 2;

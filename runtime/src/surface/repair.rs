@@ -25,7 +25,6 @@
 
 use serde::Serialize;
 
-
 /// Largest fraction of a map that repair fills (more is refused: too little is valid).
 pub const MAX_FILL_FRACTION: f64 = 0.5;
 
