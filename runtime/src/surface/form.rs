@@ -65,7 +65,7 @@ impl Detrend {
     }
 }
 
-/// The form removed by [`Surface::detrend`] (module docs for the symbols).
+/// The form removed by [`Surface::detrend`](super::Surface::detrend) (module docs for the symbols).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Form {
     pub kind: Detrend,
