@@ -748,37 +748,8 @@ mod tests {
                 a[r * m + c] = g[dy * n + dx];
             }
         }
-        // Cholesky A = L Lᵀ in place (lower triangle), then L Lᵀ p = 1.
-        for j in 0..m {
-            let mut d = a[j * m + j];
-            for k in 0..j {
-                d -= a[j * m + k] * a[j * m + k];
-            }
-            assert!(d > 0.0, "not positive definite at {j}");
-            let d = d.sqrt();
-            a[j * m + j] = d;
-            for i in j + 1..m {
-                let mut s = a[i * m + j];
-                for k in 0..j {
-                    s -= a[i * m + k] * a[j * m + k];
-                }
-                a[i * m + j] = s / d;
-            }
-        }
-        let mut y = vec![1.0; m];
-        for i in 0..m {
-            for k in 0..i {
-                y[i] -= a[i * m + k] * y[k];
-            }
-            y[i] /= a[i * m + i];
-        }
-        for i in (0..m).rev() {
-            for k in i + 1..m {
-                y[i] -= a[k * m + i] * y[k];
-            }
-            y[i] /= a[i * m + i];
-        }
-        y.iter().sum::<f64>() / (n * n) as f64
+        // Cholesky A = L Lᵀ, then L Lᵀ p = 1
+        cholesky_sum_of_solution(a, m) / (n * n) as f64
     }
 
     /// Barber's analogy on the BEM's own contact set: two homogeneous bodies,
