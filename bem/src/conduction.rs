@@ -771,23 +771,9 @@ mod tests {
         assert!(count > 50 && count < n * n / 2, "{count}");
         let stiffness = dense_stiffness(n, l, e_star, &set);
         let g = Geometry::square(l);
+        assert_barber((n, n), g, &set, stiffness, e_star, "barber");
         let (ka, kb) = (50.0, 15.0);
         let ks = 1.0 / (1.0 / ka + 1.0 / kb);
-        for (a, b, k) in [
-            (Conductor::HalfSpace(ka), Conductor::HalfSpace(kb), ks),
-            (Conductor::HalfSpace(ka), Conductor::Perfect, ka),
-            (Conductor::Perfect, Conductor::HalfSpace(kb), kb),
-        ] {
-            let s = ConductanceSolver::new(n, n, g, a, b, tight()).unwrap();
-            let h = s.solve(&set).unwrap();
-            let barber = 2.0 * k * stiffness / e_star;
-            let rel = (h.conductance - barber).abs() / barber;
-            eprintln!(
-                "barber: h_c {:e} vs {barber:e}: {rel:.2e} ({} iterations)",
-                h.conductance, h.iterations
-            );
-            assert!(rel < 1e-10, "{rel}");
-        }
         // A layered body of uniform conductivity is the same conductor.
         let layered = Stack::new(
             vec![Layer {
@@ -816,6 +802,36 @@ mod tests {
         let h = s.solve(&set).unwrap().conductance;
         let barber = 2.0 * ks * stiffness / e_star;
         assert!((h - barber).abs() < 1e-10 * barber, "{h} {barber}");
+    }
+
+    /// Barber's analogy on `set` for two half-spaces (k_A = 50, k_B = 15) and for either
+    /// against a perfect conductor: h_c = 2 k_s (dP/dδ)/(E* A₀) to 1e−10, with the
+    /// contact stiffness per area `stiffness` (dP/dδ/A₀) from a dense solve.
+    fn assert_barber(
+        (ny, nx): (usize, usize),
+        geometry: Geometry,
+        set: &[bool],
+        stiffness: f64,
+        e_star: f64,
+        what: &str,
+    ) {
+        let (ka, kb) = (50.0, 15.0);
+        let ks = 1.0 / (1.0 / ka + 1.0 / kb);
+        for (a, b, k) in [
+            (Conductor::HalfSpace(ka), Conductor::HalfSpace(kb), ks),
+            (Conductor::HalfSpace(ka), Conductor::Perfect, ka),
+            (Conductor::Perfect, Conductor::HalfSpace(kb), kb),
+        ] {
+            let s = ConductanceSolver::new(ny, nx, geometry, a, b, tight()).unwrap();
+            let h = s.solve(set).unwrap();
+            let barber = 2.0 * k * stiffness / e_star;
+            let rel = (h.conductance - barber).abs() / barber;
+            eprintln!(
+                "{what}: h_c {:e} vs {barber:e}: {rel:.2e} ({} iterations)",
+                h.conductance, h.iterations
+            );
+            assert!(rel < 1e-10, "{rel}");
+        }
     }
 
     /// Solves the dense symmetric positive definite m × m system A y = 1 by Cholesky
@@ -895,23 +911,15 @@ mod tests {
             }
         }
         let stiffness = cholesky_sum_of_solution(a, m) / (ny * nx) as f64;
-        let (ka, kb) = (50.0, 15.0);
-        let ks = 1.0 / (1.0 / ka + 1.0 / kb);
-        for (a, b, k) in [
-            (Conductor::HalfSpace(ka), Conductor::HalfSpace(kb), ks),
-            (Conductor::HalfSpace(ka), Conductor::Perfect, ka),
-            (Conductor::Perfect, Conductor::HalfSpace(kb), kb),
-        ] {
-            let s = ConductanceSolver::new(ny, nx, geometry, a, b, tight()).unwrap();
-            let h = s.solve(&set).unwrap();
-            let barber = 2.0 * k * stiffness / e_star;
-            let rel = (h.conductance - barber).abs() / barber;
-            eprintln!(
-                "non-periodic Barber: h_c {:e} vs {barber:e}: {rel:.2e} ({} iterations)",
-                h.conductance, h.iterations
-            );
-            assert!(rel < 1e-10, "{rel}");
-        }
+        assert_barber(
+            (ny, nx),
+            geometry,
+            &set,
+            stiffness,
+            e_star,
+            "non-periodic Barber",
+        );
+        let ka = 50.0;
         // the whole sample in contact conducts finitely (no k = 0 mode to exclude)
         let s = ConductanceSolver::new(
             ny,
