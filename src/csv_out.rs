@@ -61,17 +61,7 @@ where
     w.flush().map_err(CsvError::Io)
 }
 
-/// The header of curve.csv.
-pub const CURVE_HEADER: [&str; 8] = [
-    "delta",
-    "gap",
-    "mean_pressure",
-    "pressure_ratio",
-    "area_fraction",
-    "contacts",
-    "stiffness",
-    "valid",
-];
+pub use strata_engine::engine::CURVE_HEADER;
 
 /// The CSV text of the header and the records.
 pub fn text<H, R, I>(header: H, rows: R) -> Result<String, CsvError>

@@ -1,23 +1,19 @@
 //! # strata: the command's library
 //!
-//! Scenes (`scene`: the TOML description of one rough-contact case), the engine that
-//! solves them with the model they name (`engine`), sweeps, the accuracy–cost study,
-//! plots and the command-line front end (`cli`). The `strata` binary is a thin wrapper
+//! The command-line front end (`cli`), sweeps, the accuracy–cost study, plots and output
+//! sets, over the engine crate `strata-engine` (scenes, the engine that solves them, the
+//! sampled contact law; re-exported here under the same module names). The `strata` binary is a thin wrapper
 //! over [`cli::main`]; the physics lives in `strata-runtime` (light, embeddable),
 //! `strata-tablegen` (Fredholm solves, table builds) and `strata-bem` (the full-field
 //! solver).
 
-pub mod asperity_table;
-pub mod cache;
 pub mod cli;
 pub mod csv_out;
-pub mod engine;
 pub mod output_set;
 pub mod plot;
-pub mod progress;
-pub mod sampled_law;
-pub mod scene;
-pub mod spots;
-pub mod stdio;
 pub mod study;
 pub mod threads;
+
+pub use strata_engine::{
+    asperity_table, cache, engine, progress, sampled_law, scene, spots, stdio,
+};

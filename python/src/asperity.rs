@@ -82,14 +82,16 @@ pub fn indent<'py>(
             } else {
                 let law = match &table {
                     Some(t) => t.law_for(&stack)?,
-                    None => {
-                        strata::asperity_table::law_for_stack(&stack, None, cache_dir.as_deref())?
-                    }
+                    None => strata_engine::asperity_table::law_for_stack(
+                        &stack,
+                        None,
+                        cache_dir.as_deref(),
+                    )?,
                 };
                 deltas
                     .iter()
                     .map(|&d| {
-                        strata::asperity_table::approx_paraboloid(&law, d, radius)
+                        strata_engine::asperity_table::approx_paraboloid(&law, d, radius)
                             .map_err(|e| anyhow::anyhow!("delta = {d} m: {e:#}"))
                     })
                     .collect()

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use strata::sampled_law::SampledLaw;
+use strata_engine::sampled_law::SampledLaw;
 use strata_runtime::interface::conductance_curve::ConductanceCurve;
 
 use crate::conv;
@@ -180,7 +180,7 @@ impl PyContactLaw {
     /// The samples as CSV text, the columns of `strata law --format csv` (with
     /// `[conductance]` its `conductance` column, with `[plasticity]` its `branch`).
     fn csv(&self) -> String {
-        strata::cli::law::csv(&self.sampled)
+        strata_engine::sampled_law::csv(&self.sampled)
     }
 
     /// The `*SURFACE BEHAVIOR, PRESSURE-OVERCLOSURE=TABULAR` block for Abaqus and
@@ -193,7 +193,7 @@ impl PyContactLaw {
     /// and beside it (`law.inp` → `law_range.inp`) its FE range as the amplitude
     /// `STRATA_LAW_RANGE` (0 to h_max over the step), as `strata law` does.
     fn write_abaqus(&self, path: PathBuf) -> PyResult<()> {
-        let (range, name) = strata::cli::law::range_path(&path);
+        let (range, name) = strata_engine::sampled_law::range_path(&path);
         strata_runtime::output::write_atomic(&path, self.abaqus().as_bytes())
             .and_then(|()| {
                 strata_runtime::output::write_atomic(

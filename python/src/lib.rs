@@ -34,6 +34,9 @@ fn _strata(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<law::PyContactLaw>()?;
     m.add_function(wrap_pyfunction!(asperity::indent, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("CURVE_COLUMNS", strata::csv_out::CURVE_HEADER.to_vec())?;
+    m.add(
+        "CURVE_COLUMNS",
+        strata_engine::engine::CURVE_HEADER.to_vec(),
+    )?;
     Ok(())
 }

@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use pyo3::prelude::*;
-use strata::progress::{Report, scoped};
+use strata_engine::progress::{Report, scoped};
 use strata_runtime::cancel::Cancel;
 
 /// How often the calling thread looks at the call: signals and progress.

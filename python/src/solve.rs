@@ -8,9 +8,9 @@ use std::sync::Arc;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use strata::engine::{EngineOptions, solve_surface_with_maps};
-use strata::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
 use strata_bem::BemSolution;
+use strata_engine::engine::{EngineOptions, solve_surface_with_maps};
+use strata_engine::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
 use strata_runtime::surface::{ReadOptions, Spacing, Surface};
 use strata_runtime::table::Table;
 
@@ -361,7 +361,7 @@ impl PyScene {
                 ..opts
             };
             let surface = self.load_surface()?;
-            strata::sampled_law::sample_law(
+            strata_engine::sampled_law::sample_law(
                 &self.scene,
                 &self.path,
                 surface,
@@ -383,7 +383,7 @@ impl PyScene {
             "Scene({}, model {}, {})",
             self.path.display(),
             self.model(),
-            strata::engine::stack_description(&self.scene.stack)
+            strata_engine::engine::stack_description(&self.scene.stack)
         )
     }
 }
@@ -422,7 +422,7 @@ impl PyScene {
     fn load_surface(&self) -> PyResult<Surface> {
         match &self.surface {
             Some(s) => Ok(s.clone()),
-            None => strata::engine::load_surface(&self.scene, false)
+            None => strata_engine::engine::load_surface(&self.scene, false)
                 .with_context_path(&self.path)
                 .map_err(err(Kind::Surface)),
         }

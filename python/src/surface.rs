@@ -125,7 +125,7 @@ impl PySurface {
             rms,
             seed,
         };
-        strata::engine::check_generate_memory(&p).map_err(err(Kind::Surface))?;
+        strata_engine::engine::check_generate_memory(&p).map_err(err(Kind::Surface))?;
         let surface = py
             .detach(|| Surface::generate(&p))
             .map_err(err(Kind::Surface))?;
@@ -264,13 +264,13 @@ impl PySurface {
     /// --json` prints), SI units.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::conv::json_to_py(py, &strata::engine::surface_json(&self.surface))
+        crate::conv::json_to_py(py, &strata_engine::engine::surface_json(&self.surface))
     }
 
     /// Warnings of the reader and of the statistics' plausibility checks.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        strata::engine::surface_warnings(&self.surface)
+        strata_engine::engine::surface_warnings(&self.surface)
     }
 
     fn __repr__(&self) -> String {

@@ -64,7 +64,7 @@ impl PyTable {
         far_max: Option<f64>,
     ) -> PyResult<Self> {
         let stack = stack_of(stack, "Table.build: stack")?;
-        let build_time = strata::asperity_table::build_time().map_err(err(Kind::Table))?;
+        let build_time = strata_engine::asperity_table::build_time().map_err(err(Kind::Table))?;
         let d = BuildOptions::default();
         let opts = BuildOptions {
             nx: nx.unwrap_or(d.nx),
@@ -85,7 +85,7 @@ impl PyTable {
             },
             build_time,
             progress,
-            bars: Some(Bars(strata::progress::raw_bar)),
+            bars: Some(Bars(strata_engine::progress::raw_bar)),
             ..d
         };
         let table = crate::progress::call(py, Some(progress), |_| {

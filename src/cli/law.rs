@@ -43,7 +43,7 @@ use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 
 use crate::engine::EngineOptions;
-pub use crate::sampled_law::{SampledLaw, sample_law};
+pub use crate::sampled_law::{SampledLaw, csv, range_path, sample_law};
 use crate::sampled_law::{check_min_gap, check_samples};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -111,61 +111,7 @@ fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
     })
 }
 
-/// The file of the law's FE range beside its Abaqus block `inp` (`law.inp` →
-/// `law_range.inp`), and the block's file name for its comment.
-pub fn range_path(inp: &std::path::Path) -> (PathBuf, String) {
-    let stem = inp
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    let name = inp
-        .file_name()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    (inp.with_file_name(format!("{stem}_range.inp")), name)
-}
-
 const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (z_M: the highest summit in the N and I models, the highest grid point in the BEM; g, the flat's height above the mean plane, means the same in every model); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
-
-/// The law's CSV; with `[conductance]` a `conductance` column after `valid` (h_c,
-/// W/(m²·K) or S/m², empty where infinite: full contact); with `[plasticity]` a
-/// `branch` column (`loading`, then `unloading` from the deepest sample back to first
-/// contact: gap, overclosure, pressure, area, dp_dg the one-sided difference along the
-/// unloading branch (`sampled_law::unloading_slopes`); valid 1 and the conductance NaN
-/// on the unloading rows). The Python package's `ContactLaw.csv()` writes this text too.
-pub fn csv(s: &SampledLaw) -> String {
-    let base = s.law.csv();
-    let mut out = String::new();
-    let h = s.conductance.as_ref().map(|(_, h)| h);
-    for (i, line) in base.lines().enumerate() {
-        out.push_str(line);
-        if let Some(h) = h {
-            match i {
-                0 => out.push_str(",conductance"),
-                _ => match h.get(i - 1) {
-                    Some(v) if v.is_finite() => out.push_str(&format!(",{v:e}")),
-                    _ => out.push(','),
-                },
-            }
-        }
-        if s.unloading.is_some() {
-            out.push_str(if i == 0 { ",branch" } else { ",loading" });
-        }
-        out.push('\n');
-    }
-    if let Some((_, back)) = &s.unloading {
-        let g0 = s.law.first_contact_gap();
-        let hc = if h.is_some() { ",NaN" } else { "" };
-        let slopes = crate::sampled_law::unloading_slopes(back);
-        for ((g, p, a), d) in back.iter().zip(&slopes).skip(1) {
-            out.push_str(&format!(
-                "{g:e},{:e},{p:e},{a:e},{d:e},1{hc},unloading\n",
-                g0 - g
-            ));
-        }
-    }
-    out
-}
 
 fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
     let g0 = s.law.first_contact_gap();

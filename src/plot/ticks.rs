@@ -2,32 +2,7 @@
 //! (1-2-5 or 1…9 per decade when the range spans few decades), and "nice" steps for
 //! map axes and scale bars.
 
-/// Tick label: scientific notation for values that fixed decimals would show as 0.0
-/// (compliances, tiny pressure ratios), plain decimals otherwise.
-pub fn tick(v: f64) -> String {
-    let a = v.abs();
-    if a == 0.0 {
-        "0".into()
-    } else if !(1e-3..1e5).contains(&a) {
-        tick_sci(v)
-    } else {
-        let s = format!("{v:.4}");
-        s.trim_end_matches('0').trim_end_matches('.').to_string()
-    }
-}
-
-/// Tick label in scientific notation (`5e-3`, `1.5e-4`), for log axes spanning
-/// small or large values, so that all labels of the axis read alike.
-pub fn tick_sci(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    let s = format!("{v:.2e}");
-    match s.split_once('e') {
-        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
-        None => s,
-    }
-}
+pub use strata_engine::number::{tick, tick_sci};
 
 /// Labelled (bold) and minor (light) tick values of a log axis on [lo, hi] (lo > 0):
 /// the coarsest of decades, 1-2-5 and 1…9 per decade that puts at least four labels

@@ -28,6 +28,19 @@ use strata_runtime::surface::{GenerateParams, Surface};
 use strata_runtime::table::Table;
 use strata_tablegen::tablebuild::{Bars, BuildOptions};
 
+/// The header of curve.csv: the columns every model writes per step (the effects add
+/// theirs after `valid`).
+pub const CURVE_HEADER: [&str; 8] = [
+    "delta",
+    "gap",
+    "mean_pressure",
+    "pressure_ratio",
+    "area_fraction",
+    "contacts",
+    "stiffness",
+    "valid",
+];
+
 /// How a scene is solved (not what: that is the scene).
 #[derive(Debug, Clone, Default)]
 pub struct EngineOptions {
@@ -533,10 +546,7 @@ fn modulus(e: f64) -> String {
     } else {
         (e, "Pa")
     };
-    format!(
-        "{} {unit}",
-        crate::plot::ticks::tick((v * 1e3).round() / 1e3)
-    )
+    format!("{} {unit}", crate::number::tick((v * 1e3).round() / 1e3))
 }
 
 /// curve.json's `counterface` entry when the scene has an elastic counterface (and a

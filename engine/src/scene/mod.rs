@@ -392,8 +392,8 @@ impl Scene {
     }
 
     /// The files a command reading this scene (from `path`) reads: (what, path) for the
-    /// scene itself, its stack file, table and surface file, for
-    /// [`crate::output_set::refuse_inputs`].
+    /// scene itself, its stack file, table and surface file, for the output sets' check
+    /// that no output overwrites an input (`strata::output_set::refuse_inputs`).
     pub fn inputs(&self, path: &Path) -> Vec<(String, PathBuf)> {
         let mut v = vec![("the scene".to_string(), path.to_path_buf())];
         if let Some(p) = &self.stack_file {
