@@ -40,6 +40,10 @@
 
 use crate::stack::{Base, Stack, shear_modulus};
 
+#[cfg(test)]
+mod global_solve;
+pub mod tangential;
+
 /// ρh above which a layer is treated as a half-space of its own material: the
 /// neglected reflection from its bottom is O((ρh)² e^{−2ρh}) < 1e−30.
 pub const THICK_LAYER: f64 = 40.0;
@@ -257,6 +261,17 @@ impl Body {
             let r1 = 2.0 * SMALL_T / self.h_min; // ρ₁h ≈ 2·SMALL_T: no second pass here
             return self.s0 + (self.s(r1) - self.s0) * (rho / r1);
         }
+        let z = self.impedance(rho);
+        // [U, W] = Ẑ⁻¹ [T, S]; unit pressure is S = −1 (σ_zz = −p).
+        let det = z[0][0] * z[1][1] - z[0][1] * z[1][0];
+        let inv_ws = z[0][0] / det; // [Ẑ⁻¹]_{W,S}
+        -inv_ws / (1.0 - self.nu1)
+    }
+
+    /// The scaled surface impedance Ẑ of this body at ρ (1/m), in units of the top
+    /// layer's shear modulus: `[T/μ₁, S/μ₁] = Ẑ [ρU, ρW]` at z = 0 (module docs). For
+    /// 0 < ρ < ∞ with ρ·h_min ≥ [`SMALL_T`]; the callers handle the other ρ.
+    fn impedance(&self, rho: f64) -> M2 {
         let n = self.layers.len();
         // Impedance at the bottom of the current layer, in units of that layer's μ.
         let mut z: M2 = match self.base_nu {
@@ -284,10 +299,7 @@ impl Body {
                 z = solve(&sub(&t22, &mul(&z, &t12)), &sub(&mul(&z, &t11), &t21));
             }
         }
-        // [U, W] = Ẑ⁻¹ [T, S]; unit pressure is S = −1 (σ_zz = −p).
-        let det = z[0][0] * z[1][1] - z[0][1] * z[1][0];
-        let inv_ws = z[0][0] / det; // [Ẑ⁻¹]_{W,S}
-        -inv_ws / (1.0 - self.nu1)
+        z
     }
 }
 

@@ -3,6 +3,9 @@
 //! physics.md §6.2 instead, header `rho_h,S_th` (the stack's `thermal_conductivity`,
 //! or `electrical_conductivity`, of every layer and of a half-space base).
 //!
+//! With `--tangential`: the full compliance of the tangential module
+//! ([`strata_runtime::compliance::tangential`]), header `rho_h,S_zz,S_LL,S_TT,S_zL`.
+//!
 //! Output header `rho_h,k_z`, with ρ·h₁ dimensionless (h₁ the top layer's thickness)
 //! and every value printed with full f64 precision (shortest round-trip form). This
 //! interface is relied on by other tools: keep it. The stack is validated as in every
@@ -12,6 +15,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, bail};
+use strata_runtime::compliance::tangential::TangentialCompliance;
 use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
 use strata_runtime::{Compliance, Stack};
 
@@ -29,8 +33,12 @@ pub struct Args {
     #[arg(long, conflicts_with = "electrical")]
     pub thermal: bool,
     /// Print the electrical conduction compliance S_th(ρ) (`rho_h,S_th`) instead of k_z.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "tangential")]
     pub electrical: bool,
+    /// Print the normal, tangential and coupling compliances
+    /// (`rho_h,S_zz,S_LL,S_TT,S_zL`) instead of k_z.
+    #[arg(long, conflicts_with = "thermal")]
+    pub tangential: bool,
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -52,6 +60,9 @@ pub fn run(a: Args) -> Result<()> {
     };
     if let Some(kind) = kind {
         return conduction(&a, &stack, kind, &rho_h);
+    }
+    if a.tangential {
+        return tangential(&a, &stack, &rho_h);
     }
     let comp = Compliance::new(&stack);
     // A half-space has no h₁; k_z ≡ 0 there whatever ρ is.
@@ -89,5 +100,34 @@ fn conduction(a: &Args, stack: &Stack, kind: ConductionKind, rho_h: &[f64]) -> R
         rows.push([format!("{x:e}"), format!("{s:e}")]);
     }
     crate::stdio::print(|o| csv_out::write(o, ["rho_h", "S_th"], rows).map_err(Into::into))?;
+    Ok(())
+}
+
+/// `rho_h,S_zz,S_LL,S_TT,S_zL` for `--tangential`.
+fn tangential(a: &Args, stack: &Stack, rho_h: &[f64]) -> Result<()> {
+    let comp = TangentialCompliance::new(stack);
+    // A half-space has no h₁; the values do not depend on ρ there.
+    let h1 = stack.top_thickness().unwrap_or(1.0);
+    let mut rows = Vec::with_capacity(rho_h.len());
+    for &x in rho_h {
+        let c = comp.eval(x / h1);
+        let v = [c.s_zz, c.s_ll, c.s_tt, c.s_zl];
+        if let Some(bad) = v.iter().find(|v| !v.is_finite()) {
+            bail!(
+                "stack file {}: a compliance at rho_h = {x:e} is {bad} (not representable in f64 for this stack)",
+                a.stack.display()
+            );
+        }
+        rows.push([
+            format!("{x:e}"),
+            format!("{:e}", v[0]),
+            format!("{:e}", v[1]),
+            format!("{:e}", v[2]),
+            format!("{:e}", v[3]),
+        ]);
+    }
+    crate::stdio::print(|o| {
+        csv_out::write(o, ["rho_h", "S_zz", "S_LL", "S_TT", "S_zL"], rows).map_err(Into::into)
+    })?;
     Ok(())
 }

@@ -179,3 +179,61 @@ fn bad_rho_h_flags() {
     assert_fails(&["compliance", s, "--rho-h", ""], &["--rho-h", "empty"]);
     let _ = Path::new(s);
 }
+
+/// `--tangential`: the header, the library's values to the last bit (full precision
+/// in the CSV), S_zz equal to today's S to the bit and to 1 + k_z of the plain command
+/// (to round-off: k_z = S − 1 is rounded), and the ρh₁ → ∞ values
+/// S_zz = S_LL = S_TT = 1, S_zL = (1−2ν₁)/(2(1−ν₁)) on the paper's stack.
+#[test]
+fn compliance_tangential_prints_four_columns() {
+    let stack = repo().join("tables/stacks/paper-two-layer.toml");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "compliance",
+            stack.to_str().unwrap(),
+            "--rho-h",
+            "0.01,1,100",
+        ];
+        args.extend_from_slice(extra);
+        let out = strata(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let text = run(&["--tangential"]);
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("rho_h,S_zz,S_LL,S_TT,S_zL"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    let s = strata_runtime::Stack::from_toml_file(&stack).unwrap();
+    let c = strata_runtime::compliance::tangential::TangentialCompliance::new(&s);
+    let h1 = s.top_thickness().unwrap();
+    let normal = strata_runtime::Compliance::new(&s);
+    let kz = parse_csv(run(&[]).as_bytes());
+    for (row, (_, k)) in rows.iter().zip(&kz) {
+        let v = c.eval(row[0] / h1);
+        assert_eq!(row[1..], [v.s_zz, v.s_ll, v.s_tt, v.s_zl]);
+        assert_eq!(row[1], normal.s(row[0] / h1));
+        assert!((row[1] - (1.0 + k)).abs() < 1e-15);
+    }
+    let (_, nu1) = s.top_material();
+    let last = &rows[2];
+    assert!((last[1] - 1.0).abs() < 1e-12 && (last[2] - 1.0).abs() < 1e-12);
+    assert!((last[3] - 1.0).abs() < 1e-12);
+    assert!((last[4] - (1.0 - 2.0 * nu1) / (2.0 * (1.0 - nu1))).abs() < 1e-12);
+    // --tangential with --thermal is refused by the argument parser.
+    let out = strata(&[
+        "compliance",
+        stack.to_str().unwrap(),
+        "--rho-h",
+        "1",
+        "--tangential",
+        "--thermal",
+    ]);
+    assert!(!out.status.success());
+}
