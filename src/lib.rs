@@ -15,5 +15,5 @@ pub mod study;
 pub mod threads;
 
 pub use strata_engine::{
-    asperity_table, cache, engine, progress, sampled_law, scene, spots, stdio,
+    asperity_table, cache, effects, engine, progress, sampled_law, scene, solution, spots, stdio,
 };

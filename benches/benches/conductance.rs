@@ -21,13 +21,13 @@
 //! Each item: wall and process CPU time (user + system of all threads, /proc/self/stat),
 //! the mean over runs repeated for at least [`MIN_SECONDS`] and [`MIN_RUNS`] runs (the
 //! CPU clock ticks at 10 ms), with and without conductance alternating. Wall times
-//! include surface generation and table loading (the engine's `solve_scene`), the same
+//! include surface generation and table loading (the engine's `solve`), the same
 //! with and without conductance. On a shared machine the CPU times are the steadier.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use strata::engine::{EngineOptions, solve_scene};
+use strata::engine::{EngineOptions, Quiet, solve};
 use strata::scene::{ModelKind, Scene, SurfaceSource};
 use strata_benches::cpu_seconds;
 
@@ -51,17 +51,16 @@ struct Times {
 
 /// One solve with the table cache `cache`: (wall, CPU, mechanics, conductance, summits)
 /// in s.
-fn run(scene: &Scene, path: &Path, cache: &Path) -> (Times, usize) {
+fn run(scene: &Scene, cache: &Path) -> (Times, usize) {
     let opts = EngineOptions {
-        quiet: true,
         cache_dir: Some(cache.to_path_buf()),
         ..Default::default()
     };
     let (t0, c0) = (Instant::now(), cpu_seconds());
-    let sol = solve_scene(scene, path, &opts).expect("the scene solves");
+    let sol = solve(scene, None, &opts, &mut Quiet).expect("the scene solves");
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), cpu_seconds() - c0);
-    let hc = sol.meta["conductance"]["seconds"].as_f64().unwrap_or(0.0);
-    let summits = sol.meta["summits"].as_u64().unwrap_or(0) as usize;
+    let hc = sol.summary.conductance.as_ref().map_or(0.0, |c| c.seconds);
+    let summits = sol.summary.summits.unwrap_or(0);
     (
         Times {
             wall,
@@ -113,13 +112,13 @@ fn measure(
         }
     }
     // warm the allocator and the mechanics table; solve the ψ table into the cache
-    let _ = run(without, path, &cache);
-    let (first, summits) = run(with, path, &cache);
+    let _ = run(without, &cache);
+    let (first, summits) = run(with, &cache);
     let (mut w, mut n) = (Times::default(), Times::default());
     let t0 = Instant::now();
     while w.runs < min_runs || t0.elapsed().as_secs_f64() < 2.0 * MIN_SECONDS {
-        add(&mut w, run(with, path, &cache).0);
-        add(&mut n, run(without, path, &cache).0);
+        add(&mut w, run(with, &cache).0);
+        add(&mut n, run(without, &cache).0);
     }
     let _ = std::fs::remove_dir_all(&cache);
     (mean(w), mean(n), summits, first.conductance)

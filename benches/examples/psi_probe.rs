@@ -5,7 +5,7 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use strata::engine::{EngineOptions, solve_scene};
+use strata::engine::{EngineOptions, Quiet, solve};
 use strata::scene::{ModelKind, Scene};
 use strata::spots::SpotSum;
 use strata_benches::cpu_seconds;
@@ -18,10 +18,9 @@ fn main() {
     scene.conductance = None;
     scene.model.kind = ModelKind::Independent;
     let opts = EngineOptions {
-        quiet: true,
         ..Default::default()
     };
-    let sol = solve_scene(&scene, &path, &opts).expect("solve");
+    let sol = solve(&scene, None, &opts, &mut Quiet).expect("solve");
     let radii: Vec<f64> = sol
         .steps
         .iter()
@@ -74,11 +73,10 @@ pub fn interacting_split(k_max: f64) {
         g.k_max = k_max;
     }
     let opts = EngineOptions {
-        quiet: true,
         ..Default::default()
     };
-    let sol = solve_scene(&scene, &path, &opts).expect("solve");
-    let surface = strata::engine::load_surface(&scene, true).expect("surface");
+    let sol = solve(&scene, None, &opts, &mut Quiet).expect("solve");
+    let surface = strata::engine::load_surface(&scene).expect("surface");
     let law = strata_runtime::law::Homogeneous { e_star: 1.0 };
     let rc = strata_runtime::rough::RoughContact::from_surface(&law, &surface).expect("rc");
     let t = Instant::now();

@@ -12,10 +12,12 @@
 
 pub mod asperity_table;
 pub mod cache;
+pub mod effects;
 pub mod engine;
 pub mod number;
 pub mod progress;
 pub mod sampled_law;
 pub mod scene;
+pub mod solution;
 pub mod spots;
 pub mod stdio;

@@ -2,8 +2,6 @@
 //! law`, the Python package's `Scene.law` and the C ABI's laws): p(g), A(g)/A₀ and dp/dg
 //! from first contact down to a smallest separation, by the scene's model.
 
-use std::path::Path;
-
 use anyhow::{Context, Result, bail};
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::interface::{
@@ -12,9 +10,10 @@ use strata_runtime::interface::{
 use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::Surface;
 
-use crate::engine::{EngineOptions, law_for, solve_surface};
+use crate::engine::{EngineOptions, Observer, Quiet, law_for, solve};
 use crate::progress;
 use crate::scene::{LoadSpec, ModelKind, Scene};
+use crate::solution::SurfaceReport;
 
 /// One sample of a plastic interface's unloading curve: (gap (m), mean pressure (Pa),
 /// area fraction).
@@ -60,7 +59,7 @@ pub struct SampledLaw {
     pub nominal_area: f64,
     /// The surface as solved (curve.json's `surface`: statistics, reader log, removed
     /// form).
-    pub surface: serde_json::Value,
+    pub surface: SurfaceReport,
     /// The surface's warnings (plausibility, a form that dominates the heights).
     pub warnings: Vec<String>,
     /// With `[conductance]`: the interface conductance h_c (W/(m²·K) or S/m²) at each
@@ -274,17 +273,17 @@ impl SampledLaw {
 /// load reaches), by the scene's model (N, I or BEM), as `strata law` samples it.
 pub fn sample_law(
     scene: &Scene,
-    path: &Path,
     surface: Surface,
     opts: &EngineOptions,
+    obs: &mut dyn Observer,
     samples: usize,
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
     check_samples(samples)?;
     check_min_gap(min_gap)?;
     let sampled = match model_of(scene) {
-        Some(m) => solve_asperities(scene, path, surface, opts, m, samples, min_gap),
-        None => solve_bem(scene, path, surface, opts, samples, min_gap),
+        Some(m) => solve_asperities(scene, surface, opts, obs, m, samples, min_gap),
+        None => solve_bem(scene, surface, opts, obs, samples, min_gap),
     }?;
     for w in sampled.law.validity_warnings() {
         crate::stdio::eprint_line(format_args!("warning: law: {w}"));
@@ -371,19 +370,19 @@ pub fn check_min_gap(g: Option<f64>) -> Result<()> {
 /// N and I models: the runtime's RoughContact, as the C ABI does.
 fn solve_asperities(
     scene: &Scene,
-    path: &Path,
     surface: Surface,
     opts: &EngineOptions,
+    obs: &mut dyn Observer,
     model: Model,
     samples: usize,
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
     if let Some(pl) = scene.plasticity {
-        return solve_capped_asperities(scene, path, surface, opts, model, samples, min_gap, pl);
+        return solve_capped_asperities(scene, surface, opts, obs, model, samples, min_gap, pl);
     }
-    let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
+    let (surface_json, warnings) = crate::engine::surface_report(&surface, obs);
     let keep = scene.conductance.is_some().then(|| surface.clone());
-    let law = law_for(scene, path, opts)?;
+    let law = law_for(scene, opts, obs)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?
         .with_params(crate::engine::solver_params(scene, opts));
     let g0 = rc.top_to_mean();
@@ -413,12 +412,8 @@ fn solve_asperities(
             // the model's (N or I) conductance at the law's own separations
             let mut at = scene.clone();
             at.load = LoadSpec::Separations(il.samples().map(|s| s.0).collect());
-            let quiet = EngineOptions {
-                quiet: true,
-                ..opts.clone()
-            };
-            let sol = solve_surface(&at, path, surface, &quiet).context("[conductance]")?;
-            Some((spec.kind, conductance_steps(&sol.meta)))
+            let sol = solve(&at, Some(surface), opts, &mut Quiet).context("[conductance]")?;
+            Some((spec.kind, sol.conductances().unwrap_or_default()))
         }
         _ => None,
     };
@@ -442,27 +437,27 @@ fn solve_asperities(
 #[allow(clippy::too_many_arguments)]
 fn solve_capped_asperities(
     scene: &Scene,
-    path: &Path,
     surface: Surface,
     opts: &EngineOptions,
+    obs: &mut dyn Observer,
     model: Model,
     samples: usize,
     min_gap: Option<f64>,
     pl: crate::scene::PlasticitySpec,
 ) -> Result<SampledLaw> {
-    let (surface_json, warnings) = crate::engine::surface_report(&surface, opts.quiet);
+    let (surface_json, warnings) = crate::engine::surface_report(&surface, obs);
     // first contact and the area need no elastic law
     let e_star = scene.stack.contact_modulus();
     let hom = strata_runtime::law::Homogeneous { e_star };
     let rc = RoughContact::from_surface(&hom, &surface)?;
     let (g0, nominal_area) = (rc.top_to_mean(), rc.area());
-    let min_gap = scene_min_gap(scene, path, &surface, opts, g0, min_gap)?;
+    let min_gap = scene_min_gap(scene, &surface, opts, obs, g0, min_gap)?;
     progress::log(format!(
         "law: {samples} capped solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
     let mut sampled = scene.clone();
     sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
-    let sol = solve_surface(&sampled, path, surface, opts)?;
+    let sol = solve(&sampled, Some(surface), opts, obs)?;
     let il = InterfaceLaw::from_steps(&sol.steps, nominal_area).context("capped load curve")?;
     Ok(SampledLaw {
         law: il,
@@ -476,22 +471,9 @@ fn solve_capped_asperities(
         conductance: scene
             .conductance
             .as_ref()
-            .map(|spec| (spec.kind, conductance_steps(&sol.meta))),
+            .map(|spec| (spec.kind, sol.conductances().unwrap_or_default())),
         unloading: Some((pl.hardness, Vec::new())),
     })
-}
-
-/// The per-step conductances of a solution's meta (`conductance_steps`); an infinite
-/// one (full contact, `null`) as ∞.
-fn conductance_steps(meta: &serde_json::Value) -> Vec<f64> {
-    meta["conductance_steps"]
-        .as_array()
-        .map(|a| {
-            a.iter()
-                .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
-                .collect()
-        })
-        .unwrap_or_default()
 }
 
 fn solid(scene: &Scene) -> String {
@@ -531,9 +513,9 @@ fn solid_of(s: &strata_runtime::Stack) -> String {
 /// solve); it must lie below first contact `g0` (m).
 fn scene_min_gap(
     scene: &Scene,
-    path: &Path,
     surface: &Surface,
     opts: &EngineOptions,
+    obs: &mut dyn Observer,
     g0: f64,
     min_gap: Option<f64>,
 ) -> Result<f64> {
@@ -543,7 +525,7 @@ fn scene_min_gap(
             let p = largest_pressure(&scene.load)?;
             let mut one = scene.clone();
             one.load = LoadSpec::MeanPressures(vec![p]);
-            let s = solve_surface(&one, path, surface.clone(), opts)
+            let s = solve(&one, Some(surface.clone()), opts, obs)
                 .context("load.mean_pressures: the largest one sets the default --min-gap")?;
             s.steps.first().context("no step")?.gap
         }
@@ -557,9 +539,9 @@ fn scene_min_gap(
 /// BEM: the engine's scene solve at the sample separations.
 fn solve_bem(
     scene: &Scene,
-    path: &Path,
     surface: Surface,
     opts: &EngineOptions,
+    obs: &mut dyn Observer,
     samples: usize,
     min_gap: Option<f64>,
 ) -> Result<SampledLaw> {
@@ -569,7 +551,7 @@ fn solve_bem(
         .copied()
         .fold(f64::NEG_INFINITY, f64::max);
     let g0 = z_max - surface.mean();
-    let min_gap = scene_min_gap(scene, path, &surface, opts, g0, min_gap)?;
+    let min_gap = scene_min_gap(scene, &surface, opts, obs, g0, min_gap)?;
     progress::log(format!(
         "law: {samples} BEM solves from first contact g0 = {g0:e} m down to g = {min_gap:e} m"
     ));
@@ -579,7 +561,8 @@ fn solve_bem(
     // [plasticity]: the return path too (the unloading curve), the law from the loading
     sampled.unload = scene.plasticity.is_some();
     let ran = describe_bem(surface.is_periodic(), surface.shape());
-    let sol = solve_surface(&sampled, path, surface, opts)?;
+    let sol = solve(&sampled, Some(surface), opts, obs)?;
+    let conductances = sol.conductances().unwrap_or_default();
     let mut steps = sol.steps;
     let unloading = scene.plasticity.map(|pl| {
         let back: Vec<UnloadingSample> = steps
@@ -597,16 +580,9 @@ fn solve_bem(
         s.area_fraction = 0.0;
     }
     let il = InterfaceLaw::from_steps(&steps, area).context("BEM load curve")?;
-    let warnings = sol.meta["warnings"]
-        .as_array()
-        .map(|w| {
-            w.iter()
-                .filter_map(|s| s.as_str().map(String::from))
-                .collect()
-        })
-        .unwrap_or_default();
+    let warnings = sol.summary.warnings.clone();
     let conductance = scene.conductance.as_ref().map(|spec| {
-        let mut h = conductance_steps(&sol.meta);
+        let mut h = conductances;
         h.truncate(samples);
         if let Some(first) = h.first_mut() {
             *first = 0.0; // first contact: one grid point, no area
@@ -619,7 +595,7 @@ fn solve_bem(
         solid: solid(scene),
         e_star: scene.stack.contact_modulus(),
         nominal_area: area,
-        surface: sol.meta["surface"].clone(),
+        surface: sol.summary.surface.clone(),
         warnings,
         conductance,
         unloading,
@@ -710,7 +686,9 @@ mod tests {
             solid: "test".into(),
             e_star: 1e9,
             nominal_area: 1e-6,
-            surface: serde_json::Value::Null,
+            surface: SurfaceReport::of(
+                &Surface::new(vec![0.0, 1e-6, 2e-6, 0.0], 2, 2, 1e-3, true).unwrap(),
+            ),
             warnings: Vec::new(),
             conductance: Some((ConductionKind::Thermal, h)),
             unloading: None,

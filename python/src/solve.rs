@@ -9,7 +9,7 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use strata_bem::BemSolution;
-use strata_engine::engine::{EngineOptions, solve_surface_with_maps};
+use strata_engine::engine::{Console, EngineOptions, WithMaps, solve};
 use strata_engine::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
 use strata_runtime::surface::{ReadOptions, Spacing, Surface};
 use strata_runtime::table::Table;
@@ -301,28 +301,33 @@ impl PyScene {
                 ..opts
             };
             let surface = self.load_surface()?;
-            solve_surface_with_maps(&self.scene, &self.path, surface, &opts, &mut |k, _, m| {
-                if keep == 1 {
-                    kept.clear();
-                }
-                if keep > 0 {
-                    kept.push((k, m));
-                }
-                Ok(())
-            })
-            .with_context_path(&self.path)
-            .map_err(err(Kind::Solve))
+            let mut observer = WithMaps {
+                quiet: false,
+                sink: |k, _, m| {
+                    if keep == 1 {
+                        kept.clear();
+                    }
+                    if keep > 0 {
+                        kept.push((k, m));
+                    }
+                    Ok(())
+                },
+            };
+            solve(&self.scene, Some(surface), &opts, &mut observer)
+                .with_context_path(&self.path)
+                .map_err(err(Kind::Solve))
         })??;
+        let mut sol = sol;
+        sol.summary.scene = self.path.display().to_string();
         let out = curve_dict(py, &sol.steps)?;
         // [conductance]: h_c per step (W/(m²·K) or S/m²; inf at full contact)
-        if let Some(cs) = sol.meta["conductance_steps"].as_array() {
-            let h: Vec<f64> = cs
-                .iter()
-                .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
-                .collect();
+        if let Some(h) = sol.conductances() {
             out.set_item("conductance", h.into_pyarray(py))?;
         }
-        out.set_item("meta", crate::conv::json_to_py(py, &sol.meta)?)?;
+        // the summary as a dict: JSON made here, at the Python boundary
+        let meta = serde_json::to_value(&sol.summary)
+            .map_err(|e| to_py(Kind::Solve, anyhow::Error::from(e)))?;
+        out.set_item("meta", crate::conv::json_to_py(py, &meta)?)?;
         let list = PyList::empty(py);
         for (k, m) in kept {
             let d = PyDict::new(py);
@@ -363,9 +368,9 @@ impl PyScene {
             let surface = self.load_surface()?;
             strata_engine::sampled_law::sample_law(
                 &self.scene,
-                &self.path,
                 surface,
                 &opts,
+                &mut Console,
                 samples,
                 min_gap,
             )
@@ -422,7 +427,7 @@ impl PyScene {
     fn load_surface(&self) -> PyResult<Surface> {
         match &self.surface {
             Some(s) => Ok(s.clone()),
-            None => strata_engine::engine::load_surface(&self.scene, false)
+            None => strata_engine::engine::load_surface(&self.scene)
                 .with_context_path(&self.path)
                 .map_err(err(Kind::Surface)),
         }

@@ -264,7 +264,11 @@ impl PySurface {
     /// --json` prints), SI units.
     #[getter]
     fn stats<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        crate::conv::json_to_py(py, &strata_engine::engine::surface_json(&self.surface))
+        crate::conv::json_to_py(
+            py,
+            &serde_json::to_value(strata_engine::solution::SurfaceReport::of(&self.surface))
+                .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?,
+        )
     }
 
     /// Warnings of the reader and of the statistics' plausibility checks.

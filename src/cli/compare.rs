@@ -51,8 +51,8 @@ use crate::scene::{ModelKind, Scene};
 use anyhow::{Context, Result, bail};
 use strata_runtime::rough::{Images, Step};
 
-use crate::cli::solve::{MapWriter, curve_csv_extra, effect_columns};
-use crate::engine::{EngineOptions, solve_scene_with_maps};
+use crate::cli::solve::{MapWriter, curve_csv_extra};
+use crate::engine::{EngineOptions, WithMaps, solve};
 use crate::plot::{PlotSpec, Series, Style};
 
 #[derive(Debug, clap::Args)]
@@ -742,7 +742,6 @@ fn compare_scene(
         sc.model.kind = kind;
         let opts = EngineOptions {
             cache_dir: a.cache_dir.clone(),
-            quiet: false,
             ..Default::default()
         };
         progress::log(format!("compare {}: {name}…", path.display()));
@@ -757,8 +756,16 @@ fn compare_scene(
             !a.no_plots,
         )
         .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
-        let sol = solve_scene_with_maps(&sc, path, &opts, &mut |k, n, m| maps.accept(k, n, m))
-            .with_context(|| format!("scene {}: {name}", path.display()))?;
+        let sol = solve(
+            &sc,
+            None,
+            &opts,
+            &mut WithMaps {
+                quiet: false,
+                sink: |k, n, m| maps.accept(k, n, m),
+            },
+        )
+        .with_context(|| format!("scene {}: {name}", path.display()))?;
         maps.finish()?;
         progress::log(format!(
             "compare {}: {name} took {:.3} s",
@@ -767,23 +774,15 @@ fn compare_scene(
         ));
         set.write(
             &format!("{dir}curve_{key}.csv"),
-            curve_csv_extra(&sol.steps, &effect_columns(&sol.meta))?.as_bytes(),
+            curve_csv_extra(&sol.steps, &sol.effect_columns())?.as_bytes(),
         )?;
         if kind == ModelKind::Bem {
-            scale = sol.meta["z_max_minus_mean"].as_f64().unwrap_or(f64::NAN);
-            e_star = sol.meta["e_star_1"].as_f64().unwrap_or(f64::NAN);
+            scale = sol.summary.z_max_minus_mean;
+            e_star = sol.summary.e_star_1;
         }
-        let conductance = sol.meta["conductance_steps"].as_array().map(|a| {
-            a.iter()
-                .map(|s| s["conductance"].as_f64().unwrap_or(f64::INFINITY))
-                .collect()
-        });
-        let plastic = sol.meta["plastic_steps"].as_array().map(|a| {
-            a.iter()
-                .map(|s| s["plastic_area_fraction"].as_f64().unwrap_or(f64::NAN))
-                .collect()
-        });
-        let conductance_seconds = sol.meta["conductance"]["seconds"].as_f64().unwrap_or(0.0);
+        let conductance = sol.conductances();
+        let plastic = sol.plastic_area_fractions();
+        let conductance_seconds = sol.summary.conductance.as_ref().map_or(0.0, |c| c.seconds);
         runs.push(ModelRun {
             steps: sol.steps,
             seconds: sol.seconds,

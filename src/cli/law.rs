@@ -42,7 +42,7 @@ use anyhow::{Context, Result, bail};
 use crate::output_set::{OutputSet, refuse_inputs};
 use crate::progress;
 
-use crate::engine::EngineOptions;
+use crate::engine::{Console, EngineOptions};
 pub use crate::sampled_law::{SampledLaw, csv, range_path, sample_law};
 use crate::sampled_law::{check_min_gap, check_samples};
 
@@ -216,8 +216,8 @@ pub fn run(a: Args) -> Result<()> {
         cache_dir: a.cache_dir.clone(),
         ..Default::default()
     };
-    let solved = crate::engine::load_surface(&scene, opts.quiet)
-        .and_then(|surface| sample_law(&scene, &a.scene, surface, &opts, a.samples, a.min_gap))
+    let solved = crate::engine::load_surface(&scene)
+        .and_then(|surface| sample_law(&scene, surface, &opts, &mut Console, a.samples, a.min_gap))
         .with_context(|| format!("scene {}", a.scene.display()))?;
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
         for w in solved.law.calculix_warnings() {

@@ -47,7 +47,7 @@ use anyhow::{Context, Result, bail};
 use strata_bem::BemSolution;
 use strata_runtime::rough::Step;
 
-use crate::engine::{EngineOptions, solve_scene_with_maps};
+use crate::engine::{EngineOptions, SceneSolution, WithMaps, solve};
 
 use crate::plot::{PlotSpec, Series, Style};
 
@@ -121,8 +121,17 @@ pub fn run(a: Args) -> Result<()> {
     };
     let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots)
         .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
-    let sol = solve_scene_with_maps(&scene, &a.scene, &opts, &mut |k, n, m| maps.accept(k, n, m))
-        .with_context(|| format!("scene {}", a.scene.display()))?;
+    let mut sol = solve(
+        &scene,
+        None,
+        &opts,
+        &mut WithMaps {
+            quiet: false,
+            sink: |k, n, m| maps.accept(k, n, m),
+        },
+    )
+    .with_context(|| format!("scene {}", a.scene.display()))?;
+    sol.summary.scene = a.scene.display().to_string();
     maps.finish()?;
     if let Some(f) = &sol.failed {
         // A failing run never replaces complete results (docs/conventions.md).
@@ -138,7 +147,7 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
-    write_outputs(&set, a.no_plots, &sol.steps, sol.meta)?;
+    write_outputs(&set, a.no_plots, &sol)?;
     set.commit()?;
     if let Some(f) = &sol.failed {
         bail!(
@@ -351,31 +360,6 @@ fn steps_json(steps: &[Step]) -> serde_json::Value {
         })).collect())
 }
 
-/// The per-step columns a scene's effects add to curve.csv, read from a solution's
-/// `meta` (`plastic_steps` → `plastic_area_fraction`, `conductance_steps` →
-/// `conductance`, in that order; an infinite conductance, null in JSON, is ∞).
-pub fn effect_columns(meta: &serde_json::Value) -> Vec<(&'static str, Vec<f64>)> {
-    [
-        ("plastic_steps", "plastic_area_fraction"),
-        ("conductance_steps", "conductance"),
-    ]
-    .into_iter()
-    .filter_map(|(key, column)| {
-        let per_step = meta[key].as_array()?;
-        Some((
-            column,
-            per_step
-                .iter()
-                .map(|p| match &p[column] {
-                    serde_json::Value::Null if column == "conductance" => f64::INFINITY,
-                    v => v.as_f64().unwrap_or(f64::NAN),
-                })
-                .collect(),
-        ))
-    })
-    .collect()
-}
-
 /// Whether `dir` holds the curve of an earlier complete run: a `curve.csv` beside a
 /// readable `curve.json` without a `partial` record.
 fn holds_complete_curve(dir: &Path) -> bool {
@@ -388,56 +372,47 @@ fn holds_complete_curve(dir: &Path) -> bool {
         .is_some_and(|j| j.get("partial").is_none_or(serde_json::Value::is_null))
 }
 
-/// Writes curve.csv, curve.json (`meta` plus the steps) and the plots into `set`. A
-/// partial curve (`meta["partial"]` set: the path stopped at a failing step) gets a last
-/// column `partial`, 1 on every row, so that CSV readers see it too; a complete curve has
-/// no such column.
-pub fn write_outputs(
-    set: &OutputSet,
-    no_plots: bool,
-    steps: &[Step],
-    mut meta: serde_json::Value,
-) -> Result<()> {
+/// Writes curve.csv, curve.json (the summary plus the steps, made here by serde from
+/// the typed solution) and the plots into `set`. A partial curve (the path stopped at a
+/// failing step) gets a last column `partial`, 1 on every row, so that CSV readers see
+/// it too; a complete curve has no such column.
+pub fn write_outputs(set: &OutputSet, no_plots: bool, sol: &SceneSolution) -> Result<()> {
+    let steps = &sol.steps[..];
+    let mut meta = serde_json::to_value(&sol.summary)?;
     meta["steps"] = steps_json(steps);
     // With [plasticity]: each step's plastic quantities in curve.json and the
     // plastic_area_fraction column in curve.csv; with [conductance]: each step's
     // conductance and the conductance column after it (only then: a scene's outputs
     // carry only the effects it asked for).
-    let mut extra: Vec<(&str, Vec<f64>)> = Vec::new();
-    for (key, column) in [
-        ("plastic_steps", "plastic_area_fraction"),
-        ("conductance_steps", "conductance"),
-    ] {
-        let Some(per_step) = meta
-            .as_object_mut()
-            .and_then(|m| m.remove(key))
-            .and_then(|v| v.as_array().cloned())
-        else {
-            continue;
-        };
-        if let Some(arr) = meta["steps"].as_array_mut() {
-            for (s, p) in arr.iter_mut().zip(&per_step) {
-                if let (Some(s), Some(p)) = (s.as_object_mut(), p.as_object()) {
-                    s.extend(p.clone());
+    if let Some(arr) = meta["steps"].as_array_mut() {
+        for (k, s) in arr.iter_mut().enumerate() {
+            let Some(s) = s.as_object_mut() else {
+                continue;
+            };
+            let records = [
+                sol.plastic
+                    .as_ref()
+                    .and_then(|p| p.get(k))
+                    .map(serde_json::to_value),
+                sol.conductance
+                    .as_ref()
+                    .and_then(|c| c.get(k))
+                    .map(serde_json::to_value),
+            ];
+            for r in records.into_iter().flatten() {
+                if let serde_json::Value::Object(r) = r? {
+                    s.extend(r);
                 }
             }
         }
-        let values: Vec<f64> = per_step
-            .iter()
-            .map(|p| match &p[column] {
-                // an infinite conductance (full contact) is null in JSON
-                serde_json::Value::Null if column == "conductance" => f64::INFINITY,
-                v => v.as_f64().unwrap_or(f64::NAN),
-            })
-            .collect();
-        extra.push((column, values));
     }
+    let extra = sol.effect_columns();
     let mut csv = if extra.is_empty() {
         curve_csv(steps)?
     } else {
         curve_csv_extra(steps, &extra)?
     };
-    if !meta["partial"].is_null() {
+    if sol.summary.partial.is_some() {
         // the last column `partial`: 1 on every row (numeric cells only before it)
         csv = csv
             .lines()
@@ -451,8 +426,8 @@ pub fn write_outputs(
         serde_json::to_string_pretty(&meta)?.as_bytes(),
     )?;
     if !no_plots && steps.iter().any(|s| s.contacts > 0) {
-        let model = meta["model_short"].as_str().unwrap_or("model").to_string();
-        let stack = meta["stack"].as_str().unwrap_or("").to_string();
+        let model = sol.summary.model_short.clone();
+        let stack = sol.summary.stack.clone();
         let pg: Vec<(f64, f64)> = steps
             .iter()
             .map(|s| (s.gap * 1e6, s.pressure_ratio))

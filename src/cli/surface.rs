@@ -132,8 +132,8 @@ fn export(a: ExportArgs) -> Result<()> {
             a.out.display()
         );
     }
-    let surface = crate::engine::load_surface(&scene, true).context("surface")?;
-    crate::engine::surface_report(&surface, false);
+    let surface = crate::engine::load_surface(&scene).context("surface")?;
+    crate::engine::surface_report(&surface, &crate::engine::Console);
     let source = match &scene.surface.source {
         SurfaceSource::File(p) => format!("file {}", p.display()),
         SurfaceSource::Generate(g) => format!(
@@ -197,7 +197,7 @@ fn info(a: InfoArgs) -> Result<()> {
         }
         let scene =
             Scene::from_file(&a.file).with_context(|| format!("scene {}", a.file.display()))?;
-        crate::engine::load_surface(&scene, true).context("surface")?
+        crate::engine::load_surface(&scene).context("surface")?
     } else {
         let spacing = match (&a.size, &a.pixel_size) {
             (Some(_), Some(_)) => bail!("give either --size or --pixel-size, not both"),
@@ -277,7 +277,7 @@ fn info(a: InfoArgs) -> Result<()> {
         eprint_line(format_args!("WARNING: surface: {w}"));
     }
     if a.json {
-        let mut v = crate::engine::surface_json(&surface);
+        let mut v = serde_json::to_value(crate::solution::SurfaceReport::of(&surface))?;
         if over_valid {
             let st = serde_json::to_value(stats)?;
             if let (Some(obj), Some(st)) = (v.as_object_mut(), st.as_object()) {

@@ -49,7 +49,7 @@ use strata_runtime::hash::fnv1a;
 use strata_runtime::rough::Step;
 use strata_runtime::table::Table;
 
-use crate::engine::{EngineOptions, law_for, solve_scene};
+use crate::engine::{Console, EngineOptions, Quiet, law_for, solve};
 use spec::{Case, Sweep};
 
 /// Result columns after the swept ones (the same as `strata solve`'s curve.csv).
@@ -163,7 +163,7 @@ fn header(sweep: &Sweep) -> Vec<String> {
 }
 
 /// The CSV records of one case's steps; `effects` are the case's effect columns
-/// ([`crate::cli::solve::effect_columns`] of its solution).
+/// ([`crate::engine::SceneSolution::effect_columns`] of its solution).
 fn case_rows(
     sweep: &Sweep,
     case: &Case,
@@ -217,7 +217,7 @@ fn caption(sweep: &Sweep) -> String {
 /// before the parallel part, so that no two workers build the same table. A stack the
 /// scene's table does not serve (a thickness ratio changed, E2/E1 outside the family
 /// range) falls back to the engine's cache, with a message.
-fn prepare_tables(cases: &mut [Case], sweep: &Sweep, opts: &EngineOptions) -> Result<()> {
+fn prepare_tables(cases: &mut [Case], opts: &EngineOptions) -> Result<()> {
     let mut seen: Vec<(strata_runtime::Stack, Option<PathBuf>, Option<PathBuf>)> = Vec::new();
     let mut loaded: Vec<(PathBuf, Table)> = Vec::new();
     for c in cases.iter_mut() {
@@ -256,11 +256,7 @@ fn prepare_tables(cases: &mut [Case], sweep: &Sweep, opts: &EngineOptions) -> Re
             }
         }
         c.scene.table = resolved.clone();
-        let loud = EngineOptions {
-            quiet: false,
-            ..opts.clone()
-        };
-        law_for(&c.scene, &sweep.path, &loud).with_context(|| format!("case {}", c.id))?;
+        law_for(&c.scene, opts, &Console).with_context(|| format!("case {}", c.id))?;
         seen.push((c.scene.stack.clone(), original, resolved));
     }
     Ok(())
@@ -365,10 +361,9 @@ fn run_sweep(a: Args) -> Result<()> {
         .with_context(|| format!("sweep {}", path.display()))?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
-        quiet: true,
         ..Default::default()
     };
-    prepare_tables(&mut cases, &sweep, &opts)?;
+    prepare_tables(&mut cases, &opts)?;
     prepare_capped_tables(&cases, &opts)?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
@@ -403,12 +398,12 @@ fn run_sweep(a: Args) -> Result<()> {
             .map(|&k| {
                 let c = &cases[k];
                 let t = Instant::now();
-                let sol = solve_scene(&c.scene, &sweep.path, &opts)
+                let sol = solve(&c.scene, None, &opts, &mut Quiet)
                     .with_context(|| format!("case {} ({})", c.id, sweep.describe(&c.values)));
                 bar.inc();
                 let steps = match sol {
                     Ok(sol) => {
-                        let effects = crate::cli::solve::effect_columns(&sol.meta);
+                        let effects = sol.effect_columns();
                         Ok((sol.steps, effects))
                     }
                     Err(e) if keep_going => {

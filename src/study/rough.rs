@@ -241,7 +241,7 @@ fn bem_curve(
 pub fn inputs(inputs: &Inputs) -> Result<(Scene, Surface, std::path::PathBuf, Table)> {
     let scene = Scene::from_file(&inputs.scene)
         .with_context(|| format!("--scene {}", inputs.scene.display()))?;
-    let surface = crate::engine::load_surface(&scene, true).context("scene surface")?;
+    let surface = crate::engine::load_surface(&scene).context("scene surface")?;
     if !surface.is_periodic() {
         bail!("--scene: the study's BEM needs a periodic surface");
     }

@@ -201,12 +201,11 @@ fn one_spot_on_a_layered_stack_matches_the_spot_solver() {
 /// radius, against the interpolated table); and beside the BEM on the same scene.
 #[test]
 fn n_model_sums_the_spots() {
-    use strata::engine::{EngineOptions, solve_scene};
+    use strata::engine::{EngineOptions, Quiet, solve};
     use strata::scene::Scene;
     use strata::spots::SpotSum;
     let d = fresh_dir("conductance_bem", "nmodel");
     let opts = EngineOptions {
-        quiet: true,
         cache_dir: Some(d.join("cache")),
         ..Default::default()
     };
@@ -229,15 +228,10 @@ fn n_model_sums_the_spots() {
             let path = d.join(format!("{name}-{model}.toml"));
             std::fs::write(&path, &text).unwrap();
             let scene = Scene::from_file(&path).unwrap();
-            let sol = solve_scene(&scene, &path, &opts).unwrap();
-            let hc: Vec<f64> = sol.meta["conductance_steps"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|s| s["conductance"].as_f64().unwrap())
-                .collect();
+            let sol = solve(&scene, None, &opts, &mut Quiet).unwrap();
+            let hc: Vec<f64> = sol.conductances().unwrap();
             if model == "independent" {
-                let area = sol.meta["nominal_area"].as_f64().unwrap();
+                let area = sol.summary.nominal_area;
                 let sum = SpotSum::new(&scene, scene.conductance.as_ref().unwrap()).unwrap();
                 let mut worst: f64 = 0.0;
                 for (s, &got) in sol.steps.iter().zip(&hc) {
@@ -270,11 +264,8 @@ fn n_model_sums_the_spots() {
                         })
                         .unwrap_or(0)
                 };
-                let again = solve_scene(&scene, &path, &opts).unwrap();
-                assert_eq!(
-                    again.meta["conductance_steps"],
-                    sol.meta["conductance_steps"]
-                );
+                let again = solve(&scene, None, &opts, &mut Quiet).unwrap();
+                assert_eq!(again.conductance, sol.conductance);
                 let uncached = sum.conductances(&sol.steps, area).unwrap();
                 assert_eq!(uncached, hc, "{name}: cached vs in-memory ψ table");
                 assert_eq!(psi_files(), usize::from(name == "coated"), "{name}");

@@ -5,7 +5,7 @@
 
 use std::collections::VecDeque;
 
-use strata::engine::{EngineOptions, solve_scene_with_maps};
+use strata::engine::{EngineOptions, WithMaps, solve};
 use strata::scene::Scene;
 use strata::spots::SpotSum;
 use strata_bem::{ConductanceOptions, ConductanceSolver, Conductor, Geometry};
@@ -149,22 +149,19 @@ fn spot_models_on_the_bems_own_spots() {
     std::fs::write(&scene_path, text).unwrap();
     let scene = Scene::from_file(&scene_path).unwrap();
     let opts = EngineOptions {
-        quiet: true,
         cache_dir: Some(d.join("cache")),
         ..Default::default()
     };
     let mut maps = Vec::new();
-    let sol = solve_scene_with_maps(&scene, &scene_path, &opts, &mut |_, _, m| {
-        maps.push(m.pressure.iter().map(|&p| p > 0.0).collect::<Vec<bool>>());
-        Ok(())
-    })
-    .unwrap();
-    let h_bem: Vec<f64> = sol.meta["conductance_steps"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|s| s["conductance"].as_f64().unwrap())
-        .collect();
+    let mut observer = WithMaps {
+        quiet: true,
+        sink: |_, _, m: strata_bem::BemSolution| {
+            maps.push(m.pressure.iter().map(|&p| p > 0.0).collect::<Vec<bool>>());
+            Ok(())
+        },
+    };
+    let sol = solve(&scene, None, &opts, &mut observer).unwrap();
+    let h_bem: Vec<f64> = sol.conductances().unwrap();
     let (l, n) = (1e-3, 512);
     let dx = l / n as f64;
     let sum = SpotSum::new(&scene, scene.conductance.as_ref().unwrap()).unwrap();

@@ -4,7 +4,7 @@
 //! spot of that radius: the N model's h_c is Σ G(aᵢ)/A₀ over the capped radii, and a
 //! hardness that never bites gives the elastic scene's conductance bit for bit.
 
-use strata::engine::{EngineOptions, SceneSolution, solve_scene};
+use strata::engine::{EngineOptions, Quiet, SceneSolution, solve};
 use strata::scene::Scene;
 
 use crate::support::fresh_dir;
@@ -28,20 +28,14 @@ fn solve(dir: &std::path::Path, name: &str, text: &str) -> SceneSolution {
     std::fs::write(&path, text).unwrap();
     let scene = Scene::from_file(&path).unwrap();
     let opts = EngineOptions {
-        quiet: true,
         cache_dir: Some(dir.join("cache")),
         ..Default::default()
     };
-    solve_scene(&scene, &path, &opts).unwrap_or_else(|e| panic!("{name}: {e:#}"))
+    solve(&scene, None, &opts, &mut Quiet).unwrap_or_else(|e| panic!("{name}: {e:#}"))
 }
 
 fn conductances(sol: &SceneSolution) -> Vec<f64> {
-    sol.meta["conductance_steps"]
-        .as_array()
-        .expect("conductance_steps")
-        .iter()
-        .map(|s| s["conductance"].as_f64().unwrap())
-        .collect()
+    sol.conductances().expect("conductance per step")
 }
 
 /// The capped N model's h_c is Σ 4k_s aᵢ/A₀ over its own capped radii (homogeneous
@@ -59,7 +53,7 @@ fn capped_tips_conduct_through_their_contact_radii() {
     let never = "[plasticity]\nhardness = 1e15\n";
 
     let cn = solve(&d, "capped-n", &scene(&format!("{n_model}{capped}")));
-    let area = cn.meta["nominal_area"].as_f64().unwrap();
+    let area = cn.summary.nominal_area;
     let h = conductances(&cn);
     let mut worst: f64 = 0.0;
     for (s, &got) in cn.steps.iter().zip(&h) {
@@ -77,12 +71,7 @@ fn capped_tips_conduct_through_their_contact_radii() {
     assert!(h.windows(2).all(|w| w[1] > w[0]), "{h:?}");
 
     let en = solve(&d, "elastic-n", &scene(n_model));
-    let plastic: Vec<f64> = cn.meta["plastic_steps"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|s| s["plastic_area_fraction"].as_f64().unwrap())
-        .collect();
+    let plastic: Vec<f64> = cn.plastic_area_fractions().unwrap();
     assert!(plastic.iter().any(|&f| f > 0.0), "{plastic:?}");
     let he = conductances(&en);
     for ((hc, he), f) in h.iter().zip(&he).zip(&plastic) {
@@ -125,12 +114,14 @@ fn capped_tips_conduct_through_their_contact_radii() {
     let ci = solve(&d, "capped-i", &scene(&format!("{i_model}{capped}")));
     let hi = conductances(&ci);
     assert!(
-        ci.meta["conductance"]["definition"]
-            .as_str()
+        ci.summary
+            .conductance
+            .as_ref()
             .unwrap()
+            .definition
             .starts_with("I model"),
-        "{}",
-        ci.meta["conductance"]
+        "{:?}",
+        ci.summary.conductance
     );
     for (a, b) in hi.iter().zip(&h) {
         eprintln!("capped I/N h_c {:.4}", a / b);
