@@ -25,6 +25,9 @@
 //! The loads then give the normalised compliances by their definitions
 //! (tangential.rs): a traction q_L is T = i q_L and u_L = iU, so u_L = −U(T = 1)·q_L.
 
+// Dense assembly and elimination read by row and column index.
+#![allow(clippy::needless_range_loop)]
+
 use super::tangential::Compliances;
 use crate::stack::{Base, Stack, plane_strain_modulus, shear_modulus};
 
@@ -108,10 +111,10 @@ fn psv_g(stack: &Stack, rho: f64) -> [[f64; 2]; 2] {
             unreachable!()
         };
         let r = shear_modulus(young, poisson) / mu1;
-        for (k, col) in (0..2).zip(0..2) {
+        for k in 0..2 {
             let v = psv_basis(k, 0.0, 0.0, poisson, r);
-            a[0][col] = v[2];
-            a[1][col] = v[3];
+            a[0][k] = v[2];
+            a[1][k] = v[3];
         }
         row = 2;
     } else {
