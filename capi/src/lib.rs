@@ -7,10 +7,11 @@
 //! pressure p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg
 //! (Pa/m) at any mean-plane separation g (m), one at a time or all three at once
 //! (`strata_law_eval`, `strata_law_eval_array`). With `strata_law_new_with_law_options`
-//! the law carries its two effects: a hardness caps the asperity tips (issue 35,
-//! [`capped`]), and the interface conductance h_c(g) is solved at the samples (issue 34,
-//! [`spots`], [`conductance_curve`]), as `strata law` computes both. SI units
-//! throughout. The header's
+//! the law carries its two effects: a hardness caps the asperity tips, and the interface
+//! conductance h_c(g) is solved at the samples ([`conductance_curve`] between them).
+//! Every law is sampled by the engine `strata law` runs (`strata_engine::law_build`: the
+//! same spot sums, capped curves and table caches as the command), from the arguments
+//! stated as the engine's inputs. SI units throughout. The header's
 //! `STRATA_VERSION_MAJOR`/`MINOR`/`PATCH` are the library's version at compile time;
 //! `strata_version()` the one linked.
 //!
@@ -36,19 +37,28 @@
 
 #![allow(clippy::missing_safety_doc)]
 
-pub mod capped;
+/// The law's effects (a hardness, a conductance): the engine's.
+pub use strata_engine::law_build::LawEffects;
+/// A law's conductance: its kind and how the counterface conducts (the engine's).
+pub use strata_engine::scene::ConductanceSpec;
+/// How the counterface conducts (`StrataLawOptions.counterface_conduction`): the
+/// engine's, as a scene's `[counterface]` states it.
+pub use strata_engine::scene::CounterfaceConduction;
 /// h_c(g), h_c(p) between a law's samples: the runtime's, shared with the Python package.
 pub use strata_runtime::interface::conductance_curve;
-pub mod spots;
 
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
+use std::sync::Arc;
 
+use strata_engine::law_build::{LawInputs, UncoveredSummit, sample_asperity_law};
+use strata_engine::progress::{Report, scoped};
+use strata_engine::spots::{SpotSum, SpotSumError};
 use strata_runtime::conduction::ConductionKind;
-use strata_runtime::interface::{InterfaceError, InterfaceLaw, SampleOptions};
-use strata_runtime::law::{AsperityLaw, Homogeneous};
+use strata_runtime::interface::{InterfaceError, InterfaceLaw};
+use strata_runtime::law::Homogeneous;
 use strata_runtime::resources::ResourceError;
 use strata_runtime::rough::{Images, Model, Params, RoughContact, RoughError};
 use strata_runtime::stack::{Stack, StackError};
@@ -58,9 +68,8 @@ use strata_runtime::surface::{
 use strata_runtime::table::{Table, TableError};
 use thiserror::Error;
 
-use capped::CappedError;
 use conductance_curve::{ConductanceCurve, CurveError};
-use spots::{Counterface, SpotSum, SpotSumError};
+use strata_tablegen::plastic_asperity::PlasticAsperityError;
 
 /// Success.
 pub const STRATA_OK: i32 = 0;
@@ -162,7 +171,7 @@ pub const STRATA_BASE_CONDUCTION_ISOTHERMAL: i32 = 1;
 
 /// A surrogate table of χ, ζ, g (opaque).
 pub struct StrataTable {
-    table: Table,
+    table: Arc<Table>,
 }
 
 /// A material stack: elastic layers on a rigid or elastic base (opaque).
@@ -190,14 +199,6 @@ impl StrataLaw {
     /// The sampled law p(g), A(g)/A₀, dp/dg.
     pub fn law(&self) -> &InterfaceLaw {
         &self.law
-    }
-
-    fn elastic(law: InterfaceLaw) -> StrataLaw {
-        StrataLaw {
-            law,
-            hardness: None,
-            conductance: None,
-        }
     }
 }
 
@@ -313,26 +314,6 @@ impl Default for StrataLawOptions {
     }
 }
 
-/// How the counterface conducts, as `StrataLawOptions` says.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum CounterfaceConduction {
-    /// Through the elastic counterface's own stack.
-    Stack,
-    /// A perfect conductor.
-    Perfect,
-    /// A conducting half-space of this conductivity (W/(m·K) or S/m).
-    HalfSpace(f64),
-}
-
-/// The checked effects of a [`StrataLawOptions`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct LawEffects {
-    /// The hardness (Pa), `None` for elastic tips.
-    pub hardness: Option<f64>,
-    /// The conductance to solve and how the counterface conducts.
-    pub conductance: Option<(ConductionKind, CounterfaceConduction)>,
-}
-
 impl StrataLawOptions {
     /// The effects, after checking every field (the error names it). The counterface
     /// choice is checked against the stack when the law is built.
@@ -390,7 +371,7 @@ impl StrataLawOptions {
         };
         Ok(LawEffects {
             hardness,
-            conductance: kind.map(|k| (k, counterface)),
+            conductance: kind.map(|kind| ConductanceSpec { kind, counterface }),
         })
     }
 }
@@ -972,35 +953,26 @@ pub fn stack_with_conductivities(
         })
 }
 
-/// The asperity law of `stack`: Hertz when homogeneous, else from `table`.
-fn asperity_law(
-    table: Option<&StrataTable>,
-    stack: &Stack,
-) -> Result<Box<dyn AsperityLaw>, CapiError> {
-    Ok(if stack.is_homogeneous() {
-        Box::new(Homogeneous {
-            e_star: stack.contact_modulus(),
-        })
-    } else {
-        let t = table.ok_or_else(|| CapiError::Invalid {
-            name: "table",
-            reason: "is NULL but the stack is layered: load the table serving it".into(),
-        })?;
-        Box::new(t.table.law_for(stack)?)
-    })
+/// The table of `stack` for the engine: none for a homogeneous stack (Hertz
+/// asperities), else `table`, which a layered stack needs (the engine would build one
+/// into the table cache, minutes of solves: refused here instead).
+fn law_table(table: Option<&StrataTable>, stack: &Stack) -> Result<Option<Arc<Table>>, CapiError> {
+    if stack.is_homogeneous() {
+        return Ok(None);
+    }
+    let t = table.ok_or_else(|| CapiError::Invalid {
+        name: "table",
+        reason: "is NULL but the stack is layered: load the table serving it".into(),
+    })?;
+    Ok(Some(Arc::clone(&t.table)))
 }
 
-/// The spot conductances of `stack` for `kind` with the counterface conducting as
-/// `counterface` says, checked against the stack (`strata law`'s `[conductance]`
-/// checks): errors name the option or the stack's missing conductivity.
-fn spot_sum(
-    stack: &Stack,
-    kind: ConductionKind,
-    counterface: CounterfaceConduction,
-) -> Result<SpotSum, CapiError> {
-    let other = match (counterface, stack.counterface()) {
-        (CounterfaceConduction::Perfect, _) => Counterface::Perfect,
-        (CounterfaceConduction::Stack, Some(c)) => Counterface::Stack(c),
+/// Checks the conduction set-up of `spec` against `stack` before any solve, with the
+/// engine's spot sums ([`SpotSum::of_stack`]): errors name the option or the stack's
+/// missing conductivity.
+fn check_conduction(stack: &Stack, spec: &ConductanceSpec) -> Result<(), CapiError> {
+    let kind = spec.kind;
+    match (spec.counterface, stack.counterface()) {
         (CounterfaceConduction::Stack, None) => {
             return Err(CapiError::Invalid {
                 name: "options.counterface_conduction",
@@ -1022,57 +994,83 @@ fn spot_sum(
                     .into(),
             });
         }
-        (CounterfaceConduction::HalfSpace(k), None) => Counterface::HalfSpace(k),
-    };
+        _ => {}
+    }
     let needs = format!(
         "options.conductance_kind = STRATA_CONDUCTANCE_{} needs it (the stack file's `{}`, or \
          strata_stack_set_conductivities)",
         kind.name().to_uppercase(),
         kind.field()
     );
-    SpotSum::new(&stack.body(), other, kind).map_err(|e| match e {
-        SpotSumError::Body(e) => CapiError::StackField {
+    match SpotSum::of_stack(stack, kind, spec.counterface) {
+        Ok(_) => Ok(()),
+        Err(SpotSumError::Body(e)) => Err(CapiError::StackField {
             name: "stack",
             reason: format!("{e}; {needs}"),
-        },
-        SpotSumError::Counterface(e) => CapiError::StackField {
+        }),
+        Err(SpotSumError::Counterface(e)) => Err(CapiError::StackField {
             name: "stack",
             reason: format!(
                 "counterface: {e}; {needs}, or options.counterface_conduction = \
                  STRATA_COUNTERFACE_CONDUCTION_PERFECT"
             ),
-        },
-        e => CapiError::Solve(e.to_string()),
-    })
+        }),
+        Err(e) => Err(CapiError::Invalid {
+            name: "options.counterface_conduction",
+            reason: e.to_string(),
+        }),
+    }
+}
+
+/// The C ABI's error for an error of the engine: the first error of a known kind in
+/// its chain, with that error's own code and message (the engine's context names the
+/// command line's flags and scene keys, not the C arguments); any other is
+/// `STRATA_ERR_SOLVE` with the whole chain.
+fn engine_error(e: anyhow::Error) -> CapiError {
+    for cause in e.chain() {
+        if let Some(x) = cause.downcast_ref::<ResourceError>() {
+            return CapiError::Resource(x.clone());
+        }
+        if let Some(x) = cause.downcast_ref::<InterfaceError>() {
+            return CapiError::Interface(x.clone());
+        }
+        if let Some(x) = cause.downcast_ref::<TableError>() {
+            return CapiError::Table(x.clone());
+        }
+        if let Some(x) = cause.downcast_ref::<UncoveredSummit>() {
+            return CapiError::Invalid {
+                name: "options.hardness",
+                reason: format!(
+                    "a summit of radius {:e} m is loaded past 0.01 δ_c (δ_c = (πH/2E*)²R, the \
+                     capped asperity's table's lower end) and yields at a contact radius \
+                     a_c = πHR/(2E*) of {:.3e} h1, outside the capped asperity's table (a_c/h1 \
+                     in [{:e}, {:e}]): the hardness is too high for this stack's top layer to be \
+                     treated this way",
+                    x.radius,
+                    x.y,
+                    strata_tablegen::plastic_asperity::RESPONSE_Y.0,
+                    strata_tablegen::plastic_asperity::RESPONSE_Y.1
+                ),
+            };
+        }
+        if let Some(x) = cause.downcast_ref::<PlasticAsperityError>() {
+            return CapiError::Invalid {
+                name: "options.hardness",
+                reason: x.to_string(),
+            };
+        }
+    }
+    CapiError::Solve(format!("{e:#}"))
 }
 
 /// What `strata_law_new_with_law_options` computes: the law of `surface` on `stack` by
-/// h_c of `steps` (the N model's spots in parallel, the I model's interacting through
-/// both bodies; `rc` gives the summits, the cell and the nominal area) against the
-/// samples' separations `gaps`.
-fn law_conductance(
-    sum: &SpotSum,
-    model: Model,
-    steps: &[strata_runtime::rough::Step],
-    rc: &RoughContact<'_>,
-    gaps: &[f64],
-) -> Result<ConductanceCurve, CapiError> {
-    let h = match model {
-        Model::Independent => sum.conductances(steps, rc.area()),
-        Model::Interacting(images) => sum.interacting(steps, rc.summits(), rc.extent(), images),
-    }
-    .map_err(|e| CapiError::Solve(format!("conductance: {e}")))?;
-    ConductanceCurve::new(gaps, &h).ok_or_else(|| {
-        CapiError::Solve(format!(
-            "conductance: the samples' h_c {h:?} are not finite and ≥ 0"
-        ))
-    })
-}
-
-/// `model` with the effects of `effects` — with a hardness the capped law
-/// ([`capped::capped_law`]), else the elastic law of [`build_law_with`] and, with a
-/// conductance, h_c at its samples (the N or I model's spots on the steps re-solved at
-/// the samples' separations, [`spots`]), as `strata law` computes them.
+/// `model` with the effects of `effects`, sampled by the engine
+/// ([`strata_engine::law_build::sample_asperity_law`], `strata law`'s sampler): with a
+/// hardness the capped model's loading curve, with a conductance h_c at every sample.
+/// The arguments are checked first (the error names the argument), then the engine's
+/// errors are given their codes ([`engine_error`]). Its log lines are dropped; the
+/// capped asperity's response tables and the ψ tables are kept in the table cache
+/// (`STRATA_CACHE_DIR`, else `$XDG_CACHE_HOME/strata` or `$HOME/.cache/strata`).
 #[allow(clippy::too_many_arguments)]
 pub fn build_law_with_effects(
     table: Option<&StrataTable>,
@@ -1084,75 +1082,56 @@ pub fn build_law_with_effects(
     params: Params,
     effects: LawEffects,
 ) -> Result<StrataLaw, CapiError> {
-    // the conduction set-up is checked before any solve
-    let sum = match effects.conductance {
-        Some((kind, counterface)) => Some((kind, spot_sum(stack, kind, counterface)?)),
-        None => None,
-    };
-    let law = asperity_law(table, stack)?;
-    if let Some(h) = effects.hardness {
-        if samples < 2 {
-            return Err(CapiError::Interface(InterfaceError::TooFewSamples(samples)));
-        }
-        let il = capped::capped_law(
-            law.as_ref(),
-            stack,
-            surface,
-            model,
-            h,
-            (min_gap, samples),
-            params,
-        )
-        .map_err(|e| match e {
-            CappedError::Response(_) | CappedError::Uncovered { .. } | CappedError::Hardness(_) => {
-                CapiError::Invalid {
-                    name: "options.hardness",
-                    reason: e.to_string(),
-                }
-            }
-            CappedError::MinGap { .. } => CapiError::Invalid {
-                name: "min_gap",
-                reason: e.to_string(),
-            },
-            CappedError::Interface(e) => CapiError::Interface(e),
-            CappedError::Resource(e) => CapiError::Resource(e),
-            e => CapiError::Solve(e.to_string()),
-        })?;
-        // the capped tips' spots (their contact radii) conduct as elastic ones do
-        let conductance = match sum {
-            None => None,
-            Some((kind, sum)) => {
-                let hom = Homogeneous {
-                    e_star: stack.contact_modulus(),
-                };
-                let rc = RoughContact::from_surface(&hom, surface)?;
-                Some((
-                    kind,
-                    law_conductance(&sum, model, &il.steps, &rc, &il.gaps)?,
-                ))
-            }
-        };
-        return Ok(StrataLaw {
-            law: il.law,
-            hardness: Some(h),
-            conductance,
-        });
+    // the conduction set-up and the table are checked before any solve
+    if let Some(spec) = &effects.conductance {
+        check_conduction(stack, spec)?;
     }
-    let rc = RoughContact::from_surface(law.as_ref(), surface)?.with_params(params);
-    let il = InterfaceLaw::sample(&rc, model, &SampleOptions { samples, min_gap })?;
-    let conductance = match sum {
+    let table = law_table(table, stack)?;
+    if samples < 2 {
+        return Err(CapiError::Interface(InterfaceError::TooFewSamples(samples)));
+    }
+    if effects.hardness.is_some() {
+        // the capped law's first contact: the highest summit, whatever the law
+        let hom = Homogeneous {
+            e_star: stack.contact_modulus(),
+        };
+        let g0 = RoughContact::from_surface(&hom, surface)?.top_to_mean();
+        if min_gap.is_nan() || min_gap >= g0 {
+            return Err(CapiError::Invalid {
+                name: "min_gap",
+                reason: format!(
+                    "{min_gap:e} m must lie below the first-contact separation {g0:e} m"
+                ),
+            });
+        }
+    }
+    let inputs = LawInputs {
+        stack,
+        surface: surface.clone(),
+        table,
+        model,
+        params,
+    };
+    let report = Report::new(false);
+    let sampled = scoped(&report, || {
+        sample_asperity_law(inputs, &effects, samples, min_gap, None)
+    })
+    .map_err(engine_error)?;
+    let conductance = match sampled.conductance {
         None => None,
-        Some((kind, sum)) => {
-            // the steps at the law's own separations, in loading order
-            let gaps: Vec<f64> = il.samples().map(|s| s.0).collect();
-            let deltas: Vec<f64> = gaps.iter().map(|&g| rc.top_to_mean() - g).collect();
-            let steps = rc.curve(model, &deltas)?;
-            Some((kind, law_conductance(&sum, model, &steps, &rc, &gaps)?))
+        Some((kind, h)) => {
+            let gaps: Vec<f64> = sampled.law.samples().map(|s| s.0).collect();
+            let curve = ConductanceCurve::new(&gaps, &h).ok_or_else(|| {
+                CapiError::Solve(format!(
+                    "conductance: the samples' h_c {h:?} are not finite and ≥ 0"
+                ))
+            })?;
+            Some((kind, curve))
         }
     };
     Ok(StrataLaw {
-        law: il,
-        hardness: None,
+        law: sampled.law,
+        hardness: effects.hardness,
         conductance,
     })
 }
@@ -1353,7 +1332,7 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let table = Table::load(&p)?;
+            let table = Arc::new(Table::load(&p)?);
             unsafe { put("out", out, StrataTable { table }) }
         })
     }
@@ -1625,8 +1604,11 @@ mod exported {
                 return Err(CapiError::Null("out"));
             }
             let stack = Stack::from_toml_file(&sp)?;
-            let law = build_law_with(table, &stack, surface, model, min_gap, samples, params)?;
-            unsafe { put("out", out, StrataLaw::elastic(law)) }
+            let effects = LawEffects::default();
+            let law = build_law_with_effects(
+                table, &stack, surface, model, min_gap, samples, params, effects,
+            )?;
+            unsafe { put("out", out, law) }
         })
     }
 
@@ -1696,8 +1678,11 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let law = build_law_with(table, stack, surface, model, min_gap, samples, params)?;
-            unsafe { put("out", out, StrataLaw::elastic(law)) }
+            let effects = LawEffects::default();
+            let law = build_law_with_effects(
+                table, stack, surface, model, min_gap, samples, params, effects,
+            )?;
+            unsafe { put("out", out, law) }
         })
     }
 
@@ -1912,7 +1897,8 @@ mod exported {
     /// defaults, the same law bit for bit): with `hardness` the loading curve of the N or
     /// I model with capped asperity tips (`strata law` on a scene with
     /// `[plasticity] hardness`; the response table's ring solves take ~20 CPU-s on a
-    /// layered stack); with `conductance_kind` the interface conductance h_c at every
+    /// layered stack, once: the table is kept in the table cache, `STRATA_CACHE_DIR` or
+    /// `$HOME/.cache/strata`, as the command keeps it); with `conductance_kind` the interface conductance h_c at every
     /// sample (`strata law` on a scene with `[conductance]`: the CSV's `conductance`
     /// column), queried with `strata_law_conductance*`; with both, h_c of the capped
     /// tips' spots. `solver_options` NULL: the defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
@@ -2139,7 +2125,8 @@ pub fn build_law(
     )
 }
 
-/// [`build_law`] with the solver parameters `params` (`strata_law_new_with_options`).
+/// [`build_law`] with the solver parameters `params` (`strata_law_new_with_options`):
+/// [`build_law_with_effects`] without effects.
 pub fn build_law_with(
     table: Option<&StrataTable>,
     stack: &Stack,
@@ -2149,8 +2136,9 @@ pub fn build_law_with(
     samples: usize,
     params: Params,
 ) -> Result<InterfaceLaw, CapiError> {
-    let law = asperity_law(table, stack)?;
-    let rc = RoughContact::from_surface(law.as_ref(), surface)?.with_params(params);
-    let opts = SampleOptions { samples, min_gap };
-    Ok(InterfaceLaw::sample(&rc, model, &opts)?)
+    let effects = LawEffects::default();
+    Ok(build_law_with_effects(
+        table, stack, surface, model, min_gap, samples, params, effects,
+    )?
+    .law)
 }

@@ -1500,9 +1500,11 @@ fn run_effects(exe: &Path, dir: &Path) -> String {
     stdout
 }
 
-/// The law's two effects through the C ABI (issues 34 and 35) against `strata law` on
-/// the equivalent scenes: capped N and I laws (p and A/A₀ per sample, and the CSV
-/// `strata_law_write` writes, within 1e-12 — measured 0: the same operations), a
+/// The law's two effects through the C ABI against `strata law` on the equivalent
+/// scenes — both run the engine's sampler, so this checks the ABI's side: that its
+/// arguments (model, hardness, conductance kind, counterface conduction, a stack from
+/// arrays) state the scene's keys, and its queries and CSV. Capped N and I laws (p and
+/// A/A₀ per sample, and the CSV `strata_law_write` writes, within 1e-12 — measured 0), a
 /// hardness of INFINITY the elastic law bit for bit; the thermal I-model and electrical
 /// N-model conductance h_c at the samples equal the CSV's `conductance` column (1e-12,
 /// measured 0), the combined, scalar and array queries agree bit for bit, h_c(p) returns

@@ -367,8 +367,9 @@ pub fn check_min_gap(g: Option<f64>) -> Result<()> {
     Ok(())
 }
 
-/// N and I models: the runtime's RoughContact, as the C ABI does.
-fn solve_asperities(
+/// N and I models: the law of `strata law` on a scene of the asperity models (and of
+/// the C ABI's laws, through [`crate::law_build::sample_asperity_law`]).
+pub fn solve_asperities(
     scene: &Scene,
     surface: Surface,
     opts: &EngineOptions,

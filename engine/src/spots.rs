@@ -23,16 +23,38 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
+use strata_runtime::Stack;
+use strata_runtime::conduction::ConductionKind;
 use strata_runtime::rough::Images;
 use strata_runtime::rough::Step;
 use strata_runtime::rough::conductance::KernelInfo;
 use strata_runtime::summits::Summit;
 use strata_tablegen::psi_table::CacheUse;
-use strata_tablegen::spot::Spot;
+use strata_tablegen::spot::{Spot, SpotError};
 use strata_tablegen::spot_pair::{SpotPair, SpotSide};
+use thiserror::Error;
 
 use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
+
+/// Why the spot conductances of a stack cannot be built: a body that cannot conduct
+/// as asked (a missing conductivity, named with its layer and field by [`SpotError`]).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum SpotSumError {
+    /// The first body (its counterface not included).
+    #[error("stack: {0}")]
+    Body(SpotError),
+    /// The elastic counterface's stack.
+    #[error("counterface: {0}")]
+    Counterface(SpotError),
+    /// The counterface is to conduct through its own stack, but the body is pressed by
+    /// a rigid flat.
+    #[error(
+        "counterface: conduction through the counterface's stack, but the body is pressed by a \
+         rigid flat (no elastic counterface): the flat conducts perfectly or as a half-space"
+    )]
+    NoElasticCounterface,
+}
 
 /// The N and I models' spot conductances for one scene: the shared
 /// [`SpotPair`] built from the scene's stack and `[conductance]`.
@@ -40,40 +62,47 @@ pub struct SpotSum(SpotPair);
 
 impl SpotSum {
     /// Both bodies' spot conductances from the scene's `[conductance]` (the first body's
-    /// stack, the counterface's conduction).
+    /// stack, the counterface's conduction): [`SpotSum::of_stack`].
     pub fn new(scene: &Scene, spec: &ConductanceSpec) -> Result<SpotSum> {
-        let counterface = match (spec.counterface, scene.stack.counterface()) {
+        Ok(Self::of_stack(&scene.stack, spec.kind, spec.counterface)?)
+    }
+
+    /// Both bodies' spot conductances for `kind` in memory: the first body of `stack`
+    /// (its counterface not included) and the counterface conducting as `counterface`
+    /// says — through the elastic counterface's own stack ([`Stack::counterface`]), as a
+    /// half-space of conductivity k_B (W/(m·K) or S/m), or perfectly. The scenes'
+    /// `[conductance]` and the C ABI's `StrataLawOptions` both come here.
+    pub fn of_stack(
+        stack: &Stack,
+        kind: ConductionKind,
+        counterface: CounterfaceConduction,
+    ) -> Result<SpotSum, SpotSumError> {
+        let b = match (counterface, stack.counterface()) {
             (CounterfaceConduction::Stack, Some(c)) => {
-                SpotSide::of(Spot::new(c, spec.kind).context("counterface")?)
+                SpotSide::of(Spot::new(c, kind).map_err(SpotSumError::Counterface)?)
             }
-            (CounterfaceConduction::Stack, None) => anyhow::bail!("counterface: internal error"),
+            (CounterfaceConduction::Stack, None) => {
+                return Err(SpotSumError::NoElasticCounterface);
+            }
             (CounterfaceConduction::HalfSpace(k), _) => SpotSide::Homogeneous(k),
-            (_, _) => SpotSide::Perfect,
+            (CounterfaceConduction::Perfect, _) => SpotSide::Perfect,
         };
-        Self::with_counterface(&scene.stack.body(), spec.kind, counterface)
+        let a = Spot::new(&stack.body(), kind).map_err(SpotSumError::Body)?;
+        Ok(SpotSum(SpotPair::new(SpotSide::of(a), b)))
     }
 
     /// The body `stack` (its counterface ignored) against a rigid flat: a conducting
     /// half-space of conductivity `flat` (W/(m·K) or S/m), or a perfect conductor (None).
     pub fn against_rigid(
-        stack: &strata_runtime::Stack,
-        kind: strata_runtime::conduction::ConductionKind,
+        stack: &Stack,
+        kind: ConductionKind,
         flat: Option<f64>,
     ) -> Result<SpotSum> {
         let b = match flat {
-            Some(k) => SpotSide::Homogeneous(k),
-            None => SpotSide::Perfect,
+            Some(k) => CounterfaceConduction::HalfSpace(k),
+            None => CounterfaceConduction::Perfect,
         };
-        Self::with_counterface(&stack.body(), kind, b)
-    }
-
-    fn with_counterface(
-        stack: &strata_runtime::Stack,
-        kind: strata_runtime::conduction::ConductionKind,
-        b: SpotSide,
-    ) -> Result<SpotSum> {
-        let body = Spot::new(stack, kind).context("stack")?;
-        Ok(SpotSum(SpotPair::new(SpotSide::of(body), b)))
+        Ok(Self::of_stack(&stack.body(), kind, b)?)
     }
 
     /// Keeps the ψ tables in the table cache `dir` ([`strata_tablegen::psi_table::cached`]):

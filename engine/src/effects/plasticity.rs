@@ -220,17 +220,8 @@ fn solve_capped(
     );
     // a summit loaded past the table's lower end where the table has no y for it:
     // refused before the table is built (when the approaches are known)
-    let uncovered_summit = |k: usize, r: f64, y: f64| {
-        anyhow::anyhow!(
-            "plasticity: summit {k} (radius {r:e} m) is loaded past δ = {:e}·δ_c (δ_c = (πH/2E*)²R, \
-             the capped asperity's table's lower end) and would yield at a contact radius \
-             a_c = πHR/(2E*) of {y:.3e} h1, outside the table (a_c/h1 in [{:e}, {:e}]): the hardness is \
-             too high for this stack's top layer to be treated this way at this load; use \
-             model.kind = \"bem\"",
-            strata_runtime::rough::plastic::ELASTIC_X,
-            strata_tablegen::plastic_asperity::RESPONSE_Y.0,
-            strata_tablegen::plastic_asperity::RESPONSE_Y.1
-        )
+    let uncovered_summit = |summit: usize, radius: f64, y: f64| {
+        anyhow::Error::from(crate::law_build::UncoveredSummit { summit, radius, y })
     };
     if let Some((_, d)) = &approaches
         && let Some(h1) = scene

@@ -1,0 +1,162 @@
+//! The N and I models' contact law from inputs in memory — a stack, a surface, a table,
+//! the model, the solver's parameters and the law's effects (a hardness, a
+//! conductance) — for front ends that hold no scene file (the C ABI). It states them as
+//! the engine's input, a [`Scene`] ([`scene_of`]), and samples the law with the function
+//! behind `strata law` ([`crate::sampled_law::solve_asperities`]): the same spot sums,
+//! capped curves, caches and numbers as the command, because they are the same code.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use anyhow::Result;
+use strata_runtime::Stack;
+use strata_runtime::rough::{Images, Model, Params};
+use strata_runtime::surface::{ReadOptions, Surface};
+use strata_runtime::table::Table;
+use thiserror::Error;
+
+use crate::engine::EngineOptions;
+use crate::sampled_law::SampledLaw;
+use crate::scene::{
+    ConductanceSpec, LoadSpec, ModelKind, ModelSpec, OutputSpec, PlasticitySpec, Scene, SolverSpec,
+    SurfaceSource, SurfaceSpec,
+};
+
+/// What the law's solution is named as in its summary (there is no scene file).
+pub const IN_MEMORY: &str = "(inputs in memory)";
+
+/// The effects of a law beyond the elastic asperity models.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct LawEffects {
+    /// The hardness H (Pa) that caps every asperity tip's contact pressure
+    /// (elastic–perfectly plastic tips, physics.md §6.3); `None` for elastic tips.
+    pub hardness: Option<f64>,
+    /// The interface conductance h_c to solve at every sample (physics.md §6.2): its kind
+    /// and how the counterface conducts.
+    pub conductance: Option<ConductanceSpec>,
+}
+
+/// A law's inputs in memory.
+#[derive(Debug, Clone)]
+pub struct LawInputs<'a> {
+    /// The first body, with its elastic counterface if any ([`Stack::counterface`]).
+    pub stack: &'a Stack,
+    /// The rough surface (heights as the first body sees them).
+    pub surface: Surface,
+    /// The surrogate table serving a layered stack (the pair's, with an elastic
+    /// counterface); `None` for a homogeneous one (Hertz asperities). A layered stack
+    /// without a table has one built into the table cache (minutes).
+    pub table: Option<Arc<Table>>,
+    /// The N or I model.
+    pub model: Model,
+    /// The asperity models' budgets and tolerances, and the cancellation token.
+    pub params: Params,
+}
+
+/// A summit loaded past the capped asperity's response table's lower end
+/// (x = δ/δ_c ≥ `strata_runtime::rough::plastic::ELASTIC_X`) that would yield at a
+/// contact radius a_c = πHR/(2E*) outside the table's range of a_c/h₁: the hardness is
+/// too high for the stack's top layer to be treated by the capped asperity models.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error(
+    "plasticity: summit {summit} (radius {radius:e} m) is loaded past δ = {x:e}·δ_c (δ_c = (πH/2E*)²R, \
+     the capped asperity's table's lower end) and would yield at a contact radius \
+     a_c = πHR/(2E*) of {y:.3e} h1, outside the table (a_c/h1 in [{lo:e}, {hi:e}]): the hardness is \
+     too high for this stack's top layer to be treated this way at this load; use \
+     model.kind = \"bem\"",
+    x = strata_runtime::rough::plastic::ELASTIC_X,
+    lo = strata_tablegen::plastic_asperity::RESPONSE_Y.0,
+    hi = strata_tablegen::plastic_asperity::RESPONSE_Y.1
+)]
+pub struct UncoveredSummit {
+    /// The summit's index.
+    pub summit: usize,
+    /// Its radius of curvature R (m).
+    pub radius: f64,
+    /// a_c/h₁ of its yield.
+    pub y: f64,
+}
+
+/// The scene that states `inputs` (but the surface and the table, which are passed
+/// in memory) with `effects`: the model and its images, the solver's parameters, the
+/// `[plasticity]` and `[conductance]` of the effects, and the separations `load` (the
+/// sampler replaces them with its own). No file is named: the surface is never read
+/// from the scene, and its summary names the inputs [`IN_MEMORY`].
+pub fn scene_of(
+    stack: &Stack,
+    model: Model,
+    params: &Params,
+    effects: &LawEffects,
+    load: LoadSpec,
+) -> Scene {
+    let (kind, images) = match model {
+        Model::Independent => (ModelKind::Independent, Images::Periodic(2)),
+        Model::Interacting(images) => (ModelKind::Interacting, images),
+    };
+    Scene {
+        stack: stack.clone(),
+        stack_file: None,
+        counterface_file: None,
+        counterface_surface: None,
+        table: None,
+        surface: SurfaceSpec {
+            source: SurfaceSource::File(IN_MEMORY.into()),
+            read: ReadOptions::default(),
+            topography: None,
+        },
+        model: ModelSpec { kind, images },
+        load,
+        output: OutputSpec::default(),
+        solver: SolverSpec {
+            max_step_newton_steps: Some(params.max_step_newton_steps),
+            max_step_evaluations: Some(params.max_step_evaluations),
+            kkt_tolerance: Some(params.kkt_tolerance),
+            max_pressure_iterations: Some(params.max_pressure_iterations),
+            bem_max_iterations: None,
+            bem_tolerance: None,
+        },
+        plasticity: effects.hardness.map(|hardness| PlasticitySpec { hardness }),
+        unload: false,
+        conductance: effects.conductance,
+    }
+}
+
+/// The contact law of `inputs` with `effects`: `samples` separations from first contact
+/// down to `min_gap` (m), by the N or I model — `strata law`'s sampler on the scene
+/// [`scene_of`] states: with a hardness the capped model's loading curve, with a
+/// conductance h_c at every sample (the capped tips' spots with both). The capped
+/// asperity's response tables and the ψ tables of layered conducting stacks are kept in
+/// the table cache `cache_dir` (`None`: [`crate::cache::dir`]'s default), as the
+/// command keeps them. Quiet: no log lines (report them with
+/// [`crate::progress::scoped`]).
+pub fn sample_asperity_law(
+    inputs: LawInputs<'_>,
+    effects: &LawEffects,
+    samples: usize,
+    min_gap: f64,
+    cache_dir: Option<std::path::PathBuf>,
+) -> Result<SampledLaw> {
+    let scene = scene_of(
+        inputs.stack,
+        inputs.model,
+        &inputs.params,
+        effects,
+        LoadSpec::Separations(vec![min_gap]),
+    );
+    let opts = EngineOptions {
+        cache_dir,
+        quiet: true,
+        table: inputs.table,
+        cancel: inputs.params.cancel.clone(),
+        ..Default::default()
+    };
+    crate::sampled_law::solve_asperities(
+        &scene,
+        Path::new(IN_MEMORY),
+        inputs.surface,
+        &opts,
+        inputs.model,
+        samples,
+        Some(min_gap),
+    )
+}
