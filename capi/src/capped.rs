@@ -1,4 +1,4 @@
-//! The contact law of capped asperity tips (issue 35, physics.md §6.3 and §9): the
+//! The contact law of capped asperity tips (physics.md §6.3 and §9): the
 //! loading curve of the N or I model whose summits are elastic–perfectly plastic
 //! paraboloids (contact pressure ≤ the hardness H), as `strata law` samples a scene
 //! with `[plasticity]` and model independent or interacting (the `strata` crate's

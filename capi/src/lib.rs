@@ -7,9 +7,9 @@
 //! pressure p(g) (Pa), the real contact-area fraction A(g)/A₀ and the tangent dp/dg
 //! (Pa/m) at any mean-plane separation g (m), one at a time or all three at once
 //! (`strata_law_eval`, `strata_law_eval_array`). With `strata_law_new_with_law_options`
-//! the law carries its two effects: a hardness caps the asperity tips (issue 35,
-//! [`capped`]), and the interface conductance h_c(g) is solved at the samples (issue 34,
-//! [`spots`], [`conductance_curve`]), as `strata law` computes both. SI units
+//! the law carries its two effects: a hardness caps the asperity tips
+//! ([`capped`]), and the interface conductance h_c(g) is solved at the samples
+//! ([`spots`], [`conductance_curve`]), as `strata law` computes both. SI units
 //! throughout. The header's
 //! `STRATA_VERSION_MAJOR`/`MINOR`/`PATCH` are the library's version at compile time;
 //! `strata_version()` the one linked.
@@ -266,7 +266,7 @@ impl StrataSolverOptions {
 }
 
 /// The contact law's optional effects for `strata_law_new_with_law_options`: the
-/// hardness of the asperity tips (issue 35) and the interface conductance (issue 34).
+/// hardness of the asperity tips and the interface conductance.
 /// Fill it with `strata_law_options_default` (which sets `size`; the defaults are the
 /// elastic law without conductance, `strata_law_new_from_stack`'s), then change what is
 /// needed. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT`, naming it

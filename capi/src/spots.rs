@@ -1,4 +1,4 @@
-//! The N and I models' interface conductance at solved steps (issue 34, physics.md
+//! The N and I models' interface conductance at solved steps (physics.md
 //! §6.2), as `strata law` computes it (the `strata` crate's `spots` module, which this
 //! follows operation for operation so that the C ABI's h_c equals the command's CSV
 //! bit for bit; `capi/tests/c_example.rs` checks it):

@@ -1,5 +1,5 @@
 //! `strata study [--quick] --out DIR [--report FILE]`: the accuracy–cost study
-//! (issue 7; the measurements are in `crate::study`).
+//! (the measurements are in `crate::study`).
 //!
 //! Writes one output set (replaced as a whole under a lock, [`crate::output_set`]):
 //! - `DIR/report.md`: machine, tables per stage, the defaults and where they sit on

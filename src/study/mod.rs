@@ -1,4 +1,4 @@
-//! The accuracy–cost study behind `strata study` (issue 7): what each knob of the
+//! The accuracy–cost study behind `strata study`: what each knob of the
 //! solvers buys in accuracy and costs in time, measured in one run on this machine.
 //!
 //! Seven stages, each a module:

@@ -698,7 +698,7 @@ mod check_tests {
         }
     }
 
-    /// The soft-base stack of issue 19 (50 µm, 10 MPa, ν 0.49 on a 2 MPa, ν 0.3
+    /// The soft-base stack (50 µm, 10 MPa, ν 0.49 on a 2 MPa, ν 0.3
     /// half-space): the leading far field k_z(0)·HS alone is off by ~9e-2 of (4/3)a³/r
     /// at the old join (20 H); the table's far field (correction terms, join moved out)
     /// is within 1e-4, asserted at the builder's probes and independently out to 30 ×

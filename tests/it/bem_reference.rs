@@ -207,7 +207,7 @@ fn python_surface() -> Array2<f64> {
 }
 
 /// Compares (pressure ratio, area fraction) pairs: relative pressure ≤ 1e-4, area ≤
-/// 0.5 %, and the rows must span A/A₀ from ≤ 1 % to ≥ 20 % (the issue's range).
+/// 0.5 %, and the rows must span A/A₀ from ≤ 1 % to ≥ 20 % (the required range).
 fn compare_rows(name: &str, theirs: &[(f64, f64)], ours: &[(f64, f64)]) {
     let (mut worst_p, mut worst_a) = (0.0_f64, 0.0_f64);
     let (mut a_min, mut a_max) = (f64::INFINITY, 0.0_f64);
@@ -259,7 +259,7 @@ fn python_tamaas_homogeneous() {
 
 /// Steel on steel (two elastic bodies, strata's counterface, physics.md §6.1) against
 /// Tamaas 2.9 given the composite E* = E*_steel/2 (one deformable body) at equal mean
-/// gap: mean pressure within 1e-9 (issue 33 requires 1e-6; measured 9.3e-11), the
+/// gap: mean pressure within 1e-9 (required 1e-6; measured 9.3e-11), the
 /// contact points the same (area within 0.5 %), loads spanning A/A₀ 1 %…20 %.
 #[test]
 #[ignore = "needs target/python-reference/{surface.npy,tamaas_pair.csv}: run tests/python/run.sh"]
@@ -281,7 +281,7 @@ fn python_tamaas_steel_pair() {
         worst = worst.max((s.mean_pressure / r[ip] - 1.0).abs());
     }
     eprintln!("tamaas steel/steel pair: worst rel. mean pressure {worst:.2e}");
-    // required 1e-6 (issue 33); measured 9.3e-11 (CI mode, 256², A/A₀ 0.58 %…24 %)
+    // required 1e-6; measured 9.3e-11 (CI mode, 256², A/A₀ 0.58 %…24 %)
     assert!(worst <= 1e-9, "pressure off by {worst:e}");
     // Areas and the A/A₀ span, as for the other references (pressure_ratio column
     // replaced by p/E*_pair on both sides).
@@ -294,7 +294,7 @@ fn python_tamaas_steel_pair() {
     compare_rows("tamaas steel/steel", &theirs, &ours);
 }
 
-/// The hardness cap (issue 35, physics.md §6.3) on a half-space against ContactMechanics
+/// The hardness cap (physics.md §6.3) on a half-space against ContactMechanics
 /// 1.8's plastic system (zero-mean half-space, `stiffness_q0 = 0`) at equal approach along
 /// a path that loads and unloads (both keep the plastic depth between steps): mean
 /// pressure within 5e-9 (required 1e-4, measured 1.3e-10), contact and plastic areas
@@ -336,7 +336,7 @@ fn python_contactmechanics_plastic() {
         wpl = wpl.max(epl);
     }
     eprintln!("cm plastic: worst rel. pressure {wp:.2e}, area {wa:.2e}, plastic area {wpl:.2e}");
-    // required 1e-4 (issue 35); measured 1.3e-10 in pressure, areas and plastic areas
+    // required 1e-4; measured 1.3e-10 in pressure, areas and plastic areas
     // identical (CI mode, 256², A/A₀ 0.1 %…24 %, plastic up to 10.4 %)
     let point = 2.0 / (heights.len() as f64);
     assert!(wp <= 5e-9, "pressure off by {wp:e}");
@@ -489,7 +489,7 @@ fn grid_convergence_table() {
 
 /// Non-periodic homogeneous half-space against ContactMechanics 1.8's
 /// FreeFFTElasticHalfSpace on the same surface taken as an isolated sample, at equal
-/// approach (issue 15): mean pressure within 1e-3, contact area within 0.5 %, over
+/// approach: mean pressure within 1e-3, contact area within 0.5 %, over
 /// A/A₀ from ≤ 1 % to ≥ 20 %.
 #[test]
 #[ignore = "needs target/python-reference/{surface.npy,free.csv}: run tests/python/run.sh"]

@@ -1,5 +1,5 @@
 //! `strata solve` with `[output] maps`: the BEM's pressure and gap maps as .npy and
-//! PNG pictures (issue 6). The maps must be the solution curve.csv summarises: the mean
+//! PNG pictures. The maps must be the solution curve.csv summarises: the mean
 //! of the pressure map is curve.csv's mean pressure (1e-12 relative), the contact
 //! fraction of the map is its A/A₀ (exact count), and on a half-space the mean of the gap
 //! map is the separation g_n (the elastic-base convention of the bem module, 1e-10).

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Opens strata's NetCDF maps with xarray (issue 36): contact.engineering's layout.
+"""Opens strata's NetCDF maps with xarray: contact.engineering's layout.
 
     python netcdf_xarray.py OUT_DIR
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks strata's FFT-BEM against independent public solvers (issue 6):
+# Checks strata's FFT-BEM against independent public solvers:
 #   * Tamaas 2.9 (homogeneous half-space, equal mean gap; and steel on steel, strata's
 #     two-body [counterface], against Tamaas with the composite E*),
 #   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach; and its
@@ -83,7 +83,7 @@ done
 [ -z "$failed" ] || fail "tests/python/compare.py failed for:$failed (logs above)"
 t_py=$(date +%s)
 cargo test --workspace --test it -- --ignored bem_reference::python_ --nocapture
-# strata's NetCDF maps (contact.engineering's results.nc) opened with xarray (issue 36).
+# strata's NetCDF maps (contact.engineering's results.nc) opened with xarray.
 cargo test --workspace --test it -- --ignored --exact maps::write_netcdf_for_xarray
 "$VENV/bin/python" tests/python/netcdf_xarray.py "$STRATA_PY_REF/netcdf/out"
 t_end=$(date +%s)
