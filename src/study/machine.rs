@@ -44,7 +44,9 @@ impl Machine {
 
     /// Every row "not recorded", for a study run without `--machine`.
     pub fn not_recorded() -> Self {
-        let n = || "not recorded (`cargo run -p xtask -- machine FILE`, then `--machine FILE`)".to_string();
+        let n = || {
+            "not recorded (`cargo run -p xtask -- machine FILE`, then `--machine FILE`)".to_string()
+        };
         Machine {
             cpu: n(),
             cores: n(),

@@ -456,23 +456,3 @@ format = ["npy", "netcdf"]
         "{i} {j}"
     );
 }
-
-/// Writes a BEM run with NetCDF maps for tests/python/run.sh, which opens them with
-/// xarray (`tests/python/netcdf_xarray.py`): `$STRATA_PY_REF/netcdf/out`.
-#[test]
-#[ignore = "run by tests/python/run.sh (xarray reads the NetCDF maps)"]
-fn write_netcdf_for_xarray() {
-    let root = PathBuf::from(
-        std::env::var("STRATA_PY_REF").expect("STRATA_PY_REF (set by tests/python/run.sh)"),
-    )
-    .join("netcdf");
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
-    let sc = scene(
-        &root,
-        "bem",
-        "[output]\nmaps = \"all\"\nformat = [\"npy\", \"netcdf\"]",
-    );
-    let o = solve(&sc, &root.join("out"), &["--no-plots"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-}
