@@ -722,7 +722,7 @@ mod tests {
 
     /// A directory set replaces the previous set as a whole: stale files go, the
     /// user's own files stay, nothing is left beside the target.
-    /// Devices and FIFOs are refused and left as they are (issue 37: `law --out /dev/full
+    /// Devices and FIFOs are refused and left as they are (`law --out /dev/full
     /// --force` as root replaced the device node by a regular file); a symlinked output
     /// file or directory is written through, the link kept; a dangling link is refused.
     #[test]

@@ -758,7 +758,7 @@ fn assert_same_solution(a: &BemSolution, b: &BemSolution, what: &str) {
 
 /// Offset control without the uniform mode (periodic cell, elastic base) on a 1 µm
 /// coating 1e4× stiffer than its base, 64² — the case that stalled the preconditioned
-/// iteration in session 7 (contact over the whole cell, error ~1 at any iteration count):
+/// iteration before (contact over the whole cell, error ~1 at any iteration count):
 /// - a cold start guesses with the stiffness of the longest wave, E*₁k₁/(2S(k₁)), not the
 ///   top material's E*₁k₁/2 (1/S(k₁) ≈ 1e4 times too hard here): the preconditioned
 ///   iteration converges and needs fewer iterations than the plain one (measured 64
@@ -809,7 +809,7 @@ fn preconditioned_offset_control_sheds_an_excess_load() {
 /// a near-incompressible one (ν = 0.4999, 10× stiffer) (1 µm, 64² periodic): every step of the preconditioned curve against a cold plain
 /// solve, same contact set, pressures within 1e-7 of the peak (measured ≤ 2.1e-9 stiff,
 /// ≤ 6.6e-11 soft). On the soft coating the pressure-weighted error Σ p|g| / Σ p that
-/// the iteration stopped on until session 8 left 2.3e-4 of the peak at the contact's
+/// the iteration once stopped on left 2.3e-4 of the peak at the contact's
 /// edge (gaps of 1e-3 σ_z under small pressures); the stopping rule is now the largest
 /// gap on the contact set.
 #[test]

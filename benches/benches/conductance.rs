@@ -1,4 +1,4 @@
-//! Conductance benches (issue 34). Run: `cargo bench -p strata-benches --bench conductance`
+//! Conductance benches. Run: `cargo bench -p strata-benches --bench conductance`
 //! (`-- bem` for the BEM item alone, `-- spots` for the N and I models alone).
 //!
 //! Printed, one run, on the paper's conducting scene against steel

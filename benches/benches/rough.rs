@@ -1,4 +1,4 @@
-//! Rough-contact solver speed (issue 5 targets, 2 cores): a 20-step load curve on the
+//! Rough-contact solver speed (the performance targets, 2 cores): a 20-step load curve on the
 //! paper's surface (n = 512, generated as in scenes/paper-E2E1-5-interacting.toml) with
 //! the I model < 0.5 s at k_M = 10 and < 3 s at k_M = 40, and the N model < 20 ms.
 //!
@@ -13,17 +13,17 @@
 //!   solved state of the last step, with the default far-field tolerance or with exact
 //!   pair-by-pair image sums (`/exact`) — the solver's hot path.
 //!
-//! * `stall/<stack>/<case>` (issue 19.2: every step of the elastic-base stay/stall cases
+//! * `stall/<stack>/<case>` (requirement: every step of the elastic-base stay/stall cases
 //!   of tests/it/stalls.rs in < 1 s): one cold I-model step (problem preparation
 //!   included) on the stacks A (50 µm, 4 GPa, ν 0.15 on 12 GPa) and B (50 µm, 10 MPa,
-//!   ν 0.49 on 2 MPa), tables built here, on the issue's surface (512², k 2…10, seeds
+//!   ν 0.49 on 2 MPa), tables built here, on a generated surface (512², k 2…10, seeds
 //!   4242 and 1); `stall/<stack>/path60/<images>`: the 60-step path to 1.5 (z_M − z_min)
 //!   (divide by 60 for a step).
 //! * `control/<stack>/<images>/{separation,pressure}`: one cold separation-controlled
 //!   step at δ = 0.8 (z_M − z̄) and one pressure-controlled step to the mean pressure it
-//!   gives (issue 19.2: they must cost about the same), side by side in one run.
+//!   gives (they must cost about the same), side by side in one run.
 //!
-//! * `scaling/table-E2E1=5/periodic5x5/grid<n>-km<k_M>` (issue 20): the I-model
+//! * `scaling/table-E2E1=5/periodic5x5/grid<n>-km<k_M>`: the I-model
 //!   20-step curve against the number of summits N on generated surfaces (L = 1 mm,
 //!   D_f = 2.4, k_m = 2) of about 1e3, 4e3 and 1e4 summits, cold as above: above
 //!   `Params::dense_pair_limit` loaded asperities the far field runs on the FFT grid

@@ -2,7 +2,7 @@
 //! Uses the shipped family table `tables/paper-two-layer.strata` (a member stack
 //! with E2/E1 = 5, off the family grid).
 //!
-//! Issue 13.7, side by side in one run: the runtime's hand-written C¹ cubic Hermite
+//! Side by side in one run: the runtime's hand-written C¹ cubic Hermite
 //! (`interp::Pair1`) against the `splines` crate holding the same interpolant exactly
 //! (cubic Bézier keys with mirrored tangents p_k ± m_k/3) on the χ nodes of that
 //! member; the setup asserts the two agree to 1e-13. The figures are quoted in the

@@ -3,7 +3,7 @@
 //! Run: `cargo bench -p strata-benches --bench tablebuild`.
 //!
 //! `family33` (printed, one run; `cargo bench -p strata-benches --bench tablebuild --
-//! family33`): the 33-member family of issue 37 (E2/E1 = 0.1 … 10) as `strata table
+//! family33`): the 33-member family (E2/E1 = 0.1 … 10) as `strata table
 //! build --vary 2:0.1:10:33` builds it — far-field checks and the 1000-point
 //! interpolation check included — wall seconds, process CPU seconds and CPU seconds per
 //! member.

@@ -1,4 +1,4 @@
-//! Where the N model's conductance time goes (issue 34): the mechanics and the ψ table
+//! Where the N model's conductance time goes: the mechanics and the ψ table
 //! of the N model on the paper's conducting scene (29 summits, 20 steps), CPU time of
 //! this process (best of 5).
 //! Run: `cargo run --release -p strata-benches --features probes --example psi_probe`.

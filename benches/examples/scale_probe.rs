@@ -1,4 +1,4 @@
-//! One I-model load curve at scale (issue 20) with the solver's per-step diagnostics:
+//! One I-model load curve at scale with the solver's per-step diagnostics:
 //! Newton steps, evaluations of the interaction sums, activation rounds, time, and
 //! the far field in use (cut-off r_c, near radius, grid cells, measured error).
 //!

@@ -267,7 +267,7 @@ impl StrataSolverOptions {
 }
 
 /// The contact law's optional effects for `strata_law_new_with_law_options`: the
-/// hardness of the asperity tips (issue 35) and the interface conductance (issue 34).
+/// hardness of the asperity tips and the interface conductance.
 /// Fill it with `strata_law_options_default` (which sets `size`; the defaults are the
 /// elastic law without conductance, `strata_law_new_from_stack`'s), then change what is
 /// needed. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT`, naming it

@@ -288,7 +288,7 @@ fn abi_rejects_bad_input_with_codes_and_messages() {
             STRATA_ERR_NULL
         );
         assert!(last_error().contains("path"), "{}", last_error());
-        // a C boolean other than 0/1 (issue 37: `periodic = 7` was taken as true)
+        // a C boolean other than 0/1 (`periodic = 7` was once taken as true)
         assert_eq!(
             strata_surface_load(c("no/such.npy").as_ptr(), 1e-3, 7, &mut s2),
             STRATA_ERR_INVALID_ARGUMENT
@@ -872,7 +872,7 @@ fn surface_read_through_the_abi() {
     assert_eq!(code, STRATA_ERR_NULL);
 }
 
-/// Issue 37: `strata_surface_generate(grid = 16384)` ignored STRATA_MEMORY_LIMIT (8.4 GB,
+/// `strata_surface_generate(grid = 16384)` once ignored STRATA_MEMORY_LIMIT (8.4 GB,
 /// SIGABRT under a 3 GB ulimit). Under a 64 MiB limit it returns an error code with the
 /// estimate and the limit, and the host goes on (in a child process: the limit is read
 /// from the environment, which this process's other tests share).
@@ -914,7 +914,7 @@ fn memory_limit_child() {
     println!("child: refused: {msg}");
 }
 
-/// Issue 37.3: the solver's budgets reach C through `strata_law_new_with_options`: the
+/// The solver's budgets reach C through `strata_law_new_with_options`: the
 /// defaults give `strata_law_new`'s law bit for bit (NULL options too); a one-step
 /// Newton budget fails the I model with a message naming the option to raise; a field
 /// out of range is refused by name.
@@ -1144,7 +1144,7 @@ fn run_memory_example(exe: &Path, dir: &Path) -> String {
     stdout
 }
 
-/// The C ABI from memory (issue 36): a law from a stack given as arrays and a surface
+/// The C ABI from memory: a law from a stack given as arrays and a surface
 /// given as a height buffer equals, bit for bit, the law from the stack file (in C) and
 /// the runtime's law of the same heights (in Rust); `strata_law_eval` and
 /// `strata_law_eval_array` equal the three single queries bit for bit; the version

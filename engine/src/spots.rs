@@ -1,4 +1,4 @@
-//! The N and I models' interface conductance (issue 34, physics.md §6.2): the contact spots
+//! The N and I models' interface conductance (physics.md §6.2): the contact spots
 //! conduct independently,
 //!
 //! ```text

@@ -1,6 +1,6 @@
 /*
  * strata C ABI example: the contact law's two effects, yielding asperity tips (a
- * hardness, issue 35) and the interface conductance (issue 34), through
+ * hardness) and the interface conductance, through
  * strata_law_new_with_law_options.
  *
  * Build (from the repository root, after `cargo build -p strata-capi`):

@@ -1,6 +1,6 @@
 ! strata Fortran example: the twin of examples/c/effects_example.c through the module
 ! capi/fortran/strata.f90. The contact law's two effects: yielding asperity tips (a
-! hardness, issue 35) and the interface conductance (issue 34).
+! hardness) and the interface conductance.
 !
 ! Build (from the repository root, after `cargo build -p strata-capi`):
 !   gfortran -std=f2008 capi/fortran/strata.f90 examples/fortran/effects_example.f90 \

@@ -133,7 +133,7 @@ pub fn heights(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize, usize)> {
         ));
     }
     // the memory limit before the copy: a huge array (or a broadcast view of one) is
-    // refused by name instead of aborting the interpreter (issue 37)
+    // refused by name instead of aborting the interpreter
     if let Ok(a) = obj.cast::<PyUntypedArray>()
         && let [n0, n1] = a.shape()
     {

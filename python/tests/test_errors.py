@@ -59,7 +59,7 @@ def test_non_finite_height(bad):
 
 
 def test_masked_points_are_missing_values():
-    # issue 37: the values under a numpy mask were taken as heights
+    # the values under a numpy mask were once taken as heights
     z = heights()
     m = np.ma.masked_array(z.copy(), mask=np.zeros_like(z, dtype=bool))
     m[6, 2] = np.ma.masked
@@ -74,7 +74,7 @@ def test_masked_points_are_missing_values():
 
 
 def test_huge_array_refused_under_the_memory_limit(monkeypatch):
-    # issue 37: Surface(array) ignored the limit (a 16384² view aborted the interpreter)
+    # Surface(array) once ignored the limit (a 16384² view aborted the interpreter)
     monkeypatch.setenv("STRATA_MEMORY_LIMIT", "64M")
     view = np.broadcast_to(np.float64(1e-6), (16384, 16384))
     with pytest.raises(strata.SurfaceError, match=r"16384×16384.*limit"):
@@ -84,7 +84,7 @@ def test_huge_array_refused_under_the_memory_limit(monkeypatch):
 
 
 def test_counts_and_lengths_are_named():
-    # issue 37: negative ints raised OverflowError without the parameter's name, and
+    # negative ints once raised OverflowError without the parameter's name, and
     # bools were taken as numbers (size=True gave a 1 m sample)
     with pytest.raises(strata.SurfaceError, match=r"grid = -5"):
         strata.Surface.generate(1e-3, -5, 2.4, 2, 10, 1e-6)
@@ -102,7 +102,7 @@ def test_counts_and_lengths_are_named():
 
 
 def test_table_g_names_r_and_a():
-    # issue 37: Table.g(1e-4, 1e-5) said "r ... must be >= a = 0.00001" (a and r swapped)
+    # Table.g(1e-4, 1e-5) once said "r ... must be >= a = 0.00001" (a and r swapped)
     import pathlib
     root = pathlib.Path(__file__).resolve().parents[2]
     t = strata.Table.load(str(root / "tables" / "paper-two-layer.strata"))

@@ -1,4 +1,4 @@
-"""The type stubs (issue 36): `strata/_strata.pyi` and `py.typed` are installed with the
+"""The type stubs: `strata/_strata.pyi` and `py.typed` are installed with the
 package, and the stubs name every public class, function and member of the native
 module `strata._strata`, with the parameters the module's own signatures give."""
 

@@ -1,5 +1,5 @@
 //! The constriction factor ψ of one contact spot on a layered conductor, tabulated
-//! against a/h₁ (issue 34, physics.md §6.2): an isothermal disc of radius a (m) on the
+//! against a/h₁ (physics.md §6.2): an isothermal disc of radius a (m) on the
 //! body conducts
 //!
 //! ```text

@@ -119,7 +119,7 @@ pub struct Stack {
     /// the serde form (a table file stores it beside the stack, `table::codec`).
     #[serde(skip)]
     counterface: Option<Box<Stack>>,
-    /// Conduction properties (issue 34). Not part of a table file's binary header
+    /// Conduction properties. Not part of a table file's binary header
     /// (`serde(skip)`: tables stay byte-identical and loadable); empty unless given.
     #[serde(skip)]
     conduction: StackConduction,

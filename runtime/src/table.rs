@@ -47,7 +47,7 @@
 //! The file format lives in [`codec`] (bincode 2.0.1, serde), and interpolation in
 //! [`interp`] (one mechanism for every array).
 //!
-//! # Why not the `splines` crate (issue 13.7)
+//! # Why not the `splines` crate
 //! In one dimension the interpolant is representable exactly by `splines` 5.0: a C¹
 //! cubic Hermite piece on a uniform grid is the cubic Bézier with control points
 //! p_k + m_k/3 and p_{k+1} − m_{k+1}/3, i.e. `Interpolation::Bezier(p_k + m_k/3)` keys

@@ -1,4 +1,4 @@
-//! `strata compare SCENE.toml… --out DIR`: model accuracy (issue 6). Each scene's
+//! `strata compare SCENE.toml… --out DIR`: model accuracy. Each scene's
 //! surface, stack and load are solved three times: with the independent asperities
 //! (N model), the interacting asperities (I model, the scene's `model.images`) and the
 //! full-field boundary elements (BEM, the reference); the scene's own `model.kind` is

@@ -1,5 +1,5 @@
 //! `strata law SCENE.toml --out FILE`: the contact law of the scene's rough interface
-//! as a monotone, finely sampled table (issue 9): p(g), A(g)/A₀ and dp/dg from first
+//! as a monotone, finely sampled table: p(g), A(g)/A₀ and dp/dg from first
 //! contact down to a smallest separation, for FE contact definitions.
 //!
 //! Formats (by `--format`, else by the extension of FILE):

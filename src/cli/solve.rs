@@ -1,4 +1,4 @@
-//! `strata solve SCENE.toml --out DIR`: load curve of a rough contact (issue 5).
+//! `strata solve SCENE.toml --out DIR`: load curve of a rough contact.
 //!
 //! Writes one output set, replaced as a whole ([`crate::output_set`]: staged beside
 //! DIR, swapped in at the end, under a lock; files you put in DIR yourself are kept):

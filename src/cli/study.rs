@@ -1,5 +1,6 @@
-//! `strata study [--quick] --out DIR [--report FILE]`: the accuracy–cost study
-//! (issue 7; the measurements are in `crate::study`).
+//! `strata study [--quick] [--machine FILE] --out DIR [--report FILE]`: the accuracy–cost
+//! study (the measurements are in `crate::study`; the machine's description is read from
+//! FILE, written by `cargo run -p xtask -- machine FILE`).
 //!
 //! Writes one output set (replaced as a whole under a lock, [`crate::output_set`]):
 //! - `DIR/report.md`: machine, tables per stage, the defaults and where they sit on
@@ -46,6 +47,10 @@ pub struct Args {
     /// Family table of the paper's stacks (approximation stage).
     #[arg(long, default_value = "tables/paper-two-layer.strata")]
     pub table: PathBuf,
+    /// The machine the study runs on, for the report (TOML, written by
+    /// `cargo run -p xtask -- machine FILE`); without it the rows say "not recorded".
+    #[arg(long)]
+    pub machine: Option<PathBuf>,
 }
 
 /// Plot-link prefix from the directory of `report` to `out` ("sub/dir/"), or the
@@ -96,6 +101,10 @@ pub fn run(a: Args) -> Result<()> {
             );
         }
     }
+    let machine = match &a.machine {
+        Some(p) => study::machine::Machine::from_file(p)?,
+        None => study::machine::Machine::not_recorded(),
+    };
     let set = OutputSet::dir("--out", &a.out, a.force)?;
     let report_set = a
         .report
@@ -106,9 +115,13 @@ pub fn run(a: Args) -> Result<()> {
         scene: a.scene.clone(),
         table: a.table.clone(),
     };
-    let result = study::run(mode, &inputs)?;
+    let result = study::run(mode, &inputs, machine)?;
     report::plots(&result, set.root(), &a.format)?;
-    let mut command = format!("strata study{} --out {}", mode.flag(), a.out.display());
+    let mut command = format!("strata study{}", mode.flag());
+    if let Some(m) = &a.machine {
+        command.push_str(&format!(" --machine {}", m.display()));
+    }
+    command.push_str(&format!(" --out {}", a.out.display()));
     if let Some(r) = &a.report {
         command.push_str(&format!(" --report {}", r.display()));
     }

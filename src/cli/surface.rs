@@ -1,4 +1,4 @@
-//! `strata surface`: surfaces on their own (issue 15).
+//! `strata surface`: surfaces on their own.
 //!
 //! - `strata surface export SCENE.toml --out FILE.x3p|FILE.npy [--dtype D|F|L|I]`: the
 //!   scene's surface exactly as a solve sees it (read, converted to metres, repaired,

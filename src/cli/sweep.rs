@@ -1,6 +1,6 @@
 //! `strata sweep SWEEP.toml --out DIR`: parametric sweeps over stack, surface and
-//! model parameters, in parallel (rayon), with shards for batch schedulers (issue 9,
-//! part 3). The sweep file format and the case order are documented in [`spec`].
+//! model parameters, in parallel (rayon), with shards for batch schedulers. The
+//! sweep file format and the case order are documented in [`spec`].
 //!
 //! Outputs of an unsharded run (one output set, replaced as a whole under a lock,
 //! [`crate::output_set`]):

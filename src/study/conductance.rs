@@ -1,4 +1,4 @@
-//! Stage 7: interface conductance (issue 34, physics.md §6.2) on the rough stage's
+//! Stage 7: interface conductance (physics.md §6.2) on the rough stage's
 //! surface: the thermal constriction conductance per nominal area h_c (W/(m²·K)) of the
 //! contact spots in the three models — the FFT-BEM's conduction solve on its contact
 //! set at several grids, the N model's spots in parallel (Σ G(aᵢ)/A₀) and the I model's

@@ -1,115 +1,61 @@
-//! The machine a study ran on: CPU, cores, memory, OS, compiler, build profile and
-//! load, read from /proc and /etc where available ("unknown" otherwise).
+//! The machine a study ran on, as `cargo run -p xtask -- machine FILE` recorded it
+//! (`strata study --machine FILE`). The study reads it and does not probe the machine
+//! itself: no /proc, no subprocesses in the user's binary.
 
-use std::process::Command;
+use std::path::Path;
 
-/// What the report's "Machine" section shows.
-#[derive(Debug, Clone)]
+use anyhow::{Context, Result};
+
+/// What the report's "Machine" section shows from the machine file (the rayon pool, the
+/// build profile and strata's version come from the running program).
+#[derive(Debug, Clone, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Machine {
+    /// CPU model name.
     pub cpu: String,
-    pub logical_cpus: String,
-    pub threads: usize,
+    /// Logical CPUs and how many the process may use.
+    pub cores: String,
+    /// Total memory.
     pub memory: String,
+    /// Operating system.
     pub os: String,
+    /// Kernel release.
     pub kernel: String,
+    /// The compiler's version.
     pub rustc: String,
-    pub profile: String,
-    pub strata: String,
+    /// The commit of the source tree (and whether it had uncommitted changes).
     pub commit: String,
+    /// The 1, 5 and 15 minute load averages when the machine was probed.
     pub load: String,
 }
 
-fn read(path: &str) -> Option<String> {
-    std::fs::read_to_string(path).ok()
-}
-
-fn run(cmd: &str, args: &[&str]) -> Option<String> {
-    let out = Command::new(cmd).args(args).output().ok()?;
-    if !out.status.success() {
-        return None;
-    }
-    let s = String::from_utf8_lossy(&out.stdout).trim().to_string();
-    (!s.is_empty()).then_some(s)
-}
-
-/// /proc/loadavg's 1, 5 and 15 minute load averages.
-pub fn load_average() -> String {
-    read("/proc/loadavg")
-        .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
-        .unwrap_or_else(|| "unknown".into())
-}
-
 impl Machine {
-    pub fn detect() -> Self {
-        let cpuinfo = read("/proc/cpuinfo").unwrap_or_default();
-        let cpu = cpuinfo
-            .lines()
-            .find(|l| l.starts_with("model name"))
-            .and_then(|l| l.split_once(':'))
-            .map(|(_, v)| v.trim().to_string())
-            .unwrap_or_else(|| "unknown".into());
-        let logical = cpuinfo
-            .lines()
-            .filter(|l| l.starts_with("processor"))
-            .count();
-        let available = std::thread::available_parallelism().map_or(0, |n| n.get());
-        let logical_cpus = if logical > 0 {
-            format!("{logical} logical CPUs (/proc/cpuinfo), {available} available to the process")
-        } else {
-            format!("{available} available to the process")
+    /// Reads a machine file (TOML, every key required); errors name the file and the key.
+    pub fn from_file(path: &Path) -> Result<Self> {
+        let what = format!("--machine {}", path.display());
+        let text = strata_runtime::resources::read_text_capped(
+            path,
+            strata_runtime::resources::TEXT_FILE_CAP,
+            "a machine file",
+        )
+        .with_context(|| what.clone())?;
+        toml::from_str(&text).with_context(|| what)
+    }
+
+    /// Every row "not recorded", for a study run without `--machine`.
+    pub fn not_recorded() -> Self {
+        let n = || {
+            "not recorded (`cargo run -p xtask -- machine FILE`, then `--machine FILE`)".to_string()
         };
-        let memory = read("/proc/meminfo")
-            .and_then(|m| {
-                m.lines()
-                    .find(|l| l.starts_with("MemTotal"))
-                    .and_then(|l| l.split_whitespace().nth(1))
-                    .and_then(|kb| kb.parse::<f64>().ok())
-            })
-            .map_or_else(
-                || "unknown".into(),
-                |kb| format!("{:.1} GiB", kb / 1024.0 / 1024.0),
-            );
-        let os = read("/etc/os-release")
-            .and_then(|s| {
-                s.lines()
-                    .find(|l| l.starts_with("PRETTY_NAME="))
-                    .map(|l| l["PRETTY_NAME=".len()..].trim_matches('"').to_string())
-            })
-            .unwrap_or_else(|| std::env::consts::OS.into());
-        let kernel = read("/proc/sys/kernel/osrelease")
-            .map(|s| format!("Linux {}", s.trim()))
-            .unwrap_or_else(|| "unknown".into());
-        let rustc = run("rustc", &["--version"])
-            .map(|v| format!("{v} (the rustc on PATH at run time)"))
-            .unwrap_or_else(|| "unknown".into());
-        let profile = if cfg!(debug_assertions) {
-            "dev/test (debug assertions on): times are not representative".into()
-        } else {
-            "release (optimised, no debug assertions)".into()
-        };
-        let commit = run("git", &["rev-parse", "--short", "HEAD"])
-            .map(|c| {
-                let dirty = run("git", &["status", "--porcelain", "--untracked-files=no"])
-                    .is_some_and(|s| !s.is_empty());
-                if dirty {
-                    format!("{c} + uncommitted changes")
-                } else {
-                    c
-                }
-            })
-            .unwrap_or_else(|| "unknown".into());
         Machine {
-            cpu,
-            logical_cpus,
-            threads: rayon::current_num_threads(),
-            memory,
-            os,
-            kernel,
-            rustc,
-            profile,
-            strata: env!("CARGO_PKG_VERSION").into(),
-            commit,
-            load: load_average(),
+            cpu: n(),
+            cores: n(),
+            memory: n(),
+            os: n(),
+            kernel: n(),
+            rustc: n(),
+            commit: n(),
+            load: n(),
         }
     }
 }

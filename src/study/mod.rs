@@ -1,4 +1,4 @@
-//! The accuracy–cost study behind `strata study` (issue 7): what each knob of the
+//! The accuracy–cost study behind `strata study`: what each knob of the
 //! solvers buys in accuracy and costs in time, measured in one run on this machine.
 //!
 //! Seven stages, each a module:
@@ -65,15 +65,13 @@ pub struct Study {
     pub conductance: conductance::Results,
     pub errors: Errors,
     pub timings: Vec<(String, String, Timing)>,
-    pub machine_start: machine::Machine,
-    pub load_end: String,
+    pub machine: machine::Machine,
     pub seconds: f64,
 }
 
 /// Runs every stage. Progress lines go to stderr.
-pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
+pub fn run(mode: Mode, inputs: &Inputs, machine: machine::Machine) -> Result<Study> {
     let t0 = Instant::now();
-    let machine_start = machine::Machine::detect();
     let mut runner = Runner::new(mode)?;
     let mut errors = Errors::default();
     // Every input file first: a bad --table or --scene fails before the first stage.
@@ -110,8 +108,7 @@ pub fn run(mode: Mode, inputs: &Inputs) -> Result<Study> {
         conductance,
         errors,
         timings: runner.log,
-        machine_start,
-        load_end: machine::load_average(),
+        machine,
         seconds,
     })
 }

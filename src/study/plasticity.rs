@@ -1,4 +1,4 @@
-//! Stage 6: yielding tips (issue 35, physics.md §9) on the rough stage's surface: the
+//! Stage 6: yielding tips (physics.md §9) on the rough stage's surface: the
 //! contact pressure capped at a hardness H = 0.05 E*₁ (a soft, polymer-like coating) in
 //! the three models — the FFT-BEM at several grids, the N and the I model (periodic 5×5
 //! images) through the capped asperity's response table. The reference is the capped

@@ -39,7 +39,13 @@ fn cell_status(points: &[Point], i: usize, floor: f64) -> String {
 /// the plots' extension.
 pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String {
     let mut s = String::new();
-    let m = &study.machine_start;
+    let m = &study.machine;
+    let threads = rayon::current_num_threads();
+    let profile = if cfg!(debug_assertions) {
+        "dev/test (debug assertions on): times are not representative"
+    } else {
+        "release (optimised, no debug assertions)"
+    };
     let w = &mut s;
     let _ = writeln!(w, "# Accuracy and cost of strata's solvers\n");
     let _ = writeln!(
@@ -55,20 +61,21 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
     let _ = writeln!(w, "## Machine\n");
     let _ = writeln!(w, "| | |\n|---|---|");
     let _ = writeln!(w, "| CPU | {} |", m.cpu);
-    let _ = writeln!(
-        w,
-        "| cores | {}; rayon pool: {} threads |",
-        m.logical_cpus, m.threads
-    );
+    let _ = writeln!(w, "| cores | {}; rayon pool: {threads} threads |", m.cores);
     let _ = writeln!(w, "| memory | {} |", m.memory);
     let _ = writeln!(w, "| OS | {} ({}) |", m.os, m.kernel);
     let _ = writeln!(w, "| compiler | {} |", m.rustc);
-    let _ = writeln!(w, "| build profile | {} |", m.profile);
-    let _ = writeln!(w, "| strata | {} (commit {}) |", m.strata, m.commit);
+    let _ = writeln!(w, "| build profile | {profile} |");
     let _ = writeln!(
         w,
-        "| load average (1, 5, 15 min) | {} at the start, {} at the end (the study keeps up to {} threads busy; a higher load means the machine was shared and times are noisier) |",
-        m.load, study.load_end, m.threads
+        "| strata | {} (commit {}) |",
+        env!("CARGO_PKG_VERSION"),
+        m.commit
+    );
+    let _ = writeln!(
+        w,
+        "| load average (1, 5, 15 min) | {} when the machine was recorded (the study keeps up to {threads} threads busy; a higher load means the machine was shared and times are noisier) |",
+        m.load
     );
     let reps = study.mode.reps();
     let mut spreads: Vec<f64> = study
@@ -87,7 +94,7 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
          in batches and divided. Noise of this run: over the {} items timed more than \
          once, the spread of their runs, (slowest − fastest)/median, has median {:.0} % \
          and 90th percentile {:.0} % (per item in `timings.csv`).",
-        m.threads,
+        threads,
         reps.min_runs,
         reps.max_runs,
         reps.budget,
@@ -411,7 +418,7 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
     w.push_str(&super::conductance::markdown(&study.conductance));
     let _ = writeln!(
         w,
-        "## Regenerating\n\n```sh\ncargo run --release -- study{} --out docs/accuracy-cost \\\n    --report docs/accuracy-cost.md --force\n```\n\nwrites this page (`--report`), its plots, `errors.csv` and `timings.csv` \
+        "## Regenerating\n\n```sh\ncargo run -p xtask -- machine target/machine.toml\ncargo run --release -- study{} --machine target/machine.toml --out docs/accuracy-cost \\\n    --report docs/accuracy-cost.md --force\n```\n\nwrites this page (`--report`), its plots, `errors.csv` and `timings.csv` \
          (in `docs/accuracy-cost/`) and `docs/accuracy-cost/report.md` (the same page with \
          links relative to that directory).",
         study.mode.flag()

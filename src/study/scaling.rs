@@ -1,4 +1,4 @@
-//! Stage 5: the I model at scale (issue 20) — wall time and peak memory of a cold
+//! Stage 5: the I model at scale — wall time and peak memory of a cold
 //! 20-step I-model load curve (5×5 periodic images, the family table's E₂/E₁ = 5 stack)
 //! against the number of summits N of generated surfaces (L = 1 mm, D_f = 2.4,
 //! k_m = 2, RMS 3.4 µm, growing grid and k_M), with the exponents of least-squares fits

@@ -1,4 +1,4 @@
-//! ψ(a/h₁) tables of a layered conductor (issue 34, physics.md §6.2): built from
+//! ψ(a/h₁) tables of a layered conductor (physics.md §6.2): built from
 //! [`crate::spot`]'s Fredholm solves, read by the N and I models' spot conductances
 //! G(a) = 4k₁aψ(a) at every contact radius of a load path (the `strata` crate's `spots`
 //! module and the C ABI's, which so give the same h_c bit for bit), and kept in the
@@ -10,7 +10,7 @@
 //! node is solved by Gauss–Legendre Nyström with [`nystrom_nodes`] nodes up to a/h₁ =
 //! [`PSI_NYSTROM_MAX_A_OVER_H`] (under half the spot solver's default, at round-off), by
 //! the spot solver's automatic method beyond. Measured in the tests below and in
-//! docs/validation.md; the cost in docs/performance.md (issue 34).
+//! docs/validation.md; the cost in docs/performance.md.
 
 use std::path::{Path, PathBuf};
 

@@ -31,7 +31,7 @@
 //!   N = 2a/h₁ (256 … 2048) while two successive extrapolations differ by more than
 //!   [`SPOT_REFINE_TOL`] (up to [`SPOT_MAX_INTERVALS`]).
 //!
-//! The measured accuracy is in `docs/validation.md` (issue 34) and in the tests below:
+//! The measured accuracy is in `docs/validation.md` and in the tests below:
 //! Nyström and product integration agree to ~1e−14 where both apply; the default
 //! agrees with an independent method (rings in physical space, elliptic integrals and
 //! Bessel functions) to ~1e−8 for a/h₁ = 1e−3 … 1000, and with a product grid of 4096

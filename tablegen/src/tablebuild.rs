@@ -606,42 +606,6 @@ mod tests {
     }
 }
 
-#[cfg(test)]
-mod shipped {
-    use super::*;
-
-    /// Builds the shipped family table once and reports its build time; writes it to
-    /// $STRATA_SHIP_OUT when set. Slow in debug: run with
-    /// `cargo test --release -p strata-tablegen --lib shipped -- --ignored --nocapture`.
-    #[test]
-    #[ignore = "builds the full shipped family table (~1 min); for measurements"]
-    fn build_shipped_family() {
-        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let stack =
-            Stack::from_toml_file(&root.join("tables/stacks/paper-two-layer.toml")).unwrap();
-        let opts = BuildOptions {
-            family: Some((Vary::Layer(2), 0.1, 10.0, 21)),
-            check_points: 0,
-            ..BuildOptions::default()
-        };
-        let t0 = std::time::Instant::now();
-        let t = build(&stack, &opts).unwrap();
-        eprintln!(
-            "built in {:?}; far field {:e}",
-            t0.elapsed(),
-            t.header.far_field_error
-        );
-        let t0 = std::time::Instant::now();
-        let e = check(&t, 1000, 1, false).unwrap();
-        eprintln!("check {e:?} in {:?}", t0.elapsed());
-        if let Ok(p) = std::env::var("STRATA_SHIP_OUT") {
-            let mut t = t;
-            t.header.interp_error = Some(e);
-            t.save(Path::new(&p)).unwrap();
-        }
-    }
-}
-
 /// Tables measured against direct quadrature (`tablecheck`), built here.
 #[cfg(test)]
 mod check_tests {
@@ -698,7 +662,7 @@ mod check_tests {
         }
     }
 
-    /// The soft-base stack of issue 19 (50 µm, 10 MPa, ν 0.49 on a 2 MPa, ν 0.3
+    /// The soft-base stack (50 µm, 10 MPa, ν 0.49 on a 2 MPa, ν 0.3
     /// half-space): the leading far field k_z(0)·HS alone is off by ~9e-2 of (4/3)a³/r
     /// at the old join (20 H); the table's far field (correction terms, join moved out)
     /// is within 1e-4, asserted at the builder's probes and independently out to 30 ×

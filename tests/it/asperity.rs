@@ -1,4 +1,4 @@
-//! End-to-end tests of `strata asperity` (the CLI of issue 3).
+//! End-to-end tests of `strata asperity` (one asperity on a layered solid).
 
 use std::path::PathBuf;
 use std::process::Command;
@@ -133,7 +133,7 @@ fn bad_inputs_give_clear_errors() {
     fails_with(&["--radius", "1e-4", "--delta", "-1e-7"], "--delta");
     fails_with(&["--radius", "1e-4", "--delta", "nan"], "--delta");
     fails_with(&["--radius", "1e-4", "--delta", ""], "--delta");
-    // `--model approx` is served from the tables (issue 4) and tested there.
+    // `--model approx` is served from the tables and tested there.
     fails_with(
         &["--radius", "1e-4", "--delta", "1e-7", "--plot", "x.pdf"],
         ".svg or .png",

@@ -128,7 +128,7 @@ fn rectangular_non_periodic_768x576() {
     assert!(rel < 1e-2, "dx ≠ dy vs dx = dy: {rel:e}");
 }
 
-/// #19 (BEM side): on the paper's E₂/E₁ = 0.2 stack (rigid base) a generated k_max = 20
+/// The BEM on soft stacks: on the paper's E₂/E₁ = 0.2 stack (rigid base) a generated k_max = 20
 /// surface is loaded by approaches up to 2.2 × its peak-to-valley height: the curve
 /// keeps rising with partial contact and reaches A/A₀ ≥ 15 %.
 #[test]

@@ -161,8 +161,8 @@ fn fast_paths_match_reference_on_a_free_sample() {
 /// mean pressure of every step to 1e-8 (measured 1.0e-10) and identical contact sets, in
 /// about a quarter of the iterations (measured 387 vs 1657). Both stop within the
 /// tolerance, not at the same point: each field is within 3e-8 of the peak of the field
-/// converged to ε ≤ 1e-13 (measured 2.0e-9 preconditioned, 2.6e-9 plain, since the stop
-/// on the largest gap of session 8; 2.65e-8 and 2.0e-8 with the pressure-weighted gap),
+/// converged to ε ≤ 1e-13 (measured 2.0e-9 preconditioned, 2.6e-9 plain, with the stop
+/// on the largest gap; 2.65e-8 and 2.0e-8 with the pressure-weighted gap),
 /// and so are they of each other (2.6e-9).
 #[test]
 #[ignore = "slow tier: CI runs `cargo test --workspace -- --ignored slow_`"]

@@ -1,4 +1,4 @@
-//! CalculiX end to end (issue 14): `strata law` writes the pressure-overclosure table,
+//! CalculiX end to end: `strata law` writes the pressure-overclosure table,
 //! the deck examples/calculix/rough_block.inp includes it, `ccx` (CalculiX 2.20, Debian
 //! package `calculix-ccx`) solves a compliant block pressed on a stiff block through the
 //! rough interface in 10 displacement increments, and the FE contact pressure must be

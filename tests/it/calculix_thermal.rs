@@ -1,4 +1,4 @@
-//! CalculiX thermal end to end (issue 34): `strata law` writes the `*GAP CONDUCTANCE`
+//! CalculiX thermal end to end: `strata law` writes the `*GAP CONDUCTANCE`
 //! table of examples/calculix/steel_interface.toml (N model, thermal conductance, 20
 //! samples), the deck examples/calculix/thermal_block.inp includes it, and `ccx`
 //! (CalculiX 2.20) solves two steel blocks pressed together through the interface while

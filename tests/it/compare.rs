@@ -1,4 +1,4 @@
-//! `strata compare`: the N model, the I model and the BEM on the same scene (issue 6).
+//! `strata compare`: the N model, the I model and the BEM on the same scene.
 //! Each column must be the curve `strata solve` gives with that model (1e-12
 //! relative), and the differences must be computed right: the signed pressure
 //! differences at equal separation from those curves (1e-12), the areas at equal

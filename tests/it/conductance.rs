@@ -1,5 +1,5 @@
 //! End-to-end tests of `strata conductance` and `strata compliance --thermal/--electrical`
-//! (issue 34, physics.md §6.2): conduction properties in stack files, the conduction
+//! (physics.md §6.2): conduction properties in stack files, the conduction
 //! compliance S_th and the constriction conductance of one isothermal spot.
 
 use std::path::PathBuf;

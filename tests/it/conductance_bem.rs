@@ -1,4 +1,4 @@
-//! The interface conductance of the BEM's contact sets (issue 34, physics.md §6.2):
+//! The interface conductance of the BEM's contact sets (physics.md §6.2):
 //! `[conductance]` scenes through `strata solve`, and one spot on a layered stack against
 //! the Fredholm spot solver of `strata conductance` (an independent method: dual
 //! integral equations in Hankel space against CG on a pixel set in Fourier space).

@@ -1,4 +1,4 @@
-//! The I model's interface conductance (issue 34, physics.md §6.2): the spot network
+//! The I model's interface conductance (physics.md §6.2): the spot network
 //! with the periodic layered kernel, against the BEM's conduction solve (a second
 //! method: CG on the pixel set in Fourier space) on two discs and on the BEM's own
 //! contact spots, and through `strata solve`.

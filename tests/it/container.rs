@@ -1,4 +1,4 @@
-//! contact.engineering's published containers (issue 36, item 3): the fixture
+//! contact.engineering's published containers: the fixture
 //! `tests/data/container/container.zip` was written by SurfaceTopography's
 //! `SurfaceContainer.to_zip` (`make.py` beside it: a periodic 32×32 topography in µm and a
 //! non-periodic 48×32 one in nm, with the same heights as `.npy`); an older-layout container

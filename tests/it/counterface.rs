@@ -1,4 +1,4 @@
-//! Two deformable bodies (issue 33, physics.md §6.1): an elastic counterface in place
+//! Two deformable bodies (physics.md §6.1): an elastic counterface in place
 //! of the rigid flat. Frictionless normal displacements add, so
 //! * the pair's kernel is the sum of both bodies' (checked against a direct evaluation
 //!   of both S(k), and a BEM built from that sum by another route);
@@ -13,7 +13,7 @@
 //! Measured (tolerances ~10× these, docs/validation.md): pair S vs the sum of both S
 //! 4.9e-16 (of max(S, 1)); identical layered bodies 4.0e-16; pair BEM vs the summed
 //! kernel through `BemSolver::with_compliance` 6.7e-16; homogeneous pair vs composite
-//! half-space 0 (the same operations: the issue's bounds 1e-12 BEM, 1e-10 the rest are
+//! half-space 0 (the same operations: the required bounds 1e-12 BEM, 1e-10 the rest are
 //! asserted).
 
 use std::path::{Path, PathBuf};
@@ -430,7 +430,7 @@ fn pair_table_serves_the_pair_only() {
         other.contains("the counterface's layer 2") && !other.contains("first body"),
         "{other}"
     );
-    // The paper's coating against the same coating (issue 33): built within the
+    // The paper's coating against the same coating: built within the
     // table tolerance (the builder checks 1 000 points and refuses a table above it).
     let same = d.join("same.strata");
     let o = strata_in(&d)

@@ -1,4 +1,4 @@
-//! The documentation names only what exists (issue 32). `README.md` and every
+//! The documentation names only what exists. `README.md` and every
 //! `docs/**/*.md` are scanned for
 //! - relative link targets (`[text](path)`, images too): the file or directory exists,
 //!   relative to the page;
@@ -328,7 +328,7 @@ fn subcommands() -> BTreeSet<String> {
         list.contains("solve"),
         "no command list in `strata --help`:\n{help}"
     );
-    // the developers' command, hidden from the user's list (issue 32), is real
+    // the developers' command, hidden from the user's list, is real
     assert!(!list.contains("study"), "`strata --help` lists `study`");
     let mut list = list;
     for dev in DEVELOPER_COMMANDS {

@@ -1,4 +1,4 @@
-//! One error chain per failure (issue 18, item 5): each context once, the file named,
+//! One error chain per failure: each context once, the file named,
 //! and what relative paths are relative to.
 
 use std::path::{Path, PathBuf};
@@ -28,7 +28,7 @@ fn error_line(d: &Path, args: &[&str]) -> String {
 const GENERATED: &str = "[surface.generate]\nsize = 1e-3\ngrid = 256\nfractal_dimension = 2.4\n\
                          k_min = 2\nk_max = 200\nrms = 3.4e-6\nseed = 1\n";
 
-/// The issue's example: one chain naming the scene file and the field.
+/// The typical case: one chain naming the scene file and the field.
 #[test]
 fn surface_errors_are_reported_once() {
     let d = dir("kmax");
@@ -215,7 +215,7 @@ fn bad_inputs_give_one_chain_each() {
     assert!(e.contains("--npy .: is the current directory"), "{e}");
 }
 
-/// TOML syntax errors are one line with the line and column (issue 37 item 8: they
+/// TOML syntax errors are one line with the line and column (they once
 /// spanned five lines with a source excerpt), in scenes and stack files.
 #[test]
 fn toml_syntax_errors_are_one_line() {

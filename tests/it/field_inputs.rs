@@ -1,4 +1,4 @@
-//! Inputs found by an adversarial sweep of the command line (session 12) that gave
+//! Inputs found by an adversarial sweep of the command line that gave
 //! contradictory results with exit 0, wrote float32 infinities, ignored the memory limit
 //! or returned NaN. Each now fails by name (exit 1, nothing written) or gives the right
 //! number.
@@ -106,7 +106,7 @@ fn heights_and_pixels_whose_statistics_overflow_are_refused_by_name() {
 /// 1e50 m. With positive interference no equilibrium without contact exists (the most
 /// loaded summit would have F_k(0⁺) = −δ_k < 0): refused by name, nothing written. The
 /// same scenes at ordinary scales solve. Through `law` the message appears once.
-/// (Issue 37.4: both scenes take the N model's contact areas far past the nominal area,
+/// (Both scenes take the N model's contact areas far past the nominal area,
 /// so they are now refused by that check, at once, before the I model is started.)
 #[test]
 fn interacting_model_refuses_a_contactless_equilibrium() {
@@ -343,7 +343,7 @@ fn law_past_full_contact_says_why() {
     assert!(out.exists());
 }
 
-/// Issue 37: an `x y z` triplet file (3 columns, every grid point once) was read as an
+/// An `x y z` triplet file (3 columns, every grid point once) was once read as an
 /// N×3 height grid. It is refused by name, with the matrix shape to write instead; a
 /// genuine height matrix three points wide still reads.
 #[test]
@@ -390,7 +390,7 @@ fn xyz_triplet_files_are_named_not_read_as_heights() {
     assert_eq!(s.shape(), (6, 3));
 }
 
-/// Issue 37: a surface file that is a link to /dev/zero grew without bound (under a 1 GB
+/// A surface file that is a link to /dev/zero once grew without bound (under a 1 GB
 /// memory limit) and a FIFO would block forever: both are refused at once, by name, for
 /// each reader (.npy, text, .x3p).
 #[test]
@@ -428,7 +428,7 @@ fn surface_files_that_are_streams_are_refused() {
     }
 }
 
-/// Issue 37: `STRATA_MEMORY_LIMIT=garbage` was refused without naming the variable.
+/// `STRATA_MEMORY_LIMIT=garbage` was once refused without naming the variable.
 #[test]
 fn a_bad_memory_limit_variable_is_named() {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_strata"))

@@ -1,4 +1,4 @@
-//! Property tests of the solvers' inputs (issue 8): random — including NaN, infinite,
+//! Property tests of the solvers' inputs: random — including NaN, infinite,
 //! negative, zero and huge — summits, approaches, pressures, radii, grids, sizes and
 //! options into the rough-contact models (`RoughContact`), the boundary-element solver
 //! (`BemSolver`) and the full asperity solver (`strata_tablegen::asperity::Asperity`).

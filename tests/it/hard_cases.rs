@@ -1,4 +1,4 @@
-//! End-to-end hard cases (issue 8). Every case checks accuracy against an independent
+//! End-to-end hard cases. Every case checks accuracy against an independent
 //! truth — a closed-form limit, a second method, or convergence under refinement —
 //! not only finiteness, so a wrong answer fails. Measured values are printed (run with
 //! `--nocapture`) and quoted in the comments; docs/validation.md's hard-case table lists them.
@@ -671,7 +671,7 @@ mod rough {
     }
 
     /// At the peak-to-valley approach z_M − z_min every summit is in contact, with
-    /// finite results; beyond it (issue 19.1) the approach is solved, not refused, and
+    /// finite results; beyond it the approach is solved, not refused, and
     /// the step is flagged: load increasing, every summit loaded, KKT < 1e-8.
     #[test]
     fn asperity_models_at_full_approach() {
@@ -1133,7 +1133,7 @@ mod outputs {
     }
 }
 
-/// Issue 37: a ν = 0.5 layer on a rigid base solved from a scene without a table. The
+/// A ν = 0.5 layer on a rigid base solved from a scene without a table. The
 /// cached table's default 97×49 grid misses its tolerance (ζ 1.2e−4 > 1e−4), so the
 /// cache refines the grid (here to 129×65) and the solve succeeds; `table check`
 /// re-measures the cached table within its tolerance (measured: ζ 2.9e−5, χ 1.9e−6,

@@ -1,4 +1,4 @@
-//! Inputs that never abort (issue 18, item 3): sizes checked before allocation against
+//! Inputs that never abort: sizes checked before allocation against
 //! a settable limit (`--memory-limit`, STRATA_MEMORY_LIMIT), lying file headers, the
 //! worker-thread cap, the table cache and `stack.table` rules, and BEM maps written as
 //! they come. Every case exits 1 with a message, never 134.
@@ -196,7 +196,7 @@ fn thread_count_is_capped() {
 }
 
 /// RAYON_NUM_THREADS above 4 per core is refused by every command, not only `sweep`
-/// (issue 37: `RAYON_NUM_THREADS=100000 strata asperity …` spawned threads without
+/// (`RAYON_NUM_THREADS=100000 strata asperity …` spawned threads without
 /// end), at once and with the cap; so is a value that is not a number; the cap itself
 /// is accepted.
 #[test]

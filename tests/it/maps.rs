@@ -1,5 +1,5 @@
 //! `strata solve` with `[output] maps`: the BEM's pressure and gap maps as .npy and
-//! PNG pictures (issue 6). The maps must be the solution curve.csv summarises: the mean
+//! PNG pictures. The maps must be the solution curve.csv summarises: the mean
 //! of the pressure map is curve.csv's mean pressure (1e-12 relative), the contact
 //! fraction of the map is its A/A₀ (exact count), and on a half-space the mean of the gap
 //! map is the separation g_n (the elastic-base convention of the bem module, 1e-10).
@@ -455,24 +455,4 @@ format = ["npy", "netcdf"]
         (x[i] / lx - 0.4).abs() < 0.05 && (y[j] / ly - 0.5).abs() < 0.05,
         "{i} {j}"
     );
-}
-
-/// Writes a BEM run with NetCDF maps for tests/python/run.sh, which opens them with
-/// xarray (`tests/python/netcdf_xarray.py`): `$STRATA_PY_REF/netcdf/out`.
-#[test]
-#[ignore = "run by tests/python/run.sh (xarray reads the NetCDF maps)"]
-fn write_netcdf_for_xarray() {
-    let root = PathBuf::from(
-        std::env::var("STRATA_PY_REF").expect("STRATA_PY_REF (set by tests/python/run.sh)"),
-    )
-    .join("netcdf");
-    let _ = std::fs::remove_dir_all(&root);
-    std::fs::create_dir_all(&root).unwrap();
-    let sc = scene(
-        &root,
-        "bem",
-        "[output]\nmaps = \"all\"\nformat = [\"npy\", \"netcdf\"]",
-    );
-    let o = solve(&sc, &root.join("out"), &["--no-plots"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }

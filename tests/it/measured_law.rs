@@ -1,4 +1,4 @@
-//! Issue 38, the main use case: a measured scan to an FE contact law.
+//! The main use case: a measured scan to an FE contact law.
 //!
 //! - Form removal is on by default for measured files: a non-periodic sample and the
 //!   same sample on a tilted stage give the same `strata law` (the removed plane is in

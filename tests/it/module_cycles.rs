@@ -1,4 +1,4 @@
-//! Files inside a crate import one way (issue 32): no two `.rs` files of any workspace
+//! Files inside a crate import one way: no two `.rs` files of any workspace
 //! crate import each other, directly or through a cycle, and the AVX2 choice of the
 //! boundary-element solver is made in one place.
 //!
@@ -735,7 +735,7 @@ fn workspace_cycles() -> Vec<String> {
     problems
 }
 
-/// Cycles left, for now, to the work under way on their files (issue 32): the files of
+/// Cycles left, for now, to the work under way on their files: the files of
 /// each, and what removes it. Any other cycle fails the test, and so does an entry that
 /// is no longer a cycle (delete it then): the list only shrinks.
 const KNOWN: &[(&[&str], &str)] = &[];

@@ -1,4 +1,4 @@
-//! SurfaceTopography's NetCDF topographies (issue 36, item 3): files written here with
+//! SurfaceTopography's NetCDF topographies: files written here with
 //! the `netcdf3` crate in the layout SurfaceTopography's `to_netcdf` writes through
 //! scipy (NetCDF-3 64-bit offset; heights(x, y); x(x) and y(y) with float32 `length`,
 //! int `periodic`, char `unit`; int `_FillValue` on heights) and in the older layout

@@ -1,4 +1,4 @@
-//! Output sets replaced as a whole (issue 18, item 1): `solve`, `law --format all` and
+//! Output sets replaced as a whole: `solve`, `law --format all` and
 //! `table build` killed (SIGKILL) at every output file of their write phase and inside
 //! their commit, a disk that fills up, and two writers on one directory. After each,
 //! the target holds the complete previous set or the complete new one, nothing else,
@@ -485,7 +485,7 @@ ls -a $M > $R/ls-final
     assert!(!same_set(&snapshot(&out), &old));
 }
 
-/// The one-line refusal of an output that is also an input (issue 37, item 3): exit 1,
+/// The one-line refusal of an output that is also an input: exit 1,
 /// `error: FLAG PATH is also an input of this command (WHAT); choose another path`.
 fn refused_as_input(o: &Output, flag: &str, path: &Path, what: &str) {
     let e = stderr_of(o);
@@ -502,7 +502,7 @@ fn refused_as_input(o: &Output, flag: &str, path: &Path, what: &str) {
 /// `law`, `surface export`, `solve` and `compare` refuse, even with `--force` and before
 /// any work, an output that is one of their inputs: the scene, a file it names (stack
 /// file, surface file; `table build` and `asperity`: the stack file), spelled with `./` or reached through a symbolic link; the input
-/// is left byte for byte (issue 37: `law d/s.toml --out d/s.toml --force` overwrote the
+/// is left byte for byte (`law d/s.toml --out d/s.toml --force` once overwrote the
 /// scene).
 #[test]
 fn an_output_that_is_an_input_is_refused() {

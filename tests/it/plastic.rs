@@ -1,4 +1,4 @@
-//! Elastic–perfectly plastic contact in the BEM (issue 35, physics.md §6.3): the pressure
+//! Elastic–perfectly plastic contact in the BEM (physics.md §6.3): the pressure
 //! capped by a hardness H, solved by MPRGP (`strata_bem::plastic`), with the plastic
 //! depth kept along a load path.
 //!

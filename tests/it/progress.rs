@@ -1,4 +1,4 @@
-//! Progress on long operations (issue 18, item 4): with stderr a pipe, periodic log
+//! Progress on long operations: with stderr a pipe, periodic log
 //! lines (interval shortened through STRATA_LOG_INTERVAL); on a pseudo-terminal,
 //! indicatif bars; `--quiet` silences both.
 

@@ -1,4 +1,4 @@
-//! Measured-style samples (issue 15; the scenes' solid: E = 4 GPa, ν = 0.15 as in
+//! Measured-style samples (the scenes' solid: E = 4 GPa, ν = 0.15 as in
 //! `support::homogeneous_scene`): rectangular grids (768×576), rectangular pixels
 //! (dx ≠ dy), non-periodic and periodic with Lx ≠ Ly, heights in other units, form
 //! removal. Checked against computations written out here: summits and curvatures

@@ -1,4 +1,4 @@
-//! The runtime stays light for an embedder (issue 32 item 8): with its default features,
+//! The runtime stays light for an embedder: with its default features,
 //! `cargo tree -p strata-runtime -e normal` lists at most 15 distinct crates, the runtime
 //! itself included (build-time proc-macros count too); the heavy dependencies (ndarray,
 //! rayon, the FFTs, zip) sit behind named features.

@@ -1,4 +1,4 @@
-//! The I model at the scale of measured surfaces (issue 20): a generated 1024² surface
+//! The I model at the scale of measured surfaces: a generated 1024² surface
 //! with k_M = 512 (36 974 summits; before the grid far field it aborted asking for
 //! 28.75 GB) solves through `strata solve` under the default memory limit, and the same
 //! request under a limit far below its estimate fails with the estimate, exit 1.

@@ -1,4 +1,4 @@
-//! Property tests of the scene reader (issue 8): mutated scenes — values replaced by
+//! Property tests of the scene reader: mutated scenes — values replaced by
 //! random numbers and strings, lines deleted or duplicated, characters inserted or
 //! deleted, arbitrary text — never panic. Every accepted scene satisfies the
 //! documented invariants and its load and surface can be built; every rejection is a

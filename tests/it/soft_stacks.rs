@@ -1,4 +1,4 @@
-//! Issue 19 (first Done-when line): on the paper's E₂/E₁ = 0.2 stack (rigid base at
+//! On the paper's E₂/E₁ = 0.2 stack (rigid base at
 //! 1 mm, tables/stacks/paper-two-layer-E2E1-0.2.toml, shipped family table) and a
 //! generated k_max = 20 surface (256², as tests/it/bem_free.rs), separation-controlled
 //! curves with the N model, the I model (5×5 periodic and isolated) and the BEM on the

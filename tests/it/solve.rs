@@ -177,12 +177,12 @@ fn bad_scenes_name_the_field() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 19.1 through the command: separations below the deepest valley (δ > z_M −
+/// Through the command: separations below the deepest valley (δ > z_M −
 /// z_min) are solved by the I model on an isolated sample, logged as outside the model's
 /// validity and flagged per step in curve.json; the first step is inside the surface.
 /// With periodic images (the mean displacement removed, as the BEM does) the
 /// contacts there cover the cell: that step is refused with the BEM advice, exit 1, and
-/// the step before it is written as a partial curve (issue 39).
+/// the step before it is written as a partial curve.
 #[test]
 fn separations_below_the_valley_are_solved_and_flagged() {
     let dir = tmp("deep");
@@ -269,7 +269,7 @@ fn past_full_area() -> (f64, f64) {
     panic!("no approach with A/A0 > 1");
 }
 
-/// Issue 37.4: a load step whose N-model contact areas sum to more than the nominal
+/// A load step whose N-model contact areas sum to more than the nominal
 /// area (A/A₀ > 1, physically impossible) is refused at once by both asperity models,
 /// with the step and the BEM advice; `solve` writes the steps before it (the same as
 /// the library's, Newton steps included). The I model is never started on it: with a
@@ -370,7 +370,7 @@ fn steps_past_full_area_are_refused_at_once_with_the_bem_advice() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// Issue 37.3: the budgets an error asks to raise are `[solver]` keys, and the error
+/// The budgets an error asks to raise are `[solver]` keys, and the error
 /// says so: a one-Newton-step budget fails the I model with the key to raise in the
 /// scene, Python and C; a scene with the defaults written out gives the same curve as
 /// one without `[solver]`.
@@ -408,7 +408,7 @@ fn solver_budgets_are_scene_keys_named_by_their_errors() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The README's main job (issue 38): the shipped demo stays inside its model's validity —
+/// The README's main job: the shipped demo stays inside its model's validity —
 /// no validity warning on stderr, every step `valid` in curve.csv — and its last step is
 /// within one step of where two contact circles begin to overlap (the range is the
 /// model's, not a cautious cut).

@@ -1,11 +1,11 @@
-//! Issue 19.2: the I model on elastic-base stacks converges in a bounded number of Newton
-//! steps where it used to stall. Two stacks of the kind the issue names, each with a
+//! The I model on elastic-base stacks converges in a bounded number of Newton
+//! steps where it used to stall. Two soft and stiff-base stacks, each with a
 //! table built here (strata-tablegen):
 //! * A: a 50 µm, 4 GPa layer (ν 0.15) on a 12 GPa (ν 0.3) elastic half-space;
 //! * B: a 50 µm, 10 MPa layer (ν 0.49) on a 2 MPa (ν 0.3) half-space;
 //!
-//! on the issue's generated surface (L = 1 mm, 512², D_f 2.4, k 2…10, RMS 3.4 µm, seeds
-//! 4242 and 1). Cold single steps at the issue's approaches (A: δ = 5, 7, 9 µm; B: 3, 5,
+//! on a generated surface (L = 1 mm, 512², D_f 2.4, k 2…10, RMS 3.4 µm, seeds
+//! 4242 and 1). Cold single steps at approaches (A: δ = 5, 7, 9 µm; B: 3, 5,
 //! 9 µm) and at the states that stalled before this fix (A, seed 1: δ = 14.05 µm
 //! periodic, 10 010 Newton steps; δ = z_M − z_min isolated, 10 000 steps), and 60-step
 //! load paths to 1.5 (z_M − z_min), periodic 5×5 and isolated. Every step: KKT residual

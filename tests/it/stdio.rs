@@ -1,4 +1,4 @@
-//! Standard output and standard error that cannot be written (issue 37, item 1): a
+//! Standard output and standard error that cannot be written: a
 //! reader that goes away (`strata table info T | head -5`) is quiet success (exit 0),
 //! a full disk (`> /dev/full`) is one error line (exit 1), and log lines or errors that
 //! stderr cannot take are dropped; never a panic (exit 101).

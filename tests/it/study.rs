@@ -1,4 +1,4 @@
-//! End-to-end tests of `strata study` (issue 7), in its hidden `--tiny` mode (a few
+//! End-to-end tests of `strata study`, in its hidden `--tiny` mode (a few
 //! seconds): the report and its plots are written, a second run reproduces every
 //! error bit for bit, and the measured numbers obey known convergence facts.
 

@@ -1,4 +1,4 @@
-//! End-to-end tests of `strata sweep` and `strata sweep merge` (issue 9, parts 3–4).
+//! End-to-end tests of `strata sweep` and `strata sweep merge`.
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

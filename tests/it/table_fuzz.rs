@@ -1,4 +1,4 @@
-//! Property tests of the table decoder (issue 8): random bytes, truncations, bit flips
+//! Property tests of the table decoder: random bytes, truncations, bit flips
 //! and byte overwrites of a small valid table — raw (the checksum must catch them) and
 //! re-sealed (length and checksum recomputed, so the damage reaches the bincode payload
 //! decoder and the table validation) — and tables with arbitrary header fields never

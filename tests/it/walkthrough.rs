@@ -1,4 +1,4 @@
-//! The walkthrough (issue 38): docs/guide/walkthrough.md, from a raw scan and a coating to a
+//! The walkthrough: docs/guide/walkthrough.md, from a raw scan and a coating to a
 //! CalculiX run with the law, run exactly as documented and its results checked.
 //!
 //! The commands are the lines of the page's ```sh blocks (as `tools/walkthrough.sh` reads

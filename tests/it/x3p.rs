@@ -221,7 +221,7 @@ fn handmade_int16_with_invalid_points() {
         e.contains("corrupt") && e.contains("bindata/data.bin"),
         "{e}"
     );
-    // Surplus data (issue 37: read with a warning and solved, RMS 1.2e9 m): refused,
+    // Surplus data (once read with a warning and solved, RMS 1.2e9 m): refused,
     // checksum valid or not.
     let mut long = data.clone();
     long.extend_from_slice(&[7, 0, 9, 0]);

@@ -13,7 +13,7 @@
 //!   38.1 %);
 //! - the soft base below: +1.6e-3 (raw −43.7 %), median 14.4 %, largest 27.7 %.
 //!
-//! The requirement (issue 39): < 0.5 % from m = 4 to 8, median ≤ 25 %.
+//! The requirement: < 0.5 % from m = 4 to 8, median ≤ 25 %.
 
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver};
 use strata_runtime::Stack;
@@ -115,7 +115,7 @@ fn image_sums_converge_with_the_block_on_a_half_space() {
     );
 }
 
-/// The soft base of the issue: a 100 µm, 4 GPa layer (ν 0.15) on a 0.4 GPa (ν 0.15)
+/// A soft base: a 100 µm, 4 GPa layer (ν 0.15) on a 0.4 GPa (ν 0.15)
 /// half-space, S(0) = 10, table built here. Measured: m = 4 → 8 +1.6e-3 (raw −0.44);
 /// median 14.4 %, largest 27.7 % from the BEM (the N model: 31.8 %, 54.7 %).
 #[test]
@@ -306,7 +306,7 @@ fn zero_mean_images_meet_the_ewald_kkt_conditions() {
 }
 
 /// S(0) ≪ 1: the paper's stack (E2/E1 = 5, rigid base) pressed against a steel
-/// half-space (issue 33's counterface, S(0) = 1 − E*/E*₁ = 0.0174). The correction's
+/// half-space (an elastic counterface, S(0) = 1 − E*/E*₁ = 0.0174). The correction's
 /// interpolant could not meet a tolerance scaled by S(0) (the table's noise sits in
 /// the layered part, |k_z(0)| ≈ 1); now scaled by max(S(0), |k_z(0)|) when S(0) < ½.
 #[test]

@@ -43,7 +43,7 @@ TAMAAS_FRACTIONS = {
 # Non-periodic (free-boundary) half-space, ContactMechanics FreeFFTElasticHalfSpace: the
 # same surface taken as an isolated sample; approaches delta (m). At n = 512 not 14 µm:
 # there ContactMechanics' iteration does not converge (3 000 iterations, 257 s), while 12,
-# 15, 16 and 18 µm converge in 178–247 (18 µm: A/A0 23.8 %; session 11).
+# 15, 16 and 18 µm converge in 178–247 (18 µm: A/A0 23.8 %).
 FREE_DELTAS = {
     256: [1.0e-6, 4e-6, 9e-6, 14e-6],
     512: [0.8e-6, 2e-6, 4e-6, 7e-6, 10e-6, 12e-6, 18e-6],

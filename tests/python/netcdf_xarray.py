@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""Opens strata's NetCDF maps with xarray (issue 36): contact.engineering's layout.
+"""Opens strata's NetCDF maps with xarray: contact.engineering's layout.
 
     python netcdf_xarray.py OUT_DIR
 
 OUT_DIR is a `strata solve` output set of a BEM scene with `[output] maps = "all"` and
-`format = ["npy", "netcdf"]` (the ignored Rust test `maps::write_netcdf_for_xarray`
-writes it). For every step, xarray (its scipy backend: no C NetCDF library) must read
+`format = ["npy", "netcdf"]` (tests/python/run.sh writes the scene and runs
+`strata solve`). For every step, xarray (its scipy backend: no C NetCDF library) must read
 `maps/results_step_KK.nc` with the variables `pressure`, `contacting_points`, `gap`,
 `displacement` on dimensions (x, y), their units, contact.engineering's attributes
 `mean_pressure` and `total_contact_area`, and fields equal bit for bit to the .npy maps

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Checks strata's FFT-BEM against independent public solvers (issue 6):
+# Checks strata's FFT-BEM against independent public solvers:
 #   * Tamaas 2.9 (homogeneous half-space, equal mean gap; and steel on steel, strata's
 #     two-body [counterface], against Tamaas with the composite E*),
 #   * ContactMechanics 1.8 (one layer bonded to a rigid base, equal approach; and its
@@ -8,9 +8,10 @@
 #     non-periodic sample on a half-space, equal approach),
 # and opens strata's NetCDF maps with xarray (tests/python/netcdf_xarray.py),
 # on strata's generated paper-like surface (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm),
-# written to .npy by the ignored Rust test `write_cross_check_surface`: nothing outside the
-# repository is needed. Tolerances (tests/it/bem_reference.rs): 1e-4 in mean pressure,
-# 0.5 % in area, with loads spanning A/A0 from ≤ 1 % to ≥ 20 %.
+# written to .npy by `strata surface export` from a scene written here: nothing outside
+# the repository is needed. Tolerances (tests/it/bem_reference.rs, docs/validation.md):
+# mean pressure within about 10× the measured difference (3e-10 … 5e-9), area within two
+# grid points, with loads spanning A/A0 from ≤ 1 % to ≥ 20 %.
 #
 # Usage: tests/python/run.sh [--ci] [--speed]
 #   --ci     CI mode: 256² surface and 4 loads per solver instead of 512² and 7–9
@@ -60,8 +61,42 @@ echo "python: venv ready in $((t_pip - t_start)) s ($("$VENV/bin/python" --versi
 
 # 1. strata writes the surface; 2. the Python solvers load it; 3. Rust compares.
 # `--workspace`: the features of `cargo test --workspace`, so its build is reused (a
-# package-only build unifies features differently and recompiles the workspace crates).
-cargo test --workspace --test it -- --ignored --exact bem_reference::write_cross_check_surface --nocapture
+# package-only build unifies features differently and recompiles the workspace crates);
+# it builds the `strata` binary the integration tests run, used here too.
+cargo test --workspace --no-run
+STRATA="${CARGO_TARGET_DIR:-$ROOT/target}/debug/strata"
+[ -x "$STRATA" ] || fail "no strata binary at $STRATA after cargo test --workspace --no-run"
+# A scene of the paper-like surface on a homogeneous half-space (the Python solvers take
+# the heights only); the netcdf one is a small BEM run with every map in NetCDF.
+paper_scene() { # $1: grid, $2: seed, $3: extra lines
+    cat <<EOF2
+[stack]
+[[stack.layer]]
+thickness = 1e-3
+young = 4e9
+poisson = 0.15
+[stack.base]
+kind = "elastic"
+young = 4e9
+poisson = 0.15
+[surface.generate]
+size = 1e-3
+grid = $1
+fractal_dimension = 2.4
+k_min = 2
+k_max = 10
+rms = 3.4e-6
+seed = $2
+[model]
+kind = "bem"
+[load]
+approach = { from = 1e-6, to = 5e-6, steps = 3 }
+$3
+EOF2
+}
+paper_scene "$STRATA_PY_GRID" 20240611 "" >"$STRATA_PY_REF/surface.toml"
+"$STRATA" surface export "$STRATA_PY_REF/surface.toml" --out "$STRATA_PY_REF/surface.npy" \
+    --force || fail "strata surface export failed"
 t_surf=$(date +%s)
 # Each solver single-threaded (a fair per-core comparison on shared CI machines); the
 # three run side by side, each into a log of its own printed when all are done (one after
@@ -83,8 +118,12 @@ done
 [ -z "$failed" ] || fail "tests/python/compare.py failed for:$failed (logs above)"
 t_py=$(date +%s)
 cargo test --workspace --test it -- --ignored bem_reference::python_ --nocapture
-# strata's NetCDF maps (contact.engineering's results.nc) opened with xarray (issue 36).
-cargo test --workspace --test it -- --ignored --exact maps::write_netcdf_for_xarray
+# strata's NetCDF maps (contact.engineering's results.nc) opened with xarray.
+rm -rf "$STRATA_PY_REF/netcdf"
+mkdir -p "$STRATA_PY_REF/netcdf"
+paper_scene 64 7 $'[output]\nmaps = "all"\nformat = ["npy", "netcdf"]' >"$STRATA_PY_REF/netcdf/scene.toml"
+"$STRATA" solve "$STRATA_PY_REF/netcdf/scene.toml" --out "$STRATA_PY_REF/netcdf/out" --no-plots \
+    || fail "strata solve with NetCDF maps failed"
 "$VENV/bin/python" tests/python/netcdf_xarray.py "$STRATA_PY_REF/netcdf/out"
 t_end=$(date +%s)
 echo "python cross-checks passed: venv $((t_pip - t_start)) s, surface (cargo) $((t_surf - t_pip)) s, Python solvers $((t_py - t_surf)) s, strata comparison $((t_end - t_py)) s, total $((t_end - t_start)) s"

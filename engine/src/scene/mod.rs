@@ -1,5 +1,5 @@
 //! Scenes (TOML): the stack, the surface, the model and the load of one rough-contact
-//! case (issue 5). Paths are relative to the scene file. SI units.
+//! case. Paths are relative to the scene file. SI units.
 //!
 //! ```toml
 //! [stack]

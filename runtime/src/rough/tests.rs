@@ -209,7 +209,7 @@ fn pressure_control_and_range_errors() {
     }
 }
 
-/// Issue 19.1: approaches beyond the peak-to-valley height z_M − z_min are solved, not
+/// Approaches beyond the peak-to-valley height z_M − z_min are solved, not
 /// refused, by both models, and flagged: N model at 1.01×, 3× and 10× that height; the
 /// I model (5×5 periodic, isolated) at 1.5× converges (KKT < 1e-8) with its load below
 /// the N model's and above its own at z_M − z_min. Pressure control reaches a mean
@@ -261,7 +261,7 @@ fn approaches_beyond_the_deepest_valley() {
     }
 }
 
-/// Issue 19.2: a step that cannot converge within its budget fails with an error that
+/// A step that cannot converge within its budget fails with an error that
 /// names the budget and the parameter to raise, instead of running on.
 #[test]
 fn newton_budget_turns_a_stall_into_an_error() {
@@ -300,7 +300,7 @@ fn newton_budget_turns_a_stall_into_an_error() {
     assert!(m.contains("[solver] max_step_evaluations"), "{m}");
 }
 
-/// Issue 39: a budget that runs out while only the inner Newton target (here 1e-30,
+/// A budget that runs out while only the inner Newton target (here 1e-30,
 /// never met) is missed, with the KKT acceptance (1e-8) already met, ends the step as
 /// converged instead of "stalled".
 #[test]
@@ -589,7 +589,7 @@ fn interaction_rejects_bad_input() {
     assert!(rc.interaction(Images::Isolated, -1.0).is_err());
 }
 
-/// Issue 19.2: G (the displacement an asperity causes at distance r) and ∂G/∂a are
+/// G (the displacement an asperity causes at distance r) and ∂G/∂a are
 /// continuous at the contact edge r = a, so U_E is C¹ and its minimum exists when one
 /// contact grows over another asperity's centre. G: inside value at r = a against the
 /// outside one at a(1 + 1e-12), to 1e-9. ∂G/∂a: inside against the outside limit r → a⁺

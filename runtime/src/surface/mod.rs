@@ -934,7 +934,7 @@ mod tests {
         }
     }
 
-    /// Issue 37: smooth non-periodic profiles with a lay (an extruded sine, 27.5–227 σ
+    /// Smooth non-periodic profiles with a lay (an extruded sine, 27.5–227 σ
     /// before) and tilted ones raise no false alarm, edges included; a spike on them is
     /// the only point flagged, and its repair touches that point alone (the edge rows
     /// were rewritten before).

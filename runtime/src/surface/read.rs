@@ -600,7 +600,7 @@ fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
 
 /// Refuses a surface "file" that is not a regular file (through links): a device, FIFO or
 /// socket can be an endless stream (a link to /dev/zero grew without bound under a 1 GB
-/// memory limit, issue 37). A missing file passes (its reader names it).
+/// memory limit). A missing file passes (its reader names it).
 fn regular_file(path: &Path) -> Result<(), SurfaceError> {
     match std::fs::metadata(path) {
         Ok(m) if !m.is_file() && !m.is_dir() => Err(SurfaceError::Io {

@@ -1,4 +1,4 @@
-//! Surface statistics and their plausibility (issue 15).
+//! Surface statistics and their plausibility.
 //!
 //! - RMS height S_q = √⟨(z − z̄)²⟩ (m);
 //! - RMS slope S_dq = √(⟨(Δ_x z/dx)²⟩ + ⟨(Δ_y z/dy)²⟩) (dimensionless), with forward

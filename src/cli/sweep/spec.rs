@@ -1,4 +1,4 @@
-//! Sweep files (TOML): a base scene and the axes swept over it (issue 9, part 3).
+//! Sweep files (TOML): a base scene and the axes swept over it.
 //!
 //! ```toml
 //! title = "bandwidth study"               # optional, used in plot titles

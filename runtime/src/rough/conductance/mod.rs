@@ -1,4 +1,4 @@
-//! The I model's interface conductance (issue 34, physics.md §6.2): the contact spots
+//! The I model's interface conductance (physics.md §6.2): the contact spots
 //! conduct in parallel and heat each other through both bodies.
 //!
 //! Every spot i is an isothermal disc of conductance G_i (both bodies in series, its

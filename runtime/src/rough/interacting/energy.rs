@@ -27,7 +27,7 @@ const INSIDE_STEP: f64 = 1e-3;
 /// displacement of eq. (P18), u(r) = (2a²ζ − r²)/(2R): a parabola in r, so an asperity
 /// centre at r < a feels u(r), not the centre value a²ζ/R that eq. (P19) uses (which
 /// jumps by ≈ a²/(2R) at r = a, so U_E has no minimum where a contact grows over another
-/// centre: the I-model stall of issue 19). strata uses the parabola in r that joins the
+/// centre: the I model then stalls). strata uses the parabola in r that joins the
 /// outside displacement with its value and slope at r = a,
 ///
 /// ```text

@@ -11,7 +11,7 @@
 //! (`energy::inside_bracket`). The paper's (P19) uses the centre value a_l²ζ(a_l)/R_l
 //! inside, which jumps by ≈ a_l²/(2R_l) at r = a_l: U_E then has no minimum where a
 //! contact grows over another asperity's centre and the Newton iteration crawled
-//! towards the jump (issue 19); with G and ∂G/∂a continuous U_E is C¹. Its gradient,
+//! towards the jump; with G and ∂G/∂a continuous U_E is C¹. Its gradient,
 //! scaled by the positive c·Q_k'(a_k), is
 //!
 //! ```text

@@ -194,7 +194,7 @@ impl Newton<'_, '_> {
                 self.diag.newton_steps += 1;
                 if let Err(e) = self.budget(fmax / scale) {
                     // a budget spent below the KKT acceptance (only the inner Newton
-                    // target is missed) ends the round there, not the step (issue 39:
+                    // target is missed) ends the round there, not the step (otherwise
                     // a step at 3.1e-11 was reported as stalled)
                     if fmax <= prm.kkt_tolerance * scale {
                         at_floor = true;

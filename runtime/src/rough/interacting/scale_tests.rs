@@ -1,4 +1,4 @@
-//! The grid far field and Krylov Newton steps (issue 20) against exact pair sums.
+//! The grid far field and Krylov Newton steps against exact pair sums.
 
 use crate::law::{AsperityLaw, Homogeneous};
 use crate::rough::tests::{paper_law, path};

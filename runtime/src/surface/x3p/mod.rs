@@ -375,7 +375,7 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
         }
         if data.len() > need {
             // more data than the grid: the dimensions or the type do not describe the
-            // file (issue 37: such a file was read with a warning and solved, RMS 1.2e9 m)
+            // file (read with a warning, such a file was solved as a surface of RMS 1.2e9 m)
             return Err(fail(format!(
                 "{file} holds {} bytes, more than the {nx}×{ny} values of type {} need \
                  ({need}): Record3/MatrixDimension or the data type does not describe it",
