@@ -5,7 +5,6 @@
 //! behind `strata law` ([`crate::sampled_law::solve_asperities`]): the same spot sums,
 //! capped curves, caches and numbers as the command, because they are the same code.
 
-use std::path::Path;
 use std::sync::Arc;
 
 use anyhow::Result;
@@ -145,16 +144,15 @@ pub fn sample_asperity_law(
     );
     let opts = EngineOptions {
         cache_dir,
-        quiet: true,
         table: inputs.table,
         cancel: inputs.params.cancel.clone(),
         ..Default::default()
     };
     crate::sampled_law::solve_asperities(
         &scene,
-        Path::new(IN_MEMORY),
         inputs.surface,
         &opts,
+        &mut crate::engine::Quiet,
         inputs.model,
         samples,
         Some(min_gap),
