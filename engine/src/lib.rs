@@ -12,6 +12,7 @@
 
 pub mod asperity_table;
 pub mod cache;
+pub mod contact_law;
 pub mod effects;
 pub mod engine;
 pub mod number;
