@@ -15,5 +15,6 @@ pub mod study;
 pub mod threads;
 
 pub use strata_engine::{
-    asperity_table, cache, effects, engine, progress, sampled_law, scene, solution, spots, stdio,
+    asperity_table, cache, contact_law, effects, engine, progress, sampled_law, scene, solution,
+    spots, stdio,
 };

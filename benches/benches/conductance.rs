@@ -94,12 +94,7 @@ fn mean(t: Times) -> Times {
 
 /// The scene with and without conductance, alternating: (with, without, summits, the
 /// first run's conductance seconds).
-fn measure(
-    with: &Scene,
-    without: &Scene,
-    path: &Path,
-    min_runs: usize,
-) -> (Times, Times, usize, f64) {
+fn measure(with: &Scene, without: &Scene, min_runs: usize) -> (Times, Times, usize, f64) {
     // a fresh table cache (the mechanics table comes from the shared one: copied in)
     let cache =
         std::env::temp_dir().join(format!("strata-bench-conductance-{}", std::process::id()));
@@ -177,7 +172,7 @@ fn main() {
         } else {
             MIN_RUNS
         };
-        let (w, n, summits, first) = measure(&a, &b, &path, runs);
+        let (w, n, summits, first) = measure(&a, &b, runs);
         print(
             &format!("k_max = 10 ({summits} summits), {kind:?}"),
             (w, n, first),
@@ -192,7 +187,7 @@ fn main() {
                     g.k_max = k_max;
                 }
             }
-            let (w, n, summits, first) = measure(&a, &b, &path, MIN_RUNS);
+            let (w, n, summits, first) = measure(&a, &b, MIN_RUNS);
             print(
                 &format!("k_max = {k_max} ({summits} summits), {kind:?}"),
                 (w, n, first),

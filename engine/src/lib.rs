@@ -13,6 +13,7 @@
 
 pub mod asperity_table;
 pub mod cache;
+pub mod contact_law;
 pub mod effects;
 pub mod engine;
 pub mod law_build;

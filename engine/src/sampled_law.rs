@@ -10,6 +10,7 @@ use strata_runtime::interface::{
 use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::Surface;
 
+use crate::contact_law::{ContactLaw, ContactLawError};
 use crate::engine::{EngineOptions, Observer, Quiet, law_for, solve};
 use crate::progress;
 use crate::scene::{LoadSpec, ModelKind, Scene};
@@ -72,6 +73,16 @@ pub struct SampledLaw {
 }
 
 impl SampledLaw {
+    /// The law as a [`ContactLaw`]: p(g), A(g)/A₀, dp/dg and, with `[conductance]`,
+    /// h_c(g) and h_c(p). An error when a sample's conductance is infinite (full
+    /// contact).
+    pub fn contact_law(&self) -> Result<ContactLaw, ContactLawError> {
+        ContactLaw::new(
+            self.law.clone(),
+            self.conductance.as_ref().map(|(k, h)| (*k, h.as_slice())),
+        )
+    }
+
     /// The Abaqus/CalculiX `*SURFACE BEHAVIOR` block with its `**` comment lines
     /// naming the scene (`scene`: how it is shown), the model and the solid.
     pub fn abaqus_block(&self, scene: &str) -> String {

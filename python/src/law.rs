@@ -6,8 +6,8 @@ use std::path::PathBuf;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use strata_engine::contact_law::ContactLaw;
 use strata_engine::sampled_law::SampledLaw;
-use strata_runtime::interface::conductance_curve::ConductanceCurve;
 
 use crate::conv;
 use crate::errors::{Kind, err};
@@ -24,20 +24,10 @@ pub struct PyContactLaw {
 }
 
 impl PyContactLaw {
-    /// The conductance between the samples (the C ABI's), or a LawError when the law
-    /// has none.
-    fn curve(&self) -> PyResult<ConductanceCurve> {
-        let Some((_, h)) = &self.sampled.conductance else {
-            return Err(err(Kind::Law)(anyhow::anyhow!(
-                "this law has no conductance: add [conductance] to the scene (thermal or electrical)"
-            )));
-        };
-        let gaps: Vec<f64> = self.sampled.law.samples().map(|(g, ..)| g).collect();
-        ConductanceCurve::new(&gaps, h).ok_or_else(|| {
-            err(Kind::Law)(anyhow::anyhow!(
-                "the law's conductances are not finite and ≥ 0 at every sample (full contact): h_c is infinite there"
-            ))
-        })
+    /// The law as the engine's [`ContactLaw`] (the one h_c(g), h_c(p) of the CLI, C and
+    /// Python); a LawError when its conductance is missing or infinite.
+    fn contact(&self) -> PyResult<ContactLaw> {
+        self.sampled.contact_law().map_err(err(Kind::Law))
     }
 }
 
@@ -147,8 +137,11 @@ impl PyContactLaw {
         py: Python<'py>,
         gap: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let c = self.curve()?;
-        conv::map(py, gap, "gap", Kind::Law, |g| Ok(c.at_gap(g)?))
+        let c = self.contact()?;
+        c.conductance_kind()
+            .ok_or(strata_engine::contact_law::ContactLawError::NoConductance)
+            .map_err(err(Kind::Law))?;
+        conv::map(py, gap, "gap", Kind::Law, |g| Ok(c.conductance_at_gap(g)?))
     }
 
     /// h_c at mean contact pressure p (Pa; scalar or array), as the C ABI's
@@ -160,10 +153,12 @@ impl PyContactLaw {
         py: Python<'py>,
         pressure: &Bound<'py, PyAny>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let c = self.curve()?;
-        let law = &self.sampled.law;
+        let c = self.contact()?;
+        c.conductance_kind()
+            .ok_or(strata_engine::contact_law::ContactLawError::NoConductance)
+            .map_err(err(Kind::Law))?;
         conv::map(py, pressure, "pressure", Kind::Law, |p| {
-            Ok(c.at_pressure(p, |g| law.eval(g).map_or(f64::NAN, |q| q.pressure))?)
+            Ok(c.conductance_at_pressure(p)?)
         })
     }
 

@@ -52,8 +52,10 @@ use anyhow::{Context, Result, bail};
 use strata_runtime::rough::{Images, Step};
 
 use crate::cli::solve::{MapWriter, curve_csv_extra};
+use crate::contact_law::ContactLaw;
 use crate::engine::{EngineOptions, WithMaps, solve};
 use crate::plot::{PlotSpec, Series, Style};
+use strata_runtime::conduction::ConductionKind;
 
 #[derive(Debug, clap::Args)]
 pub struct Args {
@@ -339,28 +341,23 @@ pub struct ConductanceRow {
     pub h: [f64; 2],
     /// h_N/h_BEM − 1, h_I/h_BEM − 1.
     pub rel: [f64; 2],
-    /// h_N, h_I at the BEM step's mean pressure (log–log between the model's steps).
+    /// h_N, h_I at the BEM step's mean pressure (the model's [`ContactLaw`]: h_c(g) where p(g) = p).
     pub h_at_p: [f64; 2],
     /// h_N(p)/h_BEM − 1, h_I(p)/h_BEM − 1.
     pub rel_at_p: [f64; 2],
 }
 
-/// A model's h_c at mean pressure `p` (Pa): its own step of equal pressure, else ln h
-/// linear in ln p between its steps (NaN outside them).
-fn conductance_at_pressure(steps: &[Step], h: &[f64], p: f64) -> f64 {
-    let pts: Vec<(f64, f64)> = steps
+/// A model's interface law from its steps and h_c (the engine's [`ContactLaw`]: p(g)
+/// and h_c(g) monotone piecewise-cubic, h_c(p) at the g where p(g) = p), first contact
+/// at `scale` = z_M − z̄ (m); the nominal area is the steps' own P/p. `None` when the
+/// steps do not make a law (no step with contact, a non-monotone path). The kind only
+/// labels the values: thermal and electrical interpolate alike.
+fn model_law(steps: &[Step], h: &[f64], scale: f64) -> Option<ContactLaw> {
+    let area = steps
         .iter()
-        .zip(h)
-        .map(|(s, &h)| (s.mean_pressure, h))
-        .collect();
-    value_at_pressure(&pts, p)
-}
-
-/// A model's h_c at separation `g` (m): its own step of equal separation, else ln h
-/// linear in g between its steps, as the pressure. `scale` = z_M − z̄ (m).
-fn conductance_at(steps: &[Step], h: &[f64], g: f64, scale: f64) -> f64 {
-    let pts: Vec<(f64, f64)> = steps.iter().zip(h).map(|(s, &h)| (s.gap, h)).collect();
-    value_at_separation(&pts, g, scale).0
+        .find(|s| s.mean_pressure > 0.0)
+        .map(|s| s.load / s.mean_pressure)?;
+    ContactLaw::from_steps(scale, steps, area, Some((ConductionKind::Thermal, h))).ok()
 }
 
 /// With `[conductance]`: the N and I models' h_c at each BEM step's separation against
@@ -372,18 +369,19 @@ pub fn conductance_rows(
     h_bem: &[f64],
     scale: f64,
 ) -> Vec<ConductanceRow> {
+    let laws = models.map(|m| m.and_then(|(steps, h)| model_law(steps, h, scale)));
     bem.iter()
         .zip(h_bem)
         .map(|(b, &hb)| {
-            let h = models.map(|m| {
-                m.map_or(f64::NAN, |(steps, h)| {
-                    conductance_at(steps, h, b.gap, scale)
-                })
+            let h = laws.each_ref().map(|l| {
+                l.as_ref()
+                    .and_then(|l| l.conductance_at_gap(b.gap).ok())
+                    .unwrap_or(f64::NAN)
             });
-            let h_at_p = models.map(|m| {
-                m.map_or(f64::NAN, |(steps, h)| {
-                    conductance_at_pressure(steps, h, b.mean_pressure)
-                })
+            let h_at_p = laws.each_ref().map(|l| {
+                l.as_ref()
+                    .and_then(|l| l.conductance_at_pressure(b.mean_pressure).ok())
+                    .unwrap_or(f64::NAN)
             });
             let rel_to = |h: f64| {
                 if hb > 0.0 && hb.is_finite() {

@@ -4,7 +4,7 @@
 //! spot of that radius: the N model's h_c is Σ G(aᵢ)/A₀ over the capped radii, and a
 //! hardness that never bites gives the elastic scene's conductance bit for bit.
 
-use strata::engine::{EngineOptions, Quiet, SceneSolution, solve};
+use strata::engine::{EngineOptions, Quiet, SceneSolution};
 use strata::scene::Scene;
 
 use crate::support::fresh_dir;
@@ -31,7 +31,8 @@ fn solve(dir: &std::path::Path, name: &str, text: &str) -> SceneSolution {
         cache_dir: Some(dir.join("cache")),
         ..Default::default()
     };
-    solve(&scene, None, &opts, &mut Quiet).unwrap_or_else(|e| panic!("{name}: {e:#}"))
+    strata::engine::solve(&scene, None, &opts, &mut Quiet)
+        .unwrap_or_else(|e| panic!("{name}: {e:#}"))
 }
 
 fn conductances(sol: &SceneSolution) -> Vec<f64> {

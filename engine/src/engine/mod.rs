@@ -51,8 +51,6 @@ pub const CURVE_HEADER: [&str; 8] = [
     "valid",
 ];
 
-/// How a scene is solved (not what: that is the scene).
-
 /// How a scene is solved (not what: that is the scene; not where the log goes: that is
 /// the [`Observer`]).
 #[derive(Debug, Clone, Default)]
@@ -396,8 +394,6 @@ pub fn stack_description(stack: &strata_runtime::Stack) -> String {
         modulus(stack.top_material().0)
     )
 }
-
-/// `model.kind = "bem"`: the FFT boundary-element solution of the whole surface
 
 /// The short name of a model kind for titles: `N model`, `I model (…)`, `BEM`.
 pub fn kind_short(scene: &Scene) -> String {
