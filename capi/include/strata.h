@@ -401,7 +401,8 @@ int32_t strata_law_options_default(struct StrataLawOptions *out);
 // defaults, the same law bit for bit): with `hardness` the loading curve of the N or
 // I model with capped asperity tips (`strata law` on a scene with
 // `[plasticity] hardness`; the response table's ring solves take ~20 CPU-s on a
-// layered stack); with `conductance_kind` the interface conductance h_c at every
+// layered stack, once: the table is kept in the table cache, `STRATA_CACHE_DIR` or
+// `$HOME/.cache/strata`, as the command keeps it); with `conductance_kind` the interface conductance h_c at every
 // sample (`strata law` on a scene with `[conductance]`: the CSV's `conductance`
 // column), queried with `strata_law_conductance*`; with both, h_c of the capped
 // tips' spots. `solver_options` NULL: the defaults. A field out of its domain is `STRATA_ERR_INVALID_ARGUMENT` naming it
