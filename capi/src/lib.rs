@@ -1068,7 +1068,7 @@ fn engine_error(e: anyhow::Error) -> CapiError {
 /// ([`strata_engine::law_build::sample_asperity_law`], `strata law`'s sampler): with a
 /// hardness the capped model's loading curve, with a conductance h_c at every sample.
 /// The arguments are checked first (the error names the argument), then the engine's
-/// errors are given their codes ([`engine_error`]). Its log lines are dropped; the
+/// errors are given their codes (`engine_error`). Its log lines are dropped; the
 /// capped asperity's response tables and the ψ tables are kept in the table cache
 /// (`STRATA_CACHE_DIR`, else `$XDG_CACHE_HOME/strata` or `$HOME/.cache/strata`).
 #[allow(clippy::too_many_arguments)]
