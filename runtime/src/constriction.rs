@@ -32,6 +32,8 @@
 //! payload bincode of (the stack's fingerprint, h₁, first piece k₀, the 8·pieces + 1
 //! node values).
 
+use std::path::{Path, PathBuf};
+
 use thiserror::Error;
 
 use crate::table::codec::{FrameError, frame, from_payload, to_payload, unframe};
@@ -240,6 +242,92 @@ impl PsiTable {
             from_payload(payload).map_err(PsiTableError::Damaged)?;
         PsiTable::from_nodes(key, h1, first, psi)
     }
+}
+
+/// The file of a ψ table in the table cache `dir`: `psi-<key>.strata` (`key` the
+/// stack's conduction fingerprint), beside the mechanics tables' `stack-<hex>.strata`.
+pub fn cache_path(key: u64, dir: &Path) -> PathBuf {
+    dir.join(format!("psi-{key:016x}.strata"))
+}
+
+/// The ψ table in the cache file `path` when it is a readable, undamaged table of the
+/// stack `key` with top-layer thickness `h1` (m); None otherwise (missing, damaged or
+/// foreign: the caller rebuilds it).
+pub fn read_cached(path: &Path, key: u64, h1: f64) -> Option<PsiTable> {
+    crate::resources::read_data_file(path, "a cache file")
+        .ok()
+        .and_then(|b| PsiTable::from_bytes(&b).ok())
+        .filter(|t| t.key() == key && t.top_thickness() == h1)
+}
+
+/// One body's side of a contact spot, as its spot conductance G_X(a) enters the
+/// series 1/G = 1/G_A + 1/G_B (physics.md §6.2).
+#[derive(Debug, Clone, Copy)]
+pub enum Side<'t> {
+    /// A perfect conductor (1/G = 0).
+    Perfect,
+    /// G = 4 k a: a homogeneous conductor of conductivity k (W/(m·K) or S/m).
+    Homogeneous(f64),
+    /// G = 4 k₁ a ψ(a): a layered conductor of top conductivity k₁ and ψ table `table`
+    /// (covering the radii asked for).
+    Layered {
+        /// k₁ (W/(m·K) or S/m).
+        conductivity: f64,
+        /// ψ(a) of the body.
+        table: &'t PsiTable,
+    },
+}
+
+impl Side<'_> {
+    /// 1/G of this side at spot radius `r` (m): K/W or 1/S (0 for a perfect conductor).
+    pub fn resistance(&self, r: f64) -> f64 {
+        match self {
+            Side::Perfect => 0.0,
+            Side::Homogeneous(k) => 1.0 / (4.0 * k * r),
+            Side::Layered {
+                conductivity,
+                table,
+            } => 1.0 / (4.0 * conductivity * r * table.at(r)),
+        }
+    }
+}
+
+/// The smallest and largest positive, finite contact radius (m) over the steps of a
+/// load path; None when no summit touches.
+pub fn radius_range(steps: &[crate::rough::Step]) -> Option<(f64, f64)> {
+    let (lo, hi) = steps
+        .iter()
+        .flat_map(|s| s.radii.iter().copied())
+        .filter(|&a| a > 0.0 && a.is_finite())
+        .fold((f64::INFINITY, 0.0f64), |(lo, hi), a| {
+            (lo.min(a), hi.max(a))
+        });
+    (hi > 0.0).then_some((lo, hi))
+}
+
+/// G(aᵢ) (W/K or S; 0 out of contact) of every summit of every step of a load path,
+/// the sides `a` and `b` in series: 1/G = 1/G_A(aᵢ) + 1/G_B(aᵢ) (physics.md §6.2).
+/// The N model's h_c is Σᵢ G(aᵢ)/A₀ per step; the I model's spot network takes these G.
+pub fn series_conductances(
+    a: &Side<'_>,
+    b: &Side<'_>,
+    steps: &[crate::rough::Step],
+) -> Vec<Vec<f64>> {
+    steps
+        .iter()
+        .map(|s| {
+            s.radii
+                .iter()
+                .map(|&r| {
+                    if r > 0.0 && r.is_finite() {
+                        1.0 / (a.resistance(r) + b.resistance(r))
+                    } else {
+                        0.0
+                    }
+                })
+                .collect()
+        })
+        .collect()
 }
 
 #[cfg(test)]

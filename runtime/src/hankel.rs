@@ -19,24 +19,7 @@
 
 use thiserror::Error;
 
-/// Gauss–Legendre nodes and weights on [−1, 1], 8 points.
-const GL8: [(f64, f64); 8] = [
-    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-    (0.796_666_477_413_626_7, 0.222_381_034_453_374_47),
-    (0.960_289_856_497_536_3, 0.101_228_536_290_376_26),
-];
-/// Gauss–Legendre, 4 points.
-const GL4: [(f64, f64); 4] = [
-    (-0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-    (-0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
-    (0.339_981_043_584_856_3, 0.652_145_154_862_546_1),
-    (0.861_136_311_594_052_6, 0.347_854_845_137_453_85),
-];
+use crate::numerics::gauss_legendre_cached;
 
 /// Why the remainder could not be tabulated.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -121,10 +104,11 @@ impl Remainder {
                 "{panels} quadrature panels needed (h₁ = {b:e} m, depth {depth:e} m, r = {r_tab:e} m)"
             )));
         }
-        let mut nodes = Vec::with_capacity(panels * GL8.len());
+        let gl8 = gauss_legendre_cached(8);
+        let mut nodes = Vec::with_capacity(panels * gl8.len());
         for p in 0..panels {
             let (lo, hi) = (p as f64 * panel, (p + 1) as f64 * panel);
-            for &(x, w) in &GL8 {
+            for &(x, w) in gl8 {
                 let rho = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
                 let kr = k(rho);
                 if !kr.is_finite() {
@@ -197,13 +181,14 @@ impl Remainder {
         };
         let (sx, sy) = (split(dx), split(dy));
         let (hx, hy) = (dx / sx as f64, dy / sy as f64);
+        let gl4 = gauss_legendre_cached(4);
         let mut acc = 0.0;
         for a in 0..sx {
             let cx = -0.5 * dx + (a as f64 + 0.5) * hx;
             for c in 0..sy {
                 let cy = -0.5 * dy + (c as f64 + 0.5) * hy;
-                for &(u, wu) in &GL4 {
-                    for &(v, wv) in &GL4 {
+                for &(u, wu) in gl4 {
+                    for &(v, wv) in gl4 {
                         let px = x - (cx + 0.5 * hx * u);
                         let py = y - (cy + 0.5 * hy * v);
                         acc += wu * wv * self.j(px.hypot(py));

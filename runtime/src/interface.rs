@@ -47,6 +47,7 @@
 
 use thiserror::Error;
 
+use crate::numerics::{fritsch_carlson, hermite, pchip_slopes};
 use crate::resources::{ResourceError, bytes_for, check_memory};
 use crate::rough::{Model, RoughContact, RoughError, Step, Validity};
 
@@ -587,91 +588,6 @@ impl InterfaceLaw {
         }
         d
     }
-}
-
-/// Cubic Hermite on one interval [x0, x1] with values y and slopes m: (value, slope).
-pub fn hermite(x: &[f64], y: &[f64], m: &[f64], at: f64) -> (f64, f64) {
-    let h = x[1] - x[0];
-    let t = (at - x[0]) / h;
-    let (t2, t3) = (t * t, t * t * t);
-    let h00 = 2.0 * t3 - 3.0 * t2 + 1.0;
-    let h10 = t3 - 2.0 * t2 + t;
-    let h01 = -2.0 * t3 + 3.0 * t2;
-    let h11 = t3 - t2;
-    let v = h00 * y[0] + h10 * h * m[0] + h01 * y[1] + h11 * h * m[1];
-    let d = (6.0 * t2 - 6.0 * t) / h * (y[0] - y[1])
-        + (3.0 * t2 - 4.0 * t + 1.0) * m[0]
-        + (3.0 * t2 - 2.0 * t) * m[1];
-    (v, d)
-}
-
-/// Fritsch–Carlson (1980) limiter on given node slopes `m` of monotone data (x
-/// ascending): slopes of the wrong sign become 0, a flat interval gets flat ends, and
-/// (α, β) = (m_k, m_{k+1})/secant outside the circle α² + β² ≤ 9 is scaled onto it.
-/// Returns how many slopes changed.
-fn fritsch_carlson(x: &[f64], y: &[f64], m: &mut [f64]) -> usize {
-    let mut changed = vec![false; m.len()];
-    for k in 0..x.len() - 1 {
-        let d = (y[k + 1] - y[k]) / (x[k + 1] - x[k]);
-        if d == 0.0 {
-            for j in [k, k + 1] {
-                if m[j] != 0.0 {
-                    m[j] = 0.0;
-                    changed[j] = true;
-                }
-            }
-            continue;
-        }
-        for j in [k, k + 1] {
-            if m[j] / d < 0.0 {
-                m[j] = 0.0;
-                changed[j] = true;
-            }
-        }
-        let (a, b) = (m[k] / d, m[k + 1] / d);
-        let r = a * a + b * b;
-        if r > 9.0 {
-            let tau = 3.0 / r.sqrt();
-            m[k] = tau * a * d;
-            m[k + 1] = tau * b * d;
-            changed[k] = true;
-            changed[k + 1] = true;
-        }
-    }
-    changed.iter().filter(|c| **c).count()
-}
-
-/// PCHIP slopes (Fritsch–Butland weighted harmonic mean inside, the three-point
-/// shape-preserving rule at the ends), as in SciPy's `PchipInterpolator`; `x` strictly
-/// ascending, at least two points.
-pub fn pchip_slopes(x: &[f64], y: &[f64]) -> Vec<f64> {
-    let n = x.len();
-    let h: Vec<f64> = x.windows(2).map(|w| w[1] - w[0]).collect();
-    let d: Vec<f64> = (0..n - 1).map(|k| (y[k + 1] - y[k]) / h[k]).collect();
-    if n == 2 {
-        return vec![d[0], d[0]];
-    }
-    let mut m = vec![0.0; n];
-    for k in 1..n - 1 {
-        if d[k - 1] * d[k] > 0.0 {
-            let w1 = 2.0 * h[k] + h[k - 1];
-            let w2 = h[k] + 2.0 * h[k - 1];
-            m[k] = (w1 + w2) / (w1 / d[k - 1] + w2 / d[k]);
-        }
-    }
-    let edge = |h0: f64, h1: f64, d0: f64, d1: f64| {
-        let s = ((2.0 * h0 + h1) * d0 - h0 * d1) / (h0 + h1);
-        if s.signum() != d0.signum() || d0 == 0.0 {
-            0.0
-        } else if d0.signum() != d1.signum() && s.abs() > 3.0 * d0.abs() {
-            3.0 * d0
-        } else {
-            s
-        }
-    };
-    m[0] = edge(h[0], h[1], d[0], d[1]);
-    m[n - 1] = edge(h[n - 2], h[n - 3], d[n - 2], d[n - 3]);
-    m
 }
 
 impl InterfaceLaw {

@@ -11,6 +11,8 @@
 //! A homogeneous solid has χ = ζ = 1 and g = 0 ([`Homogeneous`]); layered stacks get
 //! theirs from a surrogate table (the `table` module).
 
+use crate::numerics::{Tolerance, bracketed};
+
 /// χ, ζ, g of one stack. Lengths in m, moduli in Pa.
 pub trait AsperityLaw: Send + Sync {
     /// E*₁ = E₁/(1−ν₁²) of the surface material (Pa).
@@ -107,7 +109,8 @@ pub fn half_space_bracket_derivs(a: f64, r: f64) -> (f64, f64) {
 
 /// The contact radius a ≥ 0 (m) of an asperity of radius R (m) at interference δ (m):
 /// the root of δ = ζ(a)a²/R. Homogeneous: a = √(Rδ); otherwise safeguarded Newton
-/// (exact slope (ζ′a² + 2ζa)/R) on a bracket grown by doubling from the Hertz radius,
+/// ([`bracketed`], exact slope (ζ′a² + 2ζa)/R) on a bracket grown by doubling from the
+/// Hertz radius,
 /// to round-off (|residual| ≤ 1e-15 δ or a step ≤ 1e-15 a). 0 for δ ≤ 0 or NaN;
 /// None when no bracket is found within 2⁶⁰ × the Hertz radius or a value is not finite.
 pub fn contact_radius(law: &dyn AsperityLaw, radius: f64, delta: f64) -> Option<f64> {
@@ -121,40 +124,34 @@ pub fn contact_radius(law: &dyn AsperityLaw, radius: f64, delta: f64) -> Option<
     let f = |a: f64| interference(law, a, radius) - delta;
     let (mut lo, mut hi) = (0.0, hertz);
     let mut k = 0;
-    while f(hi) < 0.0 {
+    let mut f_hi = f(hi);
+    while f_hi < 0.0 {
         lo = hi;
         hi *= 2.0;
         k += 1;
         if k > 60 || !hi.is_finite() {
             return None;
         }
+        f_hi = f(hi);
     }
-    let mut a = 0.5 * (lo + hi);
-    for _ in 0..200 {
+    // Newton with the exact slope from the bracket's midpoint
+    let eval = |a: f64| {
         let (_, _, z, dz) = law.chi_zeta_derivs(a);
         let v = z * a * a / radius - delta;
-        if !v.is_finite() {
-            return None;
-        }
-        if v.abs() <= 1e-15 * delta {
-            return Some(a);
-        }
-        if v < 0.0 {
-            lo = a;
-        } else {
-            hi = a;
-        }
-        let d = (dz * a * a + 2.0 * z * a) / radius;
-        let mut next = a - v / d;
-        if !next.is_finite() || next <= lo || next >= hi {
-            next = 0.5 * (lo + hi);
-        }
-        if (next - a).abs() <= 1e-15 * a {
-            return Some(next);
-        }
-        a = next;
-    }
-    Some(a)
+        Ok::<_, std::convert::Infallible>((v, Some((dz * a * a + 2.0 * z * a) / radius)))
+    };
+    let tol = Tolerance {
+        f: 1e-15 * delta,
+        step: 1e-15,
+        width: 0.0,
+        width_abs: 0.0,
+    };
+    let start = Some(0.5 * (lo + hi));
+    let root = match bracketed(eval, (lo, -delta), (hi, f_hi), start, tol, 200) {
+        Ok(root) => root,
+        Err(never) => match never {},
+    };
+    root.f.is_finite().then_some(root.x)
 }
 
 /// The homogeneous half-space: χ = ζ = 1, g = 0.

@@ -76,8 +76,11 @@ pub mod hankel;
 pub mod hash;
 pub mod interface;
 pub mod law;
+pub mod numerics;
 pub mod output;
 pub mod resources;
+#[cfg(feature = "capped")]
+pub mod rings;
 pub mod rough;
 pub mod stack;
 pub mod summits;

@@ -40,6 +40,7 @@
 
 use std::f64::consts::PI;
 
+use strata_runtime::numerics::{Tolerance, bracketed};
 use strata_runtime::{Compliance, Stack};
 use thiserror::Error;
 
@@ -400,46 +401,18 @@ impl Asperity {
             f1 = f(x1)?;
         }
         // Illinois regula falsi on [x0, x1].
-        let (mut lo, mut flo, mut hi, mut fhi) = if f0 < 0.0 {
-            (x0, f0, x1, f1)
+        let (neg, pos) = if f0 < 0.0 {
+            ((x0, f0), (x1, f1))
         } else {
-            (x1, f1, x0, f0)
+            ((x1, f1), (x0, f0))
         };
-        let mut side = 0;
-        let mut x = lo;
-        for _ in 0..100 {
-            if fhi == 0.0 {
-                x = hi;
-                break;
-            }
-            if flo == 0.0 {
-                x = lo;
-                break;
-            }
-            x = (lo * fhi - hi * flo) / (fhi - flo);
-            if !(x > lo.min(hi) && x < lo.max(hi)) {
-                x = 0.5 * (lo + hi);
-            }
-            let fx = f(x)?;
-            if fx.abs() < 1e-15 || (hi - lo).abs() < 1e-14 {
-                break;
-            }
-            if fx < 0.0 {
-                lo = x;
-                flo = fx;
-                if side == -1 {
-                    fhi *= 0.5;
-                }
-                side = -1;
-            } else {
-                hi = x;
-                fhi = fx;
-                if side == 1 {
-                    flo *= 0.5;
-                }
-                side = 1;
-            }
-        }
+        let tol = Tolerance {
+            f: 1e-15,
+            step: 0.0,
+            width: 0.0,
+            width_abs: 1e-14,
+        };
+        let x = bracketed(|x| f(x).map(|v| (v, None)), neg, pos, None, tol, 100)?.x;
         let a = x.exp();
         let c = a * a / radius;
         let (_, sol) = self.smooth_delta(a, c, &|s| s * s, true)?;

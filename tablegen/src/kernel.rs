@@ -56,39 +56,9 @@ pub enum KernelError {
 /// a vanishing approach drove the root find to a/h₁ ~ 1e20 and 15 GB).
 pub const MAX_RULE_PANELS: f64 = 262_144.0;
 
-/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n, tolerance 1e−15).
-pub fn gauss_legendre(n: usize) -> (Vec<f64>, Vec<f64>) {
-    let mut x = vec![0.0; n];
-    let mut w = vec![0.0; n];
-    let nf = n as f64;
-    for i in 0..n.div_ceil(2) {
-        let mut z = (PI * (i as f64 + 0.75) / (nf + 0.5)).cos();
-        let mut dp = 1.0;
-        for _ in 0..100 {
-            let (mut p0, mut p1) = (1.0, z);
-            for k in 2..=n {
-                let kf = k as f64;
-                let p2 = ((2.0 * kf - 1.0) * z * p1 - (kf - 1.0) * p0) / kf;
-                p0 = p1;
-                p1 = p2;
-            }
-            let p = if n == 0 { 1.0 } else { p1 };
-            let pm1 = if n == 0 { 0.0 } else { p0 };
-            dp = nf * (z * p - pm1) / (z * z - 1.0);
-            let dz = p / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        x[i] = -z;
-        x[n - 1 - i] = z;
-        let wi = 2.0 / ((1.0 - z * z) * dp * dp);
-        w[i] = wi;
-        w[n - 1 - i] = wi;
-    }
-    (x, w)
-}
+/// Gauss–Legendre nodes and weights on [−1, 1]: the runtime's one rule, re-exported
+/// under its former path.
+pub use strata_runtime::numerics::gauss_legendre;
 
 /// A quadrature rule for ∫₀^∞ f(u) du over the support of k_z, with k_z at its nodes
 /// (or of any other kernel function k(u) of the same form: [`KzQuadrature::for_kernel`];
@@ -309,20 +279,6 @@ mod tests {
             Base::Rigid,
         )
         .unwrap()
-    }
-
-    #[test]
-    fn gauss_legendre_integrates_polynomials() {
-        let (x, w) = gauss_legendre(16);
-        for p in 0..32 {
-            let q: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(p)).sum();
-            let exact = if p % 2 == 1 {
-                0.0
-            } else {
-                2.0 / (p as f64 + 1.0)
-            };
-            assert!((q - exact).abs() < 1e-14, "degree {p}: {q} vs {exact}");
-        }
     }
 
     /// The rule reaches far enough: k_z is negligible at u_max.

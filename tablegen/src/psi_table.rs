@@ -18,7 +18,7 @@ use rayon::prelude::*;
 use thiserror::Error;
 
 pub use strata_runtime::constriction::PsiTable;
-use strata_runtime::constriction::{PIECE_NODES, PsiTableError, node_radius, pieces};
+use strata_runtime::constriction::{self, PIECE_NODES, PsiTableError, node_radius, pieces};
 
 use crate::asperity::Method;
 use crate::fredholm::Discretisation;
@@ -129,12 +129,9 @@ pub fn extend(
 }
 
 /// The file of `spot`'s ψ table in the cache directory `dir`:
-/// `psi-<fingerprint>.strata`, beside the mechanics tables' `stack-<hex>.strata`.
+/// `psi-<fingerprint>.strata` ([`constriction::cache_path`]).
 pub fn cache_path(spot: &Spot, dir: &Path) -> PathBuf {
-    dir.join(format!(
-        "psi-{:016x}.strata",
-        spot.compliance().fingerprint()
-    ))
+    constriction::cache_path(spot.compliance().fingerprint(), dir)
 }
 
 /// What [`cached`] did with the cache file.
@@ -160,10 +157,7 @@ pub fn cached(spot: &Spot, lo: f64, hi: f64, dir: &Path) -> Result<(PsiTable, Ca
     let key = spot.compliance().fingerprint();
     let h1 = spot.top_thickness().unwrap_or(1.0);
     let need = pieces(h1, lo, hi).ok_or(PsiError::Range { lo, hi })?;
-    let old = strata_runtime::resources::read_data_file(&path, "a cache file")
-        .ok()
-        .and_then(|b| PsiTable::from_bytes(&b).ok())
-        .filter(|t| t.key() == key && t.top_thickness() == h1);
+    let old = constriction::read_cached(&path, key, h1);
     let old = match old {
         Some(t) if t.covers(need) => return Ok((t, CacheUse::Read)),
         other => other,

@@ -9,8 +9,9 @@
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
+use strata_runtime::constriction::{Side, radius_range, series_conductances};
 use strata_runtime::rough::conductance::{
-    Body, ConductanceError, Interactions, Kernel, KernelInfo,
+    Body, ConductanceError, Kernel, KernelInfo, PathError, path_conductances,
 };
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
@@ -50,17 +51,10 @@ pub fn spot_conductances(
     steps: &[Step],
     cache: Option<&Path>,
 ) -> Result<(Vec<Vec<f64>>, Vec<CacheUse>), PsiError> {
-    let (lo, hi) = steps
-        .iter()
-        .flat_map(|s| s.radii.iter().copied())
-        .filter(|&a| a > 0.0 && a.is_finite())
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), a| {
-            (lo.min(a), hi.max(a))
-        });
-    if hi == 0.0 {
+    let Some((lo, hi)) = radius_range(steps) else {
         let g = steps.iter().map(|s| vec![0.0; s.radii.len()]).collect();
         return Ok((g, vec![]));
-    }
+    };
     let mut uses = vec![];
     let mut table = |s: &SpotSide| -> Result<Option<PsiTable>, PsiError> {
         let SpotSide::Layered(spot) = s else {
@@ -76,31 +70,23 @@ pub fn spot_conductances(
         }))
     };
     let (ta, tb) = (table(a)?, table(b)?);
-    // 1/G of one side at radius r (0 for a perfect conductor).
-    let resistance = |s: &SpotSide, t: &Option<PsiTable>, r: f64| match (s, t) {
-        (SpotSide::Perfect, _) => 0.0,
-        (SpotSide::Homogeneous(k), _) => 1.0 / (4.0 * k * r),
-        (SpotSide::Layered(spot), Some(t)) => {
-            1.0 / (4.0 * spot.compliance().top_conductivity() * r * t.at(r))
-        }
-        (SpotSide::Layered(..), None) => f64::NAN,
+    let (Some(sa), Some(sb)) = (side(a, &ta), side(b, &tb)) else {
+        return Err(PsiError::Range { lo, hi });
     };
-    let g = steps
-        .iter()
-        .map(|s| {
-            s.radii
-                .iter()
-                .map(|&r| {
-                    if r > 0.0 && r.is_finite() {
-                        1.0 / (resistance(a, &ta, r) + resistance(b, &tb, r))
-                    } else {
-                        0.0
-                    }
-                })
-                .collect()
-        })
-        .collect();
-    Ok((g, uses))
+    Ok((series_conductances(&sa, &sb, steps), uses))
+}
+
+/// The runtime's view of the side `s` with its ψ table `t` (None for a layered side
+/// without one; a layered side always has its table).
+fn side<'t>(s: &SpotSide, t: &'t Option<PsiTable>) -> Option<Side<'t>> {
+    Some(match s {
+        SpotSide::Perfect => Side::Perfect,
+        SpotSide::Homogeneous(k) => Side::Homogeneous(*k),
+        SpotSide::Layered(spot) => Side::Layered {
+            conductivity: spot.compliance().top_conductivity(),
+            table: t.as_ref()?,
+        },
+    })
 }
 
 /// A failed N- or I-model conductance of a load path.
@@ -219,29 +205,11 @@ impl SpotPair {
         .map_err(SpotPairError::Kernel)?;
         let area = extent.0 * extent.1;
         let g = self.spot_conductances(steps)?;
-        // the summits in contact at some step: their interactions filled once
-        let touching: Vec<usize> = (0..summits.len())
-            .filter(|&k| g.iter().any(|gs| gs.get(k).is_some_and(|&g| g > 0.0)))
-            .collect();
-        let points: Vec<(f64, f64)> = touching
-            .iter()
-            .map(|&k| (summits[k].x, summits[k].y))
-            .collect();
-        let net = Interactions::new(&kernel, &points).map_err(SpotPairError::Kernel)?;
-        let h = g
-            .iter()
-            .enumerate()
-            .map(|(step, gs)| {
-                let spots: Vec<(usize, f64)> = touching
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(r, &k)| gs.get(k).filter(|&&g| g > 0.0).map(|&g| (r, g)))
-                    .collect();
-                net.network(&spots, area)
-                    .map(|n| n.conductance)
-                    .map_err(|error| SpotPairError::Network { step, error })
-            })
-            .collect::<Result<Vec<f64>, SpotPairError>>()?;
+        let points: Vec<(f64, f64)> = summits.iter().map(|s| (s.x, s.y)).collect();
+        let h = path_conductances(&kernel, &g, &points, area).map_err(|e| match e {
+            PathError::Step { step, error } => SpotPairError::Network { step, error },
+            PathError::Interactions(e) => SpotPairError::Kernel(e),
+        })?;
         Ok((h, kernel.info()))
     }
 

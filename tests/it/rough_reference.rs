@@ -37,31 +37,6 @@ fn read_csv(name: &str) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|i| {
-            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, x);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                let dx = p1 / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            (x, 2.0 / ((1.0 - x * x) * dp * dp))
-        })
-        .collect()
-}
-
 const NT: usize = 22;
 
 fn factorial(n: usize) -> f64 {
@@ -101,7 +76,7 @@ impl QuadLaw {
             }
         }
         let rho_cut = rho_cut * 1.1;
-        let gl = gauss_legendre(8);
+        let gl = strata_runtime::numerics::gauss_legendre_pairs(8);
         let panels = 300;
         let w = rho_cut / panels as f64;
         let mut rho = Vec::new();

@@ -14,7 +14,7 @@
 //!   pressure (Abaqus' `*GAP CONDUCTANCE, PRESSURE` tabulates the samples and
 //!   interpolates linearly in p between them; this follows the physics between them).
 
-use super::{hermite, pchip_slopes};
+use crate::numerics::{bisect_adjacent, hermite, pchip_slopes};
 use thiserror::Error;
 
 /// Errors of a conductance query.
@@ -140,18 +140,7 @@ impl ConductanceCurve {
             return Ok(self.h[k]);
         }
         // p(x[k]) > pressure > p(x[k+1]): bisection to adjacent floats
-        let (mut lo, mut hi) = (self.x[k], self.x[k + 1]);
-        loop {
-            let mid = lo + 0.5 * (hi - lo);
-            if mid <= lo || mid >= hi {
-                break;
-            }
-            if p_of_g(mid) >= pressure {
-                lo = mid;
-            } else {
-                hi = mid;
-            }
-        }
+        let lo = bisect_adjacent(|g| p_of_g(g) >= pressure, self.x[k], self.x[k + 1]);
         self.at_gap(lo)
     }
 }

@@ -1,7 +1,7 @@
 //! The N model with capped asperity tips (physics.md §9): every summit alone, each an
 //! elastic–perfectly plastic paraboloid (pressure ≤ H) on the layered solid, through a
-//! response table built from the capped asperity on rings (`strata_tablegen`'s
-//! `plastic_asperity::response`).
+//! response table built from the capped asperity on rings ([`asperity::response`],
+//! feature `capped`).
 //!
 //! # Scaling
 //! A summit of radius R yields (on a half-space) at δ_c = (πH/2E*)² R, with contact
@@ -22,6 +22,8 @@
 //!
 //! The table's file form (the table cache keeps it) is in [`file`](mod@file).
 
+#[cfg(feature = "capped")]
+pub mod asperity;
 pub mod file;
 
 use super::{Diagnostics, IndependentError, Model, RoughContact, RoughError, Step, Validity};

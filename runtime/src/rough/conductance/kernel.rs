@@ -154,18 +154,14 @@ fn layered_rest(bodies: [Body<'_>; 2], rho: f64) -> f64 {
 /// w₀ = Σ_X ∫₀^∞ k_th,X(ρ) dρ /(2πk₁,X) (K/W): 8-point Gauss–Legendre on panels in ln ρ
 /// (ratio 1.25) from `lo` to `hi` plus ρ_lo·k_th(0) below.
 fn layered_at_zero(bodies: [Body<'_>; 2], lo: f64, hi: f64) -> f64 {
-    const GL8: [(f64, f64); 4] = [
-        (0.183_434_642_495_649_8, 0.362_683_783_378_362),
-        (0.525_532_409_916_329, 0.313_706_645_877_887_3),
-        (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
-        (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
-    ];
+    // the positive half of the 8-point rule (mirrored below)
+    let gl8 = &crate::numerics::gauss_legendre_cached(8)[4..];
     let f = |rho: f64| layered_rest(bodies, rho);
     let mut sum = lo * f(0.0);
     let (mut a, step) = (lo.ln(), 1.25f64.ln());
     while a < hi.ln() {
         let (c, h) = (a + 0.5 * step, 0.5 * step);
-        for &(x, w) in &GL8 {
+        for &(x, w) in gl8 {
             for u in [c - h * x, c + h * x] {
                 let rho = u.exp();
                 sum += w * h * f(rho) * rho;

@@ -269,5 +269,55 @@ fn fill(m: &mut [f64], n: usize, f: impl Fn(usize, usize) -> f64 + Sync) {
     }
 }
 
+/// A failed spot network of a load path ([`path_conductances`]).
+#[derive(Debug, Error)]
+pub enum PathError {
+    /// The interactions of the summits that touch.
+    #[error("{0}")]
+    Interactions(ConductanceError),
+    /// The spot network of one load step.
+    #[error("load step {step}: {error}")]
+    Step {
+        /// The step (from 0).
+        step: usize,
+        error: ConductanceError,
+    },
+}
+
+/// The I model's interface conductance of every step of a load path (physics.md §6.2):
+/// the spots of each step (the summits in contact, at their positions `points` (m),
+/// with their conductances `g[step][summit]` (W/K or S, 0 out of contact, e.g.
+/// [`crate::constriction::series_conductances`])) heat each other through both bodies
+/// of `kernel`, Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀), `area` = A₀ (m²).
+/// The interactions of every summit that touches at some step are filled once for the
+/// path ([`Interactions`]: the same h_c as filling each step's network afresh, bit for
+/// bit). h_c per step (W/(m²·K) or S/m²).
+pub fn path_conductances(
+    kernel: &Kernel,
+    g: &[Vec<f64>],
+    points: &[(f64, f64)],
+    area: f64,
+) -> Result<Vec<f64>, PathError> {
+    // the summits in contact at some step: their interactions filled once
+    let touching: Vec<usize> = (0..points.len())
+        .filter(|&k| g.iter().any(|gs| gs.get(k).is_some_and(|&g| g > 0.0)))
+        .collect();
+    let at: Vec<(f64, f64)> = touching.iter().map(|&k| points[k]).collect();
+    let net = Interactions::new(kernel, &at).map_err(PathError::Interactions)?;
+    g.iter()
+        .enumerate()
+        .map(|(step, gs)| {
+            let spots: Vec<(usize, f64)> = touching
+                .iter()
+                .enumerate()
+                .filter_map(|(r, &k)| gs.get(k).filter(|&&g| g > 0.0).map(|&g| (r, g)))
+                .collect();
+            net.network(&spots, area)
+                .map(|n| n.conductance)
+                .map_err(|error| PathError::Step { step, error })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests;

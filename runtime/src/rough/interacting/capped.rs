@@ -30,6 +30,7 @@
 use super::Problem;
 use super::energy::State;
 use crate::law::{AsperityLaw, contact_radius, force};
+use crate::numerics::{Tolerance, bracketed};
 use crate::rough::local::Local;
 use crate::rough::plastic::{PlasticResponse, below_table};
 use crate::rough::{Images, Model, NewtonError, RoughContact, RoughError, Step};
@@ -99,8 +100,9 @@ fn own_interference(law: &dyn AsperityLaw, a: f64, radius: f64) -> f64 {
     0.5 * (l.s + l.q * l.ds / l.dq)
 }
 
-/// The contact radius a with δ_I(a) = d (m), by a safeguarded secant from the N
-/// model's radius (ζ(a)a²/R = d); δ_I grows with a.
+/// The contact radius a with δ_I(a) = d (m), by the Illinois regula falsi of
+/// [`bracketed`] on a bracket grown by doubling from the N model's radius
+/// (ζ(a)a²/R = d); δ_I grows with a. None when no bracket is found or δ_I is not finite.
 fn own_radius(law: &dyn AsperityLaw, radius: f64, d: f64) -> Option<f64> {
     if law.is_homogeneous() {
         return Some((radius * d).sqrt());
@@ -117,27 +119,18 @@ fn own_radius(law: &dyn AsperityLaw, radius: f64, d: f64) -> Option<f64> {
             return None;
         }
     }
-    let (mut fl, mut fh) = (-d, h(hi));
-    for _ in 0..200 {
-        let a = if fh > fl {
-            hi - fh * (hi - lo) / (fh - fl)
-        } else {
-            0.5 * (lo + hi)
-        };
-        let a = if a > lo && a < hi { a } else { 0.5 * (lo + hi) };
-        let f = h(a);
-        if f.abs() <= 1e-15 * d || hi - lo <= 1e-15 * hi {
-            return Some(a);
-        }
-        if f < 0.0 {
-            (lo, fl) = (a, f);
-            fh *= 0.5; // Illinois
-        } else {
-            (hi, fh) = (a, f);
-            fl *= 0.5;
-        }
-    }
-    Some(0.5 * (lo + hi))
+    let tol = Tolerance {
+        f: 1e-15 * d,
+        step: 0.0,
+        width: 1e-15,
+        width_abs: 0.0,
+    };
+    let eval = |a: f64| Ok::<_, std::convert::Infallible>((h(a), None));
+    let root = match bracketed(eval, (lo, -d), (hi, h(hi)), None, tol, 200) {
+        Ok(root) => root,
+        Err(never) => match never {},
+    };
+    root.f.is_finite().then_some(root.x)
 }
 
 /// D̃_k (m) at every local index for contact radii `a` and source factors `scale`.

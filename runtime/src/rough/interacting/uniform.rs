@@ -46,6 +46,7 @@
 //! of L, in [−½, ½], so the binomial expansion does not cancel): O(n N²) per sum.
 
 use crate::law::AsperityLaw;
+use crate::numerics::gauss_legendre_pairs;
 
 /// Degrees tried for the interpolant of V (even).
 const DEGREES: [usize; 5] = [8, 12, 16, 24, 32];
@@ -89,31 +90,6 @@ pub(crate) fn outside_moments(rx: f64, ry: f64) -> (f64, f64, f64) {
     (i3, kxx, kyy)
 }
 
-/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n, to round-off).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (0..n)
-        .map(|i| {
-            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n as f64 + 0.5)).cos();
-            let mut dp = 1.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, x);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                let dx = p1 / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            (x, 2.0 / ((1.0 - x * x) * dp * dp))
-        })
-        .collect()
-}
-
 /// The layered remainder w₁(r) = w(r) − S(0)/r of the point-force field (1/m, module
 /// docs), from the law's g at its smallest contact radius, and Φ(R) = ∫₀^R w₁ r dr
 /// (8-point Gauss–Legendre on segments growing by 10 % from 1e-6 of the cell).
@@ -135,7 +111,7 @@ impl<'l> Remainder<'l> {
             s0,
             a0: 1e-3 * r_min,
             cum: vec![(0.0, 0.0)],
-            gl: gauss_legendre(8),
+            gl: gauss_legendre_pairs(8),
         };
         let mut r = r_min;
         let mut phi = 0.0;
@@ -189,7 +165,7 @@ fn block_integral(rem: &Remainder, rx: f64, ry: f64, d: (f64, f64)) -> f64 {
         (d.0 - rx, d.1 - ry),
         (d.0 + rx, d.1 - ry),
     ];
-    let gl = gauss_legendre(24);
+    let gl = gauss_legendre_pairs(24);
     let mut total = 0.0;
     for e in 0..4 {
         let (p, q) = (corners[e], corners[(e + 1) % 4]);
@@ -216,7 +192,7 @@ fn block_integral(rem: &Remainder, rx: f64, ry: f64, d: (f64, f64)) -> f64 {
 /// `rx`, `ry`, centred), ∫_out ∂ₓₓw₁ dA = −2 ∫ w₁′(r) rx/r dy along x = rx (and alike
 /// in y), w₁′ by central differences.
 fn remainder_tail(rem: &Remainder, extent: (f64, f64), rx: f64, ry: f64) -> f64 {
-    let gl = gauss_legendre(32);
+    let gl = gauss_legendre_pairs(32);
     let dw = |r: f64| {
         let h = 1e-4 * r;
         (rem.w1(r + h) - rem.w1(r - h)) / (2.0 * h)
