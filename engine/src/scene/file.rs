@@ -9,7 +9,7 @@ use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::{Deserialize, Serialize};
 
 use strata_runtime::stack::{
-    BaseFile, CounterfaceFile, LayerFile, SceneOnly, SerdeProblem, StackError, serde_problem,
+    BaseFile, CounterfaceFile, LayerFile, SerdeProblem, StackError, serde_problem,
 };
 
 use super::error::SceneError;
@@ -39,8 +39,9 @@ pub struct SceneFile {
     pub conductance: Option<ConductanceFile>,
 }
 
-/// `[stack]`: a stack `file` or an inline stack (the keys of a stack file), and an
-/// optional `table`.
+/// `[stack]`: a stack `file` or an inline stack (`name`, `[[stack.layer]]`,
+/// `[stack.base]`), and an optional `table`. A scene gives its counterface in
+/// `[counterface]`, not inside `[stack]`.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub struct StackSection {
@@ -54,8 +55,6 @@ pub struct StackSection {
     pub layer: Option<Vec<LayerFile>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base: Option<BaseFile>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub counterface: Option<CounterfaceFile<SceneOnly>>,
 }
 
 /// `[surface]` (and `[counterface.surface]`).

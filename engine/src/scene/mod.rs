@@ -649,6 +649,58 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         assert!(err(&asperity).contains("output.maps") && err(&asperity).contains("bem"));
     }
 
+    /// A counterface of a counterface cannot be written, elastic or rigid; a scene
+    /// built from JSON values (the Python package) reads through the same serde types
+    /// and names the same fields as the TOML text.
+    #[test]
+    fn one_counterface_reader_and_json_scenes() {
+        let nested = "[counterface]\n[counterface.base]\nkind = \"elastic\"\nyoung = 2e11\n\
+                      poisson = 0.3\n[counterface.counterface]\n[counterface.counterface.base]\n\
+                      kind = \"rigid\"";
+        for c in [
+            nested.to_string(),
+            nested.replace(
+                "[counterface.base]\nkind = \"elastic\"\nyoung = 2e11\npoisson = 0.3\n",
+                "",
+            ),
+        ] {
+            let e = err(&format!("{GOOD}\n{c}\n"));
+            assert!(
+                e.contains("counterface.counterface") && e.contains("own counterface"),
+                "{e}"
+            );
+        }
+        let e = err(&format!("{GOOD}\n[stack.counterface]\n"));
+        assert!(e.contains("unknown key `stack.counterface`"), "{e}");
+        // the same scene as JSON values: accepted, and errors name the same fields
+        let file: file::SceneFile = toml::from_str(GOOD).unwrap();
+        let json = serde_json::to_value(&file).unwrap();
+        let from_json = Scene::from_json_in(json.clone(), Path::new("."), None).unwrap();
+        assert_eq!(from_json, parse(GOOD).unwrap());
+        let mut bad = json.clone();
+        bad["load"]["approach"]["steps"] = serde_json::json!(1.5);
+        let e = Scene::from_json_in(bad, Path::new("."), None)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, err(&GOOD.replace("steps = 5", "steps = 1.5")));
+        assert!(
+            e.contains("load.approach.steps") && e.contains("an integer"),
+            "{e}"
+        );
+        let mut bad = json.clone();
+        bad["stack"]["layer"][0]["youngs"] = serde_json::json!(1);
+        let e = Scene::from_json_in(bad, Path::new("."), None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("stack: layer 1: unknown key `youngs`"), "{e}");
+        let mut bad = json;
+        bad["model"]["kind"] = serde_json::json!("magic");
+        let e = Scene::from_json_in(bad, Path::new("."), None)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, err(&GOOD.replace("\"interacting\"", "\"magic\"")));
+    }
+
     /// `[conductance]`: the kinds, the counterface's conduction, and every missing
     /// property named (layer/base and field).
     #[test]

@@ -171,7 +171,7 @@ impl SceneFile {
                 name: st.name,
                 layer: st.layer,
                 base: st.base,
-                counterface: st.counterface,
+                counterface: None,
             }
             .stack()
             .map_err(SceneError::Stack)?,
@@ -196,7 +196,7 @@ impl SceneFile {
         if stack.counterface().is_some() {
             let own = match &stack_file {
                 Some(f) => format!("the stack file {} has its own [counterface]", f.display()),
-                None => "[stack] has its own [stack.counterface]".to_string(),
+                None => "[stack] has its own counterface".to_string(),
             };
             let given = if counter.stack.is_some() {
                 Some("an elastic [counterface] too")
@@ -539,6 +539,12 @@ fn counterface(
     let Some(ct) = ct else {
         return Ok(CounterfaceSpec::default());
     };
+    if ct.counterface.is_some() {
+        return Err(invalid(
+            "counterface.counterface",
+            strata_runtime::stack::StackError::NestedCounterface.to_string(),
+        ));
+    }
     let rigid = match ct.kind {
         Some(CounterfaceKindFile::Rigid) => true,
         Some(CounterfaceKindFile::Elastic) => false,
