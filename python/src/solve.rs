@@ -11,6 +11,7 @@ use pyo3::types::{PyDict, PyList};
 use strata_bem::BemSolution;
 use strata_engine::engine::{Console, EngineOptions, WithMaps, solve};
 use strata_engine::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
+use strata_runtime::stack::{CounterfaceFile, StackFile};
 use strata_runtime::surface::{ReadOptions, Spacing, Surface};
 use strata_runtime::table::Table;
 
@@ -54,61 +55,61 @@ pub struct PyScene {
     table: Option<Arc<Table>>,
 }
 
-/// serde_json → TOML (the `[model]` and `[load]` tables given as Python dicts).
-fn json_to_toml(v: &serde_json::Value, field: &str) -> PyResult<toml::Value> {
+/// A Python value (dict with string keys, list, tuple, bool, int, float, str; numpy
+/// arrays and scalars through `tolist`) as a JSON value, for the scene's serde types;
+/// `field` is its dotted place in the scene, for the message. Numbers must be finite
+/// (a scene file's are), and None is not a value.
+fn py_to_json(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<serde_json::Value> {
+    use pyo3::types::{PyBool, PyFloat, PyInt, PyString, PyTuple};
     use serde_json::Value as J;
-    Ok(match v {
-        J::Bool(b) => toml::Value::Boolean(*b),
-        J::Number(n) => match n.as_i64() {
-            Some(i) => toml::Value::Integer(i),
-            None => toml::Value::Float(n.as_f64().unwrap_or(f64::NAN)),
-        },
-        J::String(s) => toml::Value::String(s.clone()),
-        J::Array(a) => toml::Value::Array(
-            a.iter()
-                .enumerate()
-                .map(|(i, x)| json_to_toml(x, &format!("{field}[{i}]")))
-                .collect::<PyResult<_>>()?,
-        ),
-        J::Object(o) => toml::Value::Table(
-            o.iter()
-                .map(|(k, x)| Ok((k.clone(), json_to_toml(x, &format!("{field}.{k}"))?)))
-                .collect::<PyResult<_>>()?,
-        ),
-        J::Null => {
-            return Err(to_py(
-                Kind::Scene,
-                anyhow::anyhow!("field `{field}`: None is not a value"),
-            ));
+    let bad = |what: String| to_py(Kind::Scene, anyhow::anyhow!("field `{field}`: {what}"));
+    if obj.is_none() {
+        return Err(bad("None is not a value".into()));
+    }
+    if let Ok(b) = obj.cast::<PyBool>() {
+        return Ok(J::Bool(b.is_true()));
+    }
+    if let Ok(i) = obj.cast::<PyInt>() {
+        return match i.extract::<i64>() {
+            Ok(i) => Ok(J::from(i)),
+            Err(_) => Err(bad(format!("{i} is out of range"))),
+        };
+    }
+    if let Ok(x) = obj.cast::<PyFloat>() {
+        let x = x.value();
+        return serde_json::Number::from_f64(x)
+            .map(J::Number)
+            .ok_or_else(|| bad(format!("every number must be finite, got {x}")));
+    }
+    if let Ok(s) = obj.cast::<PyString>() {
+        return Ok(J::String(s.to_cow()?.into_owned()));
+    }
+    if let Ok(d) = obj.cast::<PyDict>() {
+        let mut m = serde_json::Map::new();
+        for (k, v) in d.iter() {
+            let k: String = k
+                .extract()
+                .map_err(|_| bad(format!("key {k} is not a string")))?;
+            let x = py_to_json(&v, &format!("{field}.{k}"))?;
+            m.insert(k, x);
         }
-    })
-}
-
-/// A Python value (dict, list, numbers, strings; numpy arrays through `tolist`) as
-/// TOML, by way of JSON.
-fn py_to_toml(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<toml::Value> {
-    let py = obj.py();
-    let json = py.import("json")?;
-    let default = py.eval(
-        c"lambda o: o.tolist() if hasattr(o, 'tolist') else repr(o)",
-        None,
-        None,
-    )?;
-    let kwargs = PyDict::new(py);
-    kwargs.set_item("default", default)?;
-    kwargs.set_item("allow_nan", true)?;
-    let text: String = json
-        .call_method("dumps", (obj,), Some(&kwargs))
-        .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("{field}: {e}")))?
-        .extract()?;
-    // NaN and infinities are not JSON: serde refuses them here (the scene would too).
-    let v: serde_json::Value = serde_json::from_str(&text).map_err(|_| {
-        to_py(
-            Kind::Scene,
-            anyhow::anyhow!("{field}: every number must be finite, got {text}"),
-        )
-    })?;
-    json_to_toml(&v, field)
+        return Ok(J::Object(m));
+    }
+    if obj.cast::<PyList>().is_ok() || obj.cast::<PyTuple>().is_ok() {
+        return obj
+            .try_iter()?
+            .enumerate()
+            .map(|(i, x)| py_to_json(&x?, &format!("{field}[{i}]")))
+            .collect::<PyResult<Vec<_>>>()
+            .map(J::Array);
+    }
+    if obj.hasattr("tolist")? {
+        return py_to_json(&obj.call_method0("tolist")?, field);
+    }
+    Err(bad(format!(
+        "a {} is not a value (give numbers, strings, lists or dicts)",
+        obj.get_type().name()?
+    )))
 }
 
 /// The scene's surface in memory: spacing, periodicity (the reader's options are not
@@ -164,34 +165,48 @@ impl PyScene {
                 anyhow::anyhow!("missing field `load`: give load={{\"separations\": [...]}}, {{\"approach\": {{\"from\": ..., \"to\": ..., \"steps\": ...}}}} or {{\"mean_pressures\": [...]}}"),
             )
         })?;
-        let stack_toml = stack.to_toml_table();
-        let mut md = toml::Table::new();
-        md.insert("kind".into(), toml::Value::String(model.into()));
+        // The scene file's tables as serde_json values, deserialized into the scene's
+        // serde types and validated as a file's (same messages).
+        use serde_json::{Value as J, json};
+        let mut top = serde_json::Map::new();
+        top.insert(
+            "stack".into(),
+            serde_json::to_value(StackFile::of(&stack))
+                .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("stack: {e}")))?,
+        );
+        let mut md = serde_json::Map::new();
+        md.insert("kind".into(), json!(model));
         if let Some(i) = images {
-            md.insert("images".into(), toml::Value::String(i.into()));
+            md.insert("images".into(), json!(i));
         }
         if let Some(c) = image_cells {
-            md.insert("image_cells".into(), toml::Value::Integer(c));
+            md.insert("image_cells".into(), json!(c));
         }
-        let mut top = toml::Table::new();
-        top.insert("stack".into(), toml::Value::Table(stack_toml));
-        top.insert("model".into(), toml::Value::Table(md));
-        top.insert("load".into(), py_to_toml(load, "load")?);
+        top.insert("model".into(), J::Object(md));
+        top.insert("load".into(), py_to_json(load, "load")?);
         if let Some(sv) = solver {
-            top.insert("solver".into(), py_to_toml(sv, "solver")?);
+            top.insert("solver".into(), py_to_json(sv, "solver")?);
         }
         if let Some(c) = counterface {
-            top.insert("counterface".into(), toml::Value::Table(c.to_toml_table()));
+            top.insert(
+                "counterface".into(),
+                serde_json::to_value(CounterfaceFile::<()>::of(&c))
+                    .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("counterface: {e}")))?,
+            );
         }
         // [plasticity] and [conductance] as dicts, validated as a scene file's
         if let Some(pl) = plasticity {
-            top.insert("plasticity".into(), py_to_toml(pl, "plasticity")?);
+            top.insert("plasticity".into(), py_to_json(pl, "plasticity")?);
         }
         if let Some(cd) = conductance {
-            top.insert("conductance".into(), py_to_toml(cd, "conductance")?);
+            top.insert("conductance".into(), py_to_json(cd, "conductance")?);
         }
-        let scene = Scene::from_table_in(top, Path::new("."), Some(memory_surface_spec(&surface)))
-            .map_err(err(Kind::Scene))?;
+        let scene = Scene::from_json_in(
+            J::Object(top),
+            Path::new("."),
+            Some(memory_surface_spec(&surface)),
+        )
+        .map_err(err(Kind::Scene))?;
         Ok(PyScene {
             scene,
             path: PathBuf::from(MEMORY),

@@ -40,6 +40,12 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+mod file;
+pub use file::{
+    BaseFile, CounterfaceConductionFile, CounterfaceFile, CounterfaceKindFile, LayerFile,
+    SceneOnly, SerdeProblem, StackFile, serde_problem,
+};
+
 /// One elastic layer (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct Layer {
@@ -143,13 +149,13 @@ pub enum StackError {
     UnknownKey {
         location: Location,
         key: String,
-        expected: &'static str,
+        expected: String,
     },
     #[error("{location}: field `{field}` must be {expected}, found {found}")]
     WrongType {
         location: Location,
         field: String,
-        expected: &'static str,
+        expected: String,
         found: String,
     },
     #[error("{location}: field `{field}` = {value:?} is invalid: {reason}")]
@@ -599,107 +605,11 @@ impl Stack {
     #[cfg(feature = "toml")]
     /// Parses a stack from TOML text. See the module docs for the format.
     pub fn from_toml_str(text: &str) -> Result<Self, StackError> {
-        let table: toml::Table = text
-            .parse()
-            .map_err(|e: toml::de::Error| StackError::Syntax(toml_error_line(text, &e)))?;
-        Stack::from_toml_table(&table)
-    }
-
-    #[cfg(feature = "toml")]
-    /// Builds a stack from an already parsed TOML table (used for inline stacks in scenes).
-    pub fn from_toml_table(table: &toml::Table) -> Result<Self, StackError> {
-        for key in table.keys() {
-            if !["name", "layer", "base", "counterface"].contains(&key.as_str()) {
-                return Err(StackError::UnknownKey {
-                    location: Location::Top,
-                    key: key.clone(),
-                    expected: "name, layer, base, counterface",
-                });
-            }
-        }
-        let name = match table.get("name") {
-            None => None,
-            Some(toml::Value::String(s)) => Some(s.clone()),
-            Some(v) => {
-                return Err(StackError::WrongType {
-                    location: Location::Top,
-                    field: "name".into(),
-                    expected: "a string",
-                    found: v.type_str().into(),
-                });
-            }
-        };
-        let mut layers = Vec::new();
-        let mut layer_cond = Vec::new();
-        match table.get("layer") {
-            None => {}
-            Some(toml::Value::Array(items)) => {
-                for (i, item) in items.iter().enumerate() {
-                    let loc = Location::Layer(i + 1);
-                    let t = item.as_table().ok_or_else(|| StackError::WrongType {
-                        location: loc,
-                        field: "layer".into(),
-                        expected: "a table ([[layer]])",
-                        found: item.type_str().into(),
-                    })?;
-                    layers.push(parse_layer(loc, t)?);
-                    layer_cond.push(parse_conductivity(loc, t)?);
-                }
-            }
-            Some(v) => {
-                return Err(StackError::WrongType {
-                    location: Location::Top,
-                    field: "layer".into(),
-                    expected: "an array of tables ([[layer]])",
-                    found: v.type_str().into(),
-                });
-            }
-        }
-        let base = match table.get("base") {
-            None => {
-                if layers.is_empty() {
-                    return Err(StackError::Empty);
-                }
-                return Err(StackError::Missing {
-                    location: Location::Top,
-                    field: "base",
-                });
-            }
-            Some(toml::Value::Table(t)) => parse_base(t)?,
-            Some(v) => {
-                return Err(StackError::WrongType {
-                    location: Location::Top,
-                    field: "base".into(),
-                    expected: "a table ([base])",
-                    found: v.type_str().into(),
-                });
-            }
-        };
-        let mut stack = Stack::new(layers, base)?;
-        stack.name = name;
-        if let Some(toml::Value::Table(t)) = table.get("base") {
-            let (base_cond, base_kind) = parse_base_conduction(t)?;
-            if base_kind != BaseConduction::HalfSpace
-                || !base_cond.is_empty()
-                || layer_cond.iter().any(|c| !c.is_empty())
-            {
-                stack = stack.with_conduction(layer_cond, base_cond, base_kind)?;
-            }
-        }
-        match table.get("counterface") {
-            None => Ok(stack),
-            Some(toml::Value::Table(t)) => {
-                let c =
-                    Stack::from_toml_table(t).map_err(|e| StackError::Counterface(Box::new(e)))?;
-                stack.against(c)
-            }
-            Some(v) => Err(StackError::WrongType {
-                location: Location::Top,
-                field: "counterface".into(),
-                expected: "a table ([counterface], a stack)",
-                found: v.type_str().into(),
-            }),
-        }
+        let de = toml::de::Deserializer::parse(text)
+            .map_err(|e| StackError::Syntax(toml_error_line(text, &e)))?;
+        let file: StackFile = serde_path_to_error::deserialize(de)
+            .map_err(|e| StackError::from_serde(&e.path().to_string(), e.inner().message()))?;
+        file.stack()
     }
 
     #[cfg(feature = "toml")]
@@ -742,69 +652,6 @@ impl Stack {
     }
 }
 
-#[cfg(feature = "toml")]
-impl Stack {
-    /// The stack as a TOML table of the file format (the one [`Stack::from_toml_table`]
-    /// reads), built directly, without TOML text: `name`, `[[layer]]`, `[base]` and a
-    /// `[counterface]` table; scenes built in memory (the Python package) embed it.
-    pub fn to_toml_table(&self) -> toml::Table {
-        let mut t = self.body_table();
-        if let Some(c) = self.counterface() {
-            t.insert("counterface".into(), toml::Value::Table(c.body_table()));
-        }
-        t
-    }
-
-    fn body_table(&self) -> toml::Table {
-        use toml::Value::{Array, Float, String as Str, Table as Tab};
-        let mut t = toml::Table::new();
-        if let Some(n) = &self.name {
-            t.insert("name".into(), Str(n.clone()));
-        }
-        let conductivity = |m: &mut toml::Table, c: &Conductivity| {
-            if let Some(k) = c.thermal {
-                m.insert("thermal_conductivity".into(), Float(k));
-            }
-            if let Some(k) = c.electrical {
-                m.insert("electrical_conductivity".into(), Float(k));
-            }
-        };
-        let layers: Vec<toml::Value> = self
-            .layers
-            .iter()
-            .enumerate()
-            .map(|(i, l)| {
-                let mut m = toml::Table::new();
-                m.insert("thickness".into(), Float(l.thickness));
-                m.insert("young".into(), Float(l.young));
-                m.insert("poisson".into(), Float(l.poisson));
-                conductivity(&mut m, &self.layer_conductivity(i));
-                Tab(m)
-            })
-            .collect();
-        if !layers.is_empty() {
-            t.insert("layer".into(), Array(layers));
-        }
-        let mut b = toml::Table::new();
-        match self.base {
-            Base::Rigid => {
-                b.insert("kind".into(), Str("rigid".into()));
-            }
-            Base::Elastic { young, poisson } => {
-                b.insert("kind".into(), Str("elastic".into()));
-                b.insert("young".into(), Float(young));
-                b.insert("poisson".into(), Float(poisson));
-            }
-        }
-        if self.conduction.base_kind == BaseConduction::Isothermal {
-            b.insert("conduction".into(), Str("isothermal".into()));
-        }
-        conductivity(&mut b, &self.conduction.base);
-        t.insert("base".into(), Tab(b));
-        t
-    }
-}
-
 /// Appends the given conductivities as TOML lines (nothing when none is given).
 #[cfg(feature = "toml")]
 fn push_conductivity(s: &mut String, c: &Conductivity) {
@@ -837,170 +684,6 @@ fn one_line(s: &str) -> String {
     s.split_whitespace().collect::<Vec<_>>().join(" ")
 }
 
-#[cfg(feature = "toml")]
-fn get_number(
-    location: Location,
-    table: &toml::Table,
-    field: &'static str,
-) -> Result<f64, StackError> {
-    match table.get(field) {
-        None => Err(StackError::Missing { location, field }),
-        Some(toml::Value::Float(x)) => Ok(*x),
-        Some(toml::Value::Integer(i)) => Ok(*i as f64),
-        Some(v) => Err(StackError::WrongType {
-            location,
-            field: field.into(),
-            expected: "a number",
-            found: format!("{} {}", v.type_str(), v),
-        }),
-    }
-}
-
-#[cfg(feature = "toml")]
-fn check_keys(
-    location: Location,
-    table: &toml::Table,
-    allowed: &[&str],
-    expected: &'static str,
-) -> Result<(), StackError> {
-    for key in table.keys() {
-        if !allowed.contains(&key.as_str()) {
-            return Err(StackError::UnknownKey {
-                location,
-                key: key.clone(),
-                expected,
-            });
-        }
-    }
-    Ok(())
-}
-
-#[cfg(feature = "toml")]
-fn parse_layer(location: Location, t: &toml::Table) -> Result<Layer, StackError> {
-    check_keys(
-        location,
-        t,
-        &[
-            "thickness",
-            "young",
-            "poisson",
-            "thermal_conductivity",
-            "electrical_conductivity",
-        ],
-        "thickness, young, poisson, thermal_conductivity, electrical_conductivity",
-    )?;
-    let thickness = get_number(location, t, "thickness")?;
-    check_thickness(location, thickness)?;
-    let young = get_number(location, t, "young")?;
-    check_young(location, young)?;
-    let poisson = get_number(location, t, "poisson")?;
-    check_poisson(location, poisson)?;
-    Ok(Layer {
-        thickness,
-        young,
-        poisson,
-    })
-}
-
-#[cfg(feature = "toml")]
-fn parse_base(t: &toml::Table) -> Result<Base, StackError> {
-    let loc = Location::Base;
-    let kind = match t.get("kind") {
-        None => {
-            return Err(StackError::Missing {
-                location: loc,
-                field: "kind",
-            });
-        }
-        Some(toml::Value::String(s)) => s.as_str(),
-        Some(v) => {
-            return Err(StackError::WrongType {
-                location: loc,
-                field: "kind".into(),
-                expected: "a string (\"rigid\" or \"elastic\")",
-                found: v.type_str().into(),
-            });
-        }
-    };
-    match kind {
-        "rigid" => {
-            check_keys(
-                loc,
-                t,
-                &[
-                    "kind",
-                    "conduction",
-                    "thermal_conductivity",
-                    "electrical_conductivity",
-                ],
-                "kind (a rigid base has no elastic properties), conduction, thermal_conductivity, electrical_conductivity",
-            )?;
-            Ok(Base::Rigid)
-        }
-        "elastic" => {
-            check_keys(
-                loc,
-                t,
-                &[
-                    "kind",
-                    "young",
-                    "poisson",
-                    "conduction",
-                    "thermal_conductivity",
-                    "electrical_conductivity",
-                ],
-                "kind, young, poisson, conduction, thermal_conductivity, electrical_conductivity",
-            )?;
-            let young = get_number(loc, t, "young")?;
-            check_young(loc, young)?;
-            let poisson = get_number(loc, t, "poisson")?;
-            check_poisson(loc, poisson)?;
-            Ok(Base::Elastic { young, poisson })
-        }
-        other => Err(StackError::UnknownBaseKind(other.to_string())),
-    }
-}
-
-/// The optional conductivities of a `[[layer]]` or `[base]` table.
-#[cfg(feature = "toml")]
-fn parse_conductivity(location: Location, t: &toml::Table) -> Result<Conductivity, StackError> {
-    let get = |field: &'static str| -> Result<Option<f64>, StackError> {
-        if !t.contains_key(field) {
-            return Ok(None);
-        }
-        let v = get_number(location, t, field)?;
-        check_conductivity(location, field, v)?;
-        Ok(Some(v))
-    };
-    Ok(Conductivity {
-        thermal: get("thermal_conductivity")?,
-        electrical: get("electrical_conductivity")?,
-    })
-}
-
-/// The `[base]` table's conduction: its conductivities and `conduction` kind.
-#[cfg(feature = "toml")]
-fn parse_base_conduction(t: &toml::Table) -> Result<(Conductivity, BaseConduction), StackError> {
-    let cond = parse_conductivity(Location::Base, t)?;
-    let kind = match t.get("conduction") {
-        None => BaseConduction::HalfSpace,
-        Some(toml::Value::String(s)) => match s.as_str() {
-            "isothermal" => BaseConduction::Isothermal,
-            "half-space" => BaseConduction::HalfSpace,
-            other => return Err(StackError::UnknownBaseConduction(other.to_string())),
-        },
-        Some(v) => {
-            return Err(StackError::WrongType {
-                location: Location::Base,
-                field: "conduction".into(),
-                expected: "a string (\"isothermal\" or \"half-space\")",
-                found: v.type_str().into(),
-            });
-        }
-    };
-    Ok((cond, kind))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1019,10 +702,10 @@ poisson = 0.15
 kind = "rigid"
 "#;
 
-    /// The table built directly equals the parsed text form, and reads back to the
-    /// same stack (with a counterface and conductivities too).
+    /// The file form built directly ([`StackFile::of`]) equals the parsed text form,
+    /// and reads back to the same stack (with a counterface and conductivities too).
     #[test]
-    fn toml_table_equals_the_text_form() {
+    fn file_form_equals_the_text_form() {
         let paper = Stack::from_toml_str(PAPER).unwrap();
         let cond = Stack::from_toml_str(
             "[[layer]]\nthickness = 1e-5\nyoung = 4e11\npoisson = 0.25\nthermal_conductivity = 20\n\
@@ -1034,11 +717,44 @@ kind = "rigid"
             .against(Stack::half_space(210e9, 0.3).unwrap())
             .unwrap();
         for st in [paper, cond, pair, Stack::half_space(1e9, 0.5).unwrap()] {
-            let direct = st.to_toml_table();
-            let text: toml::Table = st.to_toml_string().parse().unwrap();
+            let direct = StackFile::of(&st);
+            let text: StackFile = toml::from_str(&st.to_toml_string()).unwrap();
             assert_eq!(direct, text);
-            assert_eq!(Stack::from_toml_table(&direct).unwrap(), st);
+            assert_eq!(direct.stack().unwrap(), st);
         }
+    }
+
+    /// A stack file's `[counterface]` is a stack: its own counterface and the scene's
+    /// keys are refused by name, and errors inside it say so.
+    #[test]
+    fn counterface_errors_name_the_counterface() {
+        let base = "[base]\nkind = \"elastic\"\nyoung = 1e9\npoisson = 0.3\n";
+        let with = |c: &str| format!("{base}[counterface]\n{c}");
+        let e = err(&with(&format!(
+            "{}[counterface.counterface]\n{}",
+            base.replace("[base]", "[counterface.base]"),
+            base.replace("[base]", "[counterface.counterface.base]")
+        )));
+        assert!(e.contains("cannot have its own counterface"), "{e}");
+        let e = err(&with("kind = \"rigid\"\n"));
+        assert!(
+            e.starts_with("counterface: stack: unknown key `kind`"),
+            "{e}"
+        );
+        let e = err(&with(
+            "[[counterface.layer]]\nthickness = 1e-4\nyoung = \"x\"\n",
+        ));
+        assert!(
+            e.starts_with("counterface: layer 1: field `young` must be a number"),
+            "{e}"
+        );
+        let e = err(&with(
+            "[counterface.base]\nkind = \"elastic\"\nyoung = 1e9\ncolour = 2\n",
+        ));
+        assert!(
+            e.starts_with("counterface: base: unknown key `colour`") && e.contains("poisson"),
+            "{e}"
+        );
     }
 
     #[test]

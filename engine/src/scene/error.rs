@@ -14,14 +14,11 @@ pub enum SceneError {
     #[error("not valid TOML: {0}")]
     Syntax(String),
     #[error("unknown key `{key}` (expected one of: {expected})")]
-    UnknownKey { key: String, expected: &'static str },
+    UnknownKey { key: String, expected: String },
     #[error("missing field `{0}`")]
     Missing(String),
     #[error("field `{field}` must be {expected}")]
-    WrongType {
-        field: String,
-        expected: &'static str,
-    },
+    WrongType { field: String, expected: String },
     #[error("field `{field}` is invalid: {reason}")]
     Invalid { field: String, reason: String },
     /// An error of the inline `[stack]` table.

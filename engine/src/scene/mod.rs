@@ -58,24 +58,19 @@
 
 use std::path::{Path, PathBuf};
 
-use toml::{Table, Value};
-
 use strata_bem::BemOptions;
 use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
 use strata_runtime::rough::{Images, Params};
-use strata_runtime::stack::{Conductivity, Stack};
+use strata_runtime::stack::Stack;
 use strata_runtime::surface::container::Pick;
-use strata_runtime::surface::{
-    Detrend, FileKind, GenerateParams, ReadOptions, Repair, Spacing, Surface,
-};
+use strata_runtime::surface::{GenerateParams, ReadOptions, Spacing, Surface};
 
 mod error;
 mod fields;
+pub mod file;
+mod validate;
 pub use error::SceneError;
-use fields::{
-    boolean, check_keys, existing_file, file_scale, integer, number, numbers, positive, string,
-    table,
-};
+use file::{SceneFile, serde_error};
 
 /// Where the surface comes from.
 #[derive(Debug, Clone, PartialEq)]
@@ -211,52 +206,6 @@ impl SolverSpec {
             tolerance: self.bem_tolerance.unwrap_or(base.tolerance),
             ..base
         }
-    }
-
-    /// Parses `[solver]` (absent: all defaults).
-    fn parse(top: &Table) -> Result<SolverSpec, SceneError> {
-        if top.get("solver").is_none() {
-            return Ok(SolverSpec::default());
-        }
-        let t = table(top, "solver", "solver")?;
-        let keys: Vec<&str> = SOLVER_KEYS.split(',').map(str::trim).collect();
-        check_keys(t, "solver.", &keys, SOLVER_KEYS)?;
-        let count = |key: &str| -> Result<Option<usize>, SceneError> {
-            if !t.contains_key(key) {
-                return Ok(None);
-            }
-            let field = format!("solver.{key}");
-            let n = integer(t, key, &field)?;
-            if !(1..=1_000_000_000).contains(&n) {
-                return Err(SceneError::Invalid {
-                    field,
-                    reason: format!("{n} must be in [1, 1000000000]"),
-                });
-            }
-            Ok(Some(n as usize))
-        };
-        let fraction = |key: &str| -> Result<Option<f64>, SceneError> {
-            let Some(v) = t.get(key) else {
-                return Ok(None);
-            };
-            let field = format!("solver.{key}");
-            let x = number(v, &field)?;
-            if !(x > 0.0 && x < 1.0) {
-                return Err(SceneError::Invalid {
-                    field,
-                    reason: format!("{x} must be in (0, 1) (a relative tolerance)"),
-                });
-            }
-            Ok(Some(x))
-        };
-        Ok(SolverSpec {
-            max_step_newton_steps: count("max_step_newton_steps")?,
-            max_step_evaluations: count("max_step_evaluations")?,
-            kkt_tolerance: fraction("kkt_tolerance")?,
-            max_pressure_iterations: count("max_pressure_iterations")?,
-            bem_max_iterations: count("bem_max_iterations")?,
-            bem_tolerance: fraction("bem_tolerance")?,
-        })
     }
 }
 
@@ -420,412 +369,25 @@ impl Scene {
 
     /// Parses a scene from TOML text, resolving relative paths against `dir`.
     pub fn from_str_in(text: &str, dir: &Path) -> Result<Scene, SceneError> {
-        let top: Table = text.parse().map_err(|e: toml::de::Error| {
-            SceneError::Syntax(strata_runtime::stack::toml_error_line(text, &e))
-        })?;
-        Scene::from_table_in(top, dir, None)
+        let de = toml::de::Deserializer::parse(text)
+            .map_err(|e| SceneError::Syntax(strata_runtime::stack::toml_error_line(text, &e)))?;
+        let file: SceneFile = serde_path_to_error::deserialize(de)
+            .map_err(|e| serde_error(&e.path().to_string(), e.inner().message()))?;
+        file.validate(dir, None)
     }
 
-    /// A scene from its TOML tables; with `surface`, the `[surface]` table is not
-    /// read (and must be absent): the Python package passes a surface built in memory
-    /// this way, its `[stack]`, `[model]` and `[load]` validated as a file's.
-    pub fn from_table_in(
-        top: Table,
+    /// A scene from a JSON value of the scene file's form (a Python dict); with
+    /// `surface`, the `[surface]` table is not read (and must be absent): the Python
+    /// package passes a surface built in memory this way, its `[stack]`, `[model]` and
+    /// `[load]` validated as a file's, with the same messages.
+    pub fn from_json_in(
+        value: serde_json::Value,
         dir: &Path,
         surface: Option<SurfaceSpec>,
     ) -> Result<Scene, SceneError> {
-        if surface.is_some() && top.contains_key("surface") {
-            return Err(SceneError::Invalid {
-                field: "surface".into(),
-                reason: "the surface is given separately".into(),
-            });
-        }
-        check_keys(
-            &top,
-            "",
-            &[
-                "stack",
-                "surface",
-                "model",
-                "load",
-                "output",
-                "solver",
-                "counterface",
-                "plasticity",
-                "conductance",
-            ],
-            "stack, surface, model, load, output, solver, counterface, plasticity, conductance",
-        )?;
-        // [stack]
-        let st = table(&top, "stack", "stack")?;
-        check_keys(
-            st,
-            "stack.",
-            &["file", "table", "name", "layer", "base"],
-            "file, table, name, layer, base",
-        )?;
-        let file = string(st, "file", "stack.file")?;
-        let stack_file = file
-            .map(|f| existing_file(dir, "stack.file", f, ""))
-            .transpose()?;
-        let stack = match &stack_file {
-            Some(f) => {
-                if st.contains_key("layer") || st.contains_key("base") {
-                    return Err(SceneError::Invalid {
-                        field: "stack.file".into(),
-                        reason:
-                            "give either `file` or inline [[stack.layer]]/[stack.base], not both"
-                                .into(),
-                    });
-                }
-                Stack::from_toml_file(f).map_err(SceneError::StackFile)?
-            }
-            None => {
-                let mut inline = st.clone();
-                inline.remove("table");
-                Stack::from_toml_table(&inline).map_err(SceneError::Stack)?
-            }
-        };
-        let mut table_path = string(st, "table", "stack.table")?
-            .map(|t| {
-                existing_file(
-                    dir,
-                    "stack.table",
-                    t,
-                    "; build it with `strata table build STACK.toml --out FILE`, or leave `table` out to use the table cache",
-                )
-            })
-            .transpose()?;
-        // [counterface] (absent: a rigid smooth flat)
-        let counter = parse_counterface(&top, dir)?;
-        let mut stack = stack;
-        // One counterface, given in one place: a stack file's own [counterface] is
-        // neither replaced by the scene's nor overridden by an explicit rigid flat.
-        if stack.counterface().is_some() {
-            let own = match &stack_file {
-                Some(f) => format!("the stack file {} has its own [counterface]", f.display()),
-                None => "[stack] has its own [stack.counterface]".to_string(),
-            };
-            let given = if counter.stack.is_some() {
-                Some("an elastic [counterface] too")
-            } else if top
-                .get("counterface")
-                .and_then(|c| c.get("kind"))
-                .and_then(|k| k.as_str())
-                == Some("rigid")
-            {
-                Some("`kind = \"rigid\"`")
-            } else {
-                None
-            };
-            if let Some(given) = given {
-                return Err(SceneError::Invalid {
-                    field: "counterface".into(),
-                    reason: format!(
-                        "{own}, and the scene gives {given}: give the counterface in one place \
-                         (remove the stack file's [counterface], or the scene's)"
-                    ),
-                });
-            }
-        }
-        if let Some(c) = &counter.stack {
-            if table_path.is_some() {
-                return Err(SceneError::Invalid {
-                    field: "stack.table".into(),
-                    reason: "serves the stack against a rigid flat; with an elastic \
-                             [counterface] give counterface.table (a table built for the pair, \
-                             `strata table build STACK.toml --counterface STACK2 --out FILE`) or \
-                             leave it out to use the table cache"
-                        .into(),
-                });
-            }
-            stack = stack.against(c.clone()).map_err(|e| SceneError::Invalid {
-                field: "counterface".into(),
-                reason: e.to_string(),
-            })?;
-            table_path = counter.table.clone();
-        }
-        // [surface] (or one given in memory)
-        let surface = match surface {
-            Some(s) => s,
-            None => parse_surface(&top, dir)?,
-        };
-        // [model]
-        let md = table(&top, "model", "model")?;
-        check_keys(
-            md,
-            "model.",
-            &["kind", "images", "image_cells"],
-            "kind, images, image_cells",
-        )?;
-        let kind = match string(md, "kind", "model.kind")? {
-            Some("independent") => ModelKind::Independent,
-            Some("interacting") => ModelKind::Interacting,
-            Some("bem") => ModelKind::Bem,
-            Some(other) => {
-                return Err(SceneError::Invalid {
-                    field: "model.kind".into(),
-                    reason: format!(
-                        "`{other}` is not one of \"independent\", \"interacting\", \"bem\""
-                    ),
-                });
-            }
-            None => return Err(SceneError::Missing("model.kind".into())),
-        };
-        let cells = match md.get("image_cells") {
-            None => 2,
-            Some(_) => {
-                let c = integer(md, "image_cells", "model.image_cells")?;
-                if !(1..=20).contains(&c) {
-                    return Err(SceneError::Invalid {
-                        field: "model.image_cells".into(),
-                        reason: format!("{c} must be in [1, 20]"),
-                    });
-                }
-                c as usize
-            }
-        };
-        let images = match string(md, "images", "model.images")? {
-            None if surface.read.periodic => Images::Periodic(cells),
-            None => Images::Isolated,
-            Some("isolated") => Images::Isolated,
-            Some("periodic") => {
-                if !surface.read.periodic {
-                    return Err(SceneError::Invalid {
-                        field: "model.images".into(),
-                        reason: "\"periodic\" needs a periodic surface (surface.periodic = true)"
-                            .into(),
-                    });
-                }
-                Images::Periodic(cells)
-            }
-            Some(other) => {
-                return Err(SceneError::Invalid {
-                    field: "model.images".into(),
-                    reason: format!("`{other}` is not one of \"periodic\", \"isolated\""),
-                });
-            }
-        };
-        // [load]
-        let ld = table(&top, "load", "load")?;
-        check_keys(
-            ld,
-            "load.",
-            &["separations", "approach", "mean_pressures", "unload"],
-            "separations, approach, mean_pressures, unload",
-        )?;
-        let unload = boolean(ld, "unload", "load.unload")?.unwrap_or(false);
-        if ld.len() - usize::from(ld.contains_key("unload")) != 1 {
-            return Err(SceneError::Invalid {
-                field: "load".into(),
-                reason: "give exactly one of `separations`, `approach`, `mean_pressures`".into(),
-            });
-        }
-        let load = if let Some(v) = ld.get("separations") {
-            LoadSpec::Separations(numbers(v, "load.separations")?)
-        } else if let Some(v) = ld.get("mean_pressures") {
-            let p = numbers(v, "load.mean_pressures")?;
-            if let Some((i, x)) = p.iter().enumerate().find(|(_, x)| **x <= 0.0) {
-                return Err(SceneError::Invalid {
-                    field: format!("load.mean_pressures[{i}]"),
-                    reason: format!("{x} must be > 0 (Pa)"),
-                });
-            }
-            LoadSpec::MeanPressures(p)
-        } else {
-            let a = table(ld, "approach", "load.approach")?;
-            check_keys(
-                a,
-                "load.approach.",
-                &["from", "to", "steps"],
-                "from, to, steps",
-            )?;
-            let from = number(
-                a.get("from")
-                    .ok_or_else(|| SceneError::Missing("load.approach.from".into()))?,
-                "load.approach.from",
-            )?;
-            let to = number(
-                a.get("to")
-                    .ok_or_else(|| SceneError::Missing("load.approach.to".into()))?,
-                "load.approach.to",
-            )?;
-            if from < 0.0 {
-                return Err(SceneError::Invalid {
-                    field: "load.approach.from".into(),
-                    reason: format!("{from} must be ≥ 0 (m)"),
-                });
-            }
-            if to < 0.0 {
-                return Err(SceneError::Invalid {
-                    field: "load.approach.to".into(),
-                    reason: format!("{to} must be ≥ 0 (m)"),
-                });
-            }
-            let steps = integer(a, "steps", "load.approach.steps")?;
-            if !(1..=100_000).contains(&steps) {
-                return Err(SceneError::Invalid {
-                    field: "load.approach.steps".into(),
-                    reason: format!("{steps} must be in [1, 100000]"),
-                });
-            }
-            LoadSpec::Approach {
-                from,
-                to,
-                steps: steps as usize,
-            }
-        };
-        // [output] (optional)
-        let output = match top.get("output") {
-            None => OutputSpec::default(),
-            Some(_) => {
-                let ot = table(&top, "output", "output")?;
-                check_keys(ot, "output.", &["maps", "format"], "maps, format")?;
-                let maps = match ot.get("maps") {
-                    None | Some(Value::Boolean(false)) => MapsSpec::None,
-                    Some(Value::Boolean(true)) => MapsSpec::All,
-                    Some(Value::String(m)) => match m.as_str() {
-                        "none" => MapsSpec::None,
-                        "last" => MapsSpec::Last,
-                        "all" => MapsSpec::All,
-                        other => {
-                            return Err(SceneError::Invalid {
-                                field: "output.maps".into(),
-                                reason: format!(
-                                    "`{other}` is not one of \"none\", \"last\", \"all\""
-                                ),
-                            });
-                        }
-                    },
-                    Some(_) => {
-                        return Err(SceneError::WrongType {
-                            field: "output.maps".into(),
-                            expected: "\"none\", \"last\", \"all\", true or false",
-                        });
-                    }
-                };
-                if maps != MapsSpec::None && kind != ModelKind::Bem {
-                    return Err(SceneError::Invalid {
-                        field: "output.maps".into(),
-                        reason: "pressure and gap maps come from the full-field solution and need \
-                                 model.kind = \"bem\" (the asperity models resolve each contact \
-                                 by its radius only, not a pressure field)"
-                            .into(),
-                    });
-                }
-                let format = match ot.get("format") {
-                    None => MapFormats::default(),
-                    Some(v) => {
-                        let names: Vec<&Value> = match v {
-                            Value::Array(a) => a.iter().collect(),
-                            other => vec![other],
-                        };
-                        let mut f = MapFormats {
-                            npy: false,
-                            netcdf: false,
-                        };
-                        for n in names {
-                            match n.as_str() {
-                                Some("npy") => f.npy = true,
-                                Some("netcdf") => f.netcdf = true,
-                                Some(other) => {
-                                    return Err(SceneError::Invalid {
-                                        field: "output.format".into(),
-                                        reason: format!(
-                                            "`{other}` is not one of \"npy\", \"netcdf\""
-                                        ),
-                                    });
-                                }
-                                None => {
-                                    return Err(SceneError::WrongType {
-                                        field: "output.format".into(),
-                                        expected: "\"npy\", \"netcdf\" or an array of them",
-                                    });
-                                }
-                            }
-                        }
-                        if !f.npy && !f.netcdf {
-                            return Err(SceneError::Invalid {
-                                field: "output.format".into(),
-                                reason: "is empty: name \"npy\", \"netcdf\" or both".into(),
-                            });
-                        }
-                        if maps == MapsSpec::None {
-                            return Err(SceneError::Invalid {
-                                field: "output.format".into(),
-                                reason:
-                                    "chooses the files of the maps, but output.maps is \"none\" \
-                                         (set maps = \"last\" or \"all\")"
-                                        .into(),
-                            });
-                        }
-                        f
-                    }
-                };
-                OutputSpec { maps, format }
-            }
-        };
-        if let Some(cs) = &counter.surface
-            && matches!(cs.source, SurfaceSource::Generate(_))
-            && cs.source == surface.source
-        {
-            return Err(SceneError::Invalid {
-                field: "counterface.surface.generate.seed".into(),
-                reason: "equals the first body's [surface.generate]: the two surfaces would be \
-                         the same heights twice; give the counterface another seed"
-                    .into(),
-            });
-        }
-        let plasticity = if top.contains_key("plasticity") {
-            let pt = table(&top, "plasticity", "plasticity")?;
-            check_keys(pt, "plasticity.", &["hardness"], "hardness")?;
-            let hardness = positive(pt, "hardness", "plasticity.hardness")?;
-            if let Some(reason) = strata_runtime::rough::plastic::hardness_problem(hardness) {
-                return Err(SceneError::Invalid {
-                    field: "plasticity.hardness".into(),
-                    reason,
-                });
-            }
-            Some(PlasticitySpec { hardness })
-        } else {
-            None
-        };
-        if unload && kind != ModelKind::Bem {
-            return Err(SceneError::Invalid {
-                field: "load.unload".into(),
-                reason: "a return path is solved by the BEM (model.kind = \"bem\"); the N and I \
-                         models follow the loading path only (with [plasticity] too)"
-                    .into(),
-            });
-        }
-        if plasticity.is_some()
-            && kind != ModelKind::Bem
-            && let Some((field, what)) = load.first_reversal()
-        {
-            return Err(SceneError::Invalid {
-                field,
-                reason: format!(
-                    "{what}: a path that unloads is solved by the BEM (model.kind = \"bem\"); the \
-                     N and I models follow the loading path only (with [plasticity] too)"
-                ),
-            });
-        }
-        let conductance = parse_conductance(&top, &counter, &stack)?;
-        Ok(Scene {
-            conductance,
-            plasticity,
-            unload,
-            stack,
-            stack_file,
-            counterface_file: counter.file,
-            counterface_surface: counter.surface,
-            table: table_path,
-            surface,
-            model: ModelSpec { kind, images },
-            load,
-            output,
-            solver: SolverSpec::parse(&top)?,
-        })
+        let file: SceneFile = serde_path_to_error::deserialize(value)
+            .map_err(|e| serde_error(&e.path().to_string(), &e.inner().to_string()))?;
+        file.validate(dir, surface)
     }
 
     /// Builds (reads or generates) the surface; a file by its extension (`.x3p`,
@@ -851,493 +413,6 @@ fn load_spec(s: &SurfaceSpec) -> Result<Surface, SceneError> {
             None => Surface::read(p, &s.read)?,
         },
     })
-}
-
-/// The parsed `[counterface]` table.
-#[derive(Default)]
-struct CounterfaceSpec {
-    /// The elastic counterface; `None` for a rigid flat.
-    stack: Option<Stack>,
-    file: Option<PathBuf>,
-    table: Option<PathBuf>,
-    surface: Option<SurfaceSpec>,
-    /// `conduction = "perfect"` or `"half-space"` (`None`: not given).
-    conduction: Option<String>,
-    /// A rigid flat's conductivities (`thermal_conductivity`, `electrical_conductivity`).
-    conductivity: Conductivity,
-}
-
-/// `[counterface]`: `kind = "rigid"` (the default when absent) or an elastic stack
-/// (`file`, or inline `[[counterface.layer]]`/`[counterface.base]`; `kind = "elastic"`
-/// optional), an optional pair `table` and an optional `[counterface.surface]` with
-/// the keys of `[surface]`.
-fn parse_counterface(top: &Table, dir: &Path) -> Result<CounterfaceSpec, SceneError> {
-    if !top.contains_key("counterface") {
-        return Ok(CounterfaceSpec::default());
-    }
-    let ct = table(top, "counterface", "counterface")?;
-    check_keys(
-        ct,
-        "counterface.",
-        &[
-            "kind",
-            "file",
-            "table",
-            "name",
-            "layer",
-            "base",
-            "surface",
-            "conduction",
-            "thermal_conductivity",
-            "electrical_conductivity",
-        ],
-        "kind, file, table, name, layer, base, surface, conduction, thermal_conductivity, \
-         electrical_conductivity",
-    )?;
-    let has_stack = ["file", "name", "layer", "base"]
-        .iter()
-        .any(|k| ct.contains_key(*k));
-    let rigid = match string(ct, "kind", "counterface.kind")? {
-        Some("rigid") => true,
-        Some("elastic") => false,
-        None => !has_stack,
-        Some(other) => {
-            return Err(SceneError::Invalid {
-                field: "counterface.kind".into(),
-                reason: format!("`{other}` is not one of \"rigid\", \"elastic\""),
-            });
-        }
-    };
-    let mut spec = CounterfaceSpec {
-        conduction: match string(ct, "conduction", "counterface.conduction")? {
-            None => None,
-            Some(c @ ("perfect" | "half-space")) => Some(c.to_string()),
-            Some(other) => {
-                return Err(SceneError::Invalid {
-                    field: "counterface.conduction".into(),
-                    reason: format!("`{other}` is not one of \"perfect\", \"half-space\""),
-                });
-            }
-        },
-        ..Default::default()
-    };
-    for (key, slot) in [
-        ("thermal_conductivity", &mut spec.conductivity.thermal),
-        ("electrical_conductivity", &mut spec.conductivity.electrical),
-    ] {
-        if ct.contains_key(key) {
-            let field = format!("counterface.{key}");
-            if !rigid {
-                return Err(SceneError::Invalid {
-                    field,
-                    reason: "an elastic counterface gives its conductivities per \
-                             [[counterface.layer]] and [counterface.base], as a stack does"
-                        .into(),
-                });
-            }
-            let k = positive(ct, key, &field)?;
-            if !(1e-30..=1e30).contains(&k) {
-                return Err(SceneError::Invalid {
-                    field,
-                    reason: format!("{k} must lie in [1e-30, 1e30]"),
-                });
-            }
-            *slot = Some(k);
-        }
-    }
-    if !rigid && spec.conduction.as_deref() == Some("half-space") {
-        return Err(SceneError::Invalid {
-            field: "counterface.conduction".into(),
-            reason: "\"half-space\" describes a rigid flat (counterface.kind = \"rigid\"); an \
-                     elastic counterface conducts through its own stack, or give \"perfect\""
-                .into(),
-        });
-    }
-    if rigid {
-        for k in ["file", "name", "layer", "base", "table"] {
-            if ct.contains_key(k) {
-                return Err(SceneError::Invalid {
-                    field: format!("counterface.{k}"),
-                    reason:
-                        "a rigid counterface (counterface.kind = \"rigid\") has no stack or table"
-                            .into(),
-                });
-            }
-        }
-    } else {
-        let file = string(ct, "file", "counterface.file")?
-            .map(|f| existing_file(dir, "counterface.file", f, ""))
-            .transpose()?;
-        let stack = match &file {
-            Some(f) => {
-                if ct.contains_key("layer") || ct.contains_key("base") {
-                    return Err(SceneError::Invalid {
-                        field: "counterface.file".into(),
-                        reason: "give either `file` or inline [[counterface.layer]]/[counterface.base], not both"
-                            .into(),
-                    });
-                }
-                Stack::from_toml_file(f).map_err(|e| SceneError::Invalid {
-                    field: "counterface.file".into(),
-                    reason: e.to_string(),
-                })?
-            }
-            None => {
-                if !(ct.contains_key("layer") || ct.contains_key("base")) {
-                    return Err(SceneError::Missing(
-                        "counterface.file (or inline [[counterface.layer]]/[counterface.base]) for kind = \"elastic\""
-                            .into(),
-                    ));
-                }
-                let mut inline = ct.clone();
-                for k in ["kind", "table", "surface", "conduction"] {
-                    inline.remove(k);
-                }
-                Stack::from_toml_table(&inline).map_err(|e| SceneError::Invalid {
-                    field: "counterface".into(),
-                    reason: e.to_string(),
-                })?
-            }
-        };
-        spec.table = string(ct, "table", "counterface.table")?
-            .map(|t| {
-                existing_file(
-                    dir,
-                    "counterface.table",
-                    t,
-                    "; build it with `strata table build STACK.toml --counterface STACK2 --out FILE`, or leave `table` out to use the table cache",
-                )
-            })
-            .transpose()?;
-        spec.stack = Some(stack);
-        spec.file = file;
-    }
-    if ct.contains_key("surface") {
-        let mut fake = Table::new();
-        fake.insert("surface".into(), ct["surface"].clone());
-        spec.surface = Some(parse_surface(&fake, dir).map_err(in_counterface)?);
-    }
-    Ok(spec)
-}
-
-/// `[conductance]` (absent: `None`): `kind = "thermal"` or `"electrical"`. The scene's
-/// bodies must conduct: every layer (and a half-space base) of the first body, and the
-/// counterface (a rigid flat's `thermal_conductivity`/`electrical_conductivity` or
-/// `conduction = "perfect"`; an elastic one's stack, or `"perfect"`); each missing
-/// property is named. Solved by the BEM (periodic or not), the N and the I model.
-fn parse_conductance(
-    top: &Table,
-    counter: &CounterfaceSpec,
-    stack: &Stack,
-) -> Result<Option<ConductanceSpec>, SceneError> {
-    if !top.contains_key("conductance") {
-        return Ok(None);
-    }
-    let ct = table(top, "conductance", "conductance")?;
-    check_keys(ct, "conductance.", &["kind"], "kind")?;
-    let kind = match string(ct, "kind", "conductance.kind")? {
-        Some("thermal") => ConductionKind::Thermal,
-        Some("electrical") => ConductionKind::Electrical,
-        Some(other) => {
-            return Err(SceneError::Invalid {
-                field: "conductance.kind".into(),
-                reason: format!("`{other}` is not one of \"thermal\", \"electrical\""),
-            });
-        }
-        None => {
-            return Err(SceneError::Missing(
-                "conductance.kind (\"thermal\" or \"electrical\")".into(),
-            ));
-        }
-    };
-    let pick = |c: &Conductivity| match kind {
-        ConductionKind::Thermal => c.thermal,
-        ConductionKind::Electrical => c.electrical,
-    };
-    let perfect = counter.conduction.as_deref() == Some("perfect");
-    let counterface = if stack.counterface().is_some() {
-        if perfect {
-            CounterfaceConduction::Perfect
-        } else {
-            CounterfaceConduction::Stack
-        }
-    } else {
-        match (perfect, pick(&counter.conductivity)) {
-            (true, Some(_)) => {
-                return Err(SceneError::Invalid {
-                    field: format!("counterface.{}", kind.field()),
-                    reason: "a perfect conductor (counterface.conduction = \"perfect\") has no \
-                             conductivity: give one or the other"
-                        .into(),
-                });
-            }
-            (true, None) => CounterfaceConduction::Perfect,
-            (false, Some(k)) => CounterfaceConduction::HalfSpace(k),
-            (false, None) => {
-                return Err(SceneError::Missing(format!(
-                    "counterface.{} ({}; the rigid flat as a conducting half-space) or \
-                     counterface.conduction = \"perfect\": [conductance] kind = \"{}\" needs the \
-                     counterface's conduction",
-                    kind.field(),
-                    kind.conductivity_unit(),
-                    kind.name()
-                )));
-            }
-        }
-    };
-    let spec = ConductanceSpec { kind, counterface };
-    spec.body(stack)?;
-    spec.counterface_stack(stack)?;
-    Ok(Some(spec))
-}
-
-/// A `[surface]` error re-labelled as one of `[counterface.surface]`.
-fn in_counterface(e: SceneError) -> SceneError {
-    let f = |s: String| format!("counterface.{s}");
-    match e {
-        SceneError::UnknownKey { key, expected } => SceneError::UnknownKey {
-            key: f(key),
-            expected,
-        },
-        SceneError::Missing(m) => SceneError::Missing(f(m)),
-        SceneError::WrongType { field, expected } => SceneError::WrongType {
-            field: f(field),
-            expected,
-        },
-        SceneError::Invalid { field, reason } => SceneError::Invalid {
-            field: f(field),
-            reason,
-        },
-        SceneError::MissingFile {
-            field,
-            what,
-            value,
-            resolved,
-            dir,
-            hint,
-        } => SceneError::MissingFile {
-            // the one file key of [surface]
-            field: if field == "surface.file" {
-                "counterface.surface.file"
-            } else {
-                field
-            },
-            what,
-            value,
-            resolved,
-            dir,
-            hint,
-        },
-        other => other,
-    }
-}
-
-/// The `[surface]` table of a scene whose relative paths resolve against `dir`.
-fn parse_surface(top: &Table, dir: &Path) -> Result<SurfaceSpec, SceneError> {
-    let sf = table(top, "surface", "surface")?;
-    check_keys(
-        sf,
-        "surface.",
-        &[
-            "file",
-            "size",
-            "pixel_size",
-            "periodic",
-            "generate",
-            "repair",
-            "detrend",
-            "height_unit",
-            "topography",
-        ],
-        "file, size, pixel_size, periodic, generate, repair, detrend, height_unit, topography",
-    )?;
-    let periodic = boolean(sf, "periodic", "surface.periodic")?;
-    let repair = match string(sf, "repair", "surface.repair")? {
-        None | Some("none") => Repair::Refuse,
-        Some("median" | "harmonic") if sf.contains_key("file") => Repair::Median,
-        Some("median" | "harmonic") => {
-            return Err(SceneError::Invalid {
-                field: "surface.repair".into(),
-                reason: "applies to measured surfaces (surface.file), not generated ones".into(),
-            });
-        }
-        Some(other) => {
-            return Err(SceneError::Invalid {
-                field: "surface.repair".into(),
-                reason: format!(
-                    "`{other}` is not one of \"none\", \"median\", \"harmonic\" (the last two \
-                     the same harmonic fill)"
-                ),
-            });
-        }
-    };
-    Ok(match (sf.get("file"), sf.get("generate")) {
-        (Some(_), Some(_)) => {
-            return Err(SceneError::Invalid {
-                field: "surface.file".into(),
-                reason: "give either `file` or [surface.generate], not both".into(),
-            });
-        }
-        (None, None) => {
-            return Err(SceneError::Missing(
-                "surface.file (or a [surface.generate] table)".into(),
-            ));
-        }
-        (Some(_), None) => {
-            let f = string(sf, "file", "surface.file")?.unwrap_or_default();
-            let p = existing_file(dir, "surface.file", f, "")?;
-            let (spacing, height_unit) = file_scale(sf, FileKind::of(&p))?;
-            let topography = container_pick(sf, &p)?;
-            // A NetCDF topography's own periodic flag is the default (SurfaceTopography),
-            // and so is a container's `is_periodic`.
-            let periodic = periodic
-                .or_else(|| match FileKind::of(&p) {
-                    FileKind::NetCdf => strata_runtime::surface::netcdf::netcdf_periodic(&p)
-                        .ok()
-                        .flatten(),
-                    FileKind::Container => strata_runtime::surface::container::find(
-                        &p,
-                        topography.as_ref().unwrap_or(&Pick::Index(0)),
-                    )
-                    .ok()
-                    .and_then(|e| e.periodic),
-                    _ => None,
-                })
-                .unwrap_or(false);
-            // Measured files: the least-squares plane is removed unless asked otherwise;
-            // a periodic sample has no tilt to remove (a plane is not periodic).
-            let detrend = match string(sf, "detrend", "surface.detrend")? {
-                None if periodic => Detrend::None,
-                None => Detrend::Plane,
-                Some(d) => Detrend::parse(d).ok_or_else(|| SceneError::Invalid {
-                    field: "surface.detrend".into(),
-                    reason: format!("`{d}` is not one of \"none\", \"plane\", \"curvature\""),
-                })?,
-            };
-            if periodic && detrend != Detrend::None {
-                return Err(SceneError::Invalid {
-                    field: "surface.detrend".into(),
-                    reason: format!(
-                        "\"{}\" on a periodic surface (surface.periodic = true): a tilt or a \
-                         curvature is not periodic (the sample's edges would no longer meet); \
-                         remove the key (a periodic sample keeps its heights) or set periodic = false",
-                        detrend.name()
-                    ),
-                });
-            }
-            SurfaceSpec {
-                source: SurfaceSource::File(p),
-                read: ReadOptions {
-                    spacing,
-                    periodic,
-                    repair,
-                    height_unit,
-                    detrend,
-                },
-                topography,
-            }
-        }
-        (None, Some(_)) => {
-            let g = table(sf, "generate", "surface.generate")?;
-            check_keys(
-                g,
-                "surface.generate.",
-                &[
-                    "size",
-                    "grid",
-                    "fractal_dimension",
-                    "k_min",
-                    "k_max",
-                    "rms",
-                    "seed",
-                ],
-                "size, grid, fractal_dimension, k_min, k_max, rms, seed",
-            )?;
-            let size = match (g.get("size"), sf.get("size")) {
-                (Some(_), _) => positive(g, "size", "surface.generate.size")?,
-                (None, Some(_)) => positive(sf, "size", "surface.size")?,
-                (None, None) => {
-                    return Err(SceneError::Missing("surface.generate.size".into()));
-                }
-            };
-            let grid = integer(g, "grid", "surface.generate.grid")?;
-            if !(4..=16384).contains(&grid) {
-                return Err(SceneError::Invalid {
-                    field: "surface.generate.grid".into(),
-                    reason: format!("{grid} must be in [4, 16384]"),
-                });
-            }
-            let seed = integer(g, "seed", "surface.generate.seed")?;
-            if seed < 0 {
-                return Err(SceneError::Invalid {
-                    field: "surface.generate.seed".into(),
-                    reason: format!("{seed} must be ≥ 0"),
-                });
-            }
-            if periodic == Some(false) {
-                return Err(SceneError::Invalid {
-                    field: "surface.periodic".into(),
-                    reason: "a generated surface is periodic".into(),
-                });
-            }
-            for key in ["pixel_size", "height_unit", "detrend"] {
-                if sf.contains_key(key) {
-                    return Err(SceneError::Invalid {
-                        field: format!("surface.{key}"),
-                        reason: "applies to measured surfaces (surface.file), not generated ones"
-                            .into(),
-                    });
-                }
-            }
-            let fd = g
-                .get("fractal_dimension")
-                .ok_or_else(|| SceneError::Missing("surface.generate.fractal_dimension".into()))?;
-            SurfaceSpec {
-                source: SurfaceSource::Generate(GenerateParams {
-                    size,
-                    grid: grid as usize,
-                    fractal_dimension: number(fd, "surface.generate.fractal_dimension")?,
-                    k_min: positive(g, "k_min", "surface.generate.k_min")?,
-                    k_max: positive(g, "k_max", "surface.generate.k_max")?,
-                    rms: positive(g, "rms", "surface.generate.rms")?,
-                    seed: seed as u64,
-                }),
-                read: ReadOptions {
-                    spacing: Some(Spacing::Size(size)),
-                    periodic: true,
-                    repair,
-                    ..Default::default()
-                },
-                topography: None,
-            }
-        }
-    })
-}
-
-/// `surface.topography`: which topography of a contact.engineering container (`.zip`)
-/// to read, by number from 0 (across its surfaces) or by name; refused for other files.
-fn container_pick(sf: &Table, file: &Path) -> Result<Option<Pick>, SceneError> {
-    let Some(v) = sf.get("topography") else {
-        return Ok(None);
-    };
-    let field = || "surface.topography".to_string();
-    if FileKind::of(file) != FileKind::Container {
-        return Err(SceneError::Invalid {
-            field: field(),
-            reason: "picks a topography of a contact.engineering container (a .zip file);                      remove it for other files"
-                .into(),
-        });
-    }
-    match v {
-        toml::Value::Integer(i) if *i >= 0 => Ok(Some(Pick::Index(*i as usize))),
-        toml::Value::String(n) => Ok(Some(Pick::Name(n.clone()))),
-        _ => Err(SceneError::Invalid {
-            field: field(),
-            reason: format!(
-                "`{v}` is neither a topography number (0, 1, ... across the container's                  surfaces) nor a topography name"
-            ),
-        }),
-    }
 }
 
 impl LoadSpec {
@@ -1572,6 +647,58 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         assert!(err(&format!("solver = 1\n{GOOD}")).contains("`solver` must be a table"));
         let asperity = format!("{GOOD}\n[output]\nmaps = \"all\"\n");
         assert!(err(&asperity).contains("output.maps") && err(&asperity).contains("bem"));
+    }
+
+    /// A counterface of a counterface cannot be written, elastic or rigid; a scene
+    /// built from JSON values (the Python package) reads through the same serde types
+    /// and names the same fields as the TOML text.
+    #[test]
+    fn one_counterface_reader_and_json_scenes() {
+        let nested = "[counterface]\n[counterface.base]\nkind = \"elastic\"\nyoung = 2e11\n\
+                      poisson = 0.3\n[counterface.counterface]\n[counterface.counterface.base]\n\
+                      kind = \"rigid\"";
+        for c in [
+            nested.to_string(),
+            nested.replace(
+                "[counterface.base]\nkind = \"elastic\"\nyoung = 2e11\npoisson = 0.3\n",
+                "",
+            ),
+        ] {
+            let e = err(&format!("{GOOD}\n{c}\n"));
+            assert!(
+                e.contains("counterface.counterface") && e.contains("own counterface"),
+                "{e}"
+            );
+        }
+        let e = err(&format!("{GOOD}\n[stack.counterface]\n"));
+        assert!(e.contains("unknown key `stack.counterface`"), "{e}");
+        // the same scene as JSON values: accepted, and errors name the same fields
+        let file: file::SceneFile = toml::from_str(GOOD).unwrap();
+        let json = serde_json::to_value(&file).unwrap();
+        let from_json = Scene::from_json_in(json.clone(), Path::new("."), None).unwrap();
+        assert_eq!(from_json, parse(GOOD).unwrap());
+        let mut bad = json.clone();
+        bad["load"]["approach"]["steps"] = serde_json::json!(1.5);
+        let e = Scene::from_json_in(bad, Path::new("."), None)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, err(&GOOD.replace("steps = 5", "steps = 1.5")));
+        assert!(
+            e.contains("load.approach.steps") && e.contains("an integer"),
+            "{e}"
+        );
+        let mut bad = json.clone();
+        bad["stack"]["layer"][0]["youngs"] = serde_json::json!(1);
+        let e = Scene::from_json_in(bad, Path::new("."), None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("stack: layer 1: unknown key `youngs`"), "{e}");
+        let mut bad = json;
+        bad["model"]["kind"] = serde_json::json!("magic");
+        let e = Scene::from_json_in(bad, Path::new("."), None)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(e, err(&GOOD.replace("\"interacting\"", "\"magic\"")));
     }
 
     /// `[conductance]`: the kinds, the counterface's conduction, and every missing
