@@ -126,8 +126,9 @@ pub fn scene_of(
 /// conductance h_c at every sample (the capped tips' spots with both). The capped
 /// asperity's response tables and the ψ tables of layered conducting stacks are kept in
 /// the table cache `cache_dir` (`None`: [`crate::cache::dir`]'s default), as the
-/// command keeps them. Quiet: no log lines (report them with
-/// [`crate::progress::scoped`]).
+/// command keeps them. Quiet (`EngineOptions::quiet`); the sampler's few remaining log
+/// lines and warnings go through [`crate::progress`], so a caller collects or drops them
+/// with [`crate::progress::scoped`] (the C ABI drops them).
 pub fn sample_asperity_law(
     inputs: LawInputs<'_>,
     effects: &LawEffects,
