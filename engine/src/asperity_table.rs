@@ -45,7 +45,7 @@ pub fn law_for_stack(
         bars: Some(Bars(progress::raw_bar)),
         ..BuildOptions::default()
     };
-    let (t, _) = crate::engine::cached_table(stack, cache_dir, false, Some(opts))?;
+    let (t, _) = crate::setup::cached_table(stack, cache_dir, false, Some(opts))?;
     Ok(t.law_for(stack)?)
 }
 

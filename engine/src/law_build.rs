@@ -12,14 +12,13 @@ use strata_runtime::Stack;
 use strata_runtime::rough::{Images, Model, Params};
 use strata_runtime::surface::{ReadOptions, Surface};
 use strata_runtime::table::Table;
-use thiserror::Error;
 
-use crate::engine::EngineOptions;
 use crate::sampled_law::SampledLaw;
 use crate::scene::{
     ConductanceSpec, LoadSpec, ModelKind, ModelSpec, OutputSpec, PlasticitySpec, Scene, SolverSpec,
     SurfaceSource, SurfaceSpec,
 };
+use crate::setup::EngineOptions;
 
 /// What the law's solution is named as in its summary (there is no scene file).
 pub const IN_MEMORY: &str = "(inputs in memory)";
@@ -52,29 +51,7 @@ pub struct LawInputs<'a> {
     pub params: Params,
 }
 
-/// A summit loaded past the capped asperity's response table's lower end
-/// (x = δ/δ_c ≥ `strata_runtime::rough::plastic::ELASTIC_X`) that would yield at a
-/// contact radius a_c = πHR/(2E*) outside the table's range of a_c/h₁: the hardness is
-/// too high for the stack's top layer to be treated by the capped asperity models.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[error(
-    "plasticity: summit {summit} (radius {radius:e} m) is loaded past δ = {x:e}·δ_c (δ_c = (πH/2E*)²R, \
-     the capped asperity's table's lower end) and would yield at a contact radius \
-     a_c = πHR/(2E*) of {y:.3e} h1, outside the table (a_c/h1 in [{lo:e}, {hi:e}]): the hardness is \
-     too high for this stack's top layer to be treated this way at this load; use \
-     model.kind = \"bem\"",
-    x = strata_runtime::rough::plastic::ELASTIC_X,
-    lo = strata_tablegen::plastic_asperity::RESPONSE_Y.0,
-    hi = strata_tablegen::plastic_asperity::RESPONSE_Y.1
-)]
-pub struct UncoveredSummit {
-    /// The summit's index.
-    pub summit: usize,
-    /// Its radius of curvature R (m).
-    pub radius: f64,
-    /// a_c/h₁ of its yield.
-    pub y: f64,
-}
+pub use crate::effects::plasticity::UncoveredSummit;
 
 /// The scene that states `inputs` (but the surface and the table, which are passed
 /// in memory) with `effects`: the model and its images, the solver's parameters, the
@@ -153,7 +130,7 @@ pub fn sample_asperity_law(
         &scene,
         inputs.surface,
         &opts,
-        &mut crate::engine::Quiet,
+        &mut crate::setup::Quiet,
         inputs.model,
         samples,
         Some(min_gap),

@@ -21,6 +21,7 @@ pub mod number;
 pub mod progress;
 pub mod sampled_law;
 pub mod scene;
+pub mod setup;
 pub mod solution;
 pub mod spots;
 pub mod stdio;

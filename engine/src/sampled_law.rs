@@ -11,9 +11,10 @@ use strata_runtime::rough::{Images, Model, RoughContact};
 use strata_runtime::surface::Surface;
 
 use crate::contact_law::{ContactLaw, ContactLawError};
-use crate::engine::{EngineOptions, Observer, Quiet, law_for, solve};
+use crate::engine::solve;
 use crate::progress;
 use crate::scene::{LoadSpec, ModelKind, Scene};
+use crate::setup::{EngineOptions, Observer, Quiet, law_for};
 use crate::solution::SurfaceReport;
 
 /// One sample of a plastic interface's unloading curve: (gap (m), mean pressure (Pa),
@@ -379,7 +380,7 @@ pub fn check_min_gap(g: Option<f64>) -> Result<()> {
 }
 
 /// N and I models: the law of `strata law` on a scene of the asperity models (and of
-/// the C ABI's laws, through [`crate::law_build::sample_asperity_law`]).
+/// the C ABI's laws, through `law_build::sample_asperity_law`).
 pub fn solve_asperities(
     scene: &Scene,
     surface: Surface,
@@ -392,11 +393,11 @@ pub fn solve_asperities(
     if let Some(pl) = scene.plasticity {
         return solve_capped_asperities(scene, surface, opts, obs, model, samples, min_gap, pl);
     }
-    let (surface_json, warnings) = crate::engine::surface_report(&surface, obs);
+    let (surface_json, warnings) = crate::setup::surface_report(&surface, obs);
     let keep = scene.conductance.is_some().then(|| surface.clone());
     let law = law_for(scene, opts, obs)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?
-        .with_params(crate::engine::solver_params(scene, opts));
+        .with_params(crate::setup::solver_params(scene, opts));
     let g0 = rc.top_to_mean();
     let given = min_gap.is_some();
     let min_gap = match min_gap.or_else(|| load_min_gap(&scene.load, g0)) {
@@ -457,7 +458,7 @@ fn solve_capped_asperities(
     min_gap: Option<f64>,
     pl: crate::scene::PlasticitySpec,
 ) -> Result<SampledLaw> {
-    let (surface_json, warnings) = crate::engine::surface_report(&surface, obs);
+    let (surface_json, warnings) = crate::setup::surface_report(&surface, obs);
     // first contact and the area need no elastic law
     let e_star = scene.stack.contact_modulus();
     let hom = strata_runtime::law::Homogeneous { e_star };
@@ -699,7 +700,14 @@ mod tests {
             e_star: 1e9,
             nominal_area: 1e-6,
             surface: SurfaceReport::of(
-                &Surface::new(vec![0.0, 1e-6, 2e-6, 0.0], 2, 2, 1e-3, true).unwrap(),
+                &Surface::new(
+                    vec![0.0, 1e-6, 2e-6, 0.0, 1e-6, 0.0, 2e-6, 0.0, 1e-6],
+                    3,
+                    3,
+                    1e-3,
+                    true,
+                )
+                .unwrap(),
             ),
             warnings: Vec::new(),
             conductance: Some((ConductionKind::Thermal, h)),

@@ -201,7 +201,7 @@ impl PyScene {
         if let Some(cd) = conductance {
             top.insert("conductance".into(), py_to_json(cd, "conductance")?);
         }
-        let scene = Scene::from_json_in(
+        let scene = Scene::from_data_in(
             J::Object(top),
             Path::new("."),
             Some(memory_surface_spec(&surface)),

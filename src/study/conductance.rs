@@ -133,6 +133,7 @@ fn bem_step(s: &strata_bem::BemSolution) -> Step {
     st.mean_pressure = s.mean_pressure;
     st.pressure_ratio = s.pressure_ratio;
     st.area_fraction = s.area_fraction;
+    st.load = s.total_load;
     st
 }
 

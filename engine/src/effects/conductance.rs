@@ -20,10 +20,10 @@ use strata_bem::{ConductanceOptions, ConductanceSolver, Conductor, Geometry};
 use strata_runtime::rough::{Images, Model};
 use strata_runtime::surface::Surface;
 
-use super::{AsperityPath, BemStep, StepObserver};
-use crate::engine::{EngineOptions, Observer, log};
+use super::observer::{AsperityPath, BemStep, StepObserver};
 use crate::progress;
 use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
+use crate::setup::{EngineOptions, Observer, log};
 use crate::solution::{
     BemConductanceInfo, ConductanceInfo, ConductanceSummary, ConductanceUnits, KernelSummary,
     SceneSolution,

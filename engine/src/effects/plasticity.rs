@@ -20,16 +20,41 @@ use strata_runtime::law::Homogeneous;
 use strata_runtime::rough::{Model, RoughContact, RoughError, Step};
 use strata_runtime::summits::find_summits;
 use strata_runtime::surface::Surface;
+use thiserror::Error;
 
-use super::{AsperityPath, StepObserver};
-use crate::engine::asperity::{AsperityCurve, asperity_summary};
-use crate::engine::{
+use super::observer::{AsperityPath, StepObserver, after_path};
+use crate::engine::elastic::{AsperityCurve, asperity_summary, solve_elastic};
+use crate::scene::{LoadSpec, Scene};
+use crate::setup::{
     EngineOptions, Observer, law_for, log, model_short, solver_params, surface_report,
 };
-use crate::scene::{LoadSpec, Scene};
 use crate::solution::{
     BemPlasticInfo, PlasticInfo, PlasticUnits, PlasticitySummary, SceneSolution,
 };
+
+/// A summit loaded past the capped asperity's response table's lower end
+/// (x = δ/δ_c ≥ `strata_runtime::rough::plastic::ELASTIC_X`) that would yield at a
+/// contact radius a_c = πHR/(2E*) outside the table's range of a_c/h₁: the hardness is
+/// too high for the stack's top layer to be treated by the capped asperity models.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error(
+    "plasticity: summit {summit} (radius {radius:e} m) is loaded past δ = {x:e}·δ_c (δ_c = (πH/2E*)²R, \
+     the capped asperity's table's lower end) and would yield at a contact radius \
+     a_c = πHR/(2E*) of {y:.3e} h1, outside the table (a_c/h1 in [{lo:e}, {hi:e}]): the hardness is \
+     too high for this stack's top layer to be treated this way at this load; use \
+     model.kind = \"bem\"",
+    x = strata_runtime::rough::plastic::ELASTIC_X,
+    lo = strata_tablegen::plastic_asperity::RESPONSE_Y.0,
+    hi = strata_tablegen::plastic_asperity::RESPONSE_Y.1
+)]
+pub struct UncoveredSummit {
+    /// The summit's index.
+    pub summit: usize,
+    /// Its radius of curvature R (m).
+    pub radius: f64,
+    /// a_c/h₁ of its yield.
+    pub y: f64,
+}
 
 /// How the BEM's surface responds to a load step: elastic, or capped at the hardness.
 pub trait BemResponse {
@@ -221,7 +246,7 @@ fn solve_capped(
     // a summit loaded past the table's lower end where the table has no y for it:
     // refused before the table is built (when the approaches are known)
     let uncovered_summit = |summit: usize, radius: f64, y: f64| {
-        anyhow::Error::from(crate::law_build::UncoveredSummit { summit, radius, y })
+        anyhow::Error::from(UncoveredSummit { summit, radius, y })
     };
     if let Some((_, d)) = &approaches
         && let Some(h1) = scene
@@ -347,7 +372,7 @@ fn solve_capped(
     }
     let mut seconds = t0.elapsed().as_secs_f64();
     // the capped tips' contact radii conduct as the elastic ones do (physics.md §6.2)
-    seconds += crate::effects::after_path(
+    seconds += after_path(
         observers,
         &AsperityPath {
             steps: &steps,
@@ -409,8 +434,7 @@ fn solve_elastic_tips(
     let e_star = scene.stack.contact_modulus();
     let law = law_for(scene, opts, obs)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
-    let mut sol =
-        crate::engine::asperity::solve_elastic(scene, surface, opts, obs, model, observers)?;
+    let mut sol = solve_elastic(scene, surface, opts, obs, model, observers)?;
     let deltas: Vec<f64> = sol.steps.iter().map(|s| s.delta).collect();
     let elastic_tips = match model {
         Model::Independent => rc

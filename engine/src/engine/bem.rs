@@ -15,11 +15,14 @@ use strata_bem::{BemLoad, BemSolver, Geometry};
 use strata_runtime::rough::Step;
 use strata_runtime::surface::Surface;
 
-use super::{EngineOptions, Observer, counterface_summary, log, stack_description, surface_report};
+use crate::effects::observer::{BemStep, finish};
+use crate::effects::plasticity;
 use crate::effects::stiffness::StiffnessProbe;
-use crate::effects::{BemStep, plasticity};
 use crate::progress;
 use crate::scene::{LoadSpec, Scene};
+use crate::setup::{
+    EngineOptions, Observer, counterface_summary, log, stack_description, surface_report,
+};
 use crate::solution::{
     CurveUnits, PartialSummary, ResolutionSummary, ResolutionUnits, SceneSolution, StepFailure,
     StepResolutionReport, Summary,
@@ -235,7 +238,7 @@ pub fn solve(
         seconds,
         failed,
     };
-    crate::effects::finish(observers, &mut solution);
+    finish(observers, &mut solution);
     Ok(solution)
 }
 

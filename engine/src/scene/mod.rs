@@ -376,16 +376,20 @@ impl Scene {
         file.validate(dir, None)
     }
 
-    /// A scene from a JSON value of the scene file's form (a Python dict); with
-    /// `surface`, the `[surface]` table is not read (and must be absent): the Python
-    /// package passes a surface built in memory this way, its `[stack]`, `[model]` and
-    /// `[load]` validated as a file's, with the same messages.
-    pub fn from_json_in(
-        value: serde_json::Value,
+    /// A scene from any serde data of the scene file's form (the Python package's dict,
+    /// as a JSON value); with `surface`, the `[surface]` table is not read (and must be
+    /// absent): the Python package passes a surface built in memory this way, its
+    /// `[stack]`, `[model]` and `[load]` validated as a file's, with the same messages.
+    pub fn from_data_in<'de, D>(
+        data: D,
         dir: &Path,
         surface: Option<SurfaceSpec>,
-    ) -> Result<Scene, SceneError> {
-        let file: SceneFile = serde_path_to_error::deserialize(value)
+    ) -> Result<Scene, SceneError>
+    where
+        D: serde::Deserializer<'de>,
+        D::Error: std::fmt::Display,
+    {
+        let file: SceneFile = serde_path_to_error::deserialize(data)
             .map_err(|e| serde_error(&e.path().to_string(), &e.inner().to_string()))?;
         file.validate(dir, surface)
     }
@@ -675,11 +679,11 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         // the same scene as JSON values: accepted, and errors name the same fields
         let file: file::SceneFile = toml::from_str(GOOD).unwrap();
         let json = serde_json::to_value(&file).unwrap();
-        let from_json = Scene::from_json_in(json.clone(), Path::new("."), None).unwrap();
+        let from_json = Scene::from_data_in(json.clone(), Path::new("."), None).unwrap();
         assert_eq!(from_json, parse(GOOD).unwrap());
         let mut bad = json.clone();
         bad["load"]["approach"]["steps"] = serde_json::json!(1.5);
-        let e = Scene::from_json_in(bad, Path::new("."), None)
+        let e = Scene::from_data_in(bad, Path::new("."), None)
             .unwrap_err()
             .to_string();
         assert_eq!(e, err(&GOOD.replace("steps = 5", "steps = 1.5")));
@@ -689,13 +693,13 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         );
         let mut bad = json.clone();
         bad["stack"]["layer"][0]["youngs"] = serde_json::json!(1);
-        let e = Scene::from_json_in(bad, Path::new("."), None)
+        let e = Scene::from_data_in(bad, Path::new("."), None)
             .unwrap_err()
             .to_string();
         assert!(e.starts_with("stack: layer 1: unknown key `youngs`"), "{e}");
         let mut bad = json;
         bad["model"]["kind"] = serde_json::json!("magic");
-        let e = Scene::from_json_in(bad, Path::new("."), None)
+        let e = Scene::from_data_in(bad, Path::new("."), None)
             .unwrap_err()
             .to_string();
         assert_eq!(e, err(&GOOD.replace("\"interacting\"", "\"magic\"")));
