@@ -187,7 +187,7 @@ impl SpotPair {
     /// contact, at their positions, with their G(aᵢ)) heat each other through both
     /// bodies, Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀), periodically on a
     /// cell of sides `extent` (m) or isolated; the interactions of every summit that
-    /// touches at some step filled once for the path ([`Interactions`]: the same h_c as
+    /// touches at some step filled once for the path ([`strata_runtime::rough::conductance::Interactions`]: the same h_c as
     /// filling each step's network afresh, bit for bit). h_c per step (W/(m²·K) or S/m²)
     /// and the kernel's parameters.
     pub fn interacting(

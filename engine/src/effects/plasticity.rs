@@ -8,7 +8,7 @@
 //!   ([`Elastic`]);
 //! - **N and I models** ([`CappedTips`]): each summit a capped paraboloid whose response
 //!   P = P_c F(δ/δ_c, a_c/h₁), a = a_c G(…) is tabulated from ring solves
-//!   (physics.md §9), in place of the elastic tips ([`crate::engine::asperity::ElasticTips`]).
+//!   (physics.md §9), in place of the elastic tips ([`crate::engine::elastic::ElasticTips`]).
 //!
 //! Its records are [`PlasticInfo`] per step and a [`PlasticitySummary`].
 
