@@ -1,4 +1,5 @@
-//! Parsing of list-valued CLI arguments.
+//! Parsing and checks of CLI arguments shared by several subcommands: list-valued
+//! arguments, and the one-counterface rule of `--counterface`.
 
 use anyhow::{Result, bail};
 
@@ -121,4 +122,21 @@ mod tests {
         assert!(wide_linear_range("0.01:100:5") && !wide_linear_range("0.01:100:5:log"));
         assert!(!wide_linear_range("1:2:5") && !wide_linear_range("0:1:5"));
     }
+}
+
+/// `--counterface` on a stack file that has its own `[counterface]`: refused (the
+/// stack file's would be replaced silently); one counterface, given in one place.
+pub fn refuse_two_counterfaces(
+    stack: &strata_runtime::Stack,
+    stack_path: &std::path::Path,
+    counterface: &std::path::Path,
+) -> Result<()> {
+    if stack.counterface().is_some() {
+        bail!(
+            "--counterface {}: the stack file {} has its own [counterface]; give the counterface in one place (remove --counterface, or the stack file's [counterface])",
+            counterface.display(),
+            stack_path.display()
+        );
+    }
+    Ok(())
 }

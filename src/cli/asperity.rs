@@ -75,7 +75,7 @@ pub struct Args {
 pub fn run(a: Args) -> Result<()> {
     let mut stack = Stack::from_toml_file(&a.stack)?;
     if let Some(c) = &a.counterface {
-        refuse_two_counterfaces(&stack, &a.stack, c)?;
+        crate::cli::args::refuse_two_counterfaces(&stack, &a.stack, c)?;
         stack = stack
             .against(Stack::from_toml_file(c).context("--counterface")?)
             .context("--counterface")?;
@@ -315,20 +315,3 @@ fn approach_bar(stack: &Stack, n: usize) -> crate::progress::Progress {
 
 /// From this many layers on, [`approach_bar`] says how many.
 const MANY_LAYERS: usize = 100;
-
-/// `--counterface` on a stack file that has its own `[counterface]`: refused (the
-/// stack file's would be replaced silently); one counterface, given in one place.
-pub fn refuse_two_counterfaces(
-    stack: &Stack,
-    stack_path: &std::path::Path,
-    counterface: &std::path::Path,
-) -> Result<()> {
-    if stack.counterface().is_some() {
-        bail!(
-            "--counterface {}: the stack file {} has its own [counterface]; give the counterface in one place (remove --counterface, or the stack file's [counterface])",
-            counterface.display(),
-            stack_path.display()
-        );
-    }
-    Ok(())
-}

@@ -360,6 +360,20 @@ fn model_law(steps: &[Step], h: &[f64], scale: f64) -> Option<ContactLaw> {
     ContactLaw::from_steps(scale, steps, area, Some((ConductionKind::Thermal, h))).ok()
 }
 
+/// A model's h_c at the BEM step's mean pressure `p` (Pa); a pressure above the model's
+/// largest sample by round-off only (≤ 1e−12 relative: a pressure-controlled BEM step
+/// and the model's step at the same target differ by an ulp) is read at that sample.
+fn conductance_at_pressure(law: &ContactLaw, p: f64) -> Option<f64> {
+    use strata_runtime::interface::conductance_curve::CurveError;
+    match law.conductance_at_pressure(p) {
+        Ok(h) => Some(h),
+        Err(crate::contact_law::ContactLawError::Conductance(
+            CurveError::AboveSampledPressure { max, .. },
+        )) if p <= max * (1.0 + 1e-12) => law.conductance_at_pressure(max).ok(),
+        Err(_) => None,
+    }
+}
+
 /// With `[conductance]`: the N and I models' h_c at each BEM step's separation against
 /// the BEM's (`models`: each model's steps and h_c, N then I; None where a model has
 /// none). `scale` = z_M − z̄ (m).
@@ -380,7 +394,7 @@ pub fn conductance_rows(
             });
             let h_at_p = laws.each_ref().map(|l| {
                 l.as_ref()
-                    .and_then(|l| l.conductance_at_pressure(b.mean_pressure).ok())
+                    .and_then(|l| conductance_at_pressure(l, b.mean_pressure))
                     .unwrap_or(f64::NAN)
             });
             let rel_to = |h: f64| {

@@ -179,7 +179,7 @@ pub fn run(a: Args) -> Result<()> {
             let mut stack = Stack::from_toml_file(&b.stack)?;
             let mut inputs = vec![("the stack file".to_string(), b.stack.clone())];
             if let Some(c) = &b.counterface {
-                crate::cli::asperity::refuse_two_counterfaces(&stack, &b.stack, c)?;
+                crate::cli::args::refuse_two_counterfaces(&stack, &b.stack, c)?;
                 stack = stack
                     .against(Stack::from_toml_file(c).context("--counterface")?)
                     .context("--counterface")?;
