@@ -85,6 +85,23 @@ pub fn wide_linear_range(s: &str) -> bool {
     }
 }
 
+/// `--counterface` on a stack file that has its own `[counterface]`: refused (the
+/// stack file's would be replaced silently); one counterface, given in one place.
+pub fn refuse_two_counterfaces(
+    stack: &strata_runtime::Stack,
+    stack_path: &std::path::Path,
+    counterface: &std::path::Path,
+) -> Result<()> {
+    if stack.counterface().is_some() {
+        bail!(
+            "--counterface {}: the stack file {} has its own [counterface]; give the counterface in one place (remove --counterface, or the stack file's [counterface])",
+            counterface.display(),
+            stack_path.display()
+        );
+    }
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -122,21 +139,4 @@ mod tests {
         assert!(wide_linear_range("0.01:100:5") && !wide_linear_range("0.01:100:5:log"));
         assert!(!wide_linear_range("1:2:5") && !wide_linear_range("0:1:5"));
     }
-}
-
-/// `--counterface` on a stack file that has its own `[counterface]`: refused (the
-/// stack file's would be replaced silently); one counterface, given in one place.
-pub fn refuse_two_counterfaces(
-    stack: &strata_runtime::Stack,
-    stack_path: &std::path::Path,
-    counterface: &std::path::Path,
-) -> Result<()> {
-    if stack.counterface().is_some() {
-        bail!(
-            "--counterface {}: the stack file {} has its own [counterface]; give the counterface in one place (remove --counterface, or the stack file's [counterface])",
-            counterface.display(),
-            stack_path.display()
-        );
-    }
-    Ok(())
 }
