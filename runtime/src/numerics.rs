@@ -7,7 +7,6 @@
 //! `strata-bem` call these; no crate keeps a copy of its own.
 
 use std::f64::consts::PI;
-use std::sync::OnceLock;
 
 /// Gauss–Legendre nodes x_i and weights w_i on [−1, 1] (Newton on P_n from Tricomi's
 /// guess cos(π(i + 3/4)/(n + 1/2)), to round-off; nodes mirrored, so x_{n−1−i} = −x_i
@@ -52,7 +51,9 @@ pub fn gauss_legendre_pairs(n: usize) -> Vec<(f64, f64)> {
 
 /// The n-point rule of [`gauss_legendre_pairs`] computed once per process, for the small
 /// fixed rules of inner loops: n ≤ 64 (callers pass constants; an empty rule above).
+#[cfg(feature = "spectral")]
 pub(crate) fn gauss_legendre_cached(n: usize) -> &'static [(f64, f64)] {
+    use std::sync::OnceLock;
     const MAX: usize = 64;
     debug_assert!(n <= MAX, "gauss_legendre_cached({n}): at most {MAX} points");
     static RULES: [OnceLock<Vec<(f64, f64)>>; MAX + 1] = [const { OnceLock::new() }; MAX + 1];
@@ -326,6 +327,7 @@ mod tests {
         let q: f64 = x.iter().zip(&w).map(|(x, w)| w * x.exp()).sum();
         let exact = std::f64::consts::E - 1.0 / std::f64::consts::E;
         assert!((q - exact).abs() < 5e-15, "{:e}", q - exact);
+        #[cfg(feature = "spectral")]
         assert_eq!(gauss_legendre_cached(8), gauss_legendre_pairs(8).as_slice());
     }
 
