@@ -1,5 +1,5 @@
 //! The boundary-element solver on isolated (non-periodic) and rectangular samples, and
-//! loads beyond the peak-to-valley height (issues 15 and 19, BEM side):
+//! loads beyond the peak-to-valley height:
 //! * a single paraboloid on the paper's layered stack against the independent Fredholm
 //!   solution of strata-tablegen (force within 0.5 % at equal approach);
 //! * 768×576 non-periodic samples with dx = dy and dx ≠ dy: the same smooth surface on

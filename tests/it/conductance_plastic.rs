@@ -1,4 +1,4 @@
-//! Both effects at once (issues 34 and 35): the interface conductance of capped asperity
+//! Both effects at once, conductance and plasticity: the interface conductance of capped asperity
 //! tips in the N and I models (physics.md §6.2, §9). A capped tip's contact is a disc
 //! of its contact radius whatever its pressure, so its spot conducts as an elastic
 //! spot of that radius: the N model's h_c is Σ G(aᵢ)/A₀ over the capped radii, and a

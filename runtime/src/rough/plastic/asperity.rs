@@ -1,5 +1,5 @@
 //! One paraboloidal asperity with an elastic–perfectly plastic tip on a layered solid
-//! (issue 35, physics.md §6.3): the contact pressure is capped by the hardness H, so a
+//! (physics.md §6.3): the contact pressure is capped by the hardness H, so a
 //! plastic core r < a_p carries p = H (its elastic overlap flattened) around which an
 //! elastic annulus a_p < r < a conforms to the paraboloid.
 //!
