@@ -11,7 +11,7 @@
 //! A homogeneous solid has χ = ζ = 1 and g = 0 ([`Homogeneous`]); layered stacks get
 //! theirs from a surrogate table (the `table` module).
 
-use crate::numerics::{Tolerance, bracketed};
+use crate::numerics::{Falsi, Tolerance, bracketed};
 
 /// χ, ζ, g of one stack. Lengths in m, moduli in Pa.
 pub trait AsperityLaw: Send + Sync {
@@ -145,6 +145,7 @@ pub fn contact_radius(law: &dyn AsperityLaw, radius: f64, delta: f64) -> Option<
         step: 1e-15,
         width: 0.0,
         width_abs: 0.0,
+        falsi: Falsi::Illinois,
     };
     let start = Some(0.5 * (lo + hi));
     let root = match bracketed(eval, (lo, -delta), (hi, f_hi), start, tol, 200) {

@@ -40,7 +40,7 @@
 
 use std::f64::consts::PI;
 
-use strata_runtime::numerics::{Tolerance, bracketed};
+use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
 use strata_runtime::{Compliance, Stack};
 use thiserror::Error;
 
@@ -411,6 +411,7 @@ impl Asperity {
             step: 0.0,
             width: 0.0,
             width_abs: 1e-14,
+            falsi: Falsi::Illinois,
         };
         let x = bracketed(|x| f(x).map(|v| (v, None)), neg, pos, None, tol, 100)?.x;
         let a = x.exp();

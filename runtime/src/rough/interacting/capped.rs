@@ -30,7 +30,7 @@
 use super::Problem;
 use super::energy::State;
 use crate::law::{AsperityLaw, contact_radius, force};
-use crate::numerics::{Tolerance, bracketed};
+use crate::numerics::{Falsi, Tolerance, bracketed};
 use crate::rough::local::Local;
 use crate::rough::plastic::{PlasticResponse, below_table};
 use crate::rough::{Images, Model, NewtonError, RoughContact, RoughError, Step};
@@ -100,8 +100,8 @@ fn own_interference(law: &dyn AsperityLaw, a: f64, radius: f64) -> f64 {
     0.5 * (l.s + l.q * l.ds / l.dq)
 }
 
-/// The contact radius a with δ_I(a) = d (m), by the Illinois regula falsi of
-/// [`bracketed`] on a bracket grown by doubling from the N model's radius
+/// The contact radius a with δ_I(a) = d (m), by the halving regula falsi of
+/// [`bracketed`] ([`Falsi::Halving`]) on a bracket grown by doubling from the N model's radius
 /// (ζ(a)a²/R = d); δ_I grows with a. None when no bracket is found or δ_I is not finite.
 fn own_radius(law: &dyn AsperityLaw, radius: f64, d: f64) -> Option<f64> {
     if law.is_homogeneous() {
@@ -124,6 +124,7 @@ fn own_radius(law: &dyn AsperityLaw, radius: f64, d: f64) -> Option<f64> {
         step: 0.0,
         width: 1e-15,
         width_abs: 0.0,
+        falsi: Falsi::Halving,
     };
     let eval = |a: f64| Ok::<_, std::convert::Infallible>((h(a), None));
     let root = match bracketed(eval, (lo, -d), (hi, h(hi)), None, tol, 200) {

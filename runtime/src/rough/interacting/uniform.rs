@@ -48,6 +48,15 @@
 use crate::law::AsperityLaw;
 use crate::numerics::gauss_legendre_pairs;
 
+/// The n-point Gauss–Legendre rule with its nodes descending (x₁ > x₂ > …): the order
+/// these sums add their terms in, so that their round-off is the one the shipped
+/// scenes' results were recorded with.
+fn gauss_legendre_descending(n: usize) -> Vec<(f64, f64)> {
+    let mut rule = gauss_legendre_pairs(n);
+    rule.reverse();
+    rule
+}
+
 /// Degrees tried for the interpolant of V (even).
 const DEGREES: [usize; 5] = [8, 12, 16, 24, 32];
 /// Largest error of the interpolant, in units of S(0)/min(Lx, Ly)·4/(3π) (of
@@ -111,7 +120,7 @@ impl<'l> Remainder<'l> {
             s0,
             a0: 1e-3 * r_min,
             cum: vec![(0.0, 0.0)],
-            gl: gauss_legendre_pairs(8),
+            gl: gauss_legendre_descending(8),
         };
         let mut r = r_min;
         let mut phi = 0.0;
@@ -165,7 +174,7 @@ fn block_integral(rem: &Remainder, rx: f64, ry: f64, d: (f64, f64)) -> f64 {
         (d.0 - rx, d.1 - ry),
         (d.0 + rx, d.1 - ry),
     ];
-    let gl = gauss_legendre_pairs(24);
+    let gl = gauss_legendre_descending(24);
     let mut total = 0.0;
     for e in 0..4 {
         let (p, q) = (corners[e], corners[(e + 1) % 4]);
@@ -192,7 +201,7 @@ fn block_integral(rem: &Remainder, rx: f64, ry: f64, d: (f64, f64)) -> f64 {
 /// `rx`, `ry`, centred), ∫_out ∂ₓₓw₁ dA = −2 ∫ w₁′(r) rx/r dy along x = rx (and alike
 /// in y), w₁′ by central differences.
 fn remainder_tail(rem: &Remainder, extent: (f64, f64), rx: f64, ry: f64) -> f64 {
-    let gl = gauss_legendre_pairs(32);
+    let gl = gauss_legendre_descending(32);
     let dw = |r: f64| {
         let h = 1e-4 * r;
         (rem.w1(r + h) - rem.w1(r - h)) / (2.0 * h)
