@@ -53,6 +53,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use strata_engine::error::EngineError;
 use strata_engine::law_build::{LawInputs, UncoveredSummit, sample_asperity_law};
 use strata_engine::progress::{Report, scoped};
 use strata_engine::spots::{SpotSum, SpotSumError};
@@ -1026,8 +1027,8 @@ fn check_conduction(stack: &Stack, spec: &ConductanceSpec) -> Result<(), CapiErr
 /// its chain, with that error's own code and message (the engine's context names the
 /// command line's flags and scene keys, not the C arguments); any other is
 /// `STRATA_ERR_SOLVE` with the whole chain.
-fn engine_error(e: anyhow::Error) -> CapiError {
-    for cause in e.chain() {
+fn engine_error(e: EngineError) -> CapiError {
+    for cause in e.causes() {
         if let Some(x) = cause.downcast_ref::<ResourceError>() {
             return CapiError::Resource(x.clone());
         }
@@ -1060,7 +1061,7 @@ fn engine_error(e: anyhow::Error) -> CapiError {
             };
         }
     }
-    CapiError::Solve(format!("{e:#}"))
+    CapiError::Solve(format!("{:#}", anyhow::Error::from(e)))
 }
 
 /// What `strata_law_new_with_law_options` computes: the law of `surface` on `stack` by

@@ -3,7 +3,7 @@
 //! a paraboloid's contact radius and load, and its pressure and displacement profile
 //! (physics.md §4).
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, Result, bail_input};
 use strata_runtime::Stack;
 use strata_runtime::table::Table;
 use strata_tablegen::tablebuild::{Bars, BuildOptions};
@@ -62,11 +62,11 @@ pub fn approx_paraboloid(
         return Ok((0.0, 0.0));
     }
     let Some(a) = law::contact_radius(law, radius, delta) else {
-        bail!("cannot bracket the contact radius for delta = {delta} m");
+        bail_input!("cannot bracket the contact radius for delta = {delta} m");
     };
     let p = law::force(law, a, radius);
     if !(a.is_finite() && p.is_finite()) {
-        bail!("approximate solution at delta = {delta} m is not finite");
+        bail_input!("approximate solution at delta = {delta} m is not finite");
     }
     Ok((a, p))
 }

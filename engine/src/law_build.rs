@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use anyhow::Result;
+use crate::error::Result;
 use strata_runtime::Stack;
 use strata_runtime::rough::{Images, Model, Params};
 use strata_runtime::surface::{ReadOptions, Surface};

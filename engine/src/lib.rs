@@ -16,6 +16,7 @@ pub mod cache;
 pub mod contact_law;
 pub mod effects;
 pub mod engine;
+pub mod error;
 pub mod law_build;
 pub mod number;
 pub mod progress;

@@ -2,7 +2,7 @@
 //! law`, the Python package's `Scene.law` and the C ABI's laws): p(g), A(g)/A₀ and dp/dg
 //! from first contact down to a smallest separation, by the scene's model.
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, EngineError, Result, bail_input};
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::interface::{
     InterfaceLaw, MAX_SAMPLES, SampleOptions, abaqus_real, sample_gaps,
@@ -356,16 +356,16 @@ fn largest_pressure(load: &LoadSpec) -> Result<f64> {
             .copied()
             .reduce(f64::max)
             .context("load.mean_pressures is empty"),
-        _ => bail!("load: internal error"),
+        _ => return Err(EngineError::Internal("load")),
     }
 }
 
 pub fn check_samples(n: usize) -> Result<()> {
     if n < 2 {
-        bail!("--samples {n}: at least 2 samples are needed (first contact and --min-gap)");
+        bail_input!("--samples {n}: at least 2 samples are needed (first contact and --min-gap)");
     }
     if n > MAX_SAMPLES {
-        bail!("--samples {n}: at most {MAX_SAMPLES}");
+        bail_input!("--samples {n}: at most {MAX_SAMPLES}");
     }
     Ok(())
 }
@@ -374,7 +374,7 @@ pub fn check_min_gap(g: Option<f64>) -> Result<()> {
     if let Some(g) = g
         && !g.is_finite()
     {
-        bail!("--min-gap {g}: not a finite separation (m)");
+        bail_input!("--min-gap {g}: not a finite separation (m)");
     }
     Ok(())
 }
@@ -544,7 +544,7 @@ fn scene_min_gap(
         }
     };
     if min_gap.is_nan() || min_gap >= g0 {
-        bail!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
+        bail_input!("--min-gap {min_gap:e}: must lie below the first-contact separation {g0:e} m");
     }
     Ok(min_gap)
 }

@@ -5,9 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::error::{Context, Result};
 use crate::progress;
 use crate::scene::{ModelKind, Scene, SurfaceSource};
-use anyhow::{Context, Result};
 use strata_bem::{BemOptions, BemSolution};
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;

@@ -23,7 +23,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::Result;
+use crate::error::Result;
 use strata_runtime::Stack;
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::rough::Images;

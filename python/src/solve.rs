@@ -413,7 +413,7 @@ trait WithPath<T> {
     fn with_context_path(self, p: &Path) -> anyhow::Result<T>;
 }
 
-impl<T> WithPath<T> for anyhow::Result<T> {
+impl<T> WithPath<T> for Result<T, strata_engine::error::EngineError> {
     fn with_context_path(self, p: &Path) -> anyhow::Result<T> {
         use anyhow::Context;
         self.with_context(|| format!("scene {}", p.display()))

@@ -774,7 +774,10 @@ fn compare_scene(
             &opts,
             &mut WithMaps {
                 quiet: false,
-                sink: |k, n, m| maps.accept(k, n, m),
+                sink: |k, n, m| {
+                    maps.accept(k, n, m)
+                        .map_err(|e| strata_engine::error::EngineError::Source(e.into()))
+                },
             },
         )
         .with_context(|| format!("scene {}: {name}", path.display()))?;

@@ -127,7 +127,10 @@ pub fn run(a: Args) -> Result<()> {
         &opts,
         &mut WithMaps {
             quiet: false,
-            sink: |k, n, m| maps.accept(k, n, m),
+            sink: |k, n, m| {
+                maps.accept(k, n, m)
+                    .map_err(|e| strata_engine::error::EngineError::Source(e.into()))
+            },
         },
     )
     .with_context(|| format!("scene {}", a.scene.display()))?;

@@ -200,7 +200,7 @@ fn spot_conductances(
     let sum = SpotSum::against_rigid(stack, ConductionKind::Thermal, Some(FLAT_CONDUCTIVITY))?
         .with_cache(cache.map(Path::to_path_buf));
     match model {
-        Model::Independent => sum.conductances(steps, rc.area()),
+        Model::Independent => Ok(sum.conductances(steps, rc.area())?),
         Model::Interacting(images) => {
             Ok(sum.interacting(steps, rc.summits(), rc.extent(), images)?.0)
         }

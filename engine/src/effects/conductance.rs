@@ -15,7 +15,7 @@
 
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, EngineError, Result};
 use strata_bem::{ConductanceOptions, ConductanceSolver, Conductor, Geometry};
 use strata_runtime::rough::{Images, Model};
 use strata_runtime::surface::Surface;
@@ -111,7 +111,7 @@ impl BemConductance {
             (CounterfaceConduction::HalfSpace(k), _) => Conductor::HalfSpace(k),
             (CounterfaceConduction::Stack, Some(c)) => Conductor::Layered(c),
             (CounterfaceConduction::Stack, None) => {
-                bail!("counterface: internal error (no stack)")
+                return Err(EngineError::Internal("counterface (no stack)"));
             }
         };
         log!(

@@ -17,7 +17,7 @@ pub mod observer;
 pub mod plasticity;
 pub mod stiffness;
 
-use anyhow::Result;
+use crate::error::Result;
 use strata_bem::Geometry;
 use strata_runtime::rough::Model;
 use strata_runtime::surface::Surface;

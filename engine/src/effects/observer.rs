@@ -3,7 +3,7 @@
 //! two calls the drivers make over all observers ([`after_path`], [`finish`]). A leaf
 //! under the drivers and the effects.
 
-use anyhow::Result;
+use crate::error::Result;
 use strata_bem::BemSolution;
 use strata_runtime::rough::{Model, RoughContact, Step};
 

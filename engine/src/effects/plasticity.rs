@@ -14,7 +14,7 @@
 
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, EngineError, Result, bail_input};
 use strata_bem::{BemLoad, BemSolution, BemSolver, PlasticPath};
 use strata_runtime::law::Homogeneous;
 use strata_runtime::rough::{Model, RoughContact, RoughError, Step};
@@ -124,7 +124,9 @@ impl BemResponse for Capped<'_> {
 
     fn probe(&mut self, delta: f64, _warm: &[f64]) -> Result<BemSolution> {
         let Some(mut probe) = self.before.take() else {
-            bail!("plasticity: internal error (a probe before any step)");
+            return Err(EngineError::Internal(
+                "plasticity (a probe before any step)",
+            ));
         };
         Ok(probe.step(BemLoad::Approach(delta))?.0)
     }
@@ -246,7 +248,7 @@ fn solve_capped(
     // a summit loaded past the table's lower end where the table has no y for it:
     // refused before the table is built (when the approaches are known)
     let uncovered_summit = |summit: usize, radius: f64, y: f64| {
-        anyhow::Error::from(UncoveredSummit { summit, radius, y })
+        EngineError::Source(Box::new(UncoveredSummit { summit, radius, y }))
     };
     if let Some((_, d)) = &approaches
         && let Some(h1) = scene
@@ -292,7 +294,7 @@ fn solve_capped(
         Some(d) => d,
         None => {
             let LoadSpec::MeanPressures(ps) = &scene.load else {
-                bail!("load: internal error");
+                return Err(EngineError::Internal("load"));
             };
             let mut out = Vec::with_capacity(ps.len());
             for (i, &p) in ps.iter().enumerate() {
@@ -304,7 +306,7 @@ fn solve_capped(
                     hi *= 2.0;
                     grow += 1;
                     if grow > 60 {
-                        bail!(
+                        bail_input!(
                             "load.mean_pressures[{i}]: {p:e} Pa is out of reach of the capped N model"
                         );
                     }
@@ -345,7 +347,7 @@ fn solve_capped(
                     area: r.0.area_fraction,
                     interacting: interacting.is_some(),
                 };
-                return Err(anyhow::Error::from(e).context(format!("load.mean_pressures[{i}]")));
+                return Err(EngineError::at(format!("load.mean_pressures[{i}]"), e));
             }
             warm = r.0.radii.clone();
             out.push(r);
@@ -353,7 +355,7 @@ fn solve_capped(
         out
     } else {
         rc.capped_curve(&resp, model, &deltas)
-            .map_err(|(i, e)| anyhow::Error::from(e).context(format!("load step {i}")))?
+            .map_err(|(i, e)| EngineError::at(format!("load step {i}"), e))?
     };
     for (i, (s, flowing)) in solved.into_iter().enumerate() {
         let d = s.delta;

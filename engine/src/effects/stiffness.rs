@@ -5,7 +5,7 @@
 //! about the solver's tolerance / 10⁻⁴ ≈ 10⁻⁶ (relative). The asperity models' stiffness
 //! is the runtime's own (dP/dδ of the summits' laws), not probed.
 
-use anyhow::{Context, Result};
+use crate::error::{Context, Result};
 use strata_bem::BemSolution;
 
 use super::plasticity::BemResponse;

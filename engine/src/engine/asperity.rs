@@ -4,7 +4,7 @@
 //! capped at the hardness ([`crate::effects::plasticity::CappedTips`]) — and the
 //! effects that observe the path ([`crate::effects`]) after it. No effect code here.
 
-use anyhow::{Result, bail};
+use crate::error::{Result, bail_input};
 use strata_runtime::rough::Model;
 use strata_runtime::surface::Surface;
 
@@ -28,7 +28,7 @@ pub fn solve(
     let obs: &dyn Observer = obs;
     let mut observers = crate::effects::for_asperities(scene, model, &surface)?;
     if scene.unload {
-        bail!(
+        bail_input!(
             "load.unload is solved by the BEM in this version (model.kind = \"bem\"); the N and \
              I models with [plasticity] follow the loading path only"
         );

@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, EngineError, Result};
 use strata_bem::{BemLoad, BemSolver, Geometry};
 use strata_runtime::rough::Step;
 use strata_runtime::surface::Surface;
@@ -88,7 +88,7 @@ pub fn solve(
             .collect(),
         None => {
             let LoadSpec::MeanPressures(ps) = &scene.load else {
-                bail!("load: internal error");
+                return Err(EngineError::Internal("load"));
             };
             ps.iter()
                 .enumerate()

@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
+use crate::error::{Context, EngineError, Result};
 use strata_runtime::rough::{Model, RoughContact, RoughError, Step};
 use strata_runtime::summits::find_summits;
 use strata_runtime::surface::Surface;
@@ -116,7 +116,7 @@ pub(crate) fn solve_elastic(
                 if !opts.keep_partial || steps.is_empty() {
                     if matches!(e, RoughError::AreaAboveNominal { .. }) {
                         let at = format!("load step {i} (δ = {:e} m)", d[i]);
-                        return Err(anyhow::Error::from(e).context(at));
+                        return Err(EngineError::at(at, e));
                     }
                     return Err(e.into());
                 }
@@ -130,7 +130,7 @@ pub(crate) fn solve_elastic(
         }
         None => {
             let LoadSpec::MeanPressures(ps) = &scene.load else {
-                bail!("load: internal error");
+                return Err(EngineError::Internal("load"));
             };
             let bar = (!obs.quiet()).then(|| {
                 progress::bar(
@@ -151,7 +151,7 @@ pub(crate) fn solve_elastic(
                     .with_context(|| field.clone())?;
                 if n.area_fraction > 1.0 {
                     let (_, e) = refuse(i, field.clone(), n.delta, n.area_fraction);
-                    return Err(anyhow::Error::from(e).context(field));
+                    return Err(EngineError::at(field, e));
                 }
                 if !interacting {
                     warm = n.radii.clone();

@@ -21,7 +21,7 @@ pub mod asperity;
 pub mod bem;
 pub mod elastic;
 
-use anyhow::Result;
+use crate::error::Result;
 use strata_runtime::rough::Model;
 use strata_runtime::surface::Surface;
 
