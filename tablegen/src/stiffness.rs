@@ -241,14 +241,13 @@ impl Stiffness {
         let big = k0.iter().copied().fold(0.0f64, |m, v| m.max(v.abs()));
         let comp = &self.comp;
         let q = KzQuadrature::for_kernel(h1, self.u_first, big, 2.0 * a, |u| comp.kz(u))?;
-        let lt: Vec<(f64, f64)> = q
-            .u
-            .par_iter()
-            .map(|&u| {
-                let c = self.tc.eval(u);
-                (c.s_ll - 1.0, c.s_tt - 1.0)
-            })
-            .collect();
+        let lt: Vec<(f64, f64)> =
+            q.u.par_iter()
+                .map(|&u| {
+                    let c = self.tc.eval(u);
+                    (c.s_ll - 1.0, c.s_tt - 1.0)
+                })
+                .collect();
         if let Some(k) = lt
             .iter()
             .position(|(l, t)| !(l.is_finite() && t.is_finite()))
@@ -267,12 +266,7 @@ impl Stiffness {
     }
 
     /// ψ = ∫₀¹ φ of the punch equation φ + K_a φ = 1 on the rule `quad`.
-    fn psi(
-        &self,
-        quad: &KzQuadrature,
-        a: f64,
-        which: &'static str,
-    ) -> Result<f64, StiffnessError> {
+    fn psi(&self, quad: &KzQuadrature, a: f64, which: &'static str) -> Result<f64, StiffnessError> {
         let one = |_s: f64| 1.0;
         let rhs: [fredholm::Rhs<'_>; 1] = [&one];
         let sol = match (self.method, self.discretisation(a)) {

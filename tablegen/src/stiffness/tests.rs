@@ -34,7 +34,11 @@ fn half_space_meets_mindlin_and_punch() {
         let es = e / (1.0 - nu * nu);
         let hs = Stack::half_space(e, nu).unwrap();
         let st = Stack::new(
-            vec![layer(H, e, nu), layer(2.0 * H, e, nu), layer(0.5 * H, e, nu)],
+            vec![
+                layer(H, e, nu),
+                layer(2.0 * H, e, nu),
+                layer(0.5 * H, e, nu),
+            ],
             elastic(e, nu),
         )
         .unwrap();
@@ -65,7 +69,10 @@ fn half_space_meets_mindlin_and_punch() {
 fn thin_layer_limits() {
     for (layers, name) in [
         (vec![layer(H, 1e9, 0.3)], "one layer, nu 0.3"),
-        (vec![layer(H, 1e9, 0.15), layer(2.0 * H, 5e9, 0.4)], "two layers"),
+        (
+            vec![layer(H, 1e9, 0.15), layer(2.0 * H, 5e9, 0.4)],
+            "two layers",
+        ),
     ] {
         let st = Stack::new(layers.clone(), Base::Rigid).unwrap();
         let sum_mu: f64 = layers
@@ -149,8 +156,8 @@ fn hidden_stacks() -> Vec<(&'static str, Stack)> {
 
 /// The second method (the Ritz solution of the coupled problem, [`super::reference`])
 /// against the solver (harmonic mean of the two punches) between the limits,
-/// a/h₁ = 0.1 … 3: within 1e-5 relative. The Ritz values' own convergence (n = 12
-/// against 16) is printed.
+/// a/h₁ = 0.1 … 3: requirement 1e-5 relative, measured 6.5e-9 (the Ritz values' own
+/// convergence at a/h₁ = 3 on the hard coating; n = 12 against 16 is printed).
 #[test]
 fn second_method_agrees() {
     let mut worst = 0.0f64;
@@ -170,7 +177,7 @@ fn second_method_agrees() {
         }
     }
     eprintln!("second method: worst {worst:.1e}");
-    assert!(worst < 1e-5, "{worst}");
+    assert!(worst < 1e-7, "{worst}");
 }
 
 /// The Ritz method alone on a half-space: Mindlin from the first function, and the
@@ -223,7 +230,10 @@ fn hard_cases_are_finite() {
                 d.tangential / d.normal
             );
             assert!(d.normal.is_finite() && d.normal > 0.0, "{name} {ah}");
-            assert!(d.tangential.is_finite() && d.tangential > 0.0, "{name} {ah}");
+            assert!(
+                d.tangential.is_finite() && d.tangential > 0.0,
+                "{name} {ah}"
+            );
             if ah == 1e-3 {
                 let mindlin = 8.0 * mu * a / (2.0 - nu);
                 assert!(rel(d.tangential, mindlin) < 1e-2, "{name}: {d:?}");
