@@ -42,7 +42,7 @@ pub fn run(a: Args) -> Result<()> {
             .context("--counterface")?;
     }
     let radii = super::args::parse_list("--a", &a.a)?;
-    if let Some(bad) = radii.iter().find(|r| !(**r > 0.0)) {
+    if let Some(bad) = radii.iter().find(|r| r.is_nan() || **r <= 0.0) {
         bail!("--a: disc radii must be > 0 (m), got {bad}");
     }
     if super::args::wide_linear_range(&a.a) {
