@@ -38,7 +38,7 @@ use crate::kernel::gauss_legendre;
 /// Γ(m/2) for a positive integer m (exact products of integers and √π).
 fn gamma_half(m: u32) -> f64 {
     assert!(m > 0);
-    let (mut g, mut x) = if m % 2 == 0 {
+    let (mut g, mut x) = if m.is_multiple_of(2) {
         (1.0, 1.0)
     } else {
         (PI.sqrt(), 0.5)
