@@ -7,7 +7,9 @@
 //! draws force against approach with the Hertz curve for the top material (E*₁).
 //! `--profile FILE` also writes `delta,r,pressure,displacement` (m, m, Pa, m) on
 //! 0 ≤ r ≤ 3a for every δ > 0. Existing `--plot`/`--profile` files are kept unless
-//! `--force`.
+//! `--force`. `--tangential` adds the column `tangential_stiffness` (N/m): the
+//! full-stick stiffness of the contact disc of radius a at that δ
+//! ([`strata_tablegen::stiffness`]).
 
 use std::path::PathBuf;
 
@@ -70,6 +72,35 @@ pub struct Args {
     /// space; prints `delta,a,force,a_plastic` (a_plastic: the radius of the core at H).
     #[arg(long, allow_hyphen_values = true)]
     pub hardness: Option<f64>,
+    /// Also print the tangential stiffness Q/δ_t (N/m) of the contact disc in full
+    /// stick at each δ, normal–tangential coupling ignored (`strata stiffness`):
+    /// header `delta,a,force,tangential_stiffness`.
+    #[arg(long, conflicts_with = "hardness")]
+    pub tangential: bool,
+}
+
+/// K_t (N/m) of the full-stick disc at each row's contact radius (0 where a = 0), by
+/// the Fredholm solves of [`strata_tablegen::stiffness`].
+fn tangential_stiffness(
+    stack: &Stack,
+    rows: &[(f64, f64, f64)],
+    file: &std::path::Path,
+) -> Result<Vec<f64>> {
+    let solver = strata_tablegen::stiffness::Stiffness::new(stack);
+    rows.iter()
+        .map(|&(_, r, _)| {
+            if r > 0.0 {
+                solver.at(r).map(|d| d.tangential).map_err(|e| {
+                    anyhow::anyhow!(
+                        "stack file {}: tangential stiffness at a = {r:e} m: {e}",
+                        file.display()
+                    )
+                })
+            } else {
+                Ok(0.0)
+            }
+        })
+        .collect()
 }
 
 pub fn run(a: Args) -> Result<()> {
@@ -221,14 +252,28 @@ pub fn run(a: Args) -> Result<()> {
         bar.inc();
     }
     drop(bar);
-    crate::stdio::print(|o| {
-        csv_out::write(
-            o,
-            ["delta", "a", "force"],
-            rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
-        )
-        .map_err(Into::into)
-    })?;
+    if a.tangential {
+        let k = tangential_stiffness(&stack, &rows, &a.stack)?;
+        crate::stdio::print(|o| {
+            csv_out::write(
+                o,
+                ["delta", "a", "force", "tangential_stiffness"],
+                rows.iter()
+                    .zip(&k)
+                    .map(|((d, r, f), k)| [num(*d), num(*r), num(*f), num(*k)]),
+            )
+            .map_err(Into::into)
+        })?;
+    } else {
+        crate::stdio::print(|o| {
+            csv_out::write(
+                o,
+                ["delta", "a", "force"],
+                rows.iter().map(|(d, r, f)| [num(*d), num(*r), num(*f)]),
+            )
+            .map_err(Into::into)
+        })?;
+    }
     if let (Some(path), Some(set)) = (&a.profile, profile_set) {
         let text = csv_out::text(
             ["delta", "r", "pressure", "displacement"],

@@ -7,6 +7,7 @@ pub mod compliance;
 pub mod conductance;
 pub mod law;
 pub mod solve;
+pub mod stiffness;
 pub mod study;
 pub mod surface;
 pub mod sweep;
@@ -46,6 +47,8 @@ pub enum Command {
     Conductance(conductance::Args),
     /// A paraboloidal asperity pressed into the stack: CSV `delta,a,force` (full solution).
     Asperity(asperity::Args),
+    /// Normal and tangential stiffness of one contact disc of radius a on the stack: CSV `a,normal_stiffness,tangential_stiffness`.
+    Stiffness(stiffness::Args),
     /// Surrogate tables of χ, ζ, g: build, info, check, export.
     Table(table::Args),
     /// Load curve of a rough contact described by a scene: DIR/curve.csv, curve.json, plots.
@@ -70,6 +73,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Compliance(a) => compliance::run(a),
         Command::Conductance(a) => conductance::run(a),
         Command::Asperity(a) => asperity::run(a),
+        Command::Stiffness(a) => stiffness::run(a),
         Command::Table(a) => table::run(a),
         Command::Solve(a) => solve::run(a),
         Command::Law(a) => law::run(a),

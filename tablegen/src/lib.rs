@@ -25,6 +25,8 @@ pub mod psi_table;
 pub mod rings;
 pub mod spot;
 pub mod spot_pair;
+pub mod stiffness;
+pub mod stiffness_table;
 
 pub mod approx;
 mod error;

@@ -48,6 +48,7 @@ mod solve_bem;
 mod stack_fuzz;
 mod stalls;
 mod stdio;
+mod stiffness;
 mod study;
 mod sweep;
 mod table_fuzz;
