@@ -27,6 +27,7 @@ use thiserror::Error;
 #[error(
     "table cache {path} ({origin}) is not writable: {error}; point --cache-dir or STRATA_CACHE_DIR to a writable directory"
 )]
+
 pub struct CacheError {
     pub path: String,
     pub origin: &'static str,
@@ -106,6 +107,9 @@ pub fn capped_response(
     }
     Ok(resp)
 }
+
+// passed on by the engine with `?` (engine/src/error.rs)
+crate::error::passed_on!(CacheError);
 
 #[cfg(test)]
 mod tests {

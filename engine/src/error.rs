@@ -75,18 +75,18 @@ impl EngineError {
 /// A library error the engine passes on with `?` (as [`EngineError::Source`]).
 macro_rules! passed_on {
     ($($t:ty),* $(,)?) => {$(
-        impl From<$t> for EngineError {
+        impl From<$t> for $crate::error::EngineError {
             fn from(e: $t) -> Self {
-                EngineError::Source(Box::new(e))
+                $crate::error::EngineError::Source(Box::new(e))
             }
         }
     )*};
 }
 
+// the engine's own modules' errors pass on from where they are defined (scene, cache,
+// spots), so that this module imports none of them
+pub(crate) use passed_on;
 passed_on!(
-    crate::scene::SceneError,
-    crate::cache::CacheError,
-    crate::spots::SpotSumError,
     strata_runtime::cancel::Cancelled,
     strata_runtime::resources::ResourceError,
     strata_runtime::rough::RoughError,

@@ -40,6 +40,7 @@ use crate::scene::{ConductanceSpec, CounterfaceConduction, Scene};
 /// Why the spot conductances of a stack cannot be built: a body that cannot conduct
 /// as asked (a missing conductivity, named with its layer and field by [`SpotError`]).
 #[derive(Debug, Clone, PartialEq, Error)]
+
 pub enum SpotSumError {
     /// The first body (its counterface not included).
     #[error("stack: {0}")]
@@ -152,3 +153,6 @@ impl SpotSum {
         Ok(self.0.direct(a)?)
     }
 }
+
+// passed on by the engine with `?` (engine/src/error.rs)
+crate::error::passed_on!(SpotSumError);

@@ -8,6 +8,7 @@ use thiserror::Error;
 /// Errors of scene reading and validation. Each names the field; [`Scene::from_file`](super::Scene::from_file)
 /// adds the scene file ([`SceneError::InFile`]).
 #[derive(Debug, Error)]
+
 pub enum SceneError {
     #[error("cannot read scene {path}: {message}")]
     Io { path: String, message: String },
@@ -48,3 +49,6 @@ pub enum SceneError {
         error: Box<SceneError>,
     },
 }
+
+// passed on by the engine with `?` (engine/src/error.rs)
+crate::error::passed_on!(SceneError);
