@@ -29,6 +29,7 @@
 //! evaluation warm-started from the last.
 
 use strata_runtime::bounded::{BoundedError, Mprgp, Outcome};
+use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
 
 use crate::BemError;
 use crate::capped::Capped;
@@ -500,8 +501,11 @@ impl<'s> PlasticPath<'s> {
     }
 
     /// Force control: the offset c with mean p(c) = `target` (mean p falls as c grows)
-    /// to 1e-12 relative, by a secant safeguarded with a bracket, from the last offset
-    /// (or the elastic solution's) and a second point from p̄ ∝ (z_M − c)^{3/2}.
+    /// to 1e-12 relative, from the last offset (or the elastic solution's) and a second
+    /// point from p̄ ∝ (z_M − c)^{3/2}: secant steps through the last two points until
+    /// they bracket the root, then the Illinois regula falsi of [`bracketed`] on the
+    /// bracket from the last secant point. p and g hold the solution at the offset
+    /// returned (the last one solved).
     fn force_control(
         &self,
         bounded: &Bounded,
@@ -510,6 +514,8 @@ impl<'s> PlasticPath<'s> {
         p: &mut [f64],
         g: &mut [f64],
     ) -> Result<(f64, Outcome, usize), BemError> {
+        /// Solves of a force-controlled step before it stops where it is.
+        const MAX_SOLVES: usize = 102;
         let parts = parts(self.solver);
         let n2 = (parts.ny * parts.nx) as f64;
         let mut total = Outcome {
@@ -518,13 +524,15 @@ impl<'s> PlasticPath<'s> {
             violation: 0.0,
         };
         let evals = std::cell::Cell::new(0usize);
-        let mut eval = |c: f64, p: &mut [f64], g: &mut [f64]| -> Result<f64, BemError> {
+        let solved = std::cell::Cell::new(f64::NAN);
+        let mut eval = |c: f64| -> Result<(f64, Option<f64>), BemError> {
             let (o, _) = solve_at(bounded, capped, c, p, g)?;
             total.iterations += o.iterations;
             total.products += o.products;
             total.violation = o.violation;
             evals.set(evals.get() + 1);
-            Ok(p.iter().sum::<f64>() / n2 - target)
+            solved.set(c);
+            Ok((p.iter().sum::<f64>() / n2 - target, None))
         };
         let zmax = bounded.z.iter().fold(f64::MIN, |m, z| m.max(*z));
         // First guess: the elastic solution at the same mean pressure (the
@@ -542,60 +550,69 @@ impl<'s> PlasticPath<'s> {
                 }
             }
         };
-        let f0 = eval(c0, p, g)?;
-        if f0.abs() <= 1e-12 * target {
+        let done = |f: f64| f.abs() <= 1e-12 * target;
+        let f0 = eval(c0)?.0;
+        if done(f0) {
             return Ok((c0, total, evals.get()));
         }
         // Second point: p̄ ∝ (z_M − c)^{3/2} through the first.
         let depth0 = (zmax - c0).max(parts.z_rms * 1e-3);
         let ratio = (target / (f0 + target).max(1e-3 * target)).powf(2.0 / 3.0);
-        let mut pts = [(c0, f0), (zmax - depth0 * ratio, 0.0)];
-        pts[1].1 = eval(pts[1].0, p, g)?;
-        // Safeguarded secant: a bracket (lo: f > 0, too much pressure; hi: f < 0)
-        // where known, bisection when the secant leaves it.
-        let (mut lo, mut hi) = (None::<f64>, None::<f64>);
-        for &(c, f) in &pts {
-            if f > 0.0 {
-                lo = Some(lo.map_or(c, |l: f64| l.max(c)));
+        let c1 = zmax - depth0 * ratio;
+        let mut pts = [(c0, f0), (c1, eval(c1)?.0)];
+        // f > 0: too much pressure, the root at a larger offset
+        let secant = |[(ca, fa), (cb, fb)]: [(f64, f64); 2]| {
+            let next = cb - fb * (cb - ca) / (fb - fa);
+            if next.is_finite() {
+                next
             } else {
-                hi = Some(hi.map_or(c, |h: f64| h.min(c)));
+                // no slope: step by σ_z towards more or less load
+                cb + if fb > 0.0 { parts.z_rms } else { -parts.z_rms }
+            }
+        };
+        // the bracket's ends: on each side the point nearest the root (smallest |f|)
+        type End = Option<(f64, f64)>;
+        fn keep(ends: &mut (End, End), (c, f): (f64, f64)) {
+            let side = if f < 0.0 { &mut ends.0 } else { &mut ends.1 };
+            if side.is_none_or(|(_, fs)| f.abs() < fs.abs()) {
+                *side = Some((c, f));
             }
         }
-        let (mut c, mut f) = pts[1];
-        for _ in 0..100 {
-            if f.abs() <= 1e-12 * target {
-                break;
-            }
-            let [(ca, fa), (cb, fb)] = pts;
-            let mut next = if fb != fa {
-                cb - fb * (cb - ca) / (fb - fa)
-            } else {
-                f64::NAN
-            };
-            if let (Some(l), Some(h)) = (lo, hi) {
-                if !(next > l.min(h) && next < l.max(h)) {
-                    next = 0.5 * (l + h);
-                }
-                if (l - h).abs() <= 1e-15 * (1.0 + l.abs()) {
-                    break;
-                }
-            } else if !next.is_finite() {
-                // no bracket yet and no slope: step by σ_z towards more or less load
-                next = cb + if fb > 0.0 { parts.z_rms } else { -parts.z_rms };
-            }
-            c = next;
-            f = eval(c, p, g)?;
-            if f > 0.0 {
-                lo = Some(lo.map_or(c, |l: f64| l.max(c)));
-            } else {
-                hi = Some(hi.map_or(c, |h: f64| h.min(c)));
-            }
-            pts = [pts[1], (c, f)];
-            if evals.get() > 200 {
+        let mut ends: (End, End) = (None, None);
+        keep(&mut ends, pts[0]);
+        keep(&mut ends, pts[1]);
+        while ends.0.is_none() || ends.1.is_none() {
+            let (c, f) = pts[1];
+            if !f.is_finite() {
                 return Err(BemError::NonFinite(total.iterations));
             }
+            if done(f) || evals.get() >= MAX_SOLVES {
+                return Ok((c, total, evals.get()));
+            }
+            let c = secant(pts);
+            pts = [pts[1], (c, eval(c)?.0)];
+            keep(&mut ends, pts[1]);
         }
-        Ok((c, total, evals.get()))
+        let (c, f) = pts[1];
+        if done(f) {
+            return Ok((c, total, evals.get()));
+        }
+        let (Some(neg), Some(pos)) = ends else {
+            return Err(BemError::NonFinite(total.iterations));
+        };
+        let tol = Tolerance {
+            f: 1e-12 * target,
+            step: 0.0,
+            width: 1e-15,
+            width_abs: 1e-15,
+            falsi: Falsi::Illinois,
+        };
+        let left = MAX_SOLVES.saturating_sub(evals.get());
+        let root = bracketed(&mut eval, neg, pos, Some(secant(pts)), tol, left)?;
+        if root.f.is_nan() {
+            return Err(BemError::NonFinite(total.iterations));
+        }
+        Ok((solved.get(), total, evals.get()))
     }
 }
 

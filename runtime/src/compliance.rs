@@ -24,7 +24,7 @@
 //! T is the layer transfer matrix exp(A h) of physics.md §2.1 multiplied by e^{−ρh}
 //! (Ẑ is invariant under that scaling), so its entries stay bounded. The variables
 //! are scaled per layer so the transfer matrix depends on ρh and ν only and no 2×2
-//! solve mixes magnitudes μρ and 1/(μρ). A layer with ρh > [`THICK_LAYER`] is a
+//! solve mixes magnitudes μρ and 1/(μρ). A layer with ρh > `THICK_LAYER` is a
 //! half-space to within e^{−2ρh}·(ρh)² < 1e−30: its impedance is set to that of a
 //! half-space of its material, exactly. This keeps identical layers on an identical
 //! half-space at k_z = 0 to round-off for any ρh.
@@ -46,14 +46,14 @@ pub mod tangential;
 
 /// ρh above which a layer is treated as a half-space of its own material: the
 /// neglected reflection from its bottom is O((ρh)² e^{−2ρh}) < 1e−30.
-pub const THICK_LAYER: f64 = 40.0;
+pub(crate) const THICK_LAYER: f64 = 40.0;
 
 /// Largest ρh carried through one transfer-matrix step. Thicker layers (up to
-/// [`THICK_LAYER`]) are split into equal sublayers: inside one step the 2×2 solves
+/// `THICK_LAYER`) are split into equal sublayers: inside one step the 2×2 solves
 /// cancel O(ρh) entries down to an O(1) determinant (the Jordan block of the double
 /// eigenvalue ±ρ), losing (ρh)²·ε; across steps the recursion damps earlier errors
 /// by e^{−2ρh}. With steps ≤ 2 the total error stays at a few ε.
-pub const MAX_STEP: f64 = 2.0;
+pub(crate) const MAX_STEP: f64 = 2.0;
 
 /// A real 2×2 matrix, row-major: `m[row][col]`, rows/cols ordered (U, W) or (T, S).
 type M2 = [[f64; 2]; 2];
@@ -95,7 +95,7 @@ fn solve(a: &M2, b: &M2) -> M2 {
 
 /// Scaled impedance of an elastic half-space of Poisson ratio ν, in units of its own
 /// shear modulus: Ẑ = −(2/(3−4ν))·[[2(1−ν), −(1−2ν)], [−(1−2ν), 2(1−ν)]] (physics.md §2.2).
-pub fn half_space_impedance(nu: f64) -> [[f64; 2]; 2] {
+pub(crate) fn half_space_impedance(nu: f64) -> [[f64; 2]; 2] {
     let k = -2.0 / (3.0 - 4.0 * nu);
     let d = 2.0 * (1.0 - nu);
     let o = -(1.0 - 2.0 * nu);
@@ -105,7 +105,7 @@ pub fn half_space_impedance(nu: f64) -> [[f64; 2]; 2] {
 /// The scaled layer transfer matrix e^{−t}·D·exp(A h)·D⁻¹ with t = ρh and
 /// D = diag(ρ, ρ, 1/μ, 1/μ), as four 2×2 blocks (T11, T12, T21, T22) with
 /// displacement rows/columns first (physics.md §2.1, paper Appendix A).
-pub fn scaled_transfer(t: f64, nu: f64) -> [[[f64; 2]; 2]; 4] {
+pub(crate) fn scaled_transfer(t: f64, nu: f64) -> [[[f64; 2]; 2]; 4] {
     let e2 = (-2.0 * t).exp();
     let c = 0.5 * (1.0 + e2); // cosh t · e^{−t}
     let s = -0.5 * (-2.0 * t).exp_m1(); // sinh t · e^{−t}, accurate for small t

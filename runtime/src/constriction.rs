@@ -50,7 +50,7 @@ pub const MAGIC: &[u8; 8] = b"STRATAPS";
 
 /// Most pieces a table may span (a/h₁ over some 40 decades at least: far beyond any
 /// contact).
-pub const MAX_PIECES: i32 = 80;
+pub(crate) const MAX_PIECES: i32 = 80;
 
 /// A ψ table that cannot be read or is inconsistent.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -69,7 +69,7 @@ pub enum PsiTableError {
 }
 
 /// The Lobatto points of [−1, 1] of a piece, x_j = −cos(πj/8) (x₀ = −1, x₈ = 1 exactly).
-pub fn lobatto() -> [f64; PIECE_NODES] {
+pub(crate) fn lobatto() -> [f64; PIECE_NODES] {
     std::array::from_fn(|j| -(std::f64::consts::PI * j as f64 / (PIECE_NODES - 1) as f64).cos())
 }
 
@@ -112,7 +112,7 @@ pub fn node_radius(h1: f64, piece: i32, j: usize) -> f64 {
 
 /// The pieces [k₀, k₁) that cover radii `lo` ≤ `hi` (m) on a top layer `h1` thick, at
 /// least one; None for radii that are not finite and positive or would span more than
-/// [`MAX_PIECES`].
+/// `MAX_PIECES`.
 pub fn pieces(h1: f64, lo: f64, hi: f64) -> Option<(i32, i32)> {
     if !(h1 > 0.0 && h1.is_finite() && lo > 0.0 && hi >= lo && hi.is_finite()) {
         return None;

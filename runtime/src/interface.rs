@@ -207,7 +207,7 @@ pub fn sample_gaps(first_contact: f64, min_gap: f64, n: usize) -> Vec<f64> {
 /// `summits` summits (an estimate for [`check_memory`]): one solved [`Step`] per sample,
 /// each with the contact radius of every summit (8 bytes), and the law's twelve f64
 /// arrays (gaps, approaches, p, stiffness, A/A₀ and their ascending copies and slopes).
-pub fn sample_bytes(samples: usize, summits: usize) -> u64 {
+pub(crate) fn sample_bytes(samples: usize, summits: usize) -> u64 {
     let per_step =
         (std::mem::size_of::<Step>() as u64).saturating_add(bytes_for(summits as u64, 8));
     bytes_for(samples as u64, per_step.saturating_add(12 * 8))
@@ -217,7 +217,7 @@ impl InterfaceLaw {
     /// Solves the load curve of `rc` with `model` at the separations of `opts`
     /// ([`sample_gaps`] from g₀ = z_M − z̄) and builds the law. The solve is warm-started
     /// along the path, as [`RoughContact::curve`]. At most [`MAX_SAMPLES`] samples
-    /// ([`InterfaceError::TooManySamples`]); the memory they need ([`sample_bytes`]) is
+    /// ([`InterfaceError::TooManySamples`]); the memory they need (`sample_bytes`) is
     /// checked against the limit of [`crate::resources`] before anything is allocated
     /// ([`InterfaceError::Resource`]).
     pub fn sample(

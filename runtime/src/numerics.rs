@@ -189,7 +189,8 @@ pub enum Falsi {
     #[default]
     Illinois,
     /// The kept end's value is halved at every step (a stronger damping for the I model's
-    /// strongly convex δ_I(a)); the secant is written x = x₊ − f₊(x₊ − x₋)/(f₊ − f₋).
+    /// strongly convex δ_I(a)); the secant is written x = x₊ − f₊(x₊ − x₋)/(f₊ − f₋), and
+    /// the width tests apply to the bracket the new point lies in, before it is narrowed.
     Halving,
 }
 
@@ -231,6 +232,13 @@ pub struct Root {
 /// whenever the step would leave it; every evaluation shrinks the bracket, so the
 /// search converges for any continuous f. Stops when a [`Tolerance`] is met, when f is
 /// not finite (`f` NaN, not converged) or after `max_evaluations`.
+///
+/// A half-open bracket (one end at ±∞, its f a placeholder, e.g. `(f64::INFINITY,
+/// 1.0)`) must lie on one side of zero and extend away from it, and needs a `start`:
+/// a step that would leave it doubles x (towards the open end) until an evaluation
+/// closes it, so the search also finds the bracket of a monotone f on [0, ∞). It stops
+/// not converged, with f at the last point (finite) and fewer than `max_evaluations`
+/// evaluations, where doubling overflows.
 pub fn bracketed<E>(
     mut f: impl FnMut(f64) -> Result<(f64, Option<f64>), E>,
     neg: (f64, f64),
@@ -286,9 +294,12 @@ pub fn bracketed<E>(
         if v.abs() <= tol.f {
             return Ok(done(true));
         }
-        // the bracket x lies in (before it is narrowed to x)
+        // Falsi::Halving tests the bracket x lies in, before it is narrowed to x; the
+        // other rules the narrowed one (below)
         let width = (xp - xn).abs();
-        if width <= tol.width * xn.abs().max(xp.abs()) || width <= tol.width_abs {
+        if tol.falsi == Falsi::Halving
+            && (width <= tol.width * xn.abs().max(xp.abs()) || width <= tol.width_abs)
+        {
             return Ok(done(true));
         }
         let halve = |same_side: bool| match tol.falsi {
@@ -308,12 +319,23 @@ pub fn bracketed<E>(
             }
             side = 1;
         }
+        let width = (xp - xn).abs();
+        let closed = width.is_finite();
+        if tol.falsi != Falsi::Halving
+            && closed
+            && (width <= tol.width * xn.abs().max(xp.abs()) || width <= tol.width_abs)
+        {
+            return Ok(done(true));
+        }
         let mut next = match slope {
             Some(d) => x - v / d,
             None => falsi(xn, fn_, xp, fp),
         };
         if !(next.is_finite() && inside(next, xn, xp)) {
-            next = 0.5 * (xn + xp);
+            next = if closed { 0.5 * (xn + xp) } else { 2.0 * x };
+            if !next.is_finite() {
+                return Ok(done(false));
+            }
         }
         if tol.step > 0.0 && (next - x).abs() <= tol.step * x.abs() {
             return Ok(Root {
@@ -460,6 +482,20 @@ mod tests {
         let nan = |_x: f64| Ok::<_, ()>((f64::NAN, None));
         let r = bracketed(nan, (0.0, -1.0), (1.0, 1.0), None, tol, 200).unwrap();
         assert!(!r.converged && r.f.is_nan());
+        // a half-open bracket [0, ∞) from x = 10⁻³: doubling closes it (at 2.048), then
+        // Illinois or Newton as on a closed bracket
+        let open = (f64::INFINITY, 1.0);
+        let r = bracketed(cube, (0.0, -2.0), open, Some(1e-3), tol, 200).unwrap();
+        assert!(r.converged && (r.x - 2f64.cbrt()).abs() < 4e-16, "{r:?}");
+        let r = bracketed(newton, (0.0, -2.0), open, Some(1e-3), tol, 200).unwrap();
+        assert!(r.converged && (r.x - 2f64.cbrt()).abs() < 4e-16, "{r:?}");
+        // never closed: stops where doubling overflows (2¹⁰²⁴), f finite, not converged
+        let below = |_x: f64| Ok::<_, ()>((-1.0, None));
+        let r = bracketed(below, (0.0, -1.0), open, Some(1.0), tol, 2000).unwrap();
+        assert!(
+            !r.converged && r.f == -1.0 && r.evaluations == 1024,
+            "{r:?}"
+        );
         // adjacent floats: the largest x with x² ≤ 2 is √2 rounded down
         let x = bisect_adjacent(|x| x * x <= 2.0, 1.0, 2.0);
         assert!(x * x <= 2.0 && x.next_up() * x.next_up() > 2.0);

@@ -7,17 +7,17 @@
 //! 1. [`set_memory_limit`] (the command line's `--memory-limit`, the C ABI, Python);
 //! 2. the environment variable `STRATA_MEMORY_LIMIT` (bytes, or with a suffix
 //!    `k`, `M`, `G`, `T`: powers of 1024; e.g. `STRATA_MEMORY_LIMIT=512M`);
-//! 3. [`DEFAULT_FRACTION`] of the machine's memory (`MemTotal` of `/proc/meminfo`;
-//!    [`FALLBACK_LIMIT`] where that cannot be read).
+//! 3. `DEFAULT_FRACTION` of the machine's memory (`MemTotal` of `/proc/meminfo`;
+//!    `FALLBACK_LIMIT` where that cannot be read).
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use thiserror::Error;
 
 /// Fraction of the machine's memory a single request may take by default.
-pub const DEFAULT_FRACTION: f64 = 0.75;
+pub(crate) const DEFAULT_FRACTION: f64 = 0.75;
 /// The default limit where the machine's memory cannot be read: 8 GiB.
-pub const FALLBACK_LIMIT: u64 = 8 << 30;
+pub(crate) const FALLBACK_LIMIT: u64 = 8 << 30;
 
 /// 0 = not set (use the environment or the machine).
 static LIMIT: AtomicU64 = AtomicU64::new(0);
@@ -99,7 +99,7 @@ pub fn set_memory_limit(bytes: u64) {
 }
 
 /// Total memory of the machine (bytes) from `/proc/meminfo`, if readable.
-pub fn machine_memory() -> Option<u64> {
+pub(crate) fn machine_memory() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
@@ -174,7 +174,11 @@ pub fn read_text_capped(path: &std::path::Path, cap: u64, what: &str) -> std::io
 
 /// Reads the whole of an input file as bytes, refusing one larger than `cap` bytes or
 /// than the memory limit (whichever is smaller); see [`read_text_capped`].
-pub fn read_capped(path: &std::path::Path, cap: u64, what: &str) -> std::io::Result<Vec<u8>> {
+pub(crate) fn read_capped(
+    path: &std::path::Path,
+    cap: u64,
+    what: &str,
+) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
     let (limit, source) = memory_limit().map_err(std::io::Error::other)?;
     let (bound, named) = if cap <= limit {

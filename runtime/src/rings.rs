@@ -63,7 +63,7 @@ pub fn disc_response(r: f64, c: f64) -> f64 {
 /// length on which k decays (the thinnest top layer); the ρ-rule has panels of width
 /// min(h/4, 1/r_max)⁻¹ … up to 25/h, 16 Gauss–Legendre nodes each, graded
 /// geometrically below the first panel.
-pub fn ring_matrix(
+pub(crate) fn ring_matrix(
     edges: &[f64],
     mids: &[f64],
     k: Option<&(dyn Fn(f64) -> f64 + Sync)>,

@@ -15,7 +15,7 @@
 //!   they crowd into a/r → 0 for small a — measured errors ~1e-3 there), and w grows
 //!   like ½ ln r far away. g is analytic in r at the edge (k_z decays exponentially),
 //!   so g·r/a³ is even in w: its interpolant takes zero w-slope at w = 0
-//!   ([`interp::Grid2::even_in_y`]); a one-sided slope there would add a spurious
+//!   (`interp::Grid2::even_in_y`); a one-sided slope there would add a spurious
 //!   √(r − a) term whose a-derivative diverges at the edge (the I model differentiates
 //!   g in a and r there). For r − a > h₁ sinh²(w_max) (the join: 20 H by default,
 //!   farther out when the builder needs it) g is the far field of [`far`]:

@@ -1076,3 +1076,43 @@ fn plastic_depth_map_keeps_the_gap_relation() {
     assert!(worst < 3e-10, "{worst:e}");
     assert!(broken > 1e-4, "{broken:e}");
 }
+
+/// The capped N model under `load.mean_pressures`: each step's approach is the root of
+/// p(δ) = p_n found by `numerics::bracketed` on [0, ∞) (doubling from the highest summit,
+/// then Illinois to 10⁻¹⁴ δ), so the curve's mean pressure is the target (measured within
+/// 4.5e-15 relative); a pressure above the hardness is refused, naming the load (the
+/// capped contact areas pass the nominal area on the way).
+#[test]
+fn capped_n_model_reaches_its_mean_pressures() {
+    let d = crate::support::fresh_dir("plastic", "npressures");
+    let half = "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+                [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                fractal_dimension = 2.4\nk_min = 2\nk_max = 6\nrms = 3.4e-6\nseed = 5\n\
+                [model]\nkind = \"independent\"\n[plasticity]\nhardness = 0.2e9\n";
+    let targets = [1e5, 1e6, 3e6, 1e7];
+    let (o, out) = solve(
+        &d,
+        "reached",
+        &format!("{half}[load]\nmean_pressures = [1e5, 1e6, 3e6, 1e7]\n"),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r = rows(&std::fs::read_to_string(out.join("curve.csv")).unwrap());
+    assert_eq!(r.len(), targets.len());
+    let worst = r
+        .iter()
+        .zip(targets)
+        .map(|(row, p)| rel(row[2], p))
+        .fold(0.0, f64::max);
+    eprintln!("capped N model, mean pressure against its target: {worst:.1e}");
+    assert!(worst < 5e-14, "{worst:e}");
+    assert!(r.windows(2).all(|w| w[1][0] > w[0][0]), "δ grows with p");
+    // above H: no approach carries it; the search stops where the model stops holding
+    let (o, _) = solve(
+        &d,
+        "beyond",
+        &format!("{half}[load]\nmean_pressures = [1e6, 1e9]\n"),
+    );
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("load.mean_pressures[1]"), "{err}");
+}

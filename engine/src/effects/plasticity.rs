@@ -14,9 +14,10 @@
 
 use std::time::Instant;
 
-use crate::error::{Context, EngineError, Result, bail_input};
+use crate::error::{Context, EngineError, Result};
 use strata_bem::{BemLoad, BemSolution, BemSolver, PlasticPath};
 use strata_runtime::law::Homogeneous;
+use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
 use strata_runtime::rough::{Model, RoughContact, RoughError, Step};
 use strata_runtime::summits::find_summits;
 use strata_runtime::surface::Surface;
@@ -194,10 +195,14 @@ impl AsperityCurve for CappedTips {
 /// The N and I models with capped tips (`[plasticity]`, physics.md §9): the capped
 /// asperity's response table for the scene's stack and hardness (ring solves, built
 /// here), then every summit through it at each approach (or at the approach of each
-/// mean pressure, by bisection on δ, the load being monotone in it); the I model's
+/// mean pressure, by Illinois regula falsi on δ, the load being monotone in it); the I model's
 /// summits interact through the far field of their actual loads
 /// (`RoughContact::solve_interacting_plastic`). When no summit reaches the response
 /// table's range on the path, the elastic tips' solution exactly.
+/// How far beyond the largest summit height (a factor on δ, 2⁶⁰) a mean pressure's
+/// approach is sought before it is out of reach.
+const REACH: f64 = (1u64 << 60) as f64;
+
 #[allow(clippy::too_many_arguments)]
 fn solve_capped(
     scene: &Scene,
@@ -297,32 +302,34 @@ fn solve_capped(
                 return Err(EngineError::Internal("load"));
             };
             let mut out = Vec::with_capacity(ps.len());
+            // the approach of each mean pressure: Illinois on δ ∈ [0, ∞) from the
+            // largest summit height (doubling until the load passes p), to 10⁻¹⁴ δ
+            let start = rc.max_delta().max(1e-12);
+            let tol = Tolerance {
+                f: 0.0,
+                step: 0.0,
+                width: 1e-14,
+                width_abs: 0.0,
+                falsi: Falsi::Illinois,
+            };
             for (i, &p) in ps.iter().enumerate() {
-                let f = |d: f64| -> Result<f64> { Ok(solve(d, &[])?.0.mean_pressure - p) };
-                let (mut lo, mut hi) = (0.0, rc.max_delta().max(1e-12));
-                let mut grow = 0;
-                while f(hi)? < 0.0 {
-                    lo = hi;
-                    hi *= 2.0;
-                    grow += 1;
-                    if grow > 60 {
-                        bail_input!(
-                            "load.mean_pressures[{i}]: {p:e} Pa is out of reach of the capped N model"
-                        );
+                let out_of_reach = || {
+                    EngineError::Input(format!(
+                        "load.mean_pressures[{i}]: {p:e} Pa is out of reach of the capped N model"
+                    ))
+                };
+                let f = |d: f64| -> Result<(f64, Option<f64>)> {
+                    let v = solve(d, &[])?.0.mean_pressure - p;
+                    if v < 0.0 && d >= start * REACH {
+                        return Err(out_of_reach());
                     }
+                    Ok((v, None))
+                };
+                let root = bracketed(f, (0.0, -p), (f64::INFINITY, p), Some(start), tol, 300)?;
+                if !root.converged {
+                    return Err(out_of_reach());
                 }
-                for _ in 0..200 {
-                    let mid = 0.5 * (lo + hi);
-                    if f(mid)? < 0.0 {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                    if hi - lo <= 1e-14 * hi {
-                        break;
-                    }
-                }
-                out.push(0.5 * (lo + hi));
+                out.push(root.x);
             }
             out
         }
@@ -331,7 +338,7 @@ fn solve_capped(
     let mut plastic = Vec::with_capacity(deltas.len());
     // Approaches: the capped curve (the I model from its elastic load path, so that
     // steps where no summit yields are the elastic steps bit for bit); mean pressures:
-    // each step at the approach its bisection found.
+    // each step at the approach its root search found.
     let solved: Vec<(Step, f64)> = if matches!(scene.load, LoadSpec::MeanPressures(_)) {
         if let Some((k, r, y)) = rc.first_uncovered_loaded(&resp, &deltas) {
             return Err(uncovered_summit(k, r, y));

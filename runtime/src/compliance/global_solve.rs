@@ -35,7 +35,7 @@ use crate::stack::{Base, Stack, plane_strain_modulus, shear_modulus};
 /// scaled form (ρU, ρW, T/μ_ref, S/μ_ref) with c = μĉ/ρ and d = μd̂/ρ² (so ĉ, d̂ are
 /// dimensionless): `kind` 0: s = −1, ĉ = 1; 1: s = −1, d̂ = 1; 2: s = +1, ĉ = 1;
 /// 3: s = +1, d̂ = 1. `t` = ρζ, `th` = ρh (the growing ones carry e^{ρ(ζ−h)}).
-pub fn psv_basis(kind: usize, t: f64, th: f64, nu: f64, mu_ratio: f64) -> [f64; 4] {
+pub(crate) fn psv_basis(kind: usize, t: f64, th: f64, nu: f64, mu_ratio: f64) -> [f64; 4] {
     let (s, c, d) = match kind {
         0 => (-1.0, 1.0, 0.0),
         1 => (-1.0, 0.0, 1.0),
@@ -214,7 +214,7 @@ pub fn compliances(stack: &Stack, rho: f64) -> Compliances {
 
 /// S_zL from the other off-diagonal entry: w = W = i g_WT q_L/(μ₁ρ) under T = i q_L,
 /// and w = −i S_zL q_L·2/(E*₁ρ) by definition, so S_zL = −g_WT·E*₁/(2μ₁).
-pub fn s_zl_transpose(stack: &Stack, rho: f64) -> f64 {
+pub(crate) fn s_zl_transpose(stack: &Stack, rho: f64) -> f64 {
     -psv_g(stack, rho)[1][0] * factor(stack)
 }
 

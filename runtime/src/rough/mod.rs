@@ -10,12 +10,12 @@
 //! is dP/dδ of the whole sample (N/m), computed analytically (N model: chain rule on
 //! P(a) and δ(a); I model: implicit differentiation of the stationarity system).
 //!
-//! The solver is organised by stage, each with its own error type:
+//! The solver is organised by stage (crate-private modules), each with its own error type:
 //!
-//! - [`independent`]: the N model, ζ(a_k)a_k²/R_k = δ_k per asperity;
+//! - `independent`: the N model, ζ(a_k)a_k²/R_k = δ_k per asperity;
 //! - [`conductance`] (feature `spectral`): the I model's interface conductance, the
 //!   spots' thermal interactions through both bodies' periodic point-source fields;
-//! - [`interacting`]: the I model — the far-field model of the interaction kernel
+//! - `interacting`: the I model — the far-field model of the interaction kernel
 //!   (`far_field`), the image geometry and pair lists (`images`), the energy, its
 //!   gradient and Jacobian (`energy`), the active-set Newton method (`newton`) and the
 //!   load-path driver (`path`).
@@ -29,8 +29,8 @@
 pub mod conductance;
 mod contact;
 mod error;
-pub mod independent;
-pub mod interacting;
+pub(crate) mod independent;
+pub(crate) mod interacting;
 mod local;
 mod params;
 pub mod plastic;
@@ -40,7 +40,7 @@ pub use crate::law::contact_radius;
 pub use contact::RoughContact;
 pub use error::{FarFieldError, IndependentError, NewtonError, PressureError, RoughError};
 pub use interacting::Interaction;
-pub use params::{Diagnostics, FarFieldInfo, Params, ParamsError, raise_advice};
+pub use params::{Diagnostics, FarFieldInfo, Params, ParamsError};
 pub use step::{Images, Model, Step, Validity};
 
 impl RoughContact<'_> {

@@ -266,7 +266,7 @@ pub struct Diagnostics {
 /// How a user raises the solver parameter `key` (a field of [`Params`] or a scene's
 /// `[solver]` key): the scene key, the Python keyword and the C option, for the error
 /// messages of budgets and tolerances. `c` is false where the C ABI has no such option.
-pub fn raise_advice(key: &str, c: bool) -> String {
+pub(crate) fn raise_advice(key: &str, c: bool) -> String {
     let c = if c {
         format!("; C: StrataSolverOptions.{key} with strata_law_new_with_options")
     } else {

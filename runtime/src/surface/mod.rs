@@ -155,7 +155,7 @@ pub const SPIKE_LIMIT: f64 = 20.0;
 /// (the masks, the fitted form, the residuals and their sorted copies, the harmonic
 /// fill's index and conjugate-gradient vectors, the built surface): an estimate for the
 /// memory limit.
-pub const MEASURED_BYTES_PER_POINT: u64 = 96;
+pub(crate) const MEASURED_BYTES_PER_POINT: u64 = 96;
 
 /// What the file readers do with non-finite heights and spikes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -347,7 +347,7 @@ impl Surface {
 
     /// Checks, against the memory limit ([`crate::resources`]), what checking and
     /// building a measured n0 × n1 surface allocates beside the heights handed in
-    /// ([`MEASURED_BYTES_PER_POINT`]): every entry point (file readers, Python arrays,
+    /// (`MEASURED_BYTES_PER_POINT`): every entry point (file readers, Python arrays,
     /// the C ABI) calls it before copying, so a huge array is refused by name instead
     /// of aborting the host process.
     pub fn check_measured_memory(n0: usize, n1: usize) -> Result<(), SurfaceError> {

@@ -1,6 +1,6 @@
 //! The on-disk format of a table — the ONLY module that touches bincode (2.0.1 is
 //! unmaintained, RUSTSEC-2025-0141: the format can change here alone). The framing
-//! ([`frame`], [`unframe`]) and the payload codec ([`to_payload`], [`from_payload`]) are
+//! ([`frame`], `unframe`) and the payload codec (`to_payload`, `from_payload`) are
 //! also the file form of the table cache's ψ tables ([`crate::constriction`]) and capped
 //! response tables (`rough::plastic::file`), each with its own magic.
 //!
@@ -36,7 +36,7 @@ const PREFIX: usize = 28;
 /// Largest payload accepted (1 GiB; the shipped family table is under 1 MB). The
 /// decoder runs with this limit, so a damaged length prefix inside the payload cannot
 /// make bincode allocate more than this (it asked for 3e18 bytes and aborted before).
-pub const MAX_PAYLOAD: u64 = 1 << 30;
+pub(crate) const MAX_PAYLOAD: u64 = 1 << 30;
 
 /// The file form of a table (the table itself knows nothing of it: this module imports
 /// `table`, never the other way).
@@ -65,14 +65,14 @@ pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
 
 /// Why a framed file's bytes are refused before their payload is decoded.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub enum FrameError {
+pub(crate) enum FrameError {
     /// Not the expected signature.
     Magic,
     /// A format version the reader does not accept.
     Version(u32),
     /// Fewer bytes than the prefix or the payload length says.
     Truncated { expected: u64, found: u64 },
-    /// The payload length exceeds [`MAX_PAYLOAD`].
+    /// The payload length exceeds `MAX_PAYLOAD`.
     TooLarge(u64),
     /// Bytes after the payload.
     Trailing(u64),
@@ -97,7 +97,7 @@ pub fn frame(magic: &[u8; 8], version: u32, payload: &[u8]) -> Vec<u8> {
 /// The version and payload of a framed file (see [`frame`]), checked in this order:
 /// signature, prefix length, version (one of `versions`), payload length, checksum.
 /// Never panics.
-pub fn unframe<'a>(
+pub(crate) fn unframe<'a>(
     bytes: &'a [u8],
     magic: &[u8; 8],
     versions: &[u32],
@@ -140,13 +140,13 @@ pub fn unframe<'a>(
 }
 
 /// bincode 2 (serde, standard config) of `value`: a framed file's payload.
-pub fn to_payload<T: serde::Serialize>(value: &T) -> Result<Vec<u8>, String> {
+pub(crate) fn to_payload<T: serde::Serialize>(value: &T) -> Result<Vec<u8>, String> {
     bincode::serde::encode_to_vec(value, bincode::config::standard()).map_err(|e| e.to_string())
 }
 
-/// A payload decoded by [`to_payload`]'s rules, every byte used, no allocation above
-/// [`MAX_PAYLOAD`]. Never panics.
-pub fn from_payload<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, String> {
+/// A payload decoded by `to_payload`'s rules, every byte used, no allocation above
+/// `MAX_PAYLOAD`. Never panics.
+pub(crate) fn from_payload<T: serde::de::DeserializeOwned>(payload: &[u8]) -> Result<T, String> {
     let config = bincode::config::standard().with_limit::<{ MAX_PAYLOAD as usize }>();
     let (value, used) = bincode::serde::decode_from_slice::<T, _>(payload, config)
         .map_err(|e| format!("cannot decode payload: {e}"))?;

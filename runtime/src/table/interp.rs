@@ -140,7 +140,7 @@ fn slope_stencil(k: usize, n: usize) -> (usize, [f64; 5]) {
 /// 1-D lookup: (value, derivative) of the data `f` (length axis.n, stride `stride`
 /// starting at `offset`) at coordinate c.
 #[inline]
-pub fn eval1(axis: &Axis, f: &[f64], c: f64) -> (f64, f64) {
+pub(crate) fn eval1(axis: &Axis, f: &[f64], c: f64) -> (f64, f64) {
     let wt = axis.weights(c);
     let mut v = 0.0;
     let mut d = 0.0;
@@ -152,9 +152,10 @@ pub fn eval1(axis: &Axis, f: &[f64], c: f64) -> (f64, f64) {
     (v, d)
 }
 
+#[cfg(test)]
 /// 2-D lookup of row-major data f[i * ny + j] on axes (ax, ay) at (cx, cy): value only.
 #[inline]
-pub fn eval2(ax: &Axis, ay: &Axis, f: &[f64], cx: f64, cy: f64) -> f64 {
+pub(crate) fn eval2(ax: &Axis, ay: &Axis, f: &[f64], cx: f64, cy: f64) -> f64 {
     let wx = ax.weights(cx);
     let wy = ay.weights(cy);
     let ny = ay.n;
@@ -201,7 +202,7 @@ pub fn node_slopes(n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
 /// [`node_slopes`] of data even about the first node, f(c₀ − t) = f(c₀ + t): the
 /// central stencil with the mirrored values f(−k) = f(k) at the first two nodes, so the
 /// slope at the first node is exactly 0 (the interpolant stays even there).
-pub fn node_slopes_even(n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
+pub(crate) fn node_slopes_even(n: usize, f: impl Fn(usize) -> f64) -> Vec<f64> {
     let mut m = node_slopes(n, &f);
     if n >= Axis::MIN_NODES {
         let (_, c) = slope_stencil(2, n);
@@ -237,7 +238,7 @@ pub fn cell(axis: &Axis, c: f64) -> (usize, [f64; 4], [f64; 4]) {
 }
 
 /// Precomputed 1-D interpolant of two arrays on one axis (values and slopes
-/// interleaved per node): the same interpolant as [`eval1`], 4 terms per array.
+/// interleaved per node): the same interpolant as `eval1`, 4 terms per array.
 #[derive(Debug, Clone)]
 pub struct Pair1 {
     axis: Axis,
@@ -286,9 +287,9 @@ impl Pair1 {
 }
 
 /// Precomputed bicubic Hermite interpolant of row-major data on (ax, ay): the same
-/// interpolant as [`eval2`], 16 terms per lookup.
+/// interpolant as `eval2`, 16 terms per lookup.
 #[derive(Debug, Clone)]
-pub struct Grid2 {
+pub(crate) struct Grid2 {
     ax: Axis,
     ay: Axis,
     /// [f, m_x, m_y, m_xy] per node.
@@ -296,15 +297,16 @@ pub struct Grid2 {
 }
 
 impl Grid2 {
+    #[cfg(test)]
     /// From f[i * ay.n + j] (both axes ≥ 6 nodes).
     pub fn new(ax: Axis, ay: Axis, f: &[f64]) -> Self {
         Self::build(ax, ay, f, false)
     }
 
     /// From f[i * ay.n + j] even in y about ay.lo (f(x, y₀ − t) = f(x, y₀ + t)): the
-    /// y slopes at the first y node are 0 ([`node_slopes_even`]), so the interpolant is
+    /// y slopes at the first y node are 0 (`node_slopes_even`), so the interpolant is
     /// even there too, without the spurious linear term a one-sided stencil leaves.
-    pub fn even_in_y(ax: Axis, ay: Axis, f: &[f64]) -> Self {
+    pub(crate) fn even_in_y(ax: Axis, ay: Axis, f: &[f64]) -> Self {
         Self::build(ax, ay, f, true)
     }
 

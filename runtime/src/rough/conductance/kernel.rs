@@ -24,9 +24,9 @@
 //!
 //! d reduced to the nearest image (|dx| ≤ Lx/2, |dy| ≤ Ly/2): the images left out are at
 //! least 1.5 min(Lx, Ly) = 6σ away (erfc(6) = 2e−17). R is tabulated once by one inverse
-//! FFT on a grid whose Nyquist wavenumber is [`OVERSAMPLE`] times the wavenumber ρ_max
-//! beyond which |R̂|·k₁ < [`SPECTRUM_TOL`] (so the top layer must be resolved: on a 1 mm
-//! cell a 20 µm coating takes 1024², the cap [`MAX_GRID`] per side holds layers down to
+//! FFT on a grid whose Nyquist wavenumber is `OVERSAMPLE` times the wavenumber ρ_max
+//! beyond which |R̂|·k₁ < `SPECTRUM_TOL` (so the top layer must be resolved: on a 1 mm
+//! cell a 20 µm coating takes 1024², the cap `MAX_GRID` per side holds layers down to
 //! ~5 µm), and interpolated by 6-point Lagrange polynomials along each axis (measured
 //! against direct sums in the tests).
 //!
@@ -57,11 +57,11 @@ use crate::hankel::{Remainder, tail_start};
 use crate::resources::{bytes_for, check_memory};
 
 /// Ratio of the table grid's Nyquist wavenumber to the spectrum's extent ρ_max.
-pub const OVERSAMPLE: f64 = 3.0;
+pub(crate) const OVERSAMPLE: f64 = 3.0;
 /// The smooth rest's spectrum is cut where |k_th| + erfc(ρσ/2) falls below this.
-pub const SPECTRUM_TOL: f64 = 1e-13;
+pub(crate) const SPECTRUM_TOL: f64 = 1e-13;
 /// Largest table grid per side.
-pub const MAX_GRID: usize = 4096;
+pub(crate) const MAX_GRID: usize = 4096;
 /// σ = min(Lx, Ly) / this.
 const SIGMA_DIVISOR: f64 = 4.0;
 
@@ -212,7 +212,7 @@ impl Kernel {
     }
 
     /// Checks, before any work, that the periodic kernel of a cell of sides `extent` (m)
-    /// can be built: its table within [`MAX_GRID`] per side and the memory it takes
+    /// can be built: its table within `MAX_GRID` per side and the memory it takes
     /// (the scan of the spectrum only, no table). Returns the table grid (nx, ny).
     pub fn check_periodic(
         a: Body<'_>,
@@ -381,7 +381,7 @@ impl Kernel {
 }
 
 /// The periodic kernel's set-up: c, the cell, σ, ρ_max and the table grid, checked
-/// against [`MAX_GRID`] and the memory limit.
+/// against `MAX_GRID` and the memory limit.
 struct PeriodicGrid {
     c: f64,
     lx: f64,
@@ -458,7 +458,7 @@ fn short(c: f64, sigma: f64, r: f64) -> f64 {
 }
 
 impl Periodic {
-    /// R(d) by [`POINTS`]-point Lagrange interpolation along each axis of the periodic
+    /// R(d) by `POINTS`-point Lagrange interpolation along each axis of the periodic
     /// table, |dx| ≤ Lx/2, |dy| ≤ Ly/2.
     fn rest(&self, dx: f64, dy: f64) -> f64 {
         let (ux, uy) = (dx / self.lx * self.nx as f64, dy / self.ly * self.ny as f64);
@@ -478,9 +478,9 @@ impl Periodic {
 }
 
 /// Nodes of the interpolating polynomial along each axis (degree 5).
-pub const POINTS: usize = 6;
+pub(crate) const POINTS: usize = 6;
 
-/// The first node and the weights of the polynomial through the [`POINTS`] nodes
+/// The first node and the weights of the polynomial through the `POINTS` nodes
 /// around u (table units).
 fn stencil(u: f64) -> (i64, [f64; POINTS]) {
     let first = u.floor() as i64 - (POINTS as i64 / 2 - 1);

@@ -18,7 +18,7 @@
 //! BEM's, excludes the bodies' bulk 1-D resistance (the k = 0 mode). The system is
 //! solved by dense LU ([`interface_conductance`]).
 
-pub mod kernel;
+pub(crate) mod kernel;
 
 use thiserror::Error;
 

@@ -3,6 +3,7 @@
 //! Newton on δ with the stiffness as slope), for both models.
 
 use super::Problem;
+use crate::numerics::{Falsi, Tolerance, bracketed};
 use crate::rough::{Images, Model, PressureError, RoughContact, RoughError, Step};
 
 /// The I-model load path of `rc` through the approaches `deltas` (m). The geometry is
@@ -149,11 +150,12 @@ pub(crate) fn solve_pressure(
     })
 }
 
-/// Safeguarded Newton on the approach: from δ = `start` (m), solve(δ) gives a step whose
-/// mean pressure p(δ) is compared with `target` (Pa); the next δ is the Newton step
-/// δ − (p − target)/(dP/dδ/A₀) when it stays inside the bracket [lo, hi] known so far
-/// (lo: p < target, hi: p > target, initially [0, ∞)), else the bracket's midpoint, or
-/// 2δ while no iterate has reached the target. Done at |p − target| ≤ `tol`·target.
+/// Safeguarded Newton on the approach ([`bracketed`] on the half-open bracket [0, ∞)):
+/// from δ = `start` (m), solve(δ) gives a step whose mean pressure p(δ) is compared
+/// with `target` (Pa); the next δ is the Newton step δ − (p − target)/(dP/dδ/A₀) when it
+/// stays inside the bracket [lo, hi] known so far (lo: p < target, hi: p > target), else
+/// the bracket's midpoint, or 2δ while no iterate has reached the target. Done at
+/// |p − target| ≤ `tol`·target or a bracket narrower than 10⁻¹⁵ hi; the step solved last.
 fn newton_on_delta(
     rc: &RoughContact<'_>,
     target: f64,
@@ -162,46 +164,41 @@ fn newton_on_delta(
     mut solve: impl FnMut(f64) -> Result<Step, RoughError>,
 ) -> Result<Step, RoughError> {
     let prm = &rc.params;
-    let (mut lo, mut hi) = (0.0, f64::INFINITY);
-    let mut d = start.max(f64::MIN_POSITIVE);
-    for _ in 0..prm.max_pressure_iterations {
+    let mut last: Option<Step> = None;
+    let f = |d: f64| -> Result<(f64, Option<f64>), RoughError> {
         let s = solve(d)?;
+        let slope = s.stiffness / rc.area();
         let err = s.mean_pressure - target;
-        if err.abs() <= tol * target {
-            return Ok(s);
-        }
-        if err < 0.0 {
-            lo = d;
-        } else {
-            hi = d;
-        }
-        if hi.is_finite() && hi - lo <= 1e-15 * hi {
-            return Ok(s);
-        }
-        let mut next = d - err / (s.stiffness / rc.area());
-        if !(next.is_finite() && next > lo && next < hi) {
-            next = if hi.is_finite() {
-                0.5 * (lo + hi)
-            } else {
-                2.0 * d
-            };
-        }
-        if !next.is_finite() {
-            return Err(PressureError::OutOfRange {
+        last = Some(s);
+        Ok((err, Some(slope)))
+    };
+    let tolerance = Tolerance {
+        f: tol * target,
+        step: 0.0,
+        width: 1e-15,
+        width_abs: 0.0,
+        falsi: Falsi::Illinois,
+    };
+    let (lo, hi) = ((0.0, -target), (f64::INFINITY, target));
+    let d = start.max(f64::MIN_POSITIVE);
+    let root = bracketed(f, lo, hi, Some(d), tolerance, prm.max_pressure_iterations)?;
+    match last {
+        Some(s) if root.converged => Ok(s),
+        Some(s) if root.evaluations < prm.max_pressure_iterations => {
+            Err(PressureError::OutOfRange {
                 target,
                 reason: format!(
-                    "not reached at approach δ = {d:e} m ({:e} Pa there)",
-                    s.mean_pressure
+                    "not reached at approach δ = {:e} m ({:e} Pa there)",
+                    root.x, s.mean_pressure
                 ),
             }
-            .into());
+            .into())
         }
-        d = next;
+        _ => Err(PressureError::NoConvergence {
+            target,
+            iterations: prm.max_pressure_iterations,
+            delta: root.x,
+        }
+        .into()),
     }
-    Err(PressureError::NoConvergence {
-        target,
-        iterations: prm.max_pressure_iterations,
-        delta: d,
-    }
-    .into())
 }

@@ -189,11 +189,11 @@ impl PlasticAsperity {
 /// a_c/h₁ from 1e-3 to 3 (3 per decade; one node on a homogeneous solid), 200 rings
 /// per node. The rings' ρ-rule grows like a/h₁ (panels of 1/a up to 25/h₁), which
 /// bounds y: summits of R ≲ 100 µm with H/E* ≲ 0.1 on layers h₁ ≳ 3 µm lie inside.
-pub const RESPONSE_X: (f64, f64, usize) = (1e-2, 1e2, 25);
-/// See [`RESPONSE_X`].
+pub(crate) const RESPONSE_X: (f64, f64, usize) = (1e-2, 1e2, 25);
+/// See `RESPONSE_X`.
 pub const RESPONSE_Y: (f64, f64, usize) = (1e-3, 3.0, 11);
-/// Rings of each node's solve of the response table (see [`RESPONSE_X`]).
-pub const RESPONSE_RINGS: usize = 200;
+/// Rings of each node's solve of the response table (see `RESPONSE_X`).
+pub(crate) const RESPONSE_RINGS: usize = 200;
 
 /// The capped asperity's response table of `stack` and `hardness` for the N model
 /// ([`super`]): F = P/P_c, G = a/a_c and Φ = a_p/a at every
@@ -268,11 +268,11 @@ pub fn response(stack: &Stack, hardness: f64) -> Result<PlasticResponse, Plastic
 /// The key of `stack`'s response table at `hardness`: FNV-1a 64 over the exact bits of
 /// everything [`response`] reads — every layer's thickness, Young modulus and Poisson
 /// ratio, the base, the counterface's likewise (in the order given), the hardness and
-/// the table's grid ([`RESPONSE_X`], [`RESPONSE_Y`], [`RESPONSE_RINGS`]). Unlike the
+/// the table's grid (`RESPONSE_X`, [`RESPONSE_Y`], `RESPONSE_RINGS`). Unlike the
 /// mechanics tables' nondimensional fingerprint, nothing is scaled: a cached table is
 /// the one [`response`] would build, bit for bit. The stack's name and conduction
 /// properties do not enter.
-pub fn response_key(stack: &Stack, hardness: f64) -> u64 {
+pub(crate) fn response_key(stack: &Stack, hardness: f64) -> u64 {
     let mut h = Fnv1a::default();
     h.part(b"strata capped asperity response");
     let mut eat = |v: f64| {
@@ -307,9 +307,9 @@ pub fn response_key(stack: &Stack, hardness: f64) -> u64 {
 }
 
 /// The file of `stack`'s response table at `hardness` in the cache directory `dir`:
-/// `capped-<key>.strata` ([`response_key`]), beside the mechanics tables'
+/// `capped-<key>.strata` (`response_key`), beside the mechanics tables'
 /// `stack-<hex>.strata` and the ψ tables' `psi-<hex>.strata`.
-pub fn response_cache_path(stack: &Stack, hardness: f64, dir: &Path) -> PathBuf {
+pub(crate) fn response_cache_path(stack: &Stack, hardness: f64, dir: &Path) -> PathBuf {
     dir.join(format!(
         "capped-{:016x}.strata",
         response_key(stack, hardness)
@@ -330,7 +330,7 @@ pub enum ResponseCacheUse {
 }
 
 /// `stack`'s response table at `hardness` from the cache directory `dir`: read from
-/// [`response_cache_path`] when that file holds a valid table of this key, stack and
+/// `response_cache_path` when that file holds a valid table of this key, stack and
 /// hardness; else built by [`response`] and written atomically (a temporary file of
 /// its own, renamed). A damaged or foreign file is rebuilt; a directory that cannot be
 /// written costs only the file ([`ResponseCacheUse::NotWritten`]). The table is that of
