@@ -38,7 +38,7 @@
 //!
 //! All functions take ρ in 1/m and return dimensionless values.
 
-use crate::stack::{Base, Stack, shear_modulus};
+use crate::stack::{Base, Solid, Stack, shear_modulus};
 
 #[cfg(test)]
 mod global_solve;
@@ -161,11 +161,12 @@ struct Body {
 const SMALL_T: f64 = 1e-60;
 
 impl Compliance {
-    /// Precomputes the constants of `stack` (and of its counterface, if any).
-    pub fn new(stack: &Stack) -> Self {
+    /// Precomputes the constants of a solid: one stack against a rigid flat, or the
+    /// two [`crate::Bodies`] (in their canonical order, [`Solid::canonical_pair`]).
+    pub fn new<S: Solid + ?Sized>(stack: &S) -> Self {
         match stack.canonical_pair() {
             None => Compliance {
-                a: Body::new(stack),
+                a: Body::new(stack.first()),
                 b: None,
             },
             Some((a, b)) => {
@@ -304,10 +305,11 @@ impl Body {
 }
 
 impl Stack {
-    /// The normalised compliance S(ρ) of this stack (see [`Compliance::s`]). For many
-    /// evaluations build a [`Compliance`] once instead.
+    /// The normalised compliance S(ρ) of this stack against a rigid flat (see
+    /// [`Compliance::s`], [`Solid::compliance`]). For many evaluations build a
+    /// [`Compliance`] once instead.
     pub fn compliance(&self, rho: f64) -> f64 {
-        Compliance::new(self).s(rho)
+        Solid::compliance(self, rho)
     }
 }
 

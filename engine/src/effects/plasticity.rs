@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use strata_bem::{BemLoad, BemSolution, BemSolver, PlasticPath};
+use strata_runtime::Solid;
 use strata_runtime::law::Homogeneous;
 use strata_runtime::rough::{Model, RoughContact, RoughError, Step};
 use strata_runtime::summits::find_summits;
@@ -206,7 +207,7 @@ fn solve_capped(
     model: Model,
     observers: &mut [Box<dyn StepObserver + '_>],
 ) -> Result<SceneSolution> {
-    let e_star = scene.stack.contact_modulus();
+    let e_star = scene.bodies.contact_modulus();
     // Summits that stay below the response table's range (x = δ/δ_c < ELASTIC_X) on the
     // whole path are elastic: when every summit does, the capped model is the elastic
     // model exactly and no table is built (H → ∞ on any stack).
@@ -250,9 +251,9 @@ fn solve_capped(
     };
     if let Some((_, d)) = &approaches
         && let Some(h1) = scene
-            .stack
+            .bodies
             .top_thickness()
-            .filter(|_| !scene.stack.is_homogeneous())
+            .filter(|_| !scene.bodies.is_homogeneous())
     {
         let (lo, hi, _) = strata_tablegen::plastic_asperity::RESPONSE_Y;
         let past = rc
@@ -266,7 +267,7 @@ fn solve_capped(
         }
     }
     let cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
-    let resp = crate::cache::capped_response(&scene.stack, hardness, &cache, obs.quiet())
+    let resp = crate::cache::capped_response(&scene.bodies, hardness, &cache, obs.quiet())
         .context("plasticity")?;
     let interacting = match model {
         Model::Interacting(images) => Some(images),
@@ -393,7 +394,7 @@ fn solve_capped(
                 "the capped asperity's response table (ring solves in physical space)"
             },
         ),
-        scene.stack.contact_modulus(),
+        scene.bodies.contact_modulus(),
         &rc,
         report,
         seconds,
@@ -431,7 +432,7 @@ fn solve_elastic_tips(
     model: Model,
     observers: &mut [Box<dyn StepObserver + '_>],
 ) -> Result<Option<SceneSolution>> {
-    let e_star = scene.stack.contact_modulus();
+    let e_star = scene.bodies.contact_modulus();
     let law = law_for(scene, opts, obs)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
     let mut sol = solve_elastic(scene, surface, opts, obs, model, observers)?;
