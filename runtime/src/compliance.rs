@@ -33,7 +33,7 @@
 //! Against an elastic counterface the normal displacements add:
 //! S/E* = S_A/E*₁,A + S_B/E*₁,B with 1/E* = 1/E*₁,A + 1/E*₁,B, so
 //! S = w S_A + (1 − w) S_B with w = E*/E*₁,A, and S(∞) = 1 still. The pair is
-//! evaluated in a canonical order ([`Stack::canonical_pair`]), so swapping the
+//! evaluated in a canonical order ([`crate::Solid::canonical_pair`]), so swapping the
 //! bodies gives the same bits.
 //!
 //! All functions take ρ in 1/m and return dimensionless values.
