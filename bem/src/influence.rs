@@ -30,7 +30,7 @@
 
 use strata_runtime::compliance::Compliance;
 use strata_runtime::hankel::{HankelError, Remainder as Hankel};
-use strata_runtime::stack::{Base, Stack};
+use strata_runtime::stack::{Base, Solid};
 
 use crate::BemError;
 
@@ -46,13 +46,13 @@ pub fn love(x: f64, y: f64, dx: f64, dy: f64, e_star: f64) -> f64 {
 /// The smooth remainder J(r) of the layered point-load response of `stack`, tabulated
 /// on [0, r_max] ([`strata_runtime::hankel::Remainder`], k = S − 1 of the elastic
 /// compliance); `None` for a homogeneous stack.
-pub fn remainder(stack: &Stack, r_max: f64) -> Result<Option<Hankel>, BemError> {
+pub fn remainder<S: Solid + ?Sized>(stack: &S, r_max: f64) -> Result<Option<Hankel>, BemError> {
     if stack.is_homogeneous() {
         return Ok(None);
     }
     let comp = Compliance::new(stack);
     let e1 = stack.contact_modulus();
-    let k0 = match (stack.counterface(), stack.base()) {
+    let k0 = match (stack.elastic_counterface(), stack.first().base()) {
         (Some(_), _) => comp.s_at_zero() - 1.0,
         (None, Base::Rigid) => -1.0,
         (None, Base::Elastic { young, poisson }) => e1 * (1.0 - poisson * poisson) / young - 1.0,
@@ -75,7 +75,7 @@ pub fn remainder(stack: &Stack, r_max: f64) -> Result<Option<Hankel>, BemError> 
 /// Influence coefficients G[dy·nx + dx] (m/Pa) for offsets 0 ≤ dy < ny, 0 ≤ dx < nx of
 /// pixels `px` × `py` (m) on `stack` (module docs).
 pub fn coefficients(
-    stack: &Stack,
+    stack: &(impl Solid + ?Sized),
     ny: usize,
     nx: usize,
     px: f64,

@@ -6,7 +6,7 @@ use ndarray::Array2;
 use strata_runtime::cancel::Cancel;
 use strata_runtime::compliance::Compliance;
 use strata_runtime::resources::{bytes_for, check_memory};
-use strata_runtime::stack::{Base, Stack};
+use strata_runtime::stack::{Base, Bodies, Solid};
 
 use crate::cg;
 use crate::iteration::Problem;
@@ -53,10 +53,11 @@ const COARSE_MIN: usize = 256;
 /// P-wave modulus Mᵢ = Eᵢ(1−νᵢ)/((1+νᵢ)(1−2νᵢ)); `None` on an elastic base (infinite).
 /// Equals lim_{k→0} 2S(k)/(E*k). With a counterface the two bodies' C₀ add (both on
 /// rigid bases), else `None` (physics.md §6.1).
-pub fn uniform_compliance(stack: &Stack) -> Option<f64> {
-    if let Some(c) = stack.counterface() {
-        return Some(uniform_compliance(&stack.body())? + uniform_compliance(c)?);
+pub fn uniform_compliance<S: Solid + ?Sized>(stack: &S) -> Option<f64> {
+    if let Some(c) = stack.elastic_counterface() {
+        return Some(uniform_compliance(stack.first())? + uniform_compliance(c)?);
     }
+    let stack = stack.first();
     match stack.base() {
         Base::Elastic { .. } => None,
         Base::Rigid => Some(
@@ -107,7 +108,7 @@ enum KernelSource {
     /// Periodic: S(|k|) per distinct (i, j) wavenumber pair of this grid.
     Spectral(std::sync::Arc<Vec<f64>>),
     /// Non-periodic: the stack.
-    Stack(Stack),
+    Stack(Bodies),
 }
 
 impl std::fmt::Debug for BemSolver {
@@ -198,7 +199,7 @@ impl BemSolver {
     pub fn new(
         heights: &Array2<f64>,
         size: f64,
-        stack: &Stack,
+        stack: &(impl Solid + ?Sized),
         options: BemOptions,
     ) -> Result<Self, BemError> {
         Self::with_geometry(heights, Geometry::square(size), stack, options)
@@ -211,7 +212,7 @@ impl BemSolver {
     pub fn with_geometry(
         heights: &Array2<f64>,
         geometry: Geometry,
-        stack: &Stack,
+        stack: &(impl Solid + ?Sized),
         options: BemOptions,
     ) -> Result<Self, BemError> {
         if geometry.periodic {
@@ -256,7 +257,7 @@ impl BemSolver {
             None,
             op,
             options,
-            KernelSource::Stack(stack.clone()),
+            KernelSource::Stack(stack.bodies()),
         ))
     }
 

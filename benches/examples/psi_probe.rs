@@ -83,7 +83,7 @@ pub fn interacting_split(k_max: f64) {
     let sum = SpotSum::new(&scene, &spec).expect("spots");
     let g = sum.spot_conductances(&sol.steps).expect("psi");
     let t_psi = t.elapsed().as_secs_f64();
-    let comp = ConductionCompliance::new(&scene.stack.body(), spec.kind).expect("comp");
+    let comp = ConductionCompliance::new(&scene.bodies.first, spec.kind).expect("comp");
     let t = Instant::now();
     let kernel =
         Kernel::periodic(Body::Layered(&comp), Body::HalfSpace(45.0), rc.extent()).expect("kernel");

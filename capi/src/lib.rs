@@ -62,7 +62,7 @@ use strata_runtime::interface::{InterfaceError, InterfaceLaw};
 use strata_runtime::law::Homogeneous;
 use strata_runtime::resources::ResourceError;
 use strata_runtime::rough::{Images, Model, Params, RoughContact, RoughError};
-use strata_runtime::stack::{Stack, StackError};
+use strata_runtime::stack::{Bodies, Solid, Stack, StackError};
 use strata_runtime::surface::{
     Detrend, GenerateParams, HeightUnit, ReadOptions, Repair, Spacing, Surface, SurfaceError,
 };
@@ -177,7 +177,9 @@ pub struct StrataTable {
 
 /// A material stack: elastic layers on a rigid or elastic base (opaque).
 pub struct StrataStack {
-    stack: Stack,
+    /// The first body and, read from a stack file's `[counterface]`, its elastic
+    /// counterface.
+    stack: Bodies,
 }
 
 /// A rough surface: heights on a square grid (opaque).
@@ -957,7 +959,10 @@ pub fn stack_with_conductivities(
 /// The table of `stack` for the engine: none for a homogeneous stack (Hertz
 /// asperities), else `table`, which a layered stack needs (the engine would build one
 /// into the table cache, minutes of solves: refused here instead).
-fn law_table(table: Option<&StrataTable>, stack: &Stack) -> Result<Option<Arc<Table>>, CapiError> {
+fn law_table(
+    table: Option<&StrataTable>,
+    stack: &(impl Solid + ?Sized),
+) -> Result<Option<Arc<Table>>, CapiError> {
     if stack.is_homogeneous() {
         return Ok(None);
     }
@@ -971,9 +976,12 @@ fn law_table(table: Option<&StrataTable>, stack: &Stack) -> Result<Option<Arc<Ta
 /// Checks the conduction set-up of `spec` against `stack` before any solve, with the
 /// engine's spot sums ([`SpotSum::of_stack`]): errors name the option or the stack's
 /// missing conductivity.
-fn check_conduction(stack: &Stack, spec: &ConductanceSpec) -> Result<(), CapiError> {
+fn check_conduction(
+    stack: &(impl Solid + ?Sized),
+    spec: &ConductanceSpec,
+) -> Result<(), CapiError> {
     let kind = spec.kind;
-    match (spec.counterface, stack.counterface()) {
+    match (spec.counterface, stack.elastic_counterface()) {
         (CounterfaceConduction::Stack, None) => {
             return Err(CapiError::Invalid {
                 name: "options.counterface_conduction",
@@ -1075,7 +1083,7 @@ fn engine_error(e: EngineError) -> CapiError {
 #[allow(clippy::too_many_arguments)]
 pub fn build_law_with_effects(
     table: Option<&StrataTable>,
-    stack: &Stack,
+    stack: &(impl Solid + ?Sized),
     surface: &Surface,
     model: Model,
     min_gap: f64,
@@ -1106,8 +1114,9 @@ pub fn build_law_with_effects(
             });
         }
     }
+    let bodies = stack.bodies();
     let inputs = LawInputs {
-        stack,
+        stack: &bodies,
         surface: surface.clone(),
         table,
         model,
@@ -1308,7 +1317,15 @@ mod exported {
                 return Err(CapiError::Null("out"));
             }
             let stack = stack_from_arrays(t, y, p, base_kind, base_young, base_poisson)?;
-            unsafe { put("out", out, StrataStack { stack }) }
+            unsafe {
+                put(
+                    "out",
+                    out,
+                    StrataStack {
+                        stack: Bodies::rigid(stack),
+                    },
+                )
+            }
         })
     }
 
@@ -1844,7 +1861,7 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let stack = Stack::from_toml_file(&p)?;
+            let stack = Bodies::from_toml_file(&p)?;
             unsafe { put("out", out, StrataStack { stack }) }
         })
     }
@@ -1874,8 +1891,13 @@ mod exported {
             // SAFETY: non-NULL handles come from a constructor and live until freed.
             let s = unsafe { stack.as_mut() }.ok_or(CapiError::Null("stack"))?;
             let k = unsafe { slice_arg("conductivity", conductivity, n_layers) }?;
-            s.stack =
-                stack_with_conductivities(&s.stack, kind, k, base_conduction, base_conductivity)?;
+            s.stack.first = stack_with_conductivities(
+                &s.stack.first,
+                kind,
+                k,
+                base_conduction,
+                base_conductivity,
+            )?;
             Ok(())
         })
     }
@@ -2130,7 +2152,7 @@ pub fn build_law(
 /// [`build_law_with_effects`] without effects.
 pub fn build_law_with(
     table: Option<&StrataTable>,
-    stack: &Stack,
+    stack: &(impl Solid + ?Sized),
     surface: &Surface,
     model: Model,
     min_gap: f64,

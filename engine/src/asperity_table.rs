@@ -4,7 +4,7 @@
 //! (physics.md §4).
 
 use crate::error::{Context, Result, bail_input};
-use strata_runtime::Stack;
+use strata_runtime::Solid;
 use strata_runtime::table::Table;
 use strata_tablegen::tablebuild::{Bars, BuildOptions};
 
@@ -28,7 +28,7 @@ pub fn build_time() -> Result<u64> {
 /// from `table` when given (refusing stacks the table does not serve), else from the
 /// table cache ([`crate::cache`]), building and caching the table there on first use.
 pub fn law_for_stack(
-    stack: &Stack,
+    stack: &(impl Solid + ?Sized),
     table: Option<&std::path::Path>,
     cache_dir: Option<&std::path::Path>,
 ) -> Result<strata_runtime::table::TableLaw> {

@@ -77,8 +77,8 @@ pub fn ensure_writable(dir: &Path, origin: &'static str) -> Result<(), CacheErro
 /// there. One log line says which; a cache that cannot be written is a warning, not an
 /// error (the table built is used and solved again next time). The same table, bit
 /// for bit, as a build in memory.
-pub fn capped_response(
-    stack: &strata_runtime::Stack,
+pub fn capped_response<S: strata_runtime::Solid + ?Sized>(
+    stack: &S,
     hardness: f64,
     dir: &Path,
     quiet: bool,

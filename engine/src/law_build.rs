@@ -8,10 +8,10 @@
 use std::sync::Arc;
 
 use crate::error::Result;
-use strata_runtime::Stack;
 use strata_runtime::rough::{Images, Model, Params};
 use strata_runtime::surface::{ReadOptions, Surface};
 use strata_runtime::table::Table;
+use strata_runtime::{Bodies, Solid};
 
 use crate::sampled_law::SampledLaw;
 use crate::scene::{
@@ -37,8 +37,9 @@ pub struct LawEffects {
 /// A law's inputs in memory.
 #[derive(Debug, Clone)]
 pub struct LawInputs<'a> {
-    /// The first body, with its elastic counterface if any ([`Stack::counterface`]).
-    pub stack: &'a Stack,
+    /// The first body and its counterface ([`Bodies`]; its mechanics: how a rigid flat
+    /// conducts is the effects' [`ConductanceSpec`]).
+    pub stack: &'a Bodies,
     /// The rough surface (heights as the first body sees them).
     pub surface: Surface,
     /// The surrogate table serving a layered stack (the pair's, with an elastic
@@ -59,7 +60,7 @@ pub use crate::effects::plasticity::UncoveredSummit;
 /// sampler replaces them with its own). No file is named: the surface is never read
 /// from the scene, and its summary names the inputs [`IN_MEMORY`].
 pub fn scene_of(
-    stack: &Stack,
+    stack: &Bodies,
     model: Model,
     params: &Params,
     effects: &LawEffects,
@@ -70,10 +71,9 @@ pub fn scene_of(
         Model::Interacting(images) => (ModelKind::Interacting, images),
     };
     Scene {
-        stack: stack.clone(),
+        bodies: stack.bodies(),
         stack_file: None,
         counterface_file: None,
-        counterface_surface: None,
         table: None,
         surface: SurfaceSpec {
             source: SurfaceSource::File(IN_MEMORY.into()),

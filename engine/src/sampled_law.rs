@@ -3,6 +3,7 @@
 //! from first contact down to a smallest separation, by the scene's model.
 
 use crate::error::{Context, EngineError, Result, bail_input};
+use strata_runtime::Solid;
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::interface::{
     InterfaceLaw, MAX_SAMPLES, SampleOptions, abaqus_real, sample_gaps,
@@ -460,7 +461,7 @@ fn solve_capped_asperities(
 ) -> Result<SampledLaw> {
     let (surface_json, warnings) = crate::setup::surface_report(&surface, obs);
     // first contact and the area need no elastic law
-    let e_star = scene.stack.contact_modulus();
+    let e_star = scene.bodies.contact_modulus();
     let hom = strata_runtime::law::Homogeneous { e_star };
     let rc = RoughContact::from_surface(&hom, &surface)?;
     let (g0, nominal_area) = (rc.top_to_mean(), rc.area());
@@ -490,16 +491,16 @@ fn solve_capped_asperities(
 }
 
 fn solid(scene: &Scene) -> String {
-    let s = &scene.stack;
-    if let Some(c) = s.counterface() {
+    let s = &scene.bodies;
+    if let Some(c) = s.counterface.stack() {
         return format!(
             "{} against an elastic counterface ({}), pair E* = {:e} Pa",
-            solid_of(&s.body()),
+            solid_of(&s.first),
             solid_of(c),
             s.contact_modulus()
         );
     }
-    solid_of(s)
+    solid_of(&s.first)
 }
 
 fn solid_of(s: &strata_runtime::Stack) -> String {
@@ -606,7 +607,7 @@ fn solve_bem(
         law: il,
         model: ran,
         solid: solid(scene),
-        e_star: scene.stack.contact_modulus(),
+        e_star: scene.bodies.contact_modulus(),
         nominal_area: area,
         surface: sol.summary.surface.clone(),
         warnings,

@@ -9,6 +9,7 @@ use crate::error::{Context, Result};
 use crate::progress;
 use crate::scene::{ModelKind, Scene, SurfaceSource};
 use strata_bem::{BemOptions, BemSolution};
+use strata_runtime::Solid;
 use strata_runtime::law::{AsperityLaw, Homogeneous};
 use strata_runtime::resources;
 use strata_runtime::rough::{Images, Model};
@@ -167,8 +168,8 @@ fn build_options(quiet: bool) -> BuildOptions {
 
 /// The table of a layered `stack` from the cache (see [`crate::cache`]), built there
 /// once if missing. The cache must be writable before a build starts.
-pub fn cached_table(
-    stack: &strata_runtime::Stack,
+pub fn cached_table<S: Solid + ?Sized>(
+    stack: &S,
     cache_dir: Option<&Path>,
     quiet: bool,
     opts: Option<BuildOptions>,
@@ -226,7 +227,7 @@ pub fn law_for(
     opts: &EngineOptions,
     obs: &dyn Observer,
 ) -> Result<Box<dyn AsperityLaw>> {
-    let stack = &scene.stack;
+    let stack = &scene.bodies;
     if stack.is_homogeneous() {
         log!(
             obs,
@@ -238,7 +239,7 @@ pub fn law_for(
         }));
     }
     // With an elastic counterface the scene's table is `counterface.table` (of the pair).
-    let (field, what) = if stack.counterface().is_some() {
+    let (field, what) = if stack.counterface.stack().is_some() {
         ("counterface.table", "pair (stack and counterface)")
     } else {
         ("stack.table", "stack")
@@ -307,13 +308,13 @@ fn modulus(e: f64) -> String {
 /// curve.json's `counterface` entry when the scene has an elastic counterface (and a
 /// rough one's note): the pair's E* is what `e_star_1` and `pressure_ratio` use.
 pub fn counterface_summary(scene: &Scene) -> Option<CounterfaceSummary> {
-    let c = scene.stack.counterface()?;
+    let c = scene.bodies.counterface.stack()?;
     Some(CounterfaceSummary {
         stack: stack_description(c),
         e_star_1_counterface: c.top_plane_strain_modulus(),
-        e_star_1_body: scene.stack.top_plane_strain_modulus(),
-        e_star_pair: scene.stack.contact_modulus(),
-        rough: scene.counterface_surface.is_some(),
+        e_star_1_body: scene.bodies.first.top_plane_strain_modulus(),
+        e_star_pair: scene.bodies.contact_modulus(),
+        rough: scene.bodies.counterface.surface().is_some(),
         note: "two elastic bodies (physics.md §6.1): e_star_1 and pressure_ratio are the pair's, \
                1/E* = 1/E*1,body + 1/E*1,counterface; a rough counterface's heights are added to the body's",
     })
@@ -321,14 +322,16 @@ pub fn counterface_summary(scene: &Scene) -> Option<CounterfaceSummary> {
 
 /// A stack in a few words for plot titles: its name, else its make-up
 /// (`2 layers on a rigid base, E1 = 4 GPa`, `half-space, E = 210 GPa`).
-pub fn stack_description(stack: &strata_runtime::Stack) -> String {
+/// A pair reads `A against B` unless its first body is named.
+pub fn stack_description<S: Solid + ?Sized>(solid: &S) -> String {
+    let stack = solid.first();
     if let Some(n) = &stack.name {
         return n.clone();
     }
-    if let Some(c) = stack.counterface() {
+    if let Some(c) = solid.elastic_counterface() {
         return format!(
             "{} against {}",
-            stack_description(&stack.body()),
+            stack_description(stack),
             stack_description(c)
         );
     }

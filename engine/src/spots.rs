@@ -24,12 +24,12 @@
 use std::path::PathBuf;
 
 use crate::error::Result;
-use strata_runtime::Stack;
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::rough::Images;
 use strata_runtime::rough::Step;
 use strata_runtime::rough::conductance::KernelInfo;
 use strata_runtime::summits::Summit;
+use strata_runtime::{Solid, Stack};
 use strata_tablegen::psi_table::CacheUse;
 use strata_tablegen::spot::{Spot, SpotError};
 use strata_tablegen::spot_pair::{SpotPair, SpotSide};
@@ -65,20 +65,21 @@ impl SpotSum {
     /// Both bodies' spot conductances from the scene's `[conductance]` (the first body's
     /// stack, the counterface's conduction): [`SpotSum::of_stack`].
     pub fn new(scene: &Scene, spec: &ConductanceSpec) -> Result<SpotSum> {
-        Ok(Self::of_stack(&scene.stack, spec.kind, spec.counterface)?)
+        Ok(Self::of_stack(&scene.bodies, spec.kind, spec.counterface)?)
     }
 
     /// Both bodies' spot conductances for `kind` in memory: the first body of `stack`
-    /// (its counterface not included) and the counterface conducting as `counterface`
-    /// says — through the elastic counterface's own stack ([`Stack::counterface`]), as a
+    /// and the counterface conducting as `counterface` says — through the elastic
+    /// counterface's own stack ([`strata_runtime::Counterface::Elastic`]), as a
     /// half-space of conductivity k_B (W/(m·K) or S/m), or perfectly. The scenes'
-    /// `[conductance]` and the C ABI's `StrataLawOptions` both come here.
-    pub fn of_stack(
-        stack: &Stack,
+    /// `[conductance]` and the C ABI's `StrataLawOptions` both come here: the one place
+    /// the spot solvers ([`SpotSide`], solver handles) are derived from the bodies.
+    pub fn of_stack<S: Solid + ?Sized>(
+        stack: &S,
         kind: ConductionKind,
         counterface: CounterfaceConduction,
     ) -> Result<SpotSum, SpotSumError> {
-        let b = match (counterface, stack.counterface()) {
+        let b = match (counterface, stack.elastic_counterface()) {
             (CounterfaceConduction::Stack, Some(c)) => {
                 SpotSide::of(Spot::new(c, kind).map_err(SpotSumError::Counterface)?)
             }
@@ -88,11 +89,11 @@ impl SpotSum {
             (CounterfaceConduction::HalfSpace(k), _) => SpotSide::Homogeneous(k),
             (CounterfaceConduction::Perfect, _) => SpotSide::Perfect,
         };
-        let a = Spot::new(&stack.body(), kind).map_err(SpotSumError::Body)?;
+        let a = Spot::new(stack.first(), kind).map_err(SpotSumError::Body)?;
         Ok(SpotSum(SpotPair::new(SpotSide::of(a), b)))
     }
 
-    /// The body `stack` (its counterface ignored) against a rigid flat: a conducting
+    /// The body `stack` against a rigid flat: a conducting
     /// half-space of conductivity `flat` (W/(m·K) or S/m), or a perfect conductor (None).
     pub fn against_rigid(
         stack: &Stack,
@@ -103,7 +104,7 @@ impl SpotSum {
             Some(k) => CounterfaceConduction::HalfSpace(k),
             None => CounterfaceConduction::Perfect,
         };
-        Ok(Self::of_stack(&stack.body(), kind, b)?)
+        Ok(Self::of_stack(stack, kind, b)?)
     }
 
     /// Keeps the ψ tables in the table cache `dir` ([`strata_tablegen::psi_table::cached`]):

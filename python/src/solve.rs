@@ -11,6 +11,7 @@ use pyo3::types::{PyDict, PyList};
 use strata_bem::BemSolution;
 use strata_engine::engine::{Console, EngineOptions, WithMaps, solve};
 use strata_engine::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
+use strata_runtime::Solid;
 use strata_runtime::stack::{CounterfaceFile, StackFile};
 use strata_runtime::surface::{ReadOptions, Spacing, Surface};
 use strata_runtime::table::Table;
@@ -157,7 +158,11 @@ impl PyScene {
                 .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("counterface_surface: {e}")))?;
         }
         let counterface = counterface
-            .map(|c| stack_of(c, "Scene: counterface"))
+            .map(|c| {
+                stack_of(c, "Scene: counterface")?
+                    .single()
+                    .map_err(|e| to_py(Kind::Scene, anyhow::anyhow!("Scene: counterface: {e}")))
+            })
             .transpose()?;
         let load = load.ok_or_else(|| {
             to_py(
@@ -243,7 +248,7 @@ impl PyScene {
     #[getter]
     fn stack(&self) -> PyStack {
         PyStack {
-            stack: self.scene.stack.clone(),
+            stack: self.scene.bodies.bodies(),
         }
     }
 
@@ -403,7 +408,7 @@ impl PyScene {
             "Scene({}, model {}, {})",
             self.path.display(),
             self.model(),
-            strata_engine::engine::stack_description(&self.scene.stack)
+            strata_engine::engine::stack_description(&self.scene.bodies)
         )
     }
 }

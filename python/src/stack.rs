@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
-use strata_runtime::{Base, Compliance, Layer, Stack};
+use strata_runtime::{Base, Bodies, Compliance, Layer, Solid, Stack};
 
 use crate::conv;
 use crate::errors::{Kind, err, require_file, to_py};
@@ -23,7 +23,8 @@ use crate::errors::{Kind, err, require_file, to_py};
 #[pyclass(name = "Stack", module = "strata", frozen, from_py_object)]
 #[derive(Clone)]
 pub struct PyStack {
-    pub stack: Stack,
+    /// The first body, with the elastic `[counterface]` of a stack file if any.
+    pub stack: Bodies,
 }
 
 fn number(obj: &Bound<'_, PyAny>, field: &str) -> PyResult<f64> {
@@ -153,7 +154,9 @@ impl PyStack {
         if let Some(n) = name {
             stack = stack.with_name(n);
         }
-        Ok(PyStack { stack })
+        Ok(PyStack {
+            stack: Bodies::rigid(stack),
+        })
     }
 
     /// Reads a stack TOML file (the format of `tables/stacks/*.toml`).
@@ -161,7 +164,7 @@ impl PyStack {
     fn from_file(path: PathBuf) -> PyResult<Self> {
         require_file("Stack.from_file", &path)?;
         Ok(PyStack {
-            stack: Stack::from_toml_file(&path).map_err(err(Kind::Stack))?,
+            stack: Bodies::from_toml_file(&path).map_err(err(Kind::Stack))?,
         })
     }
 
@@ -169,7 +172,7 @@ impl PyStack {
     #[staticmethod]
     fn from_toml(text: &str) -> PyResult<Self> {
         Ok(PyStack {
-            stack: Stack::from_toml_str(text).map_err(err(Kind::Stack))?,
+            stack: Bodies::from_toml_str(text).map_err(err(Kind::Stack))?,
         })
     }
 
@@ -177,7 +180,7 @@ impl PyStack {
     #[staticmethod]
     fn half_space(young: f64, poisson: f64) -> PyResult<Self> {
         Ok(PyStack {
-            stack: Stack::half_space(young, poisson).map_err(err(Kind::Stack))?,
+            stack: Bodies::rigid(Stack::half_space(young, poisson).map_err(err(Kind::Stack))?),
         })
     }
 
@@ -191,6 +194,7 @@ impl PyStack {
     fn layers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let l = self
             .stack
+            .first
             .layers()
             .iter()
             .map(|l| layer_dict(py, l))
@@ -201,7 +205,7 @@ impl PyStack {
     /// "rigid", or a dict {"young": Pa, "poisson": -} for an elastic half-space.
     #[getter]
     fn base<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        Ok(match self.stack.base() {
+        Ok(match self.stack.first.base() {
             Base::Rigid => "rigid".into_pyobject(py)?.into_any(),
             Base::Elastic { young, poisson } => {
                 let d = PyDict::new(py);
@@ -214,13 +218,13 @@ impl PyStack {
 
     #[getter]
     fn name(&self) -> Option<String> {
-        self.stack.name.clone()
+        self.stack.first.name.clone()
     }
 
     /// E*₁ = E₁/(1 − ν₁²) of the top material (Pa).
     #[getter]
     fn e_star1(&self) -> f64 {
-        self.stack.top_plane_strain_modulus()
+        self.stack.first.top_plane_strain_modulus()
     }
 
     /// True for a homogeneous half-space (no table needed: χ = ζ = 1, g = 0).
@@ -253,7 +257,7 @@ impl PyStack {
     }
 
     fn __repr__(&self) -> String {
-        let s = &self.stack;
+        let s = &self.stack.first;
         format!(
             "Stack({}, {} layer(s), {} base, E*1 = {:e} Pa)",
             s.name.as_deref().unwrap_or("unnamed"),
@@ -275,13 +279,13 @@ impl PyStack {
 }
 
 /// Unwraps `to_py`'s anyhow conversion for callers that hold a stack by reference.
-pub fn stack_of(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Stack> {
+pub fn stack_of(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<Bodies> {
     if let Ok(s) = obj.extract::<PyStack>() {
         return Ok(s.stack);
     }
     if let Ok(p) = obj.extract::<PathBuf>() {
         require_file(what, &p)?;
-        return Stack::from_toml_file(&p).map_err(err(Kind::Stack));
+        return Bodies::from_toml_file(&p).map_err(err(Kind::Stack));
     }
     Err(to_py(
         Kind::Stack,

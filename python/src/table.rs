@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use strata_runtime::Solid;
 use strata_runtime::law::AsperityLaw;
 use strata_runtime::table::{Table, TableLaw};
 use strata_tablegen::tablebuild::{Bars, BuildOptions};
@@ -106,7 +107,7 @@ impl PyTable {
     #[getter]
     fn stack(&self) -> PyStack {
         PyStack {
-            stack: self.table.header.stack.clone(),
+            stack: self.table.header.bodies(),
         }
     }
 
@@ -138,7 +139,7 @@ impl PyTable {
     fn law(&self, stack: Option<&Bound<'_, PyAny>>) -> PyResult<PyAsperityLaw> {
         let stack = match stack {
             Some(s) => stack_of(s, "Table.law: stack")?,
-            None => self.table.header.stack.clone(),
+            None => self.table.header.bodies(),
         };
         Ok(PyAsperityLaw {
             law: self.table.law_for(&stack).map_err(err(Kind::Table))?,

@@ -33,12 +33,12 @@
 //! Against an elastic counterface the normal displacements add:
 //! S/E* = S_A/E*₁,A + S_B/E*₁,B with 1/E* = 1/E*₁,A + 1/E*₁,B, so
 //! S = w S_A + (1 − w) S_B with w = E*/E*₁,A, and S(∞) = 1 still. The pair is
-//! evaluated in a canonical order ([`Stack::canonical_pair`]), so swapping the
+//! evaluated in a canonical order ([`crate::Solid::canonical_pair`]), so swapping the
 //! bodies gives the same bits.
 //!
 //! All functions take ρ in 1/m and return dimensionless values.
 
-use crate::stack::{Base, Stack, shear_modulus};
+use crate::stack::{Base, Solid, Stack, shear_modulus};
 
 #[cfg(test)]
 mod global_solve;
@@ -161,11 +161,12 @@ struct Body {
 const SMALL_T: f64 = 1e-60;
 
 impl Compliance {
-    /// Precomputes the constants of `stack` (and of its counterface, if any).
-    pub fn new(stack: &Stack) -> Self {
+    /// Precomputes the constants of a solid: one stack against a rigid flat, or the
+    /// two [`crate::Bodies`] (in their canonical order, [`Solid::canonical_pair`]).
+    pub fn new<S: Solid + ?Sized>(stack: &S) -> Self {
         match stack.canonical_pair() {
             None => Compliance {
-                a: Body::new(stack),
+                a: Body::new(stack.first()),
                 b: None,
             },
             Some((a, b)) => {
@@ -304,10 +305,11 @@ impl Body {
 }
 
 impl Stack {
-    /// The normalised compliance S(ρ) of this stack (see [`Compliance::s`]). For many
-    /// evaluations build a [`Compliance`] once instead.
+    /// The normalised compliance S(ρ) of this stack against a rigid flat (see
+    /// [`Compliance::s`], [`Solid::compliance`]). For many evaluations build a
+    /// [`Compliance`] once instead.
     pub fn compliance(&self, rho: f64) -> f64 {
-        Compliance::new(self).s(rho)
+        Solid::compliance(self, rho)
     }
 }
 

@@ -59,10 +59,11 @@ impl PointForce {
     /// The homogeneous half-space: S ≡ 1.
     pub const HALF_SPACE: PointForce = PointForce { s0: 1.0 };
 
-    /// The point force on `stack`: S(0) of its compliance.
-    pub fn of_stack(stack: &crate::Stack) -> PointForce {
+    /// The point force on a solid (a stack, or [`crate::Bodies`]): S(0) of its
+    /// compliance.
+    pub fn of_stack<S: crate::Solid + ?Sized>(stack: &S) -> PointForce {
         PointForce {
-            s0: stack.compliance(0.0),
+            s0: crate::Solid::compliance(stack, 0.0),
         }
     }
 }

@@ -89,4 +89,4 @@ pub mod table;
 
 pub use compliance::Compliance;
 pub use conduction::{ConductionCompliance, ConductionKind};
-pub use stack::{Base, Layer, Stack, StackError};
+pub use stack::{Base, Bodies, Counterface, Layer, Solid, Stack, StackError};

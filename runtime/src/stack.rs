@@ -12,13 +12,13 @@
 //! kind = "rigid"       # or kind = "elastic" with young and poisson
 //! ```
 //!
-//! A stack may be pressed against a second elastic body, the **counterface**
-//! ([`Stack::against`], a `[counterface]` table of the same keys in a stack or scene
-//! file; physics.md §6.1). Frictionless normal displacements of the two bodies add, so
-//! every mechanical property the models read — S(ρ) ([`crate::Compliance`]), the
-//! contact modulus E* ([`Stack::contact_modulus`]), the length scales, homogeneity —
-//! is then that of the pair; [`Stack::layers`] and [`Stack::base`] stay the first
-//! body's. Without a counterface the stack is pressed by a rigid smooth flat.
+//! A stack is one body. It may be pressed against a second elastic body, the
+//! **counterface** ([`Bodies`], a `[counterface]` table of the same keys in a stack or
+//! scene file; physics.md §6.1). Frictionless normal displacements of the two bodies
+//! add, so every mechanical property the models read — S(ρ) ([`crate::Compliance`]),
+//! the contact modulus E* ([`Solid::contact_modulus`]), the length scales, homogeneity
+//! — is then that of the pair ([`Solid`]). A lone stack is pressed by a rigid smooth
+//! flat; it has no counterface field, so a counterface's counterface cannot be written.
 //!
 //! Conduction (optional, physics.md §6.2): any `[[layer]]` and the `[base]` may give
 //! `thermal_conductivity` (W/(m·K)) and `electrical_conductivity` (S/m); the base is
@@ -40,7 +40,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+mod bodies;
 mod file;
+pub use bodies::{Bodies, Counterface, NoSurface, RigidConduction, Solid};
 pub use file::{
     BaseFile, CounterfaceConductionFile, CounterfaceFile, CounterfaceKindFile, LayerFile,
     SceneOnly, SerdeProblem, StackFile, serde_problem,
@@ -121,10 +123,6 @@ pub struct Stack {
     pub name: Option<String>,
     layers: Vec<Layer>,
     base: Base,
-    /// The elastic counterface, if the stack is not pressed by a rigid flat. Not in
-    /// the serde form (a table file stores it beside the stack, `table::codec`).
-    #[serde(skip)]
-    counterface: Option<Box<Stack>>,
     /// Conduction properties. Not part of a table file's binary header
     /// (`serde(skip)`: tables stay byte-identical and loadable); empty unless given.
     #[serde(skip)]
@@ -177,6 +175,10 @@ pub enum StackError {
     /// A counterface that has a counterface itself.
     #[error("a counterface cannot have its own counterface (two bodies touch)")]
     NestedCounterface,
+    /// A `[counterface]` where one body is expected ([`Stack::from_toml_str`]; read the
+    /// pair with [`Bodies::from_toml_str`]).
+    #[error("the stack gives a [counterface] (two bodies) where one body is expected")]
+    TwoBodies,
     /// An error in a stack file, with the file's path.
     #[error("stack file {path}: {error}")]
     InFile {
@@ -365,7 +367,6 @@ impl Stack {
             name: None,
             layers,
             base,
-            counterface: None,
             conduction: StackConduction::default(),
         })
     }
@@ -430,43 +431,9 @@ impl Stack {
     }
 
     /// This stack pressed against the elastic stack `counterface` instead of a rigid
-    /// flat (physics.md §6.1). Refuses a counterface that has a counterface.
-    pub fn against(mut self, counterface: Stack) -> Result<Self, StackError> {
-        if counterface.counterface.is_some() {
-            return Err(StackError::NestedCounterface);
-        }
-        self.counterface = Some(Box::new(counterface));
-        Ok(self)
-    }
-
-    /// The elastic counterface, `None` for a rigid smooth flat.
-    pub fn counterface(&self) -> Option<&Stack> {
-        self.counterface.as_deref()
-    }
-
-    /// The first body alone (pressed by a rigid flat).
-    pub fn body(&self) -> Stack {
-        Stack {
-            counterface: None,
-            ..self.clone()
-        }
-    }
-
-    /// The pair with its two bodies in a canonical order (the one whose Debug form
-    /// sorts first is the body), so that a pair and its swap compute S(ρ) and E* with
-    /// the same floating-point operations (physics.md §6.1: swapping changes nothing).
-    /// `None` without a counterface.
-    pub fn canonical_pair(&self) -> Option<(Stack, Stack)> {
-        let b = self.counterface.as_deref()?.clone();
-        let mut a = self.body();
-        a.name = None;
-        let mut b2 = b;
-        b2.name = None;
-        if format!("{a:?}") <= format!("{b2:?}") {
-            Some((a, b2))
-        } else {
-            Some((b2, a))
-        }
+    /// flat (physics.md §6.1): the pair as [`Bodies`].
+    pub fn against(self, counterface: Stack) -> Bodies {
+        Bodies::elastic(self, counterface)
     }
 
     /// A homogeneous elastic half-space (zero layers on an elastic base).
@@ -521,107 +488,63 @@ impl Stack {
         plane_strain_modulus(e, nu)
     }
 
-    /// The contact modulus E* (Pa) every model normalises by: E*₁ of the top material
-    /// against a rigid flat; with a counterface 1/E* = 1/E*₁,A + 1/E*₁,B (physics.md
-    /// §6.1, symmetric in A and B to the last bit).
+    /// The contact modulus E* (Pa) of this body against a rigid flat: E*₁ of its top
+    /// material ([`Solid::contact_modulus`]).
     pub fn contact_modulus(&self) -> f64 {
-        // (IEEE addition is commutative: no canonical order needed for the symmetry)
-        match self.counterface() {
-            None => self.top_plane_strain_modulus(),
-            Some(c) => {
-                1.0 / (1.0 / self.top_plane_strain_modulus() + 1.0 / c.top_plane_strain_modulus())
-            }
-        }
+        Solid::contact_modulus(self)
     }
 
-    /// α = −E*/2 (Pa), the paper's lim 1/F11 (physics.md §2), with E* the
-    /// [`contact_modulus`](Self::contact_modulus).
+    /// α = −E*/2 (Pa) against a rigid flat ([`Solid::alpha`]).
     pub fn alpha(&self) -> f64 {
-        -0.5 * self.contact_modulus()
+        Solid::alpha(self)
     }
 
-    /// The reference length h₁ (m): the top layer's thickness; with a counterface the
-    /// thinner of the two bodies' top layers (k_z decays like e^{−2ρh₁}). `None` for a
-    /// half-space (or two), which has no length scale.
+    /// The top layer's thickness h₁ (m), `None` for a half-space
+    /// ([`Solid::top_thickness`]).
     pub fn top_thickness(&self) -> Option<f64> {
-        let own = self.layers.first().map(|l| l.thickness);
-        match (own, self.counterface().and_then(|c| c.top_thickness())) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
+        Solid::top_thickness(self)
     }
 
-    /// Total thickness of the layers (m); with a counterface the larger of the two
-    /// bodies' totals (the slowest length scale of S near ρ = 0).
+    /// Total thickness of the layers (m) ([`Solid::total_thickness`]).
     pub fn total_thickness(&self) -> f64 {
-        let own: f64 = self.layers.iter().map(|l| l.thickness).sum();
-        match self.counterface() {
-            None => own,
-            Some(c) => own.max(c.total_thickness()),
-        }
+        Solid::total_thickness(self)
     }
 
-    /// True when the solid is mechanically a homogeneous half-space (k_z ≡ 0): an
-    /// elastic base and every layer of the same material as the base — for both
-    /// bodies when there is a counterface (their E* is then the contact modulus).
+    /// True when the body is mechanically a homogeneous half-space (k_z ≡ 0)
+    /// ([`Solid::is_homogeneous`]).
     pub fn is_homogeneous(&self) -> bool {
-        let own = match self.base {
-            Base::Rigid => false,
-            Base::Elastic { young, poisson } => self
-                .layers
-                .iter()
-                .all(|l| l.young == young && l.poisson == poisson),
-        };
-        own && self.counterface().is_none_or(|c| c.is_homogeneous())
+        Solid::is_homogeneous(self)
     }
 
-    /// True when S(0) = 0: a rigid base under this stack and, with a counterface,
-    /// under the counterface too (then a uniform pressure gives a finite deflection).
+    /// True when S(0) = 0: a rigid base ([`Solid::on_rigid_bases`]).
     pub fn on_rigid_bases(&self) -> bool {
-        matches!(self.base, Base::Rigid)
-            && self
-                .counterface()
-                .is_none_or(|c| matches!(c.base, Base::Rigid))
+        Solid::on_rigid_bases(self)
     }
 
     #[cfg(feature = "toml")]
-    /// Reads a stack from a TOML file. See the module docs for the format.
+    /// Reads one body from a TOML file (a `[counterface]` in it is refused,
+    /// [`StackError::TwoBodies`]; [`Bodies::from_toml_file`] reads the pair). See the
+    /// module docs for the format.
     pub fn from_toml_file(path: &Path) -> Result<Self, StackError> {
-        let text = crate::resources::read_text_capped(
-            path,
-            crate::resources::TEXT_FILE_CAP,
-            "a stack file",
-        )
-        .map_err(|e| StackError::Io {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
-        Stack::from_toml_str(&text).map_err(|e| StackError::InFile {
-            path: path.display().to_string(),
-            error: Box::new(e),
-        })
+        Bodies::from_toml_file(path)?
+            .single()
+            .map_err(|e| StackError::InFile {
+                path: path.display().to_string(),
+                error: Box::new(e),
+            })
     }
 
     #[cfg(feature = "toml")]
-    /// Parses a stack from TOML text. See the module docs for the format.
+    /// Parses one body from TOML text (a `[counterface]` in it is refused,
+    /// [`StackError::TwoBodies`]). See the module docs for the format.
     pub fn from_toml_str(text: &str) -> Result<Self, StackError> {
-        let de = toml::de::Deserializer::parse(text)
-            .map_err(|e| StackError::Syntax(toml_error_line(text, &e)))?;
-        let file: StackFile = serde_path_to_error::deserialize(de)
-            .map_err(|e| StackError::from_serde(&e.path().to_string(), e.inner().message()))?;
-        file.stack()
+        Bodies::from_toml_str(text)?.single()
     }
 
     #[cfg(feature = "toml")]
-    /// Serialises the stack back to the TOML format it is read from (a counterface as
-    /// a `[counterface]` table with `[[counterface.layer]]` and `[counterface.base]`).
+    /// Serialises the stack back to the TOML format it is read from.
     pub fn to_toml_string(&self) -> String {
-        let mut s = self.body_toml("");
-        if let Some(c) = self.counterface() {
-            s.push_str("[counterface]\n");
-            s.push_str(&c.body_toml("counterface."));
-        }
-        s
+        self.body_toml("")
     }
 
     #[cfg(feature = "toml")]
@@ -649,6 +572,59 @@ impl Stack {
         }
         push_conductivity(&mut s, &self.conduction.base);
         s
+    }
+}
+
+impl Bodies {
+    #[cfg(feature = "toml")]
+    /// Reads a stack file's bodies: the first body and its `[counterface]`, if any.
+    /// See the module docs for the format.
+    pub fn from_toml_file(path: &Path) -> Result<Self, StackError> {
+        let text = crate::resources::read_text_capped(
+            path,
+            crate::resources::TEXT_FILE_CAP,
+            "a stack file",
+        )
+        .map_err(|e| StackError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        Bodies::from_toml_str(&text).map_err(|e| StackError::InFile {
+            path: path.display().to_string(),
+            error: Box::new(e),
+        })
+    }
+
+    #[cfg(feature = "toml")]
+    /// Parses a stack file's bodies from TOML text: the first body and its
+    /// `[counterface]`, if any. See the module docs for the format.
+    pub fn from_toml_str(text: &str) -> Result<Self, StackError> {
+        let de = toml::de::Deserializer::parse(text)
+            .map_err(|e| StackError::Syntax(toml_error_line(text, &e)))?;
+        let file: StackFile = serde_path_to_error::deserialize(de)
+            .map_err(|e| StackError::from_serde(&e.path().to_string(), e.inner().message()))?;
+        file.bodies()
+    }
+
+    #[cfg(feature = "toml")]
+    /// Serialises the bodies back to the stack file format (an elastic counterface as a
+    /// `[counterface]` table with `[[counterface.layer]]` and `[counterface.base]`).
+    pub fn to_toml_string(&self) -> String {
+        let mut s = self.first.body_toml("");
+        if let Some(c) = self.counterface.stack() {
+            s.push_str("[counterface]\n");
+            s.push_str(&c.body_toml("counterface."));
+        }
+        s
+    }
+
+    /// The first body alone; [`StackError::TwoBodies`] if there is an elastic
+    /// counterface.
+    pub fn single(self) -> Result<Stack, StackError> {
+        match self.counterface {
+            Counterface::Elastic { .. } => Err(StackError::TwoBodies),
+            Counterface::Rigid { .. } => Ok(self.first),
+        }
     }
 }
 
@@ -714,14 +690,20 @@ kind = "rigid"
         .unwrap();
         let pair = paper
             .clone()
-            .against(Stack::half_space(210e9, 0.3).unwrap())
-            .unwrap();
-        for st in [paper, cond, pair, Stack::half_space(1e9, 0.5).unwrap()] {
-            let direct = StackFile::of(&st);
+            .against(Stack::half_space(210e9, 0.3).unwrap());
+        for st in [paper, cond, Stack::half_space(1e9, 0.5).unwrap()] {
+            let direct = StackFile::of(&Bodies::<NoSurface>::rigid(st.clone()));
             let text: StackFile = toml::from_str(&st.to_toml_string()).unwrap();
             assert_eq!(direct, text);
-            assert_eq!(direct.stack().unwrap(), st);
+            assert_eq!(direct.bodies().unwrap().single().unwrap(), st);
         }
+        let direct = StackFile::of(&pair);
+        let text: StackFile = toml::from_str(&pair.to_toml_string()).unwrap();
+        assert_eq!(direct, text);
+        assert_eq!(direct.bodies().unwrap(), pair);
+        // one body expected: the pair's text is refused by name
+        let e = Stack::from_toml_str(&pair.to_toml_string()).unwrap_err();
+        assert_eq!(e, StackError::TwoBodies);
     }
 
     /// A stack file's `[counterface]` is a stack: its own counterface and the scene's

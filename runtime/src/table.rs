@@ -76,7 +76,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use crate::law::{AsperityLaw, half_space_bracket};
-use crate::stack::{Base, Stack, StackError};
+use crate::stack::{Base, Bodies, Counterface, Solid, Stack, StackError};
 pub use interp::Axis;
 
 /// Version of the table format written by this build.
@@ -192,9 +192,14 @@ pub struct Header {
     /// Build time, seconds since the Unix epoch (SOURCE_DATE_EPOCH when set, so a
     /// rebuild reproduces the file byte for byte).
     pub build_time: u64,
-    /// The stack (for a family: the member given to the builder; the varied modulus
-    /// is replaced along the family axis).
+    /// The first body (for a family: the member given to the builder; the varied
+    /// modulus is replaced along the family axis).
     pub stack: Stack,
+    /// What the first body is pressed against: a rigid flat, or the elastic
+    /// counterface of a pair table. Not in the header's serde form: the file stores
+    /// an elastic counterface beside the table (`table::codec`).
+    #[serde(skip)]
+    pub counterface: Counterface,
     /// Family axis, if any.
     pub family: Option<Family>,
     /// ln(a/h₁) axis.
@@ -214,6 +219,17 @@ pub struct Header {
     pub tolerance: f64,
     /// Interpolation error measured at build time.
     pub interp_error: Option<InterpError>,
+}
+
+/// The table's solid: its first body and counterface.
+impl Solid for Header {
+    fn first(&self) -> &Stack {
+        &self.stack
+    }
+
+    fn elastic_counterface(&self) -> Option<&Stack> {
+        self.counterface.stack()
+    }
 }
 
 /// A surrogate table: header and arrays (row-major, member slowest).
@@ -255,12 +271,13 @@ impl Table {
         self.header.family.map_or(1, |f| f.ratio.n)
     }
 
-    /// The member stack at family coordinate ln(E_v/E₁) = c (the header stack with
-    /// the varied modulus replaced); the header stack itself without a family.
-    pub fn member_stack(&self, c: f64) -> Result<Stack, TableError> {
+    /// The member at family coordinate ln(E_v/E₁) = c (the header stack with the
+    /// varied modulus replaced, against a rigid flat); the header's bodies themselves
+    /// (a pair table's too) without a family.
+    pub fn member_stack(&self, c: f64) -> Result<Bodies, TableError> {
         let st = &self.header.stack;
         let Some(fam) = self.header.family else {
-            return Ok(st.clone());
+            return Ok(self.header.bodies());
         };
         let e1 = st.layers()[0].young;
         let ev = e1 * c.exp();
@@ -276,7 +293,7 @@ impl Table {
         }
         let mut s = Stack::new(layers, base)?;
         s.name = st.name.clone();
-        Ok(s)
+        Ok(Bodies::rigid(s))
     }
 
     /// Checks the header and array sizes, finiteness and the stack.
@@ -289,17 +306,17 @@ impl Table {
             });
         }
         // Re-validate the stack: deserialisation bypasses Stack::new.
-        let mut st = Stack::new(h.stack.layers().to_vec(), h.stack.base())?;
-        if let Some(c) = h.stack.counterface() {
+        Stack::new(h.stack.layers().to_vec(), h.stack.base())?;
+        if let Some(c) = h.counterface.stack() {
             // (the codec re-validated it on decoding; a table built in memory too)
-            st = st.against(Stack::new(c.layers().to_vec(), c.base())?)?;
+            Stack::new(c.layers().to_vec(), c.base())?;
             if h.family.is_some() {
                 return Err(TableError::Invalid(
                     "a table of a stack and its counterface has no family axis".into(),
                 ));
             }
         }
-        if st.top_thickness().is_none() {
+        if h.top_thickness().is_none() {
             return Err(TableError::Invalid("the stack has no layers".into()));
         }
         for (name, ax) in [("x", h.x), ("w", h.w), ("s", h.s)] {
@@ -411,8 +428,8 @@ impl Table {
     /// Family coordinate ln(E_v/E₁) of `stack` if the table serves it (same layer
     /// count, base kind, Poisson ratios, thickness ratios h_i/h₁ and modulus ratios
     /// E_i/E₁ except the varied one, which must lie in the family range).
-    pub fn family_coordinate(&self, stack: &Stack) -> Result<f64, TableError> {
-        let t = &self.header.stack;
+    pub fn family_coordinate<S: Solid + ?Sized>(&self, stack: &S) -> Result<f64, TableError> {
+        let t = &self.header;
         let nf = |m: String| TableError::NotInFamily(m);
         match (stack.canonical_pair(), t.canonical_pair()) {
             (None, None) => {}
@@ -447,6 +464,7 @@ impl Table {
                 ));
             }
         }
+        let (stack, t) = (stack.first(), &t.stack);
         if stack.layers().len() != t.layers().len() {
             return Err(nf(format!(
                 "it has {} layers, the table's stack has {}",
@@ -530,7 +548,7 @@ impl Table {
 
     /// The far-field expansion of g for `stack` (a member of this table's family)
     /// with the header's number of terms: the leading term only on a rigid base.
-    pub fn far_field(&self, stack: &Stack, k0: f64) -> far::FarField {
+    pub fn far_field<S: Solid + ?Sized>(&self, stack: &S, k0: f64) -> far::FarField {
         let m = self.header.far_terms;
         if m == 0 || stack.on_rigid_bases() {
             return far::FarField::leading(k0);
@@ -543,7 +561,7 @@ impl Table {
 
     /// The asperity law of `stack`, a member of this table's family (interpolated
     /// along the family axis once, here). Refuses stacks the table does not serve.
-    pub fn law_for(&self, stack: &Stack) -> Result<TableLaw, TableError> {
+    pub fn law_for<S: Solid + ?Sized>(&self, stack: &S) -> Result<TableLaw, TableError> {
         let c = self.family_coordinate(stack)?;
         let h = &self.header;
         let (nx, nw, ns) = (h.x.n, h.w.n, h.s.n);
@@ -683,11 +701,16 @@ fn physical_differences(s: &Stack, t: &Stack) -> Vec<String> {
 /// against the table's two bodies in whichever order differs least (a pair and its swap
 /// share a table); the scaled comparison's message when no part differs in physical
 /// units (a pair scaled unevenly).
-fn pair_difference(stack: &Stack, t: &Stack, rs: (f64, f64), rt: (f64, f64)) -> String {
-    let (Some(sb), Some(tb)) = (stack.counterface(), t.counterface()) else {
+fn pair_difference<A: Solid + ?Sized, B: Solid + ?Sized>(
+    stack: &A,
+    t: &B,
+    rs: (f64, f64),
+    rt: (f64, f64),
+) -> String {
+    let (Some(sb), Some(tb)) = (stack.elastic_counterface(), t.elastic_counterface()) else {
         return "the table is not of this pair".into();
     };
-    let (sa, ta) = (stack.body(), t.body());
+    let (sa, ta) = (stack.first().clone(), t.first().clone());
     let order = |x: &Stack, y: &Stack| (physical_differences(&sa, x), physical_differences(sb, y));
     let (d1, d2) = (order(&ta, tb), order(tb, &ta));
     let (body, counter) = if d1.0.len() + d1.1.len() <= d2.0.len() + d2.1.len() {
@@ -930,10 +953,11 @@ mod tests {
         let steel = Stack::half_space(210e9, 0.3).unwrap();
         let mut t = synthetic();
         t.header.family = None;
-        t.header.stack = body.clone().against(steel.clone()).unwrap();
+        t.header.stack = body.clone();
+        t.header.counterface = Counterface::elastic(steel.clone());
         let alu = Stack::half_space(70e9, 0.3).unwrap();
         let e = t
-            .family_coordinate(&body.clone().against(alu).unwrap())
+            .family_coordinate(&body.clone().against(alu))
             .unwrap_err()
             .to_string();
         assert!(
@@ -944,7 +968,7 @@ mod tests {
         );
         let other = Stack::paper_two_layer(2.0).unwrap();
         let e = t
-            .family_coordinate(&other.against(steel.clone()).unwrap())
+            .family_coordinate(&other.against(steel.clone()))
             .unwrap_err()
             .to_string();
         assert!(
@@ -953,10 +977,10 @@ mod tests {
         );
         // the pair itself and its swap are served
         assert!(
-            t.family_coordinate(&body.clone().against(steel.clone()).unwrap())
+            t.family_coordinate(&body.clone().against(steel.clone()))
                 .is_ok()
         );
-        assert!(t.family_coordinate(&steel.against(body).unwrap()).is_ok());
+        assert!(t.family_coordinate(&steel.against(body)).is_ok());
     }
 
     /// A small synthetic two-layer family table with analytic contents (for format and
@@ -990,6 +1014,7 @@ mod tests {
                 strata_version: "test".into(),
                 build_time: 0,
                 stack,
+                counterface: Counterface::default(),
                 family: Some(Family {
                     vary: Vary::Layer(2),
                     ratio,

@@ -88,11 +88,11 @@ pub fn wide_linear_range(s: &str) -> bool {
 /// `--counterface` on a stack file that has its own `[counterface]`: refused (the
 /// stack file's would be replaced silently); one counterface, given in one place.
 pub fn refuse_two_counterfaces(
-    stack: &strata_runtime::Stack,
+    stack: &strata_runtime::Bodies,
     stack_path: &std::path::Path,
     counterface: &std::path::Path,
 ) -> Result<()> {
-    if stack.counterface().is_some() {
+    if stack.counterface.stack().is_some() {
         bail!(
             "--counterface {}: the stack file {} has its own [counterface]; give the counterface in one place (remove --counterface, or the stack file's [counterface])",
             counterface.display(),

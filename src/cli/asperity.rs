@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use strata_runtime::Stack;
+use strata_runtime::{Bodies, Solid, Stack};
 use strata_tablegen::asperity::{Asperity, Options};
 
 use crate::csv_out::{self, num};
@@ -82,7 +82,7 @@ pub struct Args {
 /// K_t (N/m) of the full-stick disc at each row's contact radius (0 where a = 0), by
 /// the Fredholm solves of [`strata_tablegen::stiffness`].
 fn tangential_stiffness(
-    stack: &Stack,
+    stack: &Bodies,
     rows: &[(f64, f64, f64)],
     file: &std::path::Path,
 ) -> Result<Vec<f64>> {
@@ -104,12 +104,12 @@ fn tangential_stiffness(
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let mut stack = Stack::from_toml_file(&a.stack)?;
+    let mut stack = Bodies::from_toml_file(&a.stack)?;
     if let Some(c) = &a.counterface {
         crate::cli::args::refuse_two_counterfaces(&stack, &a.stack, c)?;
         stack = stack
-            .against(Stack::from_toml_file(c).context("--counterface")?)
-            .context("--counterface")?;
+            .first
+            .against(Stack::from_toml_file(c).context("--counterface")?);
     }
     if !(a.radius.is_finite() && a.radius > 0.0) {
         bail!("--radius: must be positive and finite, got {}", a.radius);
@@ -347,8 +347,9 @@ fn file_name(p: &std::path::Path) -> String {
 /// Fredholm solve on a stack of hundreds of layers (a graded coating, a 1000-layer
 /// counterface) takes tens of seconds, its kernel ~ the layers' count; the first line
 /// says how many layers the solid has.
-fn approach_bar(stack: &Stack, n: usize) -> crate::progress::Progress {
-    let layers = stack.layers().len() + stack.counterface().map_or(0, |c| c.layers().len());
+fn approach_bar(stack: &Bodies, n: usize) -> crate::progress::Progress {
+    let layers =
+        stack.first.layers().len() + stack.counterface.stack().map_or(0, |c| c.layers().len());
     if layers >= MANY_LAYERS {
         crate::progress::log(format!(
             "asperity: {layers} layers in the solid (both bodies): each approach's kernel \

@@ -695,9 +695,9 @@ fn describe(scene: &Scene) -> String {
             g.grid, g.size, g.fractal_dimension, g.k_min, g.k_max, g.rms, g.seed
         ),
     };
-    let mut stack = match &scene.stack.name {
+    let mut stack = match &scene.bodies.first.name {
         Some(n) => format!("stack \"{n}\""),
-        None => format!("stack of {} layer(s)", scene.stack.layers().len()),
+        None => format!("stack of {} layer(s)", scene.bodies.first.layers().len()),
     };
     if let Some(p) = scene.plasticity {
         stack.push_str(&format!(
@@ -706,12 +706,12 @@ fn describe(scene: &Scene) -> String {
             p.hardness
         ));
     }
-    match scene.stack.counterface() {
+    match scene.bodies.counterface.stack() {
         None => format!("{src}; {stack}"),
         Some(c) => format!(
             "{src}{}; {stack} against an elastic counterface \"{}\" (two bodies, physics.md §6.1: \
              E*₁ below is the pair's, 1/E* = 1/E*₁,body + 1/E*₁,counterface)",
-            if scene.counterface_surface.is_some() {
+            if scene.bodies.counterface.surface().is_some() {
                 " plus the counterface's heights"
             } else {
                 ""
@@ -817,7 +817,7 @@ fn compare_scene(
     let c = Compared {
         label: label
             .map(String::from)
-            .or_else(|| scene.stack.name.clone())
+            .or_else(|| scene.bodies.first.name.clone())
             .unwrap_or(stem),
         scene_path: path.to_path_buf(),
         describe: describe(&scene),

@@ -17,7 +17,7 @@ use std::path::PathBuf;
 use anyhow::{Result, bail};
 use strata_runtime::compliance::tangential::TangentialCompliance;
 use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
-use strata_runtime::{Compliance, Stack};
+use strata_runtime::{Bodies, Compliance, Solid, Stack};
 
 use crate::csv_out;
 
@@ -42,7 +42,8 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let stack = Stack::from_toml_file(&a.stack)?;
+    // the stack, with the elastic counterface its file may name (the pair's compliance)
+    let stack = Bodies::from_toml_file(&a.stack)?;
     let rho_h = super::args::parse_list("--rho-h", &a.rho_h)?;
     if let Some(bad) = rho_h.iter().find(|x| **x < 0.0) {
         bail!("--rho-h: values must be >= 0, got {bad}");
@@ -59,7 +60,8 @@ pub fn run(a: Args) -> Result<()> {
         _ => None,
     };
     if let Some(kind) = kind {
-        return conduction(&a, &stack, kind, &rho_h);
+        // conduction: the first body's own (the counterface conducts in series, apart)
+        return conduction(&a, &stack.first, kind, &rho_h);
     }
     if a.tangential {
         return tangential(&a, &stack, &rho_h);
@@ -104,7 +106,7 @@ fn conduction(a: &Args, stack: &Stack, kind: ConductionKind, rho_h: &[f64]) -> R
 }
 
 /// `rho_h,S_zz,S_LL,S_TT,S_zL` for `--tangential`.
-fn tangential(a: &Args, stack: &Stack, rho_h: &[f64]) -> Result<()> {
+fn tangential(a: &Args, stack: &Bodies, rho_h: &[f64]) -> Result<()> {
     let comp = TangentialCompliance::new(stack);
     // A half-space has no h₁; the values do not depend on ρ there.
     let h1 = stack.top_thickness().unwrap_or(1.0);

@@ -13,7 +13,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
-use strata_runtime::Stack;
+use strata_runtime::{Bodies, Solid};
 use strata_runtime::conduction::ConductionKind;
 use strata_tablegen::spot::{Spot, SpotError};
 
@@ -42,7 +42,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let stack = Stack::from_toml_file(&a.stack)?;
+    // the first body's spots; the counterface its file may name sets h₁ for the notes
+    let bodies = Bodies::from_toml_file(&a.stack)?;
+    let stack = &bodies.first;
     let radii = super::args::parse_list("--a", &a.a)?;
     if let Some(bad) = radii.iter().find(|r| **r <= 0.0) {
         bail!("--a: spot radii must be > 0 (m), got {bad}");
@@ -58,12 +60,12 @@ pub fn run(a: Args) -> Result<()> {
         Kind::Electrical => ConductionKind::Electrical,
     };
     let in_file = |e: SpotError| anyhow!("stack file {}: {e}", a.stack.display());
-    let spot = Spot::new(&stack, kind).map_err(in_file)?;
+    let spot = Spot::new(stack, kind).map_err(in_file)?;
     let mut rows = Vec::with_capacity(radii.len());
     // Progress per spot (a log line every few seconds in batch jobs), and a note where
     // spots are large against the top layer: each is then a product-integration solve
     // whose cost grows as (a/h1)^1.5 (minutes above a/h1 ≈ 1000).
-    let h1 = stack.top_thickness();
+    let h1 = Solid::top_thickness(&bodies);
     if let Some(note) = h1.and_then(|h| large_spot_note(&radii, h)) {
         crate::progress::log(note);
     }

@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, anyhow, bail};
-use strata_runtime::Stack;
+use strata_runtime::{Bodies, Solid, Stack};
 use strata_tablegen::stiffness::Stiffness;
 
 use crate::csv_out::{self, num};
@@ -34,12 +34,12 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let mut stack = Stack::from_toml_file(&a.stack)?;
+    let mut stack = Bodies::from_toml_file(&a.stack)?;
     if let Some(c) = &a.counterface {
         crate::cli::args::refuse_two_counterfaces(&stack, &a.stack, c)?;
         stack = stack
-            .against(Stack::from_toml_file(c).context("--counterface")?)
-            .context("--counterface")?;
+            .first
+            .against(Stack::from_toml_file(c).context("--counterface")?);
     }
     let radii = super::args::parse_list("--a", &a.a)?;
     if let Some(bad) = radii.iter().find(|r| r.is_nan() || **r <= 0.0) {

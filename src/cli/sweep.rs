@@ -48,6 +48,7 @@ use rayon::prelude::*;
 use strata_runtime::hash::fnv1a;
 use strata_runtime::rough::Step;
 use strata_runtime::table::Table;
+use strata_runtime::{Bodies, Solid};
 
 use crate::engine::{Console, EngineOptions, Quiet, law_for, solve};
 use spec::{Case, Sweep};
@@ -209,7 +210,7 @@ fn caption(sweep: &Sweep) -> String {
     });
     format!(
         "{name}, {}",
-        crate::engine::stack_description(&sweep.base.stack)
+        crate::engine::stack_description(&sweep.base.bodies)
     )
 }
 
@@ -218,16 +219,18 @@ fn caption(sweep: &Sweep) -> String {
 /// scene's table does not serve (a thickness ratio changed, E2/E1 outside the family
 /// range) falls back to the engine's cache, with a message.
 fn prepare_tables(cases: &mut [Case], opts: &EngineOptions) -> Result<()> {
-    let mut seen: Vec<(strata_runtime::Stack, Option<PathBuf>, Option<PathBuf>)> = Vec::new();
+    let mut seen: Vec<(Bodies, Option<PathBuf>, Option<PathBuf>)> = Vec::new();
     let mut loaded: Vec<(PathBuf, Table)> = Vec::new();
     for c in cases.iter_mut() {
         let s = &c.scene;
-        if s.stack.is_homogeneous() || s.model.kind == ModelKind::Bem {
+        if s.bodies.is_homogeneous() || s.model.kind == ModelKind::Bem {
             continue;
         }
+        // (the mechanics of the pair: surfaces and conduction do not choose a table)
+        let mechanics: Bodies = s.bodies.bodies();
         if let Some((_, _, resolved)) = seen
             .iter()
-            .find(|(st, t, _)| *st == s.stack && *t == s.table)
+            .find(|(st, t, _)| *st == mechanics && *t == s.table)
         {
             c.scene.table = resolved.clone();
             continue;
@@ -244,7 +247,7 @@ fn prepare_tables(cases: &mut [Case], opts: &EngineOptions) -> Result<()> {
                     loaded.len() - 1
                 }
             };
-            if let Err(e) = loaded[k].1.family_coordinate(&c.scene.stack) {
+            if let Err(e) = loaded[k].1.family_coordinate(&c.scene.bodies) {
                 let (dir, _) = crate::cache::dir(opts.cache_dir.as_deref());
                 progress::log(format!(
                     "sweep: table {} does not serve the stack of case {} ({e}); using the table cache {} (built once if missing)",
@@ -257,7 +260,7 @@ fn prepare_tables(cases: &mut [Case], opts: &EngineOptions) -> Result<()> {
         }
         c.scene.table = resolved.clone();
         law_for(&c.scene, opts, &Console).with_context(|| format!("case {}", c.id))?;
-        seen.push((c.scene.stack.clone(), original, resolved));
+        seen.push((c.scene.bodies.bodies(), original, resolved));
     }
     Ok(())
 }
@@ -268,17 +271,18 @@ fn prepare_tables(cases: &mut [Case], opts: &EngineOptions) -> Result<()> {
 /// reads it from the cache, `crate::cache::capped_response`).
 fn prepare_capped_tables(cases: &[Case], opts: &EngineOptions) -> Result<()> {
     let dir = crate::cache::dir(opts.cache_dir.as_deref()).0;
-    let mut seen: Vec<(&strata_runtime::Stack, f64)> = Vec::new();
+    let mut seen: Vec<(Bodies, f64)> = Vec::new();
     for c in cases {
         let s = &c.scene;
         let Some(pl) = s.plasticity else { continue };
         let capped = s.model.kind != ModelKind::Bem && !s.unload && s.conductance.is_none();
-        if !capped || seen.contains(&(&s.stack, pl.hardness)) {
+        let mechanics: Bodies = s.bodies.bodies();
+        if !capped || seen.contains(&(mechanics.clone(), pl.hardness)) {
             continue;
         }
-        crate::cache::capped_response(&s.stack, pl.hardness, &dir, false)
+        crate::cache::capped_response(&s.bodies, pl.hardness, &dir, false)
             .with_context(|| format!("case {}: plasticity", c.id))?;
-        seen.push((&s.stack, pl.hardness));
+        seen.push((mechanics, pl.hardness));
     }
     Ok(())
 }

@@ -22,8 +22,9 @@ use std::io::{self, Write};
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use strata_runtime::Stack;
+use strata_runtime::stack::NoSurface;
 use strata_runtime::table::{Table, Vary};
+use strata_runtime::{Bodies, Solid, Stack};
 use strata_tablegen::tablebuild::{self, Bars, BuildOptions};
 
 pub use crate::asperity_table::{approx_paraboloid, approx_profile, build_time, law_for_stack};
@@ -176,13 +177,13 @@ fn load(file: &std::path::Path) -> Result<Table> {
 pub fn run(a: Args) -> Result<()> {
     match a.command {
         Sub::Build(b) => {
-            let mut stack = Stack::from_toml_file(&b.stack)?;
+            let mut stack = Bodies::from_toml_file(&b.stack)?;
             let mut inputs = vec![("the stack file".to_string(), b.stack.clone())];
             if let Some(c) = &b.counterface {
                 crate::cli::args::refuse_two_counterfaces(&stack, &b.stack, c)?;
                 stack = stack
-                    .against(Stack::from_toml_file(c).context("--counterface")?)
-                    .context("--counterface")?;
+                    .first
+                    .against(Stack::from_toml_file(c).context("--counterface")?);
                 inputs.push(("the counterface stack file".into(), c.clone()));
             }
             let family = b.vary.as_deref().map(parse_vary).transpose()?;
@@ -282,17 +283,17 @@ fn print_info(t: &Table, o: &mut dyn Write) -> io::Result<()> {
         "stack: {}",
         h.stack.name.as_deref().unwrap_or("(unnamed)")
     )?;
-    if let Some(c) = h.stack.counterface() {
+    if let Some(c) = h.counterface.stack() {
         writeln!(
             o,
             "counterface: {} (an elastic second body: the table is of the pair, E* = {:e} Pa; \
              file format version {})",
             c.name.as_deref().unwrap_or("(unnamed)"),
-            h.stack.contact_modulus(),
+            h.contact_modulus(),
             strata_runtime::table::codec::PAIR_VERSION
         )?;
     }
-    for line in h.stack.to_toml_string().lines() {
+    for line in Solid::bodies::<NoSurface>(h).to_toml_string().lines() {
         writeln!(o, "  {line}")?;
     }
     match h.family {
@@ -318,7 +319,7 @@ fn print_info(t: &Table, o: &mut dyn Write) -> io::Result<()> {
         "g: w = asinh(sqrt((r-a)/h1)) in [0, {:.4}], {} nodes; far field beyond r - a = {:.1} H with {} correction terms (error {:.2e} of (4/3)a^3/r)",
         h.w.hi,
         h.w.n,
-        h.stack.top_thickness().unwrap_or(1.0) * h.w.hi.sinh().powi(2) / h.stack.total_thickness(),
+        h.top_thickness().unwrap_or(1.0) * h.w.hi.sinh().powi(2) / h.total_thickness(),
         h.far_terms,
         h.far_field_error
     )?;

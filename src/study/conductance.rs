@@ -99,8 +99,8 @@ pub struct Results {
 
 /// The scene's stack with thermal conductivities (its own, else the defaults above).
 fn conducting(stack: &Stack) -> Result<(Stack, bool)> {
-    if ConductionCompliance::new(&stack.body(), ConductionKind::Thermal).is_ok() {
-        return Ok((stack.body(), true));
+    if ConductionCompliance::new(stack, ConductionKind::Thermal).is_ok() {
+        return Ok((stack.clone(), true));
     }
     let k = Conductivity::thermal;
     let layers: Vec<Conductivity> = (0..stack.layers().len())
@@ -113,14 +113,16 @@ fn conducting(stack: &Stack) -> Result<(Stack, bool)> {
         })
         .collect();
     let s = match stack.base() {
-        Base::Rigid => stack.body().with_conduction(
+        Base::Rigid => stack.clone().with_conduction(
             layers,
             Conductivity::default(),
             BaseConduction::Isothermal,
         ),
-        _ => stack
-            .body()
-            .with_conduction(layers, k(LOWER_CONDUCTIVITY), BaseConduction::HalfSpace),
+        _ => {
+            stack
+                .clone()
+                .with_conduction(layers, k(LOWER_CONDUCTIVITY), BaseConduction::HalfSpace)
+        }
     }?;
     Ok((s, false))
 }
@@ -241,14 +243,15 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     let (scene, surface, table_path, table) = super::rough::inputs(inputs)?;
     let layered = mode != Mode::Tiny;
     let (stack, own, law): (Stack, bool, Box<dyn AsperityLaw>) = if layered {
-        let law = table.law_for(&scene.stack).with_context(|| {
+        let law = table.law_for(&scene.bodies).with_context(|| {
             format!("{} does not serve the scene's stack", table_path.display())
         })?;
-        let (stack, own) = conducting(&scene.stack)?;
+        let (stack, own) = conducting(&scene.bodies.first)?;
         (stack, own, Box::new(law))
     } else {
         let top = scene
-            .stack
+            .bodies
+            .first
             .layers()
             .first()
             .map(|l| (l.young, l.poisson))

@@ -102,13 +102,14 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     let layered = mode != Mode::Tiny;
     let half;
     let (stack, law): (&Stack, Box<dyn AsperityLaw>) = if layered {
-        let law = table.law_for(&scene.stack).with_context(|| {
+        let law = table.law_for(&scene.bodies).with_context(|| {
             format!("{} does not serve the scene's stack", table_path.display())
         })?;
-        (&scene.stack, Box::new(law))
+        (&scene.bodies.first, Box::new(law))
     } else {
         let top = scene
-            .stack
+            .bodies
+            .first
             .layers()
             .first()
             .map(|l| (l.young, l.poisson))

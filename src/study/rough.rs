@@ -215,7 +215,7 @@ fn asperity_curve(
 fn bem_curve(
     heights: &Array2<f64>,
     size: f64,
-    stack: &strata_runtime::Stack,
+    stack: &(impl strata_runtime::Solid + ?Sized),
     tolerance: f64,
     loads: &[BemLoad],
 ) -> Result<(Vec<f64>, Vec<f64>)> {
@@ -248,7 +248,7 @@ pub fn inputs(inputs: &Inputs) -> Result<(Scene, Surface, std::path::PathBuf, Ta
     let table_path = scene.table.clone().unwrap_or_else(|| inputs.table.clone());
     let table = Table::load(&table_path).with_context(|| table_path.display().to_string())?;
     table
-        .law_for(&scene.stack)
+        .law_for(&scene.bodies)
         .with_context(|| format!("{} does not serve the scene's stack", table_path.display()))?;
     Ok((scene, surface, table_path, table))
 }
@@ -292,7 +292,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     let set = Settings::for_mode(runner.mode);
     let (scene, surface, table_path, table) = self::inputs(inputs)?;
     let law = table
-        .law_for(&scene.stack)
+        .law_for(&scene.bodies)
         .with_context(|| format!("{} does not serve the scene's stack", table_path.display()))?;
     let rc = RoughContact::from_surface(&law, &surface)?;
     let summits = rc.summits().len();
@@ -331,9 +331,9 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
         for &tol in &tols {
             let case = format!("bem,n={n},tol={tol:e}");
             let (pressure, area) =
-                runner.exact(|| bem_curve(h, size, &scene.stack, tol, &loads))?;
+                runner.exact(|| bem_curve(h, size, &scene.bodies, tol, &loads))?;
             let timing = runner.time("rough", &case, || {
-                bem_curve(h, size, &scene.stack, tol, &loads)
+                bem_curve(h, size, &scene.bodies, tol, &loads)
             })?;
             rows.push(Row {
                 kind: Kind::Bem {

@@ -27,7 +27,7 @@
 
 use std::f64::consts::PI;
 
-use strata_runtime::{Compliance, Stack};
+use strata_runtime::{Compliance, Solid};
 use thiserror::Error;
 
 /// Errors of the direct quadrature.
@@ -107,7 +107,7 @@ pub struct Approx {
 
 impl Approx {
     /// Prepares the quadrature for `stack`.
-    pub fn new(stack: &Stack) -> Self {
+    pub fn new(stack: &(impl Solid + ?Sized)) -> Self {
         let comp = Compliance::new(stack);
         let homogeneous = stack.is_homogeneous();
         let h1 = stack.top_thickness().unwrap_or(1.0);
@@ -130,7 +130,7 @@ impl Approx {
     /// oscillation frequency up to `omega_max` (m: the largest a + r or 2a to be
     /// evaluated; the factors oscillate like cos(ω u) with u in 1/m). Memory ≈ 30 · ω_max/h₁ · 16 B · 2. Evaluations with larger ω
     /// fall back to computing k_z per node.
-    pub fn with_cache(stack: &Stack, omega_max: f64) -> Self {
+    pub fn with_cache(stack: &(impl Solid + ?Sized), omega_max: f64) -> Self {
         let mut ap = Approx::new(stack);
         if ap.homogeneous || !(omega_max.is_finite() && omega_max > 0.0) {
             return ap;
@@ -306,6 +306,7 @@ fn level_omega(level: usize, h1: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use strata_runtime::Stack;
     use strata_runtime::{Base, Layer};
 
     fn read_reference(name: &str) -> Vec<Vec<f64>> {

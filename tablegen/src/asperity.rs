@@ -41,7 +41,7 @@
 use std::f64::consts::PI;
 
 use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
-use strata_runtime::{Compliance, Stack};
+use strata_runtime::{Bodies, Compliance, Solid};
 use thiserror::Error;
 
 use crate::fredholm::{self, Discretisation, FredholmError, FredholmSolution};
@@ -160,14 +160,14 @@ pub struct Solution {
     /// φ (Pa·m) on the uniform grid s_i = i/(len−1).
     pub phi: Vec<f64>,
     alpha: f64,
-    stack: Stack,
+    stack: Bodies,
     homogeneous: bool,
 }
 
 /// The full solver for one stack.
 #[derive(Debug, Clone)]
 pub struct Asperity {
-    stack: Stack,
+    stack: Bodies,
     comp: Compliance,
     alpha: f64,
     h1: Option<f64>,
@@ -177,7 +177,7 @@ pub struct Asperity {
 
 impl Asperity {
     /// Prepares the solver for `stack`.
-    pub fn new(stack: &Stack, opts: Options) -> Result<Asperity, AsperityError> {
+    pub fn new(stack: &(impl Solid + ?Sized), opts: Options) -> Result<Asperity, AsperityError> {
         if opts.profile_grid < 2 || opts.profile_grid > 100_000 {
             return Err(AsperityError::InvalidParameter {
                 name: "profile_grid",
@@ -187,7 +187,7 @@ impl Asperity {
         }
         let homogeneous = stack.is_homogeneous();
         Ok(Asperity {
-            stack: stack.clone(),
+            stack: stack.bodies(),
             comp: Compliance::new(stack),
             alpha: stack.alpha(),
             h1: stack.top_thickness(),
@@ -628,6 +628,7 @@ impl Solution {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use strata_runtime::Stack;
     use strata_runtime::{Base, Layer};
 
     fn rel(a: f64, b: f64) -> f64 {

@@ -21,7 +21,7 @@
 use std::f64::consts::PI;
 
 use rayon::prelude::*;
-use strata_runtime::{Compliance, Stack};
+use strata_runtime::{Compliance, Solid};
 use thiserror::Error;
 
 /// Largest phase (radians) of cos(u·x_max) across one 16-node panel.
@@ -79,7 +79,11 @@ pub struct KzQuadrature {
 
 impl KzQuadrature {
     /// Builds the rule for `stack`, resolving cos(u·x) for |x| ≤ `x_max` (m).
-    pub fn new(stack: &Stack, comp: &Compliance, x_max: f64) -> Result<Self, KernelError> {
+    pub fn new(
+        stack: &(impl Solid + ?Sized),
+        comp: &Compliance,
+        x_max: f64,
+    ) -> Result<Self, KernelError> {
         let h1 = stack.top_thickness().ok_or(KernelError::NoLayers)?;
         if !(x_max.is_finite() && x_max > 0.0) {
             return Err(KernelError::BadRange(x_max));
@@ -267,6 +271,7 @@ impl KzQuadrature {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use strata_runtime::Stack;
     use strata_runtime::{Base, Layer};
 
     fn layer_on_rigid(nu: f64) -> Stack {

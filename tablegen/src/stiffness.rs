@@ -69,7 +69,7 @@
 
 use rayon::prelude::*;
 use strata_runtime::compliance::tangential::TangentialCompliance;
-use strata_runtime::{Base, Compliance, Stack};
+use strata_runtime::{Base, Compliance, Solid, Stack};
 use thiserror::Error;
 
 use crate::asperity::Method;
@@ -145,7 +145,7 @@ pub struct Stiffness {
 }
 
 /// The largest ratio of two Young moduli in the stack (and its counterface), ≥ 1.
-fn modulus_contrast(stack: &Stack) -> f64 {
+fn modulus_contrast<S: Solid + ?Sized>(stack: &S) -> f64 {
     let mut e = Vec::new();
     let mut eat = |s: &Stack| {
         e.extend(s.layers().iter().map(|l| l.young));
@@ -153,8 +153,8 @@ fn modulus_contrast(stack: &Stack) -> f64 {
             e.push(young);
         }
     };
-    eat(stack);
-    if let Some(c) = stack.counterface() {
+    eat(stack.first());
+    if let Some(c) = stack.elastic_counterface() {
         eat(c);
     }
     let hi = e.iter().copied().fold(f64::MIN, f64::max);
@@ -173,7 +173,7 @@ pub fn harmonic_mean(k_l: f64, k_t: f64) -> f64 {
 
 impl Stiffness {
     /// Prepares the solver for `stack` (with its counterface, if any).
-    pub fn new(stack: &Stack) -> Stiffness {
+    pub fn new<S: Solid + ?Sized>(stack: &S) -> Stiffness {
         let tc = TangentialCompliance::new(stack);
         Stiffness {
             comp: Compliance::new(stack),

@@ -24,8 +24,8 @@ use crate::progress::bar;
 use crate::tablecheck::{FarChoice, choose_far_field};
 pub use crate::tablecheck::{SplitMix, check, check_with};
 use rayon::prelude::*;
-use strata_runtime::Stack;
 use strata_runtime::table::{Axis, DEFAULT_TOLERANCE, FORMAT_VERSION, Family, Header, Table, Vary};
+use strata_runtime::{Bodies, Solid};
 
 /// Table resolution and family.
 #[derive(Debug, Clone, PartialEq)]
@@ -108,7 +108,7 @@ fn log_axis(field: &'static str, lo: f64, hi: f64, n: usize) -> Result<Axis, Bui
 type Row = (f64, f64, Vec<f64>);
 
 /// Builds the table of `stack` (or of its family) with `opts`.
-pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
+pub fn build(stack: &(impl Solid + ?Sized), opts: &BuildOptions) -> Result<Table, BuildError> {
     if stack.is_homogeneous() {
         return Err(BuildError::Homogeneous);
     }
@@ -131,7 +131,7 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
     }
     let family = match opts.family {
         None => None,
-        Some(_) if stack.counterface().is_some() => {
+        Some(_) if stack.elastic_counterface().is_some() => {
             return Err(BuildError::Option {
                 field: "vary",
                 reason: "a table of a stack and its counterface has no family axis".into(),
@@ -139,16 +139,16 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
         }
         Some((vary, lo, hi, n)) => {
             match vary {
-                Vary::Layer(i) if i < 2 || i > stack.layers().len() => {
+                Vary::Layer(i) if i < 2 || i > stack.first().layers().len() => {
                     return Err(BuildError::Option {
                         field: "vary",
                         reason: format!(
                             "layer {i} cannot vary: choose 2 … {} or base",
-                            stack.layers().len()
+                            stack.first().layers().len()
                         ),
                     });
                 }
-                Vary::Base if matches!(stack.base(), strata_runtime::Base::Rigid) => {
+                Vary::Base if matches!(stack.first().base(), strata_runtime::Base::Rigid) => {
                     return Err(BuildError::Option {
                         field: "vary",
                         reason: "the base is rigid: its modulus cannot vary".into(),
@@ -168,7 +168,8 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
             format_version: FORMAT_VERSION,
             strata_version: env!("CARGO_PKG_VERSION").to_string(),
             build_time: opts.build_time,
-            stack: stack.clone(),
+            stack: stack.first().clone(),
+            counterface: stack.bodies().counterface,
             family,
             x,
             w: x, // set below, once the far field is chosen
@@ -184,7 +185,7 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
         s: Vec::new(),
         k0: Vec::new(),
     };
-    let members: Vec<Stack> = coords
+    let members: Vec<Bodies> = coords
         .iter()
         .map(|&c| table.member_stack(c))
         .collect::<Result<_, _>>()?;
@@ -262,7 +263,7 @@ pub fn build(stack: &Stack, opts: &BuildOptions) -> Result<Table, BuildError> {
 /// stays that of `opts.nw` nodes up to the default join. Refuses a far field above
 /// the tolerance.
 fn far_axis(
-    members: &[Stack],
+    members: &[Bodies],
     x: &Axis,
     h1: f64,
     depth: f64,
@@ -319,7 +320,7 @@ fn far_axis(
 
 /// Nondimensional fingerprint of a stack (thickness and modulus ratios, Poisson
 /// ratios, base) used to name cached tables.
-fn fingerprint(stack: &Stack) -> u64 {
+fn fingerprint(stack: &(impl Solid + ?Sized)) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |v: f64| {
         for b in v.to_le_bytes() {
@@ -332,7 +333,7 @@ fn fingerprint(stack: &Stack) -> u64 {
     // swap share a table.
     let h1 = stack.top_thickness().unwrap_or(1.0);
     let bodies = match stack.canonical_pair() {
-        None => vec![stack.clone()],
+        None => vec![stack.first().clone()],
         Some((a, b)) => vec![a, b],
     };
     let e1 = bodies[0].top_material().0;
@@ -360,7 +361,7 @@ fn fingerprint(stack: &Stack) -> u64 {
 /// `stack-<fingerprint>.strata`), built with `opts` and saved there when missing or
 /// unreadable. Returns the table and its path.
 pub fn build_and_cache(
-    stack: &Stack,
+    stack: &(impl Solid + ?Sized),
     dir: &Path,
     opts: &BuildOptions,
 ) -> Result<(Table, PathBuf), BuildError> {
@@ -424,6 +425,7 @@ fn refine_grid(nx: usize, nw: usize, k: usize) -> (usize, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use strata_runtime::Stack;
     use strata_runtime::law::AsperityLaw;
     use strata_runtime::{Base, Layer};
 

@@ -8,7 +8,7 @@
 use rayon::prelude::*;
 use strata_runtime::table::far::{FAR_TERMS, FarField};
 use strata_runtime::table::{Axis, InterpError, Table};
-use strata_runtime::{Compliance, Stack};
+use strata_runtime::{Bodies, Compliance, Solid};
 
 use crate::approx::{Approx, ApproxError};
 use crate::error::BuildError;
@@ -127,7 +127,7 @@ pub(crate) fn scale(a: f64, r: f64) -> f64 {
 /// The far field of g of `stack` with all [`FAR_TERMS`] correction terms (the
 /// leading term only on a rigid base, where it is exact: module docs of
 /// [`strata_runtime::table::far`]).
-pub fn far_field_of(stack: &Stack) -> FarField {
+pub fn far_field_of(stack: &(impl Solid + ?Sized)) -> FarField {
     let comp = Compliance::new(stack);
     if stack.on_rigid_bases() {
         return FarField::leading(comp.s_at_zero() - 1.0);
@@ -144,7 +144,7 @@ const PROBE_R: [f64; 3] = [1.0, 2.0, 4.0];
 /// quadrature, max over the probes (a over `x`, r − a = 1, 2, 4 × `join` (m)):
 /// max |g_direct − Σ_{k≤m} k_{2k}Φ_k|/((4/3)a³/r).
 pub fn far_field_error(
-    stack: &Stack,
+    stack: &(impl Solid + ?Sized),
     far: &FarField,
     x: &Axis,
     join: f64,
@@ -189,7 +189,7 @@ pub struct FarChoice {
 /// least halves the error. Returns the first choice within `tol`, or the last one
 /// measured (the caller refuses it).
 pub fn choose_far_field(
-    members: &[Stack],
+    members: &[Bodies],
     x: &Axis,
     mut join: f64,
     join_max: f64,

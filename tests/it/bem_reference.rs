@@ -13,8 +13,8 @@
 use std::path::{Path, PathBuf};
 
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, read_heights_npy, resample_spectral};
-use strata_runtime::Stack;
 use strata_runtime::surface::{GenerateParams, Surface};
+use strata_runtime::{Solid, Stack};
 
 fn reference_dir() -> PathBuf {
     crate::support::reference_dir()
@@ -255,7 +255,7 @@ fn python_tamaas_steel_pair() {
     );
     let heights = python_surface();
     let steel = Stack::half_space(210e9, 0.3).expect("stack");
-    let pair = steel.clone().against(steel).expect("pair");
+    let pair = steel.clone().against(steel);
     let solver = BemSolver::new(&heights, L, &pair, BemOptions::default()).expect("solver");
     let loads: Vec<BemLoad> = rows.iter().map(|r| BemLoad::MeanGap(r[ig])).collect();
     let sols = solver.solve_curve(&loads).expect("solve");

@@ -237,7 +237,7 @@ fn homogeneous_law_is_the_gw_sum_and_a_valid_abaqus_table() {
     let sc = Scene::from_file(&root().join(scene)).expect("scene");
     let surf = sc.load_surface().expect("surface");
     let summits = find_summits(&surf).summits;
-    let e = sc.stack.top_plane_strain_modulus();
+    let e = sc.bodies.first.top_plane_strain_modulus();
     let a0 = surf.extent().0 * surf.extent().1;
     let zbar = surf.mean();
     let gw = |g: f64| {

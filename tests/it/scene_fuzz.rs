@@ -188,7 +188,7 @@ fn check(text: &str, dir: &Path) {
                 let (dx, dy) = sp.pixel(64, 48).expect("accepted spacing");
                 assert!(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite());
             }
-            for l in s.stack.layers() {
+            for l in s.bodies.first.layers() {
                 assert!(l.thickness > 0.0 && l.young > 0.0 && l.poisson <= 0.5);
             }
             match &s.load {

@@ -48,6 +48,7 @@ fn small_table(x: Axis, w: Axis, s: Axis, ratio: Option<Axis>) -> Table {
             strata_version: "fuzz".into(),
             build_time: 0,
             stack,
+            counterface: Default::default(),
             family,
             x,
             w,

@@ -68,7 +68,7 @@ const I_MODEL: &str = "I model: the spots (isothermal discs of conductance G(a_i
 /// curve.json's `conductance` entry: kind, unit, definition, the counterface.
 fn summary(scene: &Scene, spec: &ConductanceSpec, definition: &'static str) -> ConductanceSummary {
     let top = spec
-        .body(&scene.stack)
+        .body(&scene.bodies.first)
         .map(|c| c.top_conductivity())
         .unwrap_or(f64::NAN);
     ConductanceSummary {
@@ -104,8 +104,8 @@ impl BemConductance {
         geometry: Geometry,
         obs: &dyn Observer,
     ) -> Result<Self> {
-        let body = spec.body(&scene.stack)?;
-        let other = spec.counterface_stack(&scene.stack)?;
+        let body = spec.body(&scene.bodies.first)?;
+        let other = spec.counterface_stack(&scene.bodies.counterface)?;
         let b = match (spec.counterface, &other) {
             (CounterfaceConduction::Perfect, _) => Conductor::Perfect,
             (CounterfaceConduction::HalfSpace(k), _) => Conductor::HalfSpace(k),

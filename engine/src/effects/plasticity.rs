@@ -16,6 +16,7 @@ use std::time::Instant;
 
 use crate::error::{Context, EngineError, Result};
 use strata_bem::{BemLoad, BemSolution, BemSolver, PlasticPath};
+use strata_runtime::Solid;
 use strata_runtime::law::Homogeneous;
 use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
 use strata_runtime::rough::{Model, RoughContact, RoughError, Step};
@@ -213,7 +214,7 @@ fn solve_capped(
     model: Model,
     observers: &mut [Box<dyn StepObserver + '_>],
 ) -> Result<SceneSolution> {
-    let e_star = scene.stack.contact_modulus();
+    let e_star = scene.bodies.contact_modulus();
     // Summits that stay below the response table's range (x = δ/δ_c < ELASTIC_X) on the
     // whole path are elastic: when every summit does, the capped model is the elastic
     // model exactly and no table is built (H → ∞ on any stack).
@@ -257,9 +258,9 @@ fn solve_capped(
     };
     if let Some((_, d)) = &approaches
         && let Some(h1) = scene
-            .stack
+            .bodies
             .top_thickness()
-            .filter(|_| !scene.stack.is_homogeneous())
+            .filter(|_| !scene.bodies.is_homogeneous())
     {
         let (lo, hi, _) = strata_tablegen::plastic_asperity::RESPONSE_Y;
         let past = rc
@@ -273,7 +274,7 @@ fn solve_capped(
         }
     }
     let cache = crate::cache::dir(opts.cache_dir.as_deref()).0;
-    let resp = crate::cache::capped_response(&scene.stack, hardness, &cache, obs.quiet())
+    let resp = crate::cache::capped_response(&scene.bodies, hardness, &cache, obs.quiet())
         .context("plasticity")?;
     let interacting = match model {
         Model::Interacting(images) => Some(images),
@@ -402,7 +403,7 @@ fn solve_capped(
                 "the capped asperity's response table (ring solves in physical space)"
             },
         ),
-        scene.stack.contact_modulus(),
+        scene.bodies.contact_modulus(),
         &rc,
         report,
         seconds,
@@ -440,7 +441,7 @@ fn solve_elastic_tips(
     model: Model,
     observers: &mut [Box<dyn StepObserver + '_>],
 ) -> Result<Option<SceneSolution>> {
-    let e_star = scene.stack.contact_modulus();
+    let e_star = scene.bodies.contact_modulus();
     let law = law_for(scene, opts, obs)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?;
     let mut sol = solve_elastic(scene, surface, opts, obs, model, observers)?;

@@ -12,6 +12,7 @@ use std::time::Instant;
 
 use crate::error::{Context, EngineError, Result};
 use strata_bem::{BemLoad, BemSolver, Geometry};
+use strata_runtime::Solid;
 use strata_runtime::rough::Step;
 use strata_runtime::surface::Surface;
 
@@ -47,7 +48,7 @@ pub fn solve(
         ly: rows_side,
         periodic,
     };
-    let stack = &scene.stack;
+    let stack = &scene.bodies;
     let t0 = Instant::now();
     let bem_options = scene.solver.bem_options(opts.bem.unwrap_or_default());
     let solver = BemSolver::with_geometry(&heights, geometry, stack, bem_options)
@@ -61,7 +62,7 @@ pub fn solve(
     } else {
         format!(
             "layered solid ({} layers; kernel 2S(|k|)/(E*₁|k|) with S computed from the stack)",
-            stack.layers().len()
+            stack.first.layers().len()
         )
     };
     let described = if periodic {

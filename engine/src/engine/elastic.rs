@@ -238,7 +238,7 @@ pub(crate) fn asperity_summary(
         scene: String::new(),
         model: model.into(),
         model_short: short.into(),
-        stack: stack_description(&scene.stack),
+        stack: stack_description(&scene.bodies),
         solid: solid.into(),
         e_star_1: e_star,
         nominal_area: rc.area(),

@@ -61,7 +61,7 @@ use std::path::{Path, PathBuf};
 use strata_bem::BemOptions;
 use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
 use strata_runtime::rough::{Images, Params};
-use strata_runtime::stack::Stack;
+use strata_runtime::stack::{Bodies, Counterface, RigidConduction, Stack};
 use strata_runtime::surface::container::Pick;
 use strata_runtime::surface::{GenerateParams, ReadOptions, Spacing, Surface};
 
@@ -212,16 +212,15 @@ impl SolverSpec {
 /// A validated scene.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
-    /// The first body; with an elastic `[counterface]`, pressed against it
-    /// ([`Stack::counterface`]), so every model sees the pair (physics.md §6.1).
-    pub stack: Stack,
+    /// The first body (`[stack]`) and its counterface (`[counterface]`, or the stack
+    /// file's own): every model sees the pair (physics.md §6.1). The counterface's
+    /// rough surface (`[counterface.surface]`), heights as seen from the first body, is
+    /// added to the first body's ([`Surface::plus_counterface`]).
+    pub bodies: Bodies<SurfaceSpec>,
     /// The stack file (`stack.file`, resolved), if the stack is not inline.
     pub stack_file: Option<PathBuf>,
     /// The counterface's stack file (`counterface.file`, resolved), if any.
     pub counterface_file: Option<PathBuf>,
-    /// The counterface's rough surface (`[counterface.surface]`), heights as seen from
-    /// the first body; added to the first body's ([`Surface::plus_counterface`]).
-    pub counterface_surface: Option<SurfaceSpec>,
     /// Optional table file (absolute).
     pub table: Option<PathBuf>,
     pub surface: SurfaceSpec,
@@ -250,8 +249,9 @@ pub struct ConductanceSpec {
     pub counterface: CounterfaceConduction,
 }
 
-/// The counterface's conduction (`[counterface]` keys `conduction`,
-/// `thermal_conductivity`, `electrical_conductivity`).
+/// How the counterface conducts for one conduction kind: a view of the scene's
+/// [`Counterface`] ([`CounterfaceConduction::of`], the one place it is derived), which
+/// the spot sums and the BEM read; the C ABI states it directly.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum CounterfaceConduction {
     /// `conduction = "perfect"`: a perfect conductor (C_th,B = 0).
@@ -259,15 +259,41 @@ pub enum CounterfaceConduction {
     /// The rigid flat as a conducting half-space of this conductivity (W/(m·K) or S/m):
     /// C_th,B = 1/(k_B |k|).
     HalfSpace(f64),
-    /// The elastic counterface stack's own conductivities ([`Stack::counterface`]).
+    /// The elastic counterface stack's own conductivities ([`Counterface::Elastic`]).
     Stack,
 }
 
+impl CounterfaceConduction {
+    /// The view of `counterface` for `kind`: `None` for a rigid flat that gives no
+    /// conductivity of this kind and is not a perfect conductor.
+    pub fn of<S>(counterface: &Counterface<S>, kind: ConductionKind) -> Option<Self> {
+        match counterface {
+            Counterface::Elastic {
+                perfect_conductor: true,
+                ..
+            }
+            | Counterface::Rigid {
+                conduction: RigidConduction::Perfect,
+                ..
+            } => Some(CounterfaceConduction::Perfect),
+            Counterface::Elastic { .. } => Some(CounterfaceConduction::Stack),
+            Counterface::Rigid {
+                conduction: RigidConduction::HalfSpace(c),
+                ..
+            } => match kind {
+                ConductionKind::Thermal => c.thermal,
+                ConductionKind::Electrical => c.electrical,
+            }
+            .map(CounterfaceConduction::HalfSpace),
+        }
+    }
+}
+
 impl ConductanceSpec {
-    /// The conduction compliance of the first body of `stack` (its counterface not
+    /// The conduction compliance of the first body `stack` (its counterface not
     /// included) for this kind.
     pub fn body(&self, stack: &Stack) -> Result<ConductionCompliance, SceneError> {
-        ConductionCompliance::new(&stack.body(), self.kind).map_err(|e| SceneError::Invalid {
+        ConductionCompliance::new(stack, self.kind).map_err(|e| SceneError::Invalid {
             field: "stack".into(),
             reason: format!(
                 "{e}; [conductance] kind = \"{}\" needs it",
@@ -276,13 +302,13 @@ impl ConductanceSpec {
         })
     }
 
-    /// The conduction compliance of the elastic counterface of `stack`
+    /// The conduction compliance of the elastic `counterface`
     /// ([`CounterfaceConduction::Stack`]; `None` otherwise).
-    pub fn counterface_stack(
+    pub fn counterface_stack<S>(
         &self,
-        stack: &Stack,
+        counterface: &Counterface<S>,
     ) -> Result<Option<ConductionCompliance>, SceneError> {
-        match (self.counterface, stack.counterface()) {
+        match (self.counterface, counterface.stack()) {
             (CounterfaceConduction::Stack, Some(c)) => ConductionCompliance::new(c, self.kind)
                 .map(Some)
                 .map_err(|e| SceneError::Invalid {
@@ -360,7 +386,7 @@ impl Scene {
         if let Some(SurfaceSpec {
             source: SurfaceSource::File(p),
             ..
-        }) = &self.counterface_surface
+        }) = self.bodies.counterface.surface()
         {
             v.push(("the scene's counterface surface file".into(), p.clone()));
         }
@@ -402,7 +428,7 @@ impl Scene {
     /// surface h_A + h_B (physics.md §6.1).
     pub fn load_surface(&self) -> Result<Surface, SceneError> {
         let own = load_spec(&self.surface)?;
-        match &self.counterface_surface {
+        match self.bodies.counterface.surface() {
             None => Ok(own),
             Some(c) => Ok(own.plus_counterface(&load_spec(c)?)?),
         }
@@ -540,7 +566,7 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         let s = parse(GOOD).unwrap();
         assert_eq!(s.model.images, Images::Periodic(2));
         assert!(s.surface.read.periodic);
-        assert_eq!(s.stack.layers().len(), 1);
+        assert_eq!(s.bodies.first.layers().len(), 1);
         let d = s.load.approaches(1e-5, 2e-5).unwrap().unwrap();
         for (x, y) in d.iter().zip([1e-6, 3e-6, 5e-6, 7e-6, 9e-6]) {
             assert!((x - y).abs() < 1e-20);
@@ -730,7 +756,7 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         let spec = s.conductance.unwrap();
         assert_eq!(spec.kind, ConductionKind::Thermal);
         assert_eq!(spec.counterface, CounterfaceConduction::HalfSpace(50.0));
-        assert_eq!(spec.body(&s.stack).unwrap().top_conductivity(), 0.3);
+        assert_eq!(spec.body(&s.bodies.first).unwrap().top_conductivity(), 0.3);
         let s = parse(&with(
             &conducting,
             &format!("{c}\n[counterface]\nconduction = \"perfect\""),
@@ -769,7 +795,10 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
         let s = parse(&with(&conducting, &format!("{c}\n{elastic}"))).unwrap();
         let spec = s.conductance.unwrap();
         assert_eq!(spec.counterface, CounterfaceConduction::Stack);
-        let cf = spec.counterface_stack(&s.stack).unwrap().unwrap();
+        let cf = spec
+            .counterface_stack(&s.bodies.counterface)
+            .unwrap()
+            .unwrap();
         assert_eq!(cf.top_conductivity(), 40.0);
         let e = err(&with(
             &conducting,

@@ -7,7 +7,8 @@ use std::path::{Path, PathBuf};
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::rough::Images;
 use strata_runtime::stack::{
-    Conductivity, CounterfaceConductionFile, CounterfaceFile, CounterfaceKindFile, Stack, StackFile,
+    Bodies, Conductivity, Counterface, CounterfaceConductionFile, CounterfaceFile,
+    CounterfaceKindFile, RigidConduction, Stack, StackError, StackFile,
 };
 use strata_runtime::surface::container::Pick;
 use strata_runtime::surface::{
@@ -165,7 +166,7 @@ impl SceneFile {
                         "give either `file` or inline [[stack.layer]]/[stack.base], not both",
                     ));
                 }
-                Stack::from_toml_file(f).map_err(SceneError::StackFile)?
+                Bodies::from_toml_file(f).map_err(SceneError::StackFile)?
             }
             None => StackFile {
                 name: st.name,
@@ -173,7 +174,7 @@ impl SceneFile {
                 base: st.base,
                 counterface: None,
             }
-            .stack()
+            .bodies()
             .map_err(SceneError::Stack)?,
         };
         let mut table_path = st
@@ -190,10 +191,14 @@ impl SceneFile {
             .transpose()?;
         // [counterface] (absent: a rigid smooth flat)
         let counter = counterface(self.counterface, dir)?;
-        let mut stack = stack;
         // One counterface, given in one place: a stack file's own [counterface] is
         // neither replaced by the scene's nor overridden by an explicit rigid flat.
-        if stack.counterface().is_some() {
+        let Bodies {
+            first: stack,
+            counterface: own_counterface,
+        } = stack;
+        let mut elastic = own_counterface.stack().cloned();
+        if elastic.is_some() {
             let own = match &stack_file {
                 Some(f) => format!("the stack file {} has its own [counterface]", f.display()),
                 None => "[stack] has its own counterface".to_string(),
@@ -225,11 +230,28 @@ impl SceneFile {
                      leave it out to use the table cache",
                 ));
             }
-            stack = stack
-                .against(c.clone())
-                .map_err(|e| invalid("counterface", e.to_string()))?;
+            elastic = Some(c.clone());
             table_path = counter.table.clone();
         }
+        let perfect = counter.conduction == Some(CounterfaceConductionFile::Perfect);
+        let bodies = Bodies {
+            first: stack,
+            counterface: match elastic {
+                Some(stack) => Counterface::Elastic {
+                    stack,
+                    surface: counter.surface.clone(),
+                    perfect_conductor: perfect,
+                },
+                None => Counterface::Rigid {
+                    conduction: if perfect {
+                        RigidConduction::Perfect
+                    } else {
+                        RigidConduction::HalfSpace(counter.conductivity)
+                    },
+                    surface: counter.surface.clone(),
+                },
+            },
+        };
         // [surface] (or one given in memory)
         let surface = match surface {
             Some(s) => s,
@@ -328,7 +350,7 @@ impl SceneFile {
         }
         let conductance = match self.conductance {
             None => None,
-            Some(c) => Some(conductance(c, &counter, &stack)?),
+            Some(c) => Some(conductance(c, &counter, &bodies)?),
         };
         let solver = match self.solver {
             None => SolverSpec::default(),
@@ -338,10 +360,9 @@ impl SceneFile {
             conductance,
             plasticity,
             unload,
-            stack,
+            bodies,
             stack_file,
             counterface_file: counter.file,
-            counterface_surface: counter.surface,
             table: table_path,
             surface,
             model: ModelSpec { kind, images },
@@ -618,7 +639,17 @@ fn counterface(
                         "give either `file` or inline [[counterface.layer]]/[counterface.base], not both",
                     ));
                 }
-                Stack::from_toml_file(f).map_err(|e| invalid("counterface.file", e.to_string()))?
+                // a counterface file that writes its own [counterface]: named as such
+                let file_error = |e: StackError| StackError::InFile {
+                    path: f.display().to_string(),
+                    error: Box::new(e),
+                };
+                Bodies::from_toml_file(f)
+                    .and_then(|b| {
+                        b.single()
+                            .map_err(|_| file_error(StackError::NestedCounterface))
+                    })
+                    .map_err(|e| invalid("counterface.file", e.to_string()))?
             }
             None => {
                 if !ct.has_inline_stack() {
@@ -660,7 +691,7 @@ fn counterface(
 fn conductance(
     ct: ConductanceFile,
     counter: &CounterfaceSpec,
-    stack: &Stack,
+    bodies: &Bodies<SurfaceSpec>,
 ) -> Result<ConductanceSpec, SceneError> {
     let kind = match ct.kind {
         Some(ConductionKindFile::Thermal) => ConductionKind::Thermal,
@@ -675,39 +706,33 @@ fn conductance(
         ConductionKind::Thermal => c.thermal,
         ConductionKind::Electrical => c.electrical,
     };
-    let perfect = counter.conduction == Some(CounterfaceConductionFile::Perfect);
-    let counterface = if stack.counterface().is_some() {
-        if perfect {
-            CounterfaceConduction::Perfect
-        } else {
-            CounterfaceConduction::Stack
+    let rigid_perfect = matches!(
+        bodies.counterface,
+        Counterface::Rigid {
+            conduction: RigidConduction::Perfect,
+            ..
         }
-    } else {
-        match (perfect, pick(&counter.conductivity)) {
-            (true, Some(_)) => {
-                return Err(invalid(
-                    format!("counterface.{}", kind.field()),
-                    "a perfect conductor (counterface.conduction = \"perfect\") has no \
-                     conductivity: give one or the other",
-                ));
-            }
-            (true, None) => CounterfaceConduction::Perfect,
-            (false, Some(k)) => CounterfaceConduction::HalfSpace(k),
-            (false, None) => {
-                return Err(SceneError::Missing(format!(
-                    "counterface.{} ({}; the rigid flat as a conducting half-space) or \
-                     counterface.conduction = \"perfect\": [conductance] kind = \"{}\" needs the \
-                     counterface's conduction",
-                    kind.field(),
-                    kind.conductivity_unit(),
-                    kind.name()
-                )));
-            }
-        }
+    );
+    if rigid_perfect && pick(&counter.conductivity).is_some() {
+        return Err(invalid(
+            format!("counterface.{}", kind.field()),
+            "a perfect conductor (counterface.conduction = \"perfect\") has no \
+             conductivity: give one or the other",
+        ));
+    }
+    let Some(counterface) = CounterfaceConduction::of(&bodies.counterface, kind) else {
+        return Err(SceneError::Missing(format!(
+            "counterface.{} ({}; the rigid flat as a conducting half-space) or \
+             counterface.conduction = \"perfect\": [conductance] kind = \"{}\" needs the \
+             counterface's conduction",
+            kind.field(),
+            kind.conductivity_unit(),
+            kind.name()
+        )));
     };
     let spec = ConductanceSpec { kind, counterface };
-    spec.body(stack)?;
-    spec.counterface_stack(stack)?;
+    spec.body(&bodies.first)?;
+    spec.counterface_stack(&bodies.counterface)?;
     Ok(spec)
 }
 

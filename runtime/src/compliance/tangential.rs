@@ -63,7 +63,7 @@
 //! bodies (the frame is the stack's); S_zz, S_LL and S_TT are symmetric, bit for bit.
 
 use super::{Body, SMALL_T};
-use crate::stack::{Base, Stack, plane_strain_modulus, shear_modulus};
+use crate::stack::{Base, Solid, Stack, plane_strain_modulus, shear_modulus};
 
 /// The four normalised compliances at one wavenumber (dimensionless; module docs).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,14 +120,14 @@ struct ShChain {
 }
 
 impl TangentialCompliance {
-    /// Precomputes the constants of `stack` (and of its counterface, if any).
-    pub fn new(stack: &Stack) -> Self {
+    /// Precomputes the constants of a solid (one stack, or the two [`crate::Bodies`]).
+    pub fn new<S: Solid + ?Sized>(stack: &S) -> Self {
         match stack.canonical_pair() {
             None => TangentialCompliance {
-                a: Side::new(stack),
+                a: Side::new(stack.first()),
                 b: None,
-                e_star: stack.top_plane_strain_modulus(),
-                mu_star: top_shear_modulus(stack),
+                e_star: stack.first().top_plane_strain_modulus(),
+                mu_star: top_shear_modulus(stack.first()),
             },
             Some((a, b)) => {
                 let e_star = stack.contact_modulus();
@@ -135,7 +135,8 @@ impl TangentialCompliance {
                 let mu_star = 1.0 / (1.0 / mu_a + 1.0 / mu_b);
                 // The stack is `a` unless the canonical order swapped the bodies; two
                 // bodies of the same mechanics give S_zL = 0 either way.
-                let own_first = a.layers() == stack.layers() && a.base() == stack.base();
+                let own_first =
+                    a.layers() == stack.first().layers() && a.base() == stack.first().base();
                 let zl_sign = if own_first { 1.0 } else { -1.0 };
                 TangentialCompliance {
                     b: Some(Pair {

@@ -1,7 +1,7 @@
 //! The stack file format as serde types (`deny_unknown_fields`): [`StackFile`] (`name`,
 //! `[[layer]]`, `[base]`, `[counterface]`) and [`CounterfaceFile`], the one reader of a
 //! `[counterface]` table, in stack files and in scenes alike. Deserializing checks the
-//! keys and their types; [`StackFile::stack`] and [`CounterfaceFile::elastic_body`]
+//! keys and their types; [`StackFile::bodies`] and [`CounterfaceFile::elastic_body`]
 //! validate the values. Errors name the field and the layer ([`StackError`]); a serde
 //! error is turned into one by [`StackError::from_serde`] from its dotted path
 //! (`layer[1].young`, `counterface.base.kind`).
@@ -10,8 +10,8 @@ use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
 
 use super::{
-    Base, BaseConduction, Conductivity, Layer, Location, Stack, StackError, check_poisson,
-    check_thickness, check_young,
+    Base, BaseConduction, Bodies, Conductivity, Counterface, Layer, Location, Stack, StackError,
+    check_poisson, check_thickness, check_young,
 };
 
 /// One `[[layer]]` table (SI units). Every field is optional here so that a missing one
@@ -330,28 +330,29 @@ fn body_file(stack: &Stack) -> (Option<String>, Option<Vec<LayerFile>>, BaseFile
 }
 
 impl StackFile {
-    /// Validates the file into a [`Stack`] (with its counterface, if any).
-    pub fn stack(&self) -> Result<Stack, StackError> {
-        let stack = body(&self.name, &self.layer, &self.base)?;
-        match &self.counterface {
-            None => Ok(stack),
-            Some(c) => {
-                let b = c
-                    .stack_file_body()
-                    .map_err(|e| StackError::Counterface(Box::new(e)))?;
-                stack.against(b)
-            }
-        }
+    /// Validates the file into its [`Bodies`]: the first body and its elastic
+    /// `[counterface]` (a rigid flat without one).
+    pub fn bodies(&self) -> Result<Bodies, StackError> {
+        let first = body(&self.name, &self.layer, &self.base)?;
+        let counterface = match &self.counterface {
+            None => Counterface::default(),
+            Some(c) => Counterface::elastic(
+                c.stack_file_body()
+                    .map_err(|e| StackError::Counterface(Box::new(e)))?,
+            ),
+        };
+        Ok(Bodies { first, counterface })
     }
 
-    /// The file form of `stack` (what [`StackFile::stack`] reads back to `stack`).
-    pub fn of(stack: &Stack) -> StackFile {
-        let (name, layer, base) = body_file(&stack.body());
+    /// The file form of `bodies` (what [`StackFile::bodies`] reads back to `bodies`;
+    /// a rigid flat's conduction is not part of a stack file).
+    pub fn of<S>(bodies: &Bodies<S>) -> StackFile {
+        let (name, layer, base) = body_file(&bodies.first);
         StackFile {
             name,
             layer,
             base: Some(base),
-            counterface: stack.counterface().map(CounterfaceFile::of),
+            counterface: bodies.counterface.stack().map(CounterfaceFile::of),
         }
     }
 }

@@ -55,7 +55,7 @@ impl Table {
 
 /// Serialises a table (header and arrays) to bytes.
 pub fn encode(table: &Table) -> Result<Vec<u8>, TableError> {
-    let (version, payload) = match table.header.stack.counterface() {
+    let (version, payload) = match table.header.counterface.stack() {
         None => (FORMAT_VERSION, to_payload(table)),
         Some(c) => (PAIR_VERSION, to_payload(&(table, c))),
     };
@@ -191,7 +191,7 @@ pub fn decode(bytes: &[u8]) -> Result<Table, TableError> {
         // Deserialisation bypasses Stack::new: re-validate before attaching.
         let mut c = Stack::new(counterface.layers().to_vec(), counterface.base())?;
         c.name = counterface.name.clone();
-        table.header.stack = table.header.stack.against(c)?;
+        table.header.counterface = crate::stack::Counterface::elastic(c);
         table
     };
     table.validate()?;

@@ -41,7 +41,7 @@ use crate::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
 use anyhow::{Context, Result, anyhow, bail};
 use strata_runtime::hash::Fnv1a;
 use strata_runtime::rough::Images;
-use strata_runtime::stack::{Base, Stack};
+use strata_runtime::stack::{Base, Counterface, Stack};
 use toml::Value as Toml;
 
 /// Largest number of cases a sweep may enumerate.
@@ -245,7 +245,7 @@ pub fn input_files(scene: &Scene) -> Vec<PathBuf> {
     if let Some(SurfaceSpec {
         source: SurfaceSource::File(p),
         ..
-    }) = &scene.counterface_surface
+    }) = scene.bodies.counterface.surface()
     {
         v.push(p.clone());
     }
@@ -562,17 +562,17 @@ impl Sweep {
                         "{field}: the base scene's surface is read from a file; only generated surfaces ([surface.generate]) can be swept"
                     )
                 }
-                Param::Layer(n, _) if n > self.base.stack.layers().len() => bail!(
+                Param::Layer(n, _) if n > self.base.bodies.first.layers().len() => bail!(
                     "{field}: the base scene's stack has {} layer(s)",
-                    self.base.stack.layers().len()
+                    self.base.bodies.first.layers().len()
                 ),
                 Param::BaseYoung | Param::BasePoisson
-                    if matches!(self.base.stack.base(), Base::Rigid) =>
+                    if matches!(self.base.bodies.first.base(), Base::Rigid) =>
                 {
                     bail!("{field}: the base scene's stack has a rigid base")
                 }
                 Param::CounterLayer(..) | Param::CounterBaseYoung | Param::CounterBasePoisson
-                    if self.base.stack.counterface().is_none() =>
+                    if self.base.bodies.counterface.stack().is_none() =>
                 {
                     bail!(
                         "{field}: the base scene has no elastic counterface (give a [counterface] stack)"
@@ -581,31 +581,34 @@ impl Sweep {
                 Param::CounterLayer(n, _)
                     if n > self
                         .base
-                        .stack
-                        .counterface()
+                        .bodies
+                        .counterface
+                        .stack()
                         .map_or(0, |c| c.layers().len()) =>
                 {
                     bail!(
                         "{field}: the base scene's counterface has {} layer(s)",
                         self.base
-                            .stack
-                            .counterface()
+                            .bodies
+                            .counterface
+                            .stack()
                             .map_or(0, |c| c.layers().len())
                     )
                 }
                 Param::CounterBaseYoung | Param::CounterBasePoisson
                     if self
                         .base
-                        .stack
-                        .counterface()
+                        .bodies
+                        .counterface
+                        .stack()
                         .is_some_and(|c| matches!(c.base(), Base::Rigid)) =>
                 {
                     bail!("{field}: the base scene's counterface has a rigid base")
                 }
                 Param::ModulusRatio
-                    if self.base.stack.layers().len() < 2
-                        && !(self.base.stack.layers().len() == 1
-                            && matches!(self.base.stack.base(), Base::Elastic { .. })) =>
+                    if self.base.bodies.first.layers().len() < 2
+                        && !(self.base.bodies.first.layers().len() == 1
+                            && matches!(self.base.bodies.first.base(), Base::Elastic { .. })) =>
                 {
                     bail!(
                         "{field}: E2/E1 needs a second layer (or one layer on an elastic base) in the base scene's stack"
@@ -663,8 +666,8 @@ impl Sweep {
             )
         });
         if stack_swept {
-            let mut layers = scene.stack.layers().to_vec();
-            let mut base = scene.stack.base();
+            let mut layers = scene.bodies.first.layers().to_vec();
+            let mut base = scene.bodies.first.base();
             let mut ratio = None;
             for (a, v) in self.axes.iter().zip(values) {
                 let x = v.num();
@@ -685,11 +688,7 @@ impl Sweep {
                 }
             }
             // (a swept stack loses its name: the name described the base scene's)
-            let mut st = Stack::new(layers, base).context("stack")?;
-            if let Some(c) = scene.stack.counterface() {
-                st = st.against(c.clone()).context("stack")?;
-            }
-            scene.stack = st;
+            scene.bodies.first = Stack::new(layers, base).context("stack")?;
         }
         let counter_swept = self.axes.iter().any(|a| {
             matches!(
@@ -697,7 +696,9 @@ impl Sweep {
                 Param::CounterLayer(..) | Param::CounterBaseYoung | Param::CounterBasePoisson
             )
         });
-        if let (true, Some(c)) = (counter_swept, scene.stack.counterface()) {
+        if let (true, Counterface::Elastic { stack: c, .. }) =
+            (counter_swept, &mut scene.bodies.counterface)
+        {
             let mut layers = c.layers().to_vec();
             let mut base = c.base();
             for (a, v) in self.axes.iter().zip(values) {
@@ -709,8 +710,7 @@ impl Sweep {
                     _ => {}
                 }
             }
-            let cs = Stack::new(layers, base).context("counterface")?;
-            scene.stack = scene.stack.body().against(cs).context("counterface")?;
+            *c = Stack::new(layers, base).context("counterface")?;
         }
         for (a, v) in self.axes.iter().zip(values) {
             match a.param {
@@ -876,7 +876,7 @@ approach = { from = 1e-6, to = 4e-6, steps = 3 }
         );
         let c = s.case(11).unwrap();
         assert_eq!(c.scene.model.kind, ModelKind::Interacting);
-        assert_eq!(c.scene.stack.layers()[1].young, 0.5 * 4e9);
+        assert_eq!(c.scene.bodies.first.layers()[1].young, 0.5 * 4e9);
         let SurfaceSource::Generate(g) = c.scene.surface.source else {
             panic!()
         };
