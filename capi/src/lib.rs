@@ -53,6 +53,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 use std::sync::Arc;
 
+use strata_engine::contact_law::{ContactLaw, ContactLawError};
 use strata_engine::error::EngineError;
 use strata_engine::law_build::{LawInputs, UncoveredSummit, sample_asperity_law};
 use strata_engine::progress::{Report, scoped};
@@ -191,17 +192,17 @@ pub struct StrataSurface {
 /// interface conductance h_c and the hardness when built with them
 /// (`strata_law_new_with_law_options`).
 pub struct StrataLaw {
-    law: InterfaceLaw,
+    /// p(g), A(g)/A₀, dp/dg and h_c(g), h_c(p): the engine's one contact law, the one
+    /// `strata compare`, `strata law` and Python interpolate with.
+    contact: ContactLaw,
     /// The hardness H (Pa) of a capped law.
     hardness: Option<f64>,
-    /// h_c at the samples and its kind.
-    conductance: Option<(ConductionKind, ConductanceCurve)>,
 }
 
 impl StrataLaw {
     /// The sampled law p(g), A(g)/A₀, dp/dg.
     pub fn law(&self) -> &InterfaceLaw {
-        &self.law
+        self.contact.law()
     }
 }
 
@@ -618,7 +619,7 @@ unsafe fn query(
         if out.is_null() {
             return Err(CapiError::Null("out"));
         }
-        let q = l.law.eval(gap)?;
+        let q = l.law().eval(gap)?;
         unsafe { out_f64("out", out, pick(q)) }
     })
 }
@@ -1127,29 +1128,27 @@ pub fn build_law_with_effects(
         sample_asperity_law(inputs, &effects, samples, min_gap, None)
     })
     .map_err(engine_error)?;
-    let conductance = match sampled.conductance {
-        None => None,
-        Some((kind, h)) => {
-            let gaps: Vec<f64> = sampled.law.samples().map(|s| s.0).collect();
-            let curve = ConductanceCurve::new(&gaps, &h).ok_or_else(|| {
-                CapiError::Solve(format!(
-                    "conductance: the samples' h_c {h:?} are not finite and ≥ 0"
-                ))
-            })?;
-            Some((kind, curve))
-        }
-    };
+    let h = sampled
+        .conductance
+        .as_ref()
+        .map(|(k, h)| (*k, h.as_slice()));
+    let contact = ContactLaw::new(sampled.law, h).map_err(|e| match e {
+        ContactLawError::InfiniteConductance => CapiError::Solve(format!(
+            "conductance: the samples' h_c {:?} are not finite and ≥ 0",
+            sampled.conductance.as_ref().map(|(_, h)| h)
+        )),
+        e => CapiError::Solve(e.to_string()),
+    })?;
     Ok(StrataLaw {
-        law: sampled.law,
+        contact,
         hardness: effects.hardness,
-        conductance,
     })
 }
 
 /// The conductance curve of a law, or an error naming `law` when it has none.
 fn conductance_of(l: &StrataLaw) -> Result<&ConductanceCurve, CapiError> {
-    l.conductance
-        .as_ref()
+    l.contact
+        .conductance()
         .map(|(_, c)| c)
         .ok_or_else(|| CapiError::Invalid {
             name: "law",
@@ -1168,11 +1167,11 @@ pub fn conductance_into(
     by_pressure: bool,
     out: &mut [f64],
 ) -> Result<(), CapiError> {
-    let c = conductance_of(l)?;
+    conductance_of(l)?;
     let mut v = Vec::with_capacity(at.len());
     for (i, &x) in at.iter().enumerate() {
         v.push(
-            conductance_at(l, c, name, x, by_pressure).map_err(|e| CapiError::Element {
+            conductance_at(l, name, x, by_pressure).map_err(|e| CapiError::Element {
                 name,
                 index: i,
                 error: Box::new(e),
@@ -1183,20 +1182,23 @@ pub fn conductance_into(
     Ok(())
 }
 
-/// h_c of `l` at a separation or, with `by_pressure`, at a mean pressure.
+/// h_c of `l` at a separation or, with `by_pressure`, at a mean pressure: the
+/// engine's [`ContactLaw`] (PCHIP in g; h_c(p) by bisection on p(g)).
 fn conductance_at(
     l: &StrataLaw,
-    c: &ConductanceCurve,
     name: &'static str,
     x: f64,
     by_pressure: bool,
 ) -> Result<f64, CapiError> {
     let r = if by_pressure {
-        c.at_pressure(x, |g| l.law.eval(g).map_or(f64::NAN, |q| q.pressure))
+        l.contact.conductance_at_pressure(x)
     } else {
-        c.at_gap(x)
+        l.contact.conductance_at_gap(x)
     };
-    r.map_err(|error| CapiError::Curve { name, error })
+    r.map_err(|e| match e {
+        ContactLawError::Conductance(error) => CapiError::Curve { name, error },
+        e => CapiError::Solve(format!("{name}: {e}")),
+    })
 }
 
 /// The law as CSV, as `strata law --format csv` writes it: the samples
@@ -1204,11 +1206,11 @@ fn conductance_at(
 /// hardness, the column `branch` (`loading`: the asperity models give the loading curve
 /// only).
 pub fn law_csv(l: &StrataLaw) -> String {
-    let base = l.law.csv();
-    if l.conductance.is_none() && l.hardness.is_none() {
+    let base = l.law().csv();
+    if l.contact.conductance().is_none() && l.hardness.is_none() {
         return base;
     }
-    let h: Option<Vec<f64>> = l.conductance.as_ref().map(|(_, c)| c.samples().collect());
+    let h: Option<Vec<f64>> = l.contact.conductance().map(|(_, c)| c.samples().collect());
     let mut out = String::with_capacity(base.len() * 2);
     for (i, line) in base.lines().enumerate() {
         out.push_str(line);
@@ -1236,7 +1238,7 @@ pub fn law_csv(l: &StrataLaw) -> String {
 /// (whose comments say what CalculiX reads of it: docs/guide/conductance.md).
 pub fn law_abaqus(l: &StrataLaw) -> String {
     use strata_runtime::interface::abaqus_real;
-    let mut s = l.law.abaqus_block(&[
+    let mut s = l.law().abaqus_block(&[
         "strata (C ABI): pressure-overclosure law of a rough layered interface".into(),
     ]);
     if let Some(h) = l.hardness {
@@ -1247,10 +1249,10 @@ pub fn law_abaqus(l: &StrataLaw) -> String {
             abaqus_real(h)
         ));
     }
-    if let Some((kind, c)) = &l.conductance {
+    if let Some((kind, c)) = l.contact.conductance() {
         let mut lines = String::new();
         let mut last = f64::NEG_INFINITY;
-        for ((_, p, _, _), hc) in l.law.samples().zip(c.samples()) {
+        for ((_, p, _, _), hc) in l.law().samples().zip(c.samples()) {
             if p.is_nan() || p <= last || !hc.is_finite() {
                 continue;
             }
@@ -1621,7 +1623,7 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let stack = Stack::from_toml_file(&sp)?;
+            let stack = Bodies::from_toml_file(&sp)?;
             let effects = LawEffects::default();
             let law = build_law_with_effects(
                 table, &stack, surface, model, min_gap, samples, params, effects,
@@ -1726,7 +1728,7 @@ mod exported {
                     return Err(CapiError::Null(name));
                 }
             }
-            let q = l.law.eval(gap)?;
+            let q = l.law().eval(gap)?;
             // SAFETY: non-NULL (checked above), writable per the API contract.
             unsafe {
                 *pressure = q.pressure;
@@ -1757,7 +1759,7 @@ mod exported {
             let p = unsafe { slice_out("pressure", pressure, n) }?;
             let a = unsafe { slice_out("area_fraction", area_fraction, n) }?;
             let d = unsafe { slice_out("dp_dg", dp_dg, n) }?;
-            eval_into(&l.law, g, p, a, d)
+            eval_into(l.law(), g, p, a, d)
         })
     }
 
@@ -1801,7 +1803,7 @@ mod exported {
     ) -> i32 {
         guard(|| {
             let l = unsafe { get("law", law) }?;
-            unsafe { out_f64("out", out, l.law.first_contact_gap()) }
+            unsafe { out_f64("out", out, l.law().first_contact_gap()) }
         })
     }
 
@@ -1810,7 +1812,7 @@ mod exported {
     pub unsafe extern "C" fn strata_law_min_gap(law: *const StrataLaw, out: *mut f64) -> i32 {
         guard(|| {
             let l = unsafe { get("law", law) }?;
-            unsafe { out_f64("out", out, l.law.min_gap()) }
+            unsafe { out_f64("out", out, l.law().min_gap()) }
         })
     }
 
@@ -1975,10 +1977,10 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let k = match l.conductance {
+            let k = match l.contact.conductance_kind() {
                 None => STRATA_CONDUCTANCE_NONE,
-                Some((ConductionKind::Thermal, _)) => STRATA_CONDUCTANCE_THERMAL,
-                Some((ConductionKind::Electrical, _)) => STRATA_CONDUCTANCE_ELECTRICAL,
+                Some(ConductionKind::Thermal) => STRATA_CONDUCTANCE_THERMAL,
+                Some(ConductionKind::Electrical) => STRATA_CONDUCTANCE_ELECTRICAL,
             };
             // SAFETY: non-NULL, writable per the API contract.
             unsafe { *out = k };
@@ -2009,11 +2011,11 @@ mod exported {
     ) -> i32 {
         guard(|| {
             let l = unsafe { get("law", law) }?;
-            let c = conductance_of(l)?;
+            conductance_of(l)?;
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let v = conductance_at(l, c, "gap", gap, false)?;
+            let v = conductance_at(l, "gap", gap, false)?;
             unsafe { out_f64("out", out, v) }
         })
     }
@@ -2049,11 +2051,11 @@ mod exported {
     ) -> i32 {
         guard(|| {
             let l = unsafe { get("law", law) }?;
-            let c = conductance_of(l)?;
+            conductance_of(l)?;
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let v = conductance_at(l, c, "pressure", pressure, true)?;
+            let v = conductance_at(l, "pressure", pressure, true)?;
             unsafe { out_f64("out", out, v) }
         })
     }
@@ -2089,7 +2091,7 @@ mod exported {
     ) -> i32 {
         guard(|| {
             let l = unsafe { get("law", law) }?;
-            let c = conductance_of(l)?;
+            conductance_of(l)?;
             for (name, p) in [
                 ("pressure", pressure),
                 ("area_fraction", area_fraction),
@@ -2100,8 +2102,8 @@ mod exported {
                     return Err(CapiError::Null(name));
                 }
             }
-            let q = l.law.eval(gap)?;
-            let h = conductance_at(l, c, "gap", gap, false)?;
+            let q = l.law().eval(gap)?;
+            let h = conductance_at(l, "gap", gap, false)?;
             // SAFETY: non-NULL (checked above), writable per the API contract.
             unsafe {
                 *pressure = q.pressure;
@@ -2163,5 +2165,6 @@ pub fn build_law_with(
     Ok(build_law_with_effects(
         table, stack, surface, model, min_gap, samples, params, effects,
     )?
-    .law)
+    .law()
+    .clone())
 }

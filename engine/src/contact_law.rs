@@ -114,6 +114,12 @@ impl ContactLaw {
         self.conductance.as_ref().map(|(k, _)| *k)
     }
 
+    /// The conductance's kind and its curve h_c(g) (its samples, PCHIP between them),
+    /// when the law carries one.
+    pub fn conductance(&self) -> Option<(ConductionKind, &ConductanceCurve)> {
+        self.conductance.as_ref().map(|(k, c)| (*k, c))
+    }
+
     fn curve(&self) -> Result<&ConductanceCurve, ContactLawError> {
         self.conductance
             .as_ref()

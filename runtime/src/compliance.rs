@@ -306,10 +306,9 @@ impl Body {
 
 impl Stack {
     /// The normalised compliance S(ρ) of this stack against a rigid flat (see
-    /// [`Compliance::s`], [`Solid::compliance`]). For many evaluations build a
-    /// [`Compliance`] once instead.
+    /// [`Compliance::s`]). For many evaluations build a [`Compliance`] once instead.
     pub fn compliance(&self, rho: f64) -> f64 {
-        Solid::compliance(self, rho)
+        Compliance::new(self).s(rho)
     }
 }
 

@@ -63,7 +63,7 @@ impl PointForce {
     /// compliance.
     pub fn of_stack<S: crate::Solid + ?Sized>(stack: &S) -> PointForce {
         PointForce {
-            s0: crate::Solid::compliance(stack, 0.0),
+            s0: crate::Compliance::new(stack).s(0.0),
         }
     }
 }

@@ -578,7 +578,7 @@ impl Table {
                 interp::slice_leading(&f.ratio, &self.zeta, nx, c),
                 interp::slice_leading(&f.ratio, &self.g, nx * nw, c),
                 interp::slice_leading(&f.ratio, &self.s, ns, c),
-                stack.compliance(0.0) - 1.0,
+                crate::Compliance::new(stack).s(0.0) - 1.0,
             ),
         };
         let h1 = stack

@@ -13,8 +13,8 @@
 use std::path::PathBuf;
 
 use anyhow::{Result, anyhow, bail};
-use strata_runtime::{Bodies, Solid};
 use strata_runtime::conduction::ConductionKind;
+use strata_runtime::{Bodies, Solid};
 use strata_tablegen::spot::{Spot, SpotError};
 
 use crate::csv_out::{self, num};

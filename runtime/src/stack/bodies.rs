@@ -225,12 +225,6 @@ pub trait Solid {
         rigid(self.first()) && self.elastic_counterface().is_none_or(rigid)
     }
 
-    /// The normalised compliance S(ρ) of the solid ([`crate::Compliance::s`]). For many
-    /// evaluations build a [`crate::Compliance`] once instead.
-    fn compliance(&self, rho: f64) -> f64 {
-        crate::Compliance::new(self).s(rho)
-    }
-
     /// The two elastic bodies in a canonical order (the one whose Debug form, without
     /// its name, sorts first comes first), so that a pair and its swap compute S(ρ)
     /// and E* with the same floating-point operations (physics.md §6.1: swapping

@@ -314,7 +314,11 @@ pub(crate) fn response_key<S: Solid + ?Sized>(stack: &S, hardness: f64) -> u64 {
 /// The file of `stack`'s response table at `hardness` in the cache directory `dir`:
 /// `capped-<key>.strata` (`response_key`), beside the mechanics tables'
 /// `stack-<hex>.strata` and the ψ tables' `psi-<hex>.strata`.
-pub(crate) fn response_cache_path<S: Solid + ?Sized>(stack: &S, hardness: f64, dir: &Path) -> PathBuf {
+pub(crate) fn response_cache_path<S: Solid + ?Sized>(
+    stack: &S,
+    hardness: f64,
+    dir: &Path,
+) -> PathBuf {
     dir.join(format!(
         "capped-{:016x}.strata",
         response_key(stack, hardness)
