@@ -108,7 +108,7 @@ enum KernelSource {
     /// Periodic: S(|k|) per distinct (i, j) wavenumber pair of this grid.
     Spectral(std::sync::Arc<Vec<f64>>),
     /// Non-periodic: the stack.
-    Stack(Bodies),
+    Stack(Box<Bodies>),
 }
 
 impl std::fmt::Debug for BemSolver {
@@ -257,7 +257,7 @@ impl BemSolver {
             None,
             op,
             options,
-            KernelSource::Stack(stack.bodies()),
+            KernelSource::Stack(Box::new(stack.bodies())),
         ))
     }
 
@@ -719,7 +719,7 @@ impl BemSolver {
             .ok()?,
             KernelSource::Stack(stack) => {
                 let g = crate::influence::coefficients(
-                    stack,
+                    stack.as_ref(),
                     my,
                     mx,
                     self.geometry.lx / mx as f64,

@@ -27,7 +27,6 @@ use thiserror::Error;
 #[error(
     "table cache {path} ({origin}) is not writable: {error}; point --cache-dir or STRATA_CACHE_DIR to a writable directory"
 )]
-
 pub struct CacheError {
     pub path: String,
     pub origin: &'static str,

@@ -357,7 +357,7 @@ fn largest_pressure(load: &LoadSpec) -> Result<f64> {
             .copied()
             .reduce(f64::max)
             .context("load.mean_pressures is empty"),
-        _ => return Err(EngineError::Internal("load")),
+        _ => Err(EngineError::Internal("load")),
     }
 }
 
