@@ -102,6 +102,24 @@ pub fn refuse_two_counterfaces(
     Ok(())
 }
 
+/// The bodies of a command's `STACK [--counterface FILE]`: the stack file (with the
+/// `[counterface]` it may name) against `--counterface` when given (one counterface, in
+/// one place: [`refuse_two_counterfaces`]).
+pub fn bodies(
+    stack_path: &std::path::Path,
+    counterface: Option<&std::path::Path>,
+) -> Result<strata_runtime::Bodies> {
+    use anyhow::Context;
+    let stack = strata_runtime::Bodies::from_toml_file(stack_path)?;
+    let Some(c) = counterface else {
+        return Ok(stack);
+    };
+    refuse_two_counterfaces(&stack, stack_path, c)?;
+    Ok(stack
+        .first
+        .against(strata_runtime::Stack::from_toml_file(c).context("--counterface")?))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

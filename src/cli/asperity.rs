@@ -14,7 +14,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use strata_runtime::{Bodies, Solid, Stack};
+use strata_runtime::{Bodies, Solid};
 use strata_tablegen::asperity::{Asperity, Options};
 
 use crate::csv_out::{self, num};
@@ -104,13 +104,7 @@ fn tangential_stiffness(
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let mut stack = Bodies::from_toml_file(&a.stack)?;
-    if let Some(c) = &a.counterface {
-        crate::cli::args::refuse_two_counterfaces(&stack, &a.stack, c)?;
-        stack = stack
-            .first
-            .against(Stack::from_toml_file(c).context("--counterface")?);
-    }
+    let stack = super::args::bodies(&a.stack, a.counterface.as_deref())?;
     if !(a.radius.is_finite() && a.radius > 0.0) {
         bail!("--radius: must be positive and finite, got {}", a.radius);
     }

@@ -13,8 +13,8 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result, anyhow, bail};
-use strata_runtime::{Bodies, Solid, Stack};
+use anyhow::{Result, anyhow, bail};
+use strata_runtime::Solid;
 use strata_tablegen::stiffness::Stiffness;
 
 use crate::csv_out::{self, num};
@@ -34,13 +34,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> Result<()> {
-    let mut stack = Bodies::from_toml_file(&a.stack)?;
-    if let Some(c) = &a.counterface {
-        crate::cli::args::refuse_two_counterfaces(&stack, &a.stack, c)?;
-        stack = stack
-            .first
-            .against(Stack::from_toml_file(c).context("--counterface")?);
-    }
+    let stack = super::args::bodies(&a.stack, a.counterface.as_deref())?;
     let radii = super::args::parse_list("--a", &a.a)?;
     if let Some(bad) = radii.iter().find(|r| r.is_nan() || **r <= 0.0) {
         bail!("--a: disc radii must be > 0 (m), got {bad}");
