@@ -76,18 +76,17 @@ use crate::asperity::Method;
 use crate::fredholm::{self, Discretisation, FredholmError};
 use crate::kernel::{KernelError, KzQuadrature};
 
-/// a/h₁ up to which [`Method::Auto`] uses Gauss–Legendre Nyström.
-pub const NYSTROM_MAX_A_OVER_H: f64 = 4.0;
+/// The discretisation's limits are the spot solver's (the same kernel shape, the same
+/// Fredholm machinery): Nyström up to a/h₁ = [`NYSTROM_MAX_A_OVER_H`], the rule graded for
+/// contrasts up to [`MAX_GRADED_CONTRAST`] (here of Young moduli).
+pub use crate::spot::{MAX_GRADED_CONTRAST, NYSTROM_MAX_A_OVER_H};
 
 /// Automatic product grids are doubled while two successive Richardson extrapolations
-/// differ (relative, in ψ and φ(1)) by more than this.
-pub const REFINE_TOL: f64 = 1e-6;
+/// differ (relative, in ψ and φ(1)) by more than this (the spot solver's).
+pub const REFINE_TOL: f64 = crate::spot::SPOT_REFINE_TOL;
 
 /// The largest automatic product grid (intervals; the dense system takes 134 MB).
-pub const MAX_INTERVALS: usize = 4096;
-
-/// The largest modulus contrast the kernels' rule is graded for.
-pub const MAX_GRADED_CONTRAST: f64 = 1e12;
+pub const MAX_INTERVALS: usize = crate::spot::SPOT_MAX_INTERVALS;
 
 /// Errors of the stiffness solver.
 #[derive(Debug, Error, Clone, PartialEq)]
