@@ -135,23 +135,7 @@ impl Spot {
 
     /// The discretisation used at radius `a` (m).
     pub fn discretisation(&self, a: f64) -> Discretisation {
-        match self.method {
-            Method::Fixed(d) => d,
-            Method::Auto => {
-                let ah = a / self.h1.unwrap_or(f64::INFINITY);
-                if ah <= NYSTROM_MAX_A_OVER_H {
-                    Discretisation::Nystrom {
-                        nodes: 16 + 8 * ah.ceil() as usize,
-                    }
-                } else {
-                    let n = (2.0 * ah).ceil().clamp(256.0, 2048.0) as usize;
-                    Discretisation::Product {
-                        intervals: n + n % 2,
-                        richardson: true,
-                    }
-                }
-            }
-        }
+        crate::spot::discretisation_for(self.method, a, self.h1)
     }
 
     /// ψ(a) = G/(4k₁a) at spot radius `a` (m).
@@ -204,6 +188,31 @@ impl Spot {
             conductance: 4.0 * self.comp.top_conductivity() * a * psi,
             psi,
         })
+    }
+}
+
+/// The discretisation of a Fredholm solve of the spot's kernel shape at radius `a` (m)
+/// on a solid whose top layer is `h1` thick: `method`'s when fixed, else Nyström with
+/// 16 + 8⌈a/h₁⌉ nodes up to a/h₁ = [`NYSTROM_MAX_A_OVER_H`] and Richardson-extrapolated
+/// product integration on 2a/h₁ intervals (256…2048) beyond (also the disc stiffness's,
+/// `crate::stiffness`).
+pub(crate) fn discretisation_for(method: Method, a: f64, h1: Option<f64>) -> Discretisation {
+    match method {
+        Method::Fixed(d) => d,
+        Method::Auto => {
+            let ah = a / h1.unwrap_or(f64::INFINITY);
+            if ah <= NYSTROM_MAX_A_OVER_H {
+                Discretisation::Nystrom {
+                    nodes: 16 + 8 * ah.ceil() as usize,
+                }
+            } else {
+                let n = (2.0 * ah).ceil().clamp(256.0, 2048.0) as usize;
+                Discretisation::Product {
+                    intervals: n + n % 2,
+                    richardson: true,
+                }
+            }
+        }
     }
 }
 

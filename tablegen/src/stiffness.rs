@@ -213,23 +213,7 @@ impl Stiffness {
 
     /// The discretisation used at radius `a` (m).
     pub fn discretisation(&self, a: f64) -> Discretisation {
-        match self.method {
-            Method::Fixed(d) => d,
-            Method::Auto => {
-                let ah = a / self.h1.unwrap_or(f64::INFINITY);
-                if ah <= NYSTROM_MAX_A_OVER_H {
-                    Discretisation::Nystrom {
-                        nodes: 16 + 8 * ah.ceil() as usize,
-                    }
-                } else {
-                    let n = (2.0 * ah).ceil().clamp(256.0, 2048.0) as usize;
-                    Discretisation::Product {
-                        intervals: n + n % 2,
-                        richardson: true,
-                    }
-                }
-            }
-        }
+        crate::spot::discretisation_for(self.method, a, self.h1)
     }
 
     /// The three kernels' rules at radius `a`: one set of nodes (reaching the largest
