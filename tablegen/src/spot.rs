@@ -154,26 +154,7 @@ impl Spot {
             KzQuadrature::for_kernel(h1, self.u_first, comp.s_at_zero() - 1.0, 2.0 * a, |u| {
                 comp.k_th(u)
             })?;
-        let one = |_s: f64| 1.0;
-        let rhs: [fredholm::Rhs<'_>; 1] = [&one];
-        let sol = match (self.method, self.discretisation(a)) {
-            (
-                Method::Auto,
-                Discretisation::Product {
-                    intervals,
-                    richardson: true,
-                },
-            ) => fredholm::product_adaptive(
-                &quad,
-                a,
-                intervals,
-                &rhs,
-                SPOT_REFINE_TOL,
-                SPOT_MAX_INTERVALS,
-            )?,
-            (_, disc) => fredholm::solve(&quad, a, disc, &rhs, 0)?,
-        };
-        let psi = sol.integral[0];
+        let psi = punch_integral(&quad, a, self.method, self.h1)?;
         if !(psi.is_finite() && psi > 0.0) {
             return Err(SpotError::NonFinite { a, psi });
         }
@@ -189,6 +170,38 @@ impl Spot {
             psi,
         })
     }
+}
+
+/// ψ = ∫₀¹ φ of the punch equation φ + K_a φ = 1 at radius `a` (m) on the rule `quad`,
+/// discretised by [`discretisation_for`]; an automatic product grid is refined until two
+/// Richardson extrapolations agree to [`SPOT_REFINE_TOL`] (up to [`SPOT_MAX_INTERVALS`]).
+/// The spot's ψ and the disc stiffness's three punch factors (`crate::stiffness`).
+pub(crate) fn punch_integral(
+    quad: &KzQuadrature,
+    a: f64,
+    method: Method,
+    h1: Option<f64>,
+) -> Result<f64, fredholm::FredholmError> {
+    let one = |_s: f64| 1.0;
+    let rhs: [fredholm::Rhs<'_>; 1] = [&one];
+    let sol = match (method, discretisation_for(method, a, h1)) {
+        (
+            Method::Auto,
+            Discretisation::Product {
+                intervals,
+                richardson: true,
+            },
+        ) => fredholm::product_adaptive(
+            quad,
+            a,
+            intervals,
+            &rhs,
+            SPOT_REFINE_TOL,
+            SPOT_MAX_INTERVALS,
+        )?,
+        (_, disc) => fredholm::solve(quad, a, disc, &rhs, 0)?,
+    };
+    Ok(sol.integral[0])
 }
 
 /// The discretisation of a Fredholm solve of the spot's kernel shape at radius `a` (m)

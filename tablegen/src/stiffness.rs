@@ -73,7 +73,7 @@ use strata_runtime::{Base, Compliance, Solid, Stack};
 use thiserror::Error;
 
 use crate::asperity::Method;
-use crate::fredholm::{self, Discretisation, FredholmError};
+use crate::fredholm::{Discretisation, FredholmError};
 use crate::kernel::{KernelError, KzQuadrature};
 
 /// The discretisation's limits are the spot solver's (the same kernel shape, the same
@@ -250,19 +250,7 @@ impl Stiffness {
 
     /// ψ = ∫₀¹ φ of the punch equation φ + K_a φ = 1 on the rule `quad`.
     fn psi(&self, quad: &KzQuadrature, a: f64, which: &'static str) -> Result<f64, StiffnessError> {
-        let one = |_s: f64| 1.0;
-        let rhs: [fredholm::Rhs<'_>; 1] = [&one];
-        let sol = match (self.method, self.discretisation(a)) {
-            (
-                Method::Auto,
-                Discretisation::Product {
-                    intervals,
-                    richardson: true,
-                },
-            ) => fredholm::product_adaptive(quad, a, intervals, &rhs, REFINE_TOL, MAX_INTERVALS)?,
-            (_, disc) => fredholm::solve(quad, a, disc, &rhs, 0)?,
-        };
-        let psi = sol.integral[0];
+        let psi = crate::spot::punch_integral(quad, a, self.method, self.h1)?;
         if !(psi.is_finite() && psi > 0.0) {
             return Err(StiffnessError::NonFinite { which, a, psi });
         }
