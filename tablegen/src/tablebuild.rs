@@ -433,6 +433,20 @@ mod tests {
         Stack::paper_two_layer(ratio).unwrap()
     }
 
+    /// The table cache names a pair's table by its bodies in canonical order: a pair and
+    /// its swap share one cached table; either body alone, and the pair with another
+    /// counterface, name others.
+    #[test]
+    fn a_pair_and_its_swap_share_a_cache_name() {
+        let (a, b, c) = (paper(0.2), paper(5.0), paper(1.0));
+        let ab = fingerprint(&a.clone().against(b.clone()));
+        assert_eq!(ab, fingerprint(&b.clone().against(a.clone())));
+        assert_ne!(ab, fingerprint(&a));
+        assert_ne!(ab, fingerprint(&b));
+        assert_ne!(ab, fingerprint(&a.clone().against(c.clone())));
+        assert_ne!(ab, fingerprint(&c.against(b)));
+    }
+
     /// The small rigid-base family table, built once for every test that needs it.
     fn small_family() -> &'static Table {
         static TABLE: std::sync::OnceLock<Table> = std::sync::OnceLock::new();
