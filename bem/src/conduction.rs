@@ -106,6 +106,9 @@ pub struct ConductanceOptions {
     pub max_iterations: usize,
     /// Precondition with the inverse operator on the contact set.
     pub preconditioner: bool,
+    /// The memory limit the grid is checked against before it is allocated. Default:
+    /// 75 % of the machine's memory.
+    pub memory: strata_runtime::resources::MemoryLimit,
 }
 
 impl Default for ConductanceOptions {
@@ -114,6 +117,7 @@ impl Default for ConductanceOptions {
             tolerance: 1e-8,
             max_iterations: 10_000,
             preconditioner: true,
+            memory: Default::default(),
         }
     }
 }
@@ -202,7 +206,7 @@ impl ConductanceSolver {
         options: ConductanceOptions,
     ) -> Result<Self, BemError> {
         check_common(ny, nx, 2, geometry, options)?;
-        strata_runtime::resources::check_memory(
+        options.memory.check(
             format!("BEM conduction grid {ny}×{nx} (non-periodic)"),
             crate::operator::Operator::bytes(ny, nx, false),
         )?;

@@ -94,7 +94,7 @@
 //! ([`ConductanceSolver`], periodic cells).
 //!
 //! Memory is estimated before the grids are allocated and checked against
-//! [`strata_runtime::resources`] ([`BemSolver::memory_needed`]).
+//! the limit of the solve's options ([`BemOptions::memory`], [`BemSolver::memory_needed`]).
 
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used))]
 // Index loops run over several parallel arrays (p, u, z, t); indices are clearer.
@@ -143,6 +143,9 @@ pub struct BemOptions {
     /// Polonsky–Keer iteration (one convolution per iteration while the contact set
     /// stays put). Both stop on the same error ε.
     pub preconditioner: bool,
+    /// The memory limit the grid ([`BemSolver::memory_needed`]) is checked against
+    /// before anything is allocated. Default: 75 % of the machine's memory.
+    pub memory: strata_runtime::resources::MemoryLimit,
 }
 
 impl Default for BemOptions {
@@ -151,6 +154,7 @@ impl Default for BemOptions {
             tolerance: 1e-10,
             max_iterations: 20_000,
             preconditioner: true,
+            memory: Default::default(),
         }
     }
 }

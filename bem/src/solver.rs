@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 use ndarray::Array2;
 use strata_runtime::cancel::Cancel;
 use strata_runtime::compliance::Compliance;
-use strata_runtime::resources::{bytes_for, check_memory};
+use strata_runtime::resources::bytes_for;
 use strata_runtime::stack::{Base, Bodies, Solid};
 
 use crate::cg;
@@ -180,7 +180,7 @@ fn check_options(options: &BemOptions) -> Result<(), BemError> {
 impl BemSolver {
     /// Bytes a solver needs for an ny × nx grid (heights, pressure, gap and CG vectors,
     /// kernel and FFT buffers; the padded grid when non-periodic): the estimate checked
-    /// against [`strata_runtime::resources`] before anything is allocated.
+    /// against [`BemOptions::memory`] before anything is allocated.
     pub fn memory_needed(ny: usize, nx: usize, periodic: bool) -> u64 {
         let points = (ny as u64).saturating_mul(nx as u64);
         // z, p, u, t, r, corr, g, y (preconditioned gap), the solution's three maps
@@ -231,7 +231,7 @@ impl BemSolver {
         check_options(&options)?;
         let h = validate_heights(heights, false)?;
         let (ny, nx) = heights.dim();
-        check_memory(
+        options.memory.check(
             format!("BEM grid {ny}×{nx} (non-periodic)"),
             Self::memory_needed(ny, nx, false),
         )?;
@@ -300,7 +300,7 @@ impl BemSolver {
         check_options(&options)?;
         let h = validate_heights(heights, true)?;
         let (ny, nx) = heights.dim();
-        check_memory(
+        options.memory.check(
             format!("BEM grid {ny}×{nx}"),
             Self::memory_needed(ny, nx, true),
         )?;

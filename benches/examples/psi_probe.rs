@@ -76,7 +76,9 @@ pub fn interacting_split(k_max: f64) {
         ..Default::default()
     };
     let sol = solve(&scene, None, &opts, &mut Quiet).expect("solve");
-    let surface = strata::engine::load_surface(&scene).expect("surface");
+    let surface =
+        strata::engine::load_surface(&scene, &strata_runtime::resources::MemoryLimit::default())
+            .expect("surface");
     let law = strata_runtime::law::Homogeneous { e_star: 1.0 };
     let rc = strata_runtime::rough::RoughContact::from_surface(&law, &surface).expect("rc");
     let t = Instant::now();
@@ -85,8 +87,13 @@ pub fn interacting_split(k_max: f64) {
     let t_psi = t.elapsed().as_secs_f64();
     let comp = ConductionCompliance::new(&scene.bodies.first, spec.kind).expect("comp");
     let t = Instant::now();
-    let kernel =
-        Kernel::periodic(Body::Layered(&comp), Body::HalfSpace(45.0), rc.extent()).expect("kernel");
+    let kernel = Kernel::periodic(
+        Body::Layered(&comp),
+        Body::HalfSpace(45.0),
+        rc.extent(),
+        &strata_runtime::resources::MemoryLimit::default(),
+    )
+    .expect("kernel");
     let t_kernel = t.elapsed().as_secs_f64();
     // the engine's way: the interactions of every summit that touches, filled once
     let t = Instant::now();
@@ -97,7 +104,12 @@ pub fn interacting_split(k_max: f64) {
         .iter()
         .map(|&k| (rc.summits()[k].x, rc.summits()[k].y))
         .collect();
-    let net = Interactions::new(&kernel, &points).expect("interactions");
+    let net = Interactions::new(
+        &kernel,
+        &points,
+        &strata_runtime::resources::MemoryLimit::default(),
+    )
+    .expect("interactions");
     let t_fill = t.elapsed().as_secs_f64();
     let t = Instant::now();
     let mut most = 0;

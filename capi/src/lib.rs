@@ -61,7 +61,7 @@ use strata_engine::spots::{SpotSum, SpotSumError};
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::interface::{InterfaceError, InterfaceLaw};
 use strata_runtime::law::Homogeneous;
-use strata_runtime::resources::ResourceError;
+use strata_runtime::resources::{MemoryLimit, ResourceError};
 use strata_runtime::rough::{Images, Model, Params, RoughContact, RoughError};
 use strata_runtime::stack::{Bodies, Solid, Stack, StackError};
 use strata_runtime::surface::{
@@ -780,10 +780,20 @@ pub fn stack_from_arrays(
     })
 }
 
+/// The memory limit of a call (the C ABI's edge, read at every call that allocates in
+/// proportion to its input, so a host may change it between calls): the environment
+/// variable `STRATA_MEMORY_LIMIT`, else 75 % of the machine's memory. A bad value is
+/// `STRATA_ERR_RESOURCE` naming the variable.
+pub fn memory_limit() -> Result<MemoryLimit, CapiError> {
+    let value = std::env::var(MemoryLimit::ENV_VAR).ok();
+    Ok(MemoryLimit::from_setting(value.as_deref())?)
+}
+
 /// The surface of `strata_surface_new`: `nx × ny` heights (m), row-major with x the
 /// first (slow) index, pixel sizes `dx`, `dy` (m). Checked as a surface file's heights
 /// are (non-finite values and spikes refused with their row and column): the same
-/// surface as the `.npy` of these heights read with the same pixel sizes.
+/// surface as the `.npy` of these heights read with the same pixel sizes. What the
+/// checks allocate is checked against `memory` first.
 pub fn surface_from_heights(
     heights: &[f64],
     nx: usize,
@@ -791,6 +801,7 @@ pub fn surface_from_heights(
     dx: f64,
     dy: f64,
     periodic: bool,
+    memory: &MemoryLimit,
 ) -> Result<Surface, CapiError> {
     for (name, n) in [("nx", nx), ("ny", ny)] {
         if n < 3 {
@@ -817,6 +828,7 @@ pub fn surface_from_heights(
         Spacing::Pixel(dx, dy),
         periodic,
         Repair::Refuse,
+        memory,
     )?)
 }
 
@@ -1092,6 +1104,9 @@ pub fn build_law_with_effects(
     params: Params,
     effects: LawEffects,
 ) -> Result<StrataLaw, CapiError> {
+    // the C ABI's edge: the limit of the environment (or the machine)
+    let mut params = params;
+    params.memory = memory_limit()?;
     // the conduction set-up and the table are checked before any solve
     if let Some(spec) = &effects.conductance {
         check_conduction(stack, spec)?;
@@ -1352,7 +1367,7 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let table = Arc::new(Table::load(&p)?);
+            let table = Arc::new(Table::load_within(&p, &memory_limit()?)?);
             unsafe { put("out", out, StrataTable { table }) }
         })
     }
@@ -1384,10 +1399,11 @@ mod exported {
                 return Err(CapiError::Null("out"));
             }
             let npy = p.extension().is_some_and(|e| e.eq_ignore_ascii_case("npy"));
+            let memory = memory_limit()?;
             let surface = if npy {
-                Surface::read_npy(&p, size, periodic)?
+                Surface::read_npy_with(&p, size, periodic, Repair::Refuse, &memory)?
             } else {
-                Surface::read_text(&p, size, periodic)?
+                Surface::read_text_with(&p, size, periodic, Repair::Refuse, &memory)?
             };
             unsafe { put("out", out, StrataSurface { surface }) }
         })
@@ -1417,7 +1433,8 @@ mod exported {
                 reason: format!("nx·ny = {nx}·{ny} overflows"),
             })?;
             // A grid too large for memory is refused before the copy.
-            strata_runtime::resources::check_memory(
+            let memory = memory_limit()?;
+            memory.check(
                 "surface from a height buffer",
                 strata_runtime::resources::bytes_for(n as u64, 8),
             )?;
@@ -1425,7 +1442,7 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let surface = surface_from_heights(h, nx, ny, dx, dy, periodic)?;
+            let surface = surface_from_heights(h, nx, ny, dx, dy, periodic, &memory)?;
             unsafe { put("out", out, StrataSurface { surface }) }
         })
     }
@@ -1484,6 +1501,7 @@ mod exported {
                 repair: Repair::Refuse,
                 height_unit: unit,
                 detrend,
+                memory: memory_limit()?,
             };
             let surface = Surface::read(&p, &opts)?;
             unsafe { put("out", out, StrataSurface { surface }) }
@@ -1558,7 +1576,7 @@ mod exported {
             if out.is_null() {
                 return Err(CapiError::Null("out"));
             }
-            let surface = Surface::generate(&params)?;
+            let surface = Surface::generate_within(&params, &memory_limit()?)?;
             unsafe { put("out", out, StrataSurface { surface }) }
         })
     }

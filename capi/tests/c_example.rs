@@ -1171,6 +1171,7 @@ fn memory_example_matches_the_file_law_bit_for_bit() {
         strata_runtime::surface::Spacing::Pixel(dx, dx),
         true,
         strata_runtime::surface::Repair::Refuse,
+        &strata_runtime::resources::MemoryLimit::default(),
     )
     .expect("measured surface");
     let law = table.law_for(&stack).expect("law");
@@ -1388,15 +1389,18 @@ fn strata_law_csv(
     std::fs::write(&scene, text).expect("scene");
     let out = dir.join(format!("{name}-cli.csv"));
     strata::progress::init(true);
-    strata::cli::law::run(strata::cli::law::Args {
-        scene,
-        out: out.clone(),
-        format: Some(strata::cli::law::Format::Csv),
-        samples,
-        min_gap: Some(min_gap),
-        force: true,
-        cache_dir: None,
-    })
+    strata::cli::law::run(
+        strata::cli::law::Args {
+            scene,
+            out: out.clone(),
+            format: Some(strata::cli::law::Format::Csv),
+            samples,
+            min_gap: Some(min_gap),
+            force: true,
+            cache_dir: None,
+        },
+        strata_runtime::resources::MemoryLimit::default(),
+    )
     .unwrap_or_else(|e| panic!("strata law {name}: {e:#}"));
     csv_table(&std::fs::read_to_string(&out).expect("law csv"))
 }

@@ -124,6 +124,7 @@ pub fn sample_asperity_law(
         cache_dir,
         table: inputs.table,
         cancel: inputs.params.cancel.clone(),
+        memory: inputs.params.memory,
         ..Default::default()
     };
     crate::sampled_law::solve_asperities(

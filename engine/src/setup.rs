@@ -11,7 +11,7 @@ use crate::scene::{ModelKind, Scene, SurfaceSource};
 use strata_bem::{BemOptions, BemSolution};
 use strata_runtime::Solid;
 use strata_runtime::law::{AsperityLaw, Homogeneous};
-use strata_runtime::resources;
+use strata_runtime::resources::{self, MemoryLimit};
 use strata_runtime::rough::{Images, Model};
 use strata_runtime::surface::{GenerateParams, Surface};
 use strata_runtime::table::Table;
@@ -55,6 +55,12 @@ pub struct EngineOptions {
     /// I model's Newton steps (the Python package trips it on Ctrl-C): a cancelled
     /// solve returns an error and no result. Default: never cancelled.
     pub cancel: strata_runtime::cancel::Cancel,
+    /// The memory limit of everything the solve allocates in proportion to its input
+    /// (the surface, the BEM grid, the I model's pair sums, the law's samples, the
+    /// conduction kernels, tables read): passed to every solver's options. Default: 75 %
+    /// of the machine's memory; the front ends set it (`--memory-limit`,
+    /// `STRATA_MEMORY_LIMIT`).
+    pub memory: MemoryLimit,
 }
 
 /// Watches a solve: its log lines and progress, and the BEM's maps as they are solved.
@@ -118,26 +124,28 @@ macro_rules! log {
 pub(crate) use log;
 
 /// The scene's `[solver]` parameters of the asperity models with the call's
-/// cancellation token ([`EngineOptions::cancel`]).
+/// cancellation token ([`EngineOptions::cancel`]) and memory limit
+/// ([`EngineOptions::memory`]).
 pub fn solver_params(scene: &Scene, opts: &EngineOptions) -> strata_runtime::rough::Params {
     let mut p = scene.solver.params();
     p.cancel = opts.cancel.clone();
+    p.memory = opts.memory;
     p
 }
 
-/// Checks the surface's size against the memory limit before it is generated (read
-/// surfaces are checked by the reader, from the file's header).
-fn check_surface_memory(scene: &Scene) -> Result<()> {
+/// Checks the surface's size against `memory` before it is generated (read surfaces
+/// are checked by the reader, from the file's header).
+fn check_surface_memory(scene: &Scene, memory: &MemoryLimit) -> Result<()> {
     if let SurfaceSource::Generate(g) = &scene.surface.source {
-        check_generate_memory(g)?;
+        check_generate_memory(g, memory)?;
     }
     Ok(())
 }
 
-/// Checks the memory that generating the surface `g` needs against the limit.
-pub fn check_generate_memory(g: &GenerateParams) -> Result<()> {
+/// Checks the memory that generating the surface `g` needs against `memory`.
+pub fn check_generate_memory(g: &GenerateParams, memory: &MemoryLimit) -> Result<()> {
     let n = g.grid as u64;
-    resources::check_memory(
+    memory.check(
         format!(
             "generating the {0}×{0} surface (surface.generate.grid)",
             g.grid
@@ -150,11 +158,11 @@ pub fn check_generate_memory(g: &GenerateParams) -> Result<()> {
     Ok(())
 }
 
-/// The scene's surface, read or generated after a memory check (what repair filled
-/// is in its log, printed with the surface report).
-pub fn load_surface(scene: &Scene) -> Result<Surface> {
-    check_surface_memory(scene)?;
-    Ok(scene.load_surface()?)
+/// The scene's surface, read or generated after a check against `memory` (what repair
+/// filled is in its log, printed with the surface report).
+pub fn load_surface(scene: &Scene, memory: &MemoryLimit) -> Result<Surface> {
+    check_surface_memory(scene, memory)?;
+    Ok(scene.load_surface(memory)?)
 }
 
 /// Table build options of the command line: progress through [`progress`].
@@ -251,7 +259,8 @@ pub fn law_for(
         }
         (None, Some(p)) => {
             log!(obs, "stack: layered, table {}", p.display());
-            Table::load(p).with_context(|| format!("{field} {}", p.display()))?
+            Table::load_within(p, &opts.memory)
+                .with_context(|| format!("{field} {}", p.display()))?
         }
         (None, None) => cached_table(stack, opts.cache_dir.as_deref(), obs.quiet(), None)?.0,
     };

@@ -25,6 +25,7 @@ use std::path::PathBuf;
 
 use crate::error::Result;
 use strata_runtime::conduction::ConductionKind;
+use strata_runtime::resources::MemoryLimit;
 use strata_runtime::rough::Images;
 use strata_runtime::rough::Step;
 use strata_runtime::rough::conductance::KernelInfo;
@@ -132,8 +133,13 @@ impl SpotSum {
 
     /// Checks, before the mechanical solve, that the I model's conduction kernel can be
     /// built on a sample of sides `extent` (m) ([`SpotPair::check_kernel`]).
-    pub fn check_kernel(&self, extent: (f64, f64), images: Images) -> Result<()> {
-        Ok(self.0.check_kernel(extent, images)?)
+    pub fn check_kernel(
+        &self,
+        extent: (f64, f64),
+        images: Images,
+        memory: &MemoryLimit,
+    ) -> Result<()> {
+        Ok(self.0.check_kernel(extent, images, memory)?)
     }
 
     /// The I model's interface conductance of every step ([`SpotPair::interacting`]):
@@ -144,8 +150,9 @@ impl SpotSum {
         summits: &[Summit],
         extent: (f64, f64),
         images: Images,
+        memory: &MemoryLimit,
     ) -> Result<(Vec<f64>, KernelInfo)> {
-        Ok(self.0.interacting(steps, summits, extent, images)?)
+        Ok(self.0.interacting(steps, summits, extent, images, memory)?)
     }
 
     /// G(a) of one spot with both bodies in series (W/K or S), ψ solved directly (no

@@ -137,7 +137,8 @@ pub fn heights(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize, usize)> {
     if let Ok(a) = obj.cast::<PyUntypedArray>()
         && let [n0, n1] = a.shape()
     {
-        strata_runtime::surface::Surface::check_measured_memory(*n0, *n1)
+        let memory = crate::errors::memory_limit(Kind::Surface)?;
+        strata_runtime::surface::Surface::check_measured_memory(*n0, *n1, &memory)
             .map_err(|e| to_py(Kind::Surface, anyhow::Error::new(e)))?;
     }
     let Values::Array(z, shape) = values(obj, "heights", Kind::Surface)? else {

@@ -61,6 +61,16 @@ pub enum Kind {
     Law,
 }
 
+/// The memory limit of a call (the package's edge, read at every call that allocates
+/// in proportion to its input, so a script may change it between calls): the
+/// environment variable `STRATA_MEMORY_LIMIT`, else 75 % of the machine's memory. A bad
+/// value is an error of `kind` naming the variable.
+pub fn memory_limit(kind: Kind) -> PyResult<strata_runtime::resources::MemoryLimit> {
+    use strata_runtime::resources::MemoryLimit;
+    let value = std::env::var(MemoryLimit::ENV_VAR).ok();
+    MemoryLimit::from_setting(value.as_deref()).map_err(|e| to_py(kind, e))
+}
+
 /// The Python exception of `kind` with the error's whole chain (`a: b: c`).
 pub fn to_py(kind: Kind, e: impl Into<anyhow::Error>) -> PyErr {
     let msg = format!("{:#}", e.into());

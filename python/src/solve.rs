@@ -440,6 +440,7 @@ impl PyScene {
         Ok(EngineOptions {
             cache_dir,
             table,
+            memory: crate::errors::memory_limit(Kind::Scene)?,
             ..Default::default()
         })
     }
@@ -447,9 +448,12 @@ impl PyScene {
     fn load_surface(&self) -> PyResult<Surface> {
         match &self.surface {
             Some(s) => Ok(s.clone()),
-            None => strata_engine::engine::load_surface(&self.scene)
-                .with_context_path(&self.path)
-                .map_err(err(Kind::Surface)),
+            None => strata_engine::engine::load_surface(
+                &self.scene,
+                &crate::errors::memory_limit(Kind::Surface)?,
+            )
+            .with_context_path(&self.path)
+            .map_err(err(Kind::Surface)),
         }
     }
 }

@@ -88,7 +88,8 @@ impl PySurface {
                 anyhow::anyhow!("the lateral size is missing: give size=L, size=(Lx, Ly) or pixel_size=(dx, dy) (m)"),
             )
         })?;
-        let surface = Surface::measured_with(z, n0, n1, sp, periodic, repair_of(repair)?)
+        let memory = crate::errors::memory_limit(Kind::Surface)?;
+        let surface = Surface::measured_with(z, n0, n1, sp, periodic, repair_of(repair)?, &memory)
             .map_err(err(Kind::Surface))?;
         Ok(PySurface { surface })
     }
@@ -125,9 +126,10 @@ impl PySurface {
             rms,
             seed,
         };
-        strata_engine::engine::check_generate_memory(&p).map_err(err(Kind::Surface))?;
+        let memory = crate::errors::memory_limit(Kind::Surface)?;
+        strata_engine::engine::check_generate_memory(&p, &memory).map_err(err(Kind::Surface))?;
         let surface = py
-            .detach(|| Surface::generate(&p))
+            .detach(|| Surface::generate_within(&p, &memory))
             .map_err(err(Kind::Surface))?;
         Ok(PySurface { surface })
     }
@@ -180,6 +182,7 @@ impl PySurface {
             repair: repair_of(repair)?,
             height_unit,
             detrend,
+            memory: crate::errors::memory_limit(Kind::Surface)?,
         };
         let pick = match topography {
             None => None,

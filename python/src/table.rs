@@ -42,7 +42,10 @@ impl PyTable {
     fn load(path: PathBuf) -> PyResult<Self> {
         require_file("Table.load", &path)?;
         Ok(PyTable {
-            table: Arc::new(Table::load(&path).map_err(err(Kind::Table))?),
+            table: Arc::new(
+                Table::load_within(&path, &crate::errors::memory_limit(Kind::Table)?)
+                    .map_err(err(Kind::Table))?,
+            ),
         })
     }
 
@@ -251,7 +254,10 @@ pub fn table_arg(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Arc<Table>>>
     }
     if let Ok(p) = obj.extract::<PathBuf>() {
         require_file("table", &p)?;
-        return Ok(Some(Arc::new(Table::load(&p).map_err(err(Kind::Table))?)));
+        let memory = crate::errors::memory_limit(Kind::Table)?;
+        return Ok(Some(Arc::new(
+            Table::load_within(&p, &memory).map_err(err(Kind::Table))?,
+        )));
     }
     Err(to_py(
         Kind::Table,

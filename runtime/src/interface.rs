@@ -48,7 +48,7 @@
 use thiserror::Error;
 
 use crate::numerics::{fritsch_carlson, hermite, pchip_slopes};
-use crate::resources::{ResourceError, bytes_for, check_memory};
+use crate::resources::{ResourceError, bytes_for};
 use crate::rough::{Model, RoughContact, RoughError, Step, Validity};
 
 pub mod abaqus;
@@ -204,7 +204,7 @@ pub fn sample_gaps(first_contact: f64, min_gap: f64, n: usize) -> Vec<f64> {
 }
 
 /// Bytes [`InterfaceLaw::sample`] allocates for `samples` samples of a surface with
-/// `summits` summits (an estimate for [`check_memory`]): one solved [`Step`] per sample,
+/// `summits` summits (an estimate for [`crate::resources::MemoryLimit::check`]): one solved [`Step`] per sample,
 /// each with the contact radius of every summit (8 bytes), and the law's twelve f64
 /// arrays (gaps, approaches, p, stiffness, A/A₀ and their ascending copies and slopes).
 pub(crate) fn sample_bytes(samples: usize, summits: usize) -> u64 {
@@ -218,7 +218,8 @@ impl InterfaceLaw {
     /// ([`sample_gaps`] from g₀ = z_M − z̄) and builds the law. The solve is warm-started
     /// along the path, as [`RoughContact::curve`]. At most [`MAX_SAMPLES`] samples
     /// ([`InterfaceError::TooManySamples`]); the memory they need (`sample_bytes`) is
-    /// checked against the limit of [`crate::resources`] before anything is allocated
+    /// checked against the memory limit of `rc`'s parameters
+    /// ([`crate::rough::Params::memory`]) before anything is allocated
     /// ([`InterfaceError::Resource`]).
     pub fn sample(
         rc: &RoughContact<'_>,
@@ -237,7 +238,7 @@ impl InterfaceLaw {
             return Err(InterfaceError::TooManySamples(n));
         }
         let summits = rc.summits().len();
-        check_memory(
+        rc.params().memory.check(
             format!("the contact law ({n} samples of {summits} summits)"),
             sample_bytes(n, summits),
         )?;
@@ -763,6 +764,59 @@ mod tests {
         }
     }
 
+    /// The memory limit is a parameter of each solve, not of the process: two samplings
+    /// run at once in one process, one under a 1 KiB limit and one under the machine's,
+    /// each honour their own (the former process-wide limit held one value for both, so
+    /// one of the two would have been wrong). The refusal names its limit and source;
+    /// the other solve gives the law of a solve with the default parameters bit for bit.
+    #[test]
+    fn two_solves_honour_their_own_memory_limits() {
+        use crate::resources::MemoryLimit;
+        use crate::rough::Params;
+        let law = Homogeneous { e_star: 2e11 };
+        let o = SampleOptions {
+            samples: 200,
+            min_gap: -2e-6,
+        };
+        let needed = sample_bytes(200, 1);
+        assert!(needed > 1 << 10, "{needed}");
+        let tight = Params {
+            memory: MemoryLimit::new(1 << 10, "the first solve's"),
+            ..Params::default()
+        };
+        let ample = Params {
+            memory: MemoryLimit::new(needed, "the second solve's"),
+            ..Params::default()
+        };
+        let (refused, solved) = std::thread::scope(|s| {
+            let a = s.spawn(|| {
+                let rc = hertz_rc(&law).with_params(tight);
+                InterfaceLaw::sample(&rc, Model::Independent, &o)
+            });
+            let b = s.spawn(|| {
+                let rc = hertz_rc(&law).with_params(ample);
+                InterfaceLaw::sample(&rc, Model::Independent, &o)
+            });
+            (a.join().unwrap(), b.join().unwrap())
+        });
+        let e = refused.unwrap_err();
+        assert_eq!(
+            e,
+            InterfaceError::Resource(ResourceError::Memory {
+                what: "the contact law (200 samples of 1 summits)".into(),
+                needed,
+                limit: 1 << 10,
+                source_of_limit: "the first solve's",
+            })
+        );
+        assert!(
+            e.to_string().contains("1.00 KiB (the first solve's)"),
+            "{e}"
+        );
+        let reference = InterfaceLaw::sample(&hertz_rc(&law), Model::Independent, &o).unwrap();
+        assert_eq!(solved.unwrap(), reference);
+    }
+
     /// Absurd sample counts are refused before anything is allocated; the memory
     /// estimate grows with samples × summits and is refused above a limit.
     #[test]
@@ -781,10 +835,10 @@ mod tests {
         assert_eq!(sample_bytes(usize::MAX, usize::MAX), u64::MAX);
         let b = sample_bytes(MAX_SAMPLES, 100_000);
         assert!(b > 80_000_000_000, "{b}");
-        let limit = (16 << 30, "test");
-        let e = crate::resources::check_against("law", b, limit).unwrap_err();
+        let limit = crate::resources::MemoryLimit::new(16 << 30, "test");
+        let e = limit.check("law", b).unwrap_err();
         assert!(e.to_string().contains("memory limit"), "{e}");
-        assert!(crate::resources::check_against("law", sample_bytes(200, 5000), limit).is_ok());
+        assert!(limit.check("law", sample_bytes(200, 5000)).is_ok());
     }
 
     /// Sampled past the deepest valley (−4e-6 m) and below the mean plane (the summit

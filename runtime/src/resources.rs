@@ -1,16 +1,21 @@
 //! Resource checks before large allocations: every solver that allocates in proportion
 //! to its input (grids, summit pairs, tables, file headers) estimates the bytes it needs
-//! and asks [`check_memory`] first, so that an impossible request fails with a message
-//! naming the estimate and the limit instead of aborting the process.
+//! and asks its [`MemoryLimit`] first ([`MemoryLimit::check`]), so that an impossible
+//! request fails with a message naming the estimate and the limit instead of aborting
+//! the process.
 //!
-//! The limit, in order of precedence:
-//! 1. [`set_memory_limit`] (the command line's `--memory-limit`, the C ABI, Python);
-//! 2. the environment variable `STRATA_MEMORY_LIMIT` (bytes, or with a suffix
-//!    `k`, `M`, `G`, `T`: powers of 1024; e.g. `STRATA_MEMORY_LIMIT=512M`);
+//! The limit is a value passed in, a field of every solver's options (`rough::Params`,
+//! `interface::SampleOptions`, `surface::ReadOptions`, …): two solves in one process
+//! may run under two limits. Nothing here reads the environment; the front ends decide
+//! the limit at their edge, in order of precedence:
+//! 1. their own setting (the command line's `--memory-limit`): [`MemoryLimit::parse`]
+//!    with [`MemoryLimit::SET_BY_CALLER`];
+//! 2. the environment variable `STRATA_MEMORY_LIMIT` ([`MemoryLimit::ENV_VAR`]: bytes, or
+//!    with a suffix `k`, `M`, `G`, `T`: powers of 1024; e.g. `STRATA_MEMORY_LIMIT=512M`),
+//!    whose value the front end hands to [`MemoryLimit::from_setting`];
 //! 3. `DEFAULT_FRACTION` of the machine's memory (`MemTotal` of `/proc/meminfo`;
-//!    `FALLBACK_LIMIT` where that cannot be read).
-
-use std::sync::atomic::{AtomicU64, Ordering};
+//!    `FALLBACK_LIMIT` where that cannot be read): [`MemoryLimit::of_machine`], the
+//!    [`Default`].
 
 use thiserror::Error;
 
@@ -18,9 +23,6 @@ use thiserror::Error;
 pub(crate) const DEFAULT_FRACTION: f64 = 0.75;
 /// The default limit where the machine's memory cannot be read: 8 GiB.
 pub(crate) const FALLBACK_LIMIT: u64 = 8 << 30;
-
-/// 0 = not set (use the environment or the machine).
-static LIMIT: AtomicU64 = AtomicU64::new(0);
 
 /// A request above the memory limit, or an unreadable limit setting.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -93,59 +95,92 @@ pub fn parse_bytes(text: &str) -> Result<u64, ResourceError> {
     Ok(bytes as u64)
 }
 
-/// Sets the process-wide limit (bytes); 0 returns to the environment/machine default.
-pub fn set_memory_limit(bytes: u64) {
-    LIMIT.store(bytes, Ordering::Relaxed);
+/// Total memory of the machine (bytes) from `/proc/meminfo`, if readable (read once:
+/// a fact of the machine, not a setting).
+pub(crate) fn machine_memory() -> Option<u64> {
+    static TOTAL: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    *TOTAL.get_or_init(read_machine_memory)
 }
 
-/// Total memory of the machine (bytes) from `/proc/meminfo`, if readable.
-pub(crate) fn machine_memory() -> Option<u64> {
+fn read_machine_memory() -> Option<u64> {
     let text = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib.saturating_mul(1024))
 }
 
-/// The limit in force (bytes) and where it comes from.
-pub fn memory_limit() -> Result<(u64, &'static str), ResourceError> {
-    let set = LIMIT.load(Ordering::Relaxed);
-    if set > 0 {
-        return Ok((set, "set by the caller"));
-    }
-    if let Ok(v) = std::env::var("STRATA_MEMORY_LIMIT") {
-        let limit = parse_bytes(&v).map_err(|_| ResourceError::BadEnvLimit(v.clone()))?;
-        return Ok((limit, "STRATA_MEMORY_LIMIT"));
-    }
-    Ok(match machine_memory() {
-        Some(m) => (
-            (m as f64 * DEFAULT_FRACTION) as u64,
-            "75 % of the machine's memory",
-        ),
-        None => (FALLBACK_LIMIT, "default 8 GiB"),
-    })
+/// The largest single allocation a solve may attempt (bytes) and where that figure
+/// comes from (named in the refusal's message). A plain value: each solve carries its
+/// own in its options.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MemoryLimit {
+    /// The limit (bytes, > 0).
+    pub bytes: u64,
+    /// Where the limit comes from, e.g. [`MemoryLimit::SET_BY_CALLER`],
+    /// [`MemoryLimit::ENV_VAR`] or [`MemoryLimit::MACHINE`].
+    pub source: &'static str,
 }
 
-/// Checks that `what` may allocate about `needed` bytes. Call it before the allocation,
-/// with an estimate from sizes known up front (grid points, pairs, header shapes).
-pub fn check_memory(what: impl Into<String>, needed: u64) -> Result<(), ResourceError> {
-    check_against(what, needed, memory_limit()?)
+impl MemoryLimit {
+    /// The source of a limit given by the caller (`--memory-limit`).
+    pub const SET_BY_CALLER: &'static str = "set by the caller";
+    /// The environment variable the front ends read (and the source it names).
+    pub const ENV_VAR: &'static str = "STRATA_MEMORY_LIMIT";
+    /// The source of the machine default.
+    pub const MACHINE: &'static str = "75 % of the machine's memory";
+
+    /// A limit of `bytes` from `source`.
+    pub const fn new(bytes: u64, source: &'static str) -> MemoryLimit {
+        MemoryLimit { bytes, source }
+    }
+
+    /// 75 % of the machine's memory (`MemTotal` of `/proc/meminfo`), 8 GiB where that
+    /// cannot be read.
+    pub fn of_machine() -> MemoryLimit {
+        match machine_memory() {
+            Some(m) => MemoryLimit::new((m as f64 * DEFAULT_FRACTION) as u64, Self::MACHINE),
+            None => MemoryLimit::new(FALLBACK_LIMIT, "default 8 GiB"),
+        }
+    }
+
+    /// A size such as `123456`, `512M`, `1.5G` (powers of 1024; [`parse_bytes`]) from
+    /// `source`; a bad size is [`ResourceError::BadLimit`].
+    pub fn parse(text: &str, source: &'static str) -> Result<MemoryLimit, ResourceError> {
+        Ok(MemoryLimit::new(parse_bytes(text)?, source))
+    }
+
+    /// The limit of the environment's setting: `value` is that of `STRATA_MEMORY_LIMIT`
+    /// (which the front end reads); `None` gives [`MemoryLimit::of_machine`]. A bad value is
+    /// [`ResourceError::BadEnvLimit`] (naming the variable).
+    pub fn from_setting(value: Option<&str>) -> Result<MemoryLimit, ResourceError> {
+        match value {
+            Some(v) => MemoryLimit::parse(v, Self::ENV_VAR)
+                .map_err(|_| ResourceError::BadEnvLimit(v.to_string())),
+            None => Ok(MemoryLimit::of_machine()),
+        }
+    }
+
+    /// Checks that `what` may allocate about `needed` bytes. Call it before the
+    /// allocation, with an estimate from sizes known up front (grid points, pairs,
+    /// header shapes).
+    pub fn check(&self, what: impl Into<String>, needed: u64) -> Result<(), ResourceError> {
+        if needed > self.bytes {
+            return Err(ResourceError::Memory {
+                what: what.into(),
+                needed,
+                limit: self.bytes,
+                source_of_limit: self.source,
+            });
+        }
+        Ok(())
+    }
 }
 
-/// [`check_memory`] against an explicit `(limit, where the limit comes from)`.
-pub fn check_against(
-    what: impl Into<String>,
-    needed: u64,
-    (limit, source_of_limit): (u64, &'static str),
-) -> Result<(), ResourceError> {
-    if needed > limit {
-        return Err(ResourceError::Memory {
-            what: what.into(),
-            needed,
-            limit,
-            source_of_limit,
-        });
+impl Default for MemoryLimit {
+    /// [`MemoryLimit::of_machine`].
+    fn default() -> Self {
+        MemoryLimit::of_machine()
     }
-    Ok(())
 }
 
 /// `count × size` in bytes, saturating (an estimate never overflows into a small number).
@@ -159,11 +194,16 @@ pub fn bytes_for(count: u64, size: u64) -> u64 {
 pub const TEXT_FILE_CAP: u64 = 16 << 20;
 
 /// Reads the whole of a text input file (`what`: "a stack file", "a scene file", ...),
-/// refusing one larger than `cap` bytes or than the memory limit, whichever is smaller.
+/// refusing one larger than `cap` bytes or than `limit`, whichever is smaller.
 /// At most `cap + 1` bytes are read, so an endless stream is refused after that many.
 /// The error names the cap (or limit); the caller names the file.
-pub fn read_text_capped(path: &std::path::Path, cap: u64, what: &str) -> std::io::Result<String> {
-    let bytes = read_capped(path, cap, what)?;
+pub fn read_text_capped(
+    path: &std::path::Path,
+    cap: u64,
+    what: &str,
+    limit: &MemoryLimit,
+) -> std::io::Result<String> {
+    let bytes = read_capped(path, cap, what, limit)?;
     String::from_utf8(bytes).map_err(|_| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,
@@ -173,14 +213,18 @@ pub fn read_text_capped(path: &std::path::Path, cap: u64, what: &str) -> std::io
 }
 
 /// Reads the whole of an input file as bytes, refusing one larger than `cap` bytes or
-/// than the memory limit (whichever is smaller); see [`read_text_capped`].
+/// than `limit` (whichever is smaller); see [`read_text_capped`].
 pub(crate) fn read_capped(
     path: &std::path::Path,
     cap: u64,
     what: &str,
+    limit: &MemoryLimit,
 ) -> std::io::Result<Vec<u8>> {
     use std::io::Read;
-    let (limit, source) = memory_limit().map_err(std::io::Error::other)?;
+    let MemoryLimit {
+        bytes: limit,
+        source,
+    } = *limit;
     let (bound, named) = if cap <= limit {
         (cap, format!("the {} cap on {what}", human_bytes(cap)))
     } else {
@@ -220,8 +264,12 @@ pub(crate) fn read_capped(
 
 /// Reads the whole of a data file (a table, a cache file) that has no size cap of its
 /// own: it must be a regular file (a device or FIFO can be an endless stream) and no
-/// larger than the memory limit.
-pub fn read_data_file(path: &std::path::Path, what: &str) -> std::io::Result<Vec<u8>> {
+/// larger than `limit`.
+pub fn read_data_file(
+    path: &std::path::Path,
+    what: &str,
+    limit: &MemoryLimit,
+) -> std::io::Result<Vec<u8>> {
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() && !meta.is_dir() {
         return Err(std::io::Error::new(
@@ -229,7 +277,7 @@ pub fn read_data_file(path: &std::path::Path, what: &str) -> std::io::Result<Vec
             format!("not a regular file (a device, FIFO or socket); {what} is read from a file"),
         ));
     }
-    read_capped(path, u64::MAX, what)
+    read_capped(path, u64::MAX, what, limit)
 }
 
 #[cfg(test)]
@@ -249,13 +297,13 @@ mod tests {
 
     #[test]
     fn check_names_estimate_and_limit() {
-        let limit = (1 << 20, "test");
-        let e = check_against("BEM grid 16384²", 28 << 30, limit).unwrap_err();
+        let limit = MemoryLimit::new(1 << 20, "test");
+        let e = limit.check("BEM grid 16384²", 28 << 30).unwrap_err();
         let msg = e.to_string();
         assert!(msg.contains("BEM grid 16384²"), "{msg}");
         assert!(msg.contains("28.00 GiB"), "{msg}");
         assert!(msg.contains("1.00 MiB"), "{msg}");
-        assert!(check_against("small", 1000, limit).is_ok());
+        assert!(limit.check("small", 1000).is_ok());
         assert_eq!(bytes_for(u64::MAX, 8), u64::MAX);
         assert_eq!(human_bytes(512), "512 B");
     }

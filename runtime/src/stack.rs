@@ -578,12 +578,15 @@ impl Stack {
 impl Bodies {
     #[cfg(feature = "toml")]
     /// Reads a stack file's bodies: the first body and its `[counterface]`, if any.
-    /// See the module docs for the format.
+    /// See the module docs for the format. The file may hold at most
+    /// [`crate::resources::TEXT_FILE_CAP`] bytes (or the machine's memory limit, if
+    /// smaller).
     pub fn from_toml_file(path: &Path) -> Result<Self, StackError> {
         let text = crate::resources::read_text_capped(
             path,
             crate::resources::TEXT_FILE_CAP,
             "a stack file",
+            &crate::resources::MemoryLimit::of_machine(),
         )
         .map_err(|e| StackError::Io {
             path: path.display().to_string(),

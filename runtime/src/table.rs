@@ -390,13 +390,24 @@ impl Table {
         Ok(())
     }
 
-    /// Loads a table file, checking signature, version, length, checksum and contents.
+    /// Loads a table file, checking signature, version, length, checksum and contents;
+    /// a file larger than the machine's memory limit is refused ([`Table::load_within`]
+    /// takes a limit).
     pub fn load(path: &Path) -> Result<Self, TableError> {
-        let bytes =
-            crate::resources::read_data_file(path, "a table").map_err(|e| TableError::Io {
+        Self::load_within(path, &crate::resources::MemoryLimit::default())
+    }
+
+    /// [`Table::load`] of a file no larger than `memory`.
+    pub fn load_within(
+        path: &Path,
+        memory: &crate::resources::MemoryLimit,
+    ) -> Result<Self, TableError> {
+        let bytes = crate::resources::read_data_file(path, "a table", memory).map_err(|e| {
+            TableError::Io {
                 path: path.display().to_string(),
                 message: e.to_string(),
-            })?;
+            }
+        })?;
         Self::from_bytes(&bytes)
     }
 

@@ -43,6 +43,7 @@
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use strata_runtime::resources::MemoryLimit;
 
 use crate::csv_out::{self, num};
 use crate::output_set::{OutputSet, refuse_inputs};
@@ -737,6 +738,7 @@ fn compare_scene(
     dir: &str,
     a: &Args,
     heading: &str,
+    memory: MemoryLimit,
 ) -> Result<Compared> {
     let scene = Scene::from_file(path)?;
     let mut runs = Vec::new();
@@ -754,6 +756,7 @@ fn compare_scene(
         sc.model.kind = kind;
         let opts = EngineOptions {
             cache_dir: a.cache_dir.clone(),
+            memory,
             ..Default::default()
         };
         progress::log(format!("compare {}: {name}…", path.display()));
@@ -862,7 +865,7 @@ fn compare_scene(
     Ok(c)
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     let t0 = Instant::now();
     if !a.labels.is_empty() && a.labels.len() != a.scenes.len() {
         bail!(
@@ -903,6 +906,7 @@ pub fn run(a: Args) -> Result<()> {
             "",
             &a,
             "# Model comparison:",
+            memory,
         )?;
         progress::log(summary_table(&c));
     } else {
@@ -925,6 +929,7 @@ pub fn run(a: Args) -> Result<()> {
                 &format!("{name}/"),
                 &a,
                 "# Model comparison:",
+                memory,
             )?);
         }
         let mut md = String::from(

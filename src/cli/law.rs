@@ -35,6 +35,7 @@
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use strata_runtime::resources::MemoryLimit;
 
 use crate::scene::Scene;
 use anyhow::{Context, Result, bail};
@@ -191,7 +192,7 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
     Ok(serde_json::to_string_pretty(&v)?)
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     let t0 = Instant::now();
     check_samples(a.samples)?;
     check_min_gap(a.min_gap)?;
@@ -214,9 +215,10 @@ pub fn run(a: Args) -> Result<()> {
     let set = OutputSet::files("--out", &paths, a.force)?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
+        memory,
         ..Default::default()
     };
-    let solved = crate::engine::load_surface(&scene)
+    let solved = crate::engine::load_surface(&scene, &memory)
         .and_then(|surface| sample_law(&scene, surface, &opts, &mut Console, a.samples, a.min_gap))
         .with_context(|| format!("scene {}", a.scene.display()))?;
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {

@@ -17,6 +17,7 @@ use anyhow::Result;
 
 use crate::stdio::eprint_line;
 use clap::{Parser, Subcommand};
+use strata_runtime::resources::MemoryLimit;
 
 /// strata: normal contact of rough surfaces on multi-layered elastic solids (SI units).
 ///
@@ -68,19 +69,20 @@ pub enum Command {
     Surface(surface::Args),
 }
 
-pub fn run(cli: Cli) -> Result<()> {
+/// Runs the command under the memory limit `memory` (every solver's options carry it).
+pub fn run(cli: Cli, memory: MemoryLimit) -> Result<()> {
     match cli.command {
         Command::Compliance(a) => compliance::run(a),
         Command::Conductance(a) => conductance::run(a),
         Command::Asperity(a) => asperity::run(a),
         Command::Stiffness(a) => stiffness::run(a),
         Command::Table(a) => table::run(a),
-        Command::Solve(a) => solve::run(a),
-        Command::Law(a) => law::run(a),
-        Command::Compare(a) => compare::run(a),
-        Command::Sweep(a) => sweep::run(a),
-        Command::Study(a) => study::run(a),
-        Command::Surface(a) => surface::run(a),
+        Command::Solve(a) => solve::run(a, memory),
+        Command::Law(a) => law::run(a, memory),
+        Command::Compare(a) => compare::run(a, memory),
+        Command::Sweep(a) => sweep::run(a, memory),
+        Command::Study(a) => study::run(a, memory),
+        Command::Surface(a) => surface::run(a, memory),
     }
 }
 
@@ -89,24 +91,33 @@ pub fn run(cli: Cli) -> Result<()> {
 pub fn main() -> std::process::ExitCode {
     let args = Cli::parse();
     crate::progress::init(args.quiet);
-    if let Some(m) = &args.memory_limit {
-        match strata_runtime::resources::parse_bytes(m) {
-            Ok(b) => strata_runtime::resources::set_memory_limit(b),
+    // The memory limit of every solve: --memory-limit, else STRATA_MEMORY_LIMIT, else
+    // 75 % of the machine's memory (read here, at the command's edge, only).
+    let memory = match &args.memory_limit {
+        Some(m) => match MemoryLimit::parse(m, MemoryLimit::SET_BY_CALLER) {
+            Ok(l) => l,
             Err(e) => {
                 eprint_line(format_args!("error: --memory-limit: {e}"));
                 return std::process::ExitCode::FAILURE;
             }
+        },
+        None => {
+            let value = std::env::var(MemoryLimit::ENV_VAR).ok();
+            match MemoryLimit::from_setting(value.as_deref()) {
+                Ok(l) => l,
+                Err(e) => {
+                    eprint_line(format_args!("error: {e}"));
+                    return std::process::ExitCode::FAILURE;
+                }
+            }
         }
-    } else if let Err(e) = strata_runtime::resources::memory_limit() {
-        eprint_line(format_args!("error: {e}"));
-        return std::process::ExitCode::FAILURE;
-    }
+    };
     // Every command's parallel loops run on this one pool, capped as `sweep --threads`.
     if let Err(e) = crate::threads::init_global_pool() {
         eprint_line(format_args!("error: {e}"));
         return std::process::ExitCode::FAILURE;
     }
-    match run(args) {
+    match run(args, memory) {
         Ok(()) => std::process::ExitCode::SUCCESS,
         Err(e) => {
             eprint_line(format_args!("error: {e:#}"));

@@ -38,6 +38,7 @@
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use strata_runtime::resources::MemoryLimit;
 
 use crate::csv_out;
 use crate::output_set::{OutputSet, refuse_inputs};
@@ -109,7 +110,7 @@ pub fn curve_csv_extra(steps: &[Step], extra: &[(&str, Vec<f64>)]) -> Result<Str
     )?)
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     let t0 = Instant::now();
     let scene = Scene::from_file(&a.scene)?;
     refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
@@ -117,6 +118,7 @@ pub fn run(a: Args) -> Result<()> {
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
         keep_partial: true,
+        memory,
         ..Default::default()
     };
     let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots)
@@ -138,7 +140,7 @@ pub fn run(a: Args) -> Result<()> {
     maps.finish()?;
     if let Some(f) = &sol.failed {
         // A failing run never replaces complete results (docs/conventions.md).
-        if holds_complete_curve(&a.out) {
+        if holds_complete_curve(&a.out, &memory) {
             bail!(
                 "scene {}: load step {} (δ = {:e} m) failed: {}; {} holds the complete results of an earlier run, which are kept (a partial curve never replaces a complete one): the {} steps before the failure were not written (give another --out to keep them)",
                 a.scene.display(),
@@ -365,11 +367,11 @@ fn steps_json(steps: &[Step]) -> serde_json::Value {
 
 /// Whether `dir` holds the curve of an earlier complete run: a `curve.csv` beside a
 /// readable `curve.json` without a `partial` record.
-fn holds_complete_curve(dir: &Path) -> bool {
+fn holds_complete_curve(dir: &Path, memory: &MemoryLimit) -> bool {
     if !dir.join("curve.csv").is_file() {
         return false;
     }
-    strata_runtime::resources::read_data_file(&dir.join("curve.json"), "curve.json")
+    strata_runtime::resources::read_data_file(&dir.join("curve.json"), "curve.json", memory)
         .ok()
         .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
         .is_some_and(|j| j.get("partial").is_none_or(serde_json::Value::is_null))

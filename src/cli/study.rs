@@ -15,6 +15,7 @@
 //! and a hidden `--tiny` for the end-to-end test (seconds).
 
 use std::path::{Path, PathBuf};
+use strata_runtime::resources::MemoryLimit;
 
 use anyhow::{Context, Result, bail};
 
@@ -85,7 +86,7 @@ fn link_prefix(report: &Path, out: &Path) -> Result<String> {
     })
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     let mode = if a.tiny {
         Mode::Tiny
     } else if a.quick {
@@ -114,6 +115,7 @@ pub fn run(a: Args) -> Result<()> {
     let inputs = Inputs {
         scene: a.scene.clone(),
         table: a.table.clone(),
+        memory,
     };
     let result = study::run(mode, &inputs, machine)?;
     report::plots(&result, set.root(), &a.format)?;

@@ -16,6 +16,7 @@
 //!   `--repair` shows the filled surface instead.
 
 use std::path::PathBuf;
+use strata_runtime::resources::MemoryLimit;
 
 use anyhow::{Context, Result, bail};
 use clap::Subcommand;
@@ -96,14 +97,14 @@ pub struct InfoArgs {
     pub plot_format: String,
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     match a.command {
-        Cmd::Export(e) => export(e),
-        Cmd::Info(i) => info(i),
+        Cmd::Export(e) => export(e, &memory),
+        Cmd::Info(i) => info(i, &memory),
     }
 }
 
-fn export(a: ExportArgs) -> Result<()> {
+fn export(a: ExportArgs, memory: &MemoryLimit) -> Result<()> {
     let scene =
         Scene::from_file(&a.scene).with_context(|| format!("scene {}", a.scene.display()))?;
     crate::output_set::refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
@@ -132,7 +133,7 @@ fn export(a: ExportArgs) -> Result<()> {
             a.out.display()
         );
     }
-    let surface = crate::engine::load_surface(&scene).context("surface")?;
+    let surface = crate::engine::load_surface(&scene, memory).context("surface")?;
     crate::engine::surface_report(&surface, &crate::engine::Console);
     let source = match &scene.surface.source {
         SurfaceSource::File(p) => format!("file {}", p.display()),
@@ -158,6 +159,7 @@ fn export(a: ExportArgs) -> Result<()> {
                 &X3pWriteOptions {
                     data_type,
                     comment: Some(comment),
+                    memory: *memory,
                 },
             )
             .with_context(|| format!("--out {}", a.out.display()))?;
@@ -184,7 +186,7 @@ fn export(a: ExportArgs) -> Result<()> {
     Ok(())
 }
 
-fn info(a: InfoArgs) -> Result<()> {
+fn info(a: InfoArgs, memory: &MemoryLimit) -> Result<()> {
     let is_scene = a
         .file
         .extension()
@@ -197,7 +199,7 @@ fn info(a: InfoArgs) -> Result<()> {
         }
         let scene =
             Scene::from_file(&a.file).with_context(|| format!("scene {}", a.file.display()))?;
-        crate::engine::load_surface(&scene).context("surface")?
+        crate::engine::load_surface(&scene, memory).context("surface")?
     } else {
         let spacing = match (&a.size, &a.pixel_size) {
             (Some(_), Some(_)) => bail!("give either --size or --pixel-size, not both"),
@@ -247,6 +249,7 @@ fn info(a: InfoArgs) -> Result<()> {
                 repair: Repair::Median,
                 height_unit,
                 detrend,
+                memory: *memory,
             },
         )?
     };

@@ -38,6 +38,7 @@ pub mod spec;
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
+use strata_runtime::resources::MemoryLimit;
 
 use crate::csv_out::{self, num};
 use crate::output_set::OutputSet;
@@ -117,10 +118,10 @@ pub struct MergeArgs {
     pub force: bool,
 }
 
-pub fn run(a: Args) -> Result<()> {
+pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     match a.command {
-        Some(SweepCommand::Merge(m)) => merge(m),
-        None => run_sweep(a),
+        Some(SweepCommand::Merge(m)) => merge(m, &memory),
+        None => run_sweep(a, memory),
     }
 }
 
@@ -296,7 +297,7 @@ struct CaseOut {
     seconds: f64,
 }
 
-fn run_sweep(a: Args) -> Result<()> {
+fn run_sweep(a: Args, memory: MemoryLimit) -> Result<()> {
     let t0 = Instant::now();
     let path = a
         .sweep
@@ -365,6 +366,7 @@ fn run_sweep(a: Args) -> Result<()> {
         .with_context(|| format!("sweep {}", path.display()))?;
     let opts = EngineOptions {
         cache_dir: a.cache_dir.clone(),
+        memory,
         ..Default::default()
     };
     prepare_tables(&mut cases, &opts)?;
@@ -439,7 +441,7 @@ fn run_sweep(a: Args) -> Result<()> {
         .inputs
         .iter()
         .map(|p| {
-            let sum = strata_runtime::resources::read_data_file(p, "an input file")
+            let sum = strata_runtime::resources::read_data_file(p, "an input file", &memory)
                 .map(|b| format!("{:016x}", fnv1a(&b)));
             serde_json::json!({"path": p.display().to_string(),
                                "fnv1a": sum.unwrap_or_else(|e| format!("unreadable: {e}"))})
@@ -504,7 +506,7 @@ struct ShardFile {
     csv: PathBuf,
 }
 
-fn merge(a: MergeArgs) -> Result<()> {
+fn merge(a: MergeArgs, memory: &MemoryLimit) -> Result<()> {
     let dir = &a.dir;
     let mut found: Vec<ShardFile> = Vec::new();
     for e in std::fs::read_dir(dir).with_context(|| format!("merge: {}", dir.display()))? {
@@ -584,6 +586,7 @@ fn merge(a: MergeArgs) -> Result<()> {
                 &side,
                 strata_runtime::resources::TEXT_FILE_CAP,
                 "a shard sidecar",
+                memory,
             )
             .with_context(|| format!("merge: sidecar {}", side.display()))?,
         )
@@ -635,7 +638,7 @@ fn merge(a: MergeArgs) -> Result<()> {
                 .or(meta["title"].as_str())
                 .map(str::to_string);
         }
-        let bytes = strata_runtime::resources::read_data_file(&f.csv, "a shard CSV")
+        let bytes = strata_runtime::resources::read_data_file(&f.csv, "a shard CSV", memory)
             .with_context(|| format!("merge: {}", f.csv.display()))?;
         // The shard must be exactly what its run wrote: row count and checksum.
         let (want_rows, want_sum) = (meta["rows"].as_u64(), meta["csv_fnv1a"].as_str());

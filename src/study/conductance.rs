@@ -203,9 +203,15 @@ fn spot_conductances(
         .with_cache(cache.map(Path::to_path_buf));
     match model {
         Model::Independent => Ok(sum.conductances(steps, rc.area())?),
-        Model::Interacting(images) => {
-            Ok(sum.interacting(steps, rc.summits(), rc.extent(), images)?.0)
-        }
+        Model::Interacting(images) => Ok(sum
+            .interacting(
+                steps,
+                rc.summits(),
+                rc.extent(),
+                images,
+                &rc.params().memory,
+            )?
+            .0),
     }
 }
 

@@ -67,6 +67,9 @@ pub struct Inputs {
     pub scene: PathBuf,
     /// Family table of the paper's stacks (approximation stage; the scene's table).
     pub table: PathBuf,
+    /// The memory limit of the inputs' reading (`--memory-limit`, else
+    /// `STRATA_MEMORY_LIMIT`, else 75 % of the machine's memory).
+    pub memory: strata_runtime::resources::MemoryLimit,
 }
 
 /// Timed repetitions: `min_runs ≤ runs ≤ max_runs`, as many as fit in `budget` s

@@ -37,6 +37,7 @@ impl Machine {
             path,
             strata_runtime::resources::TEXT_FILE_CAP,
             "a machine file",
+            &strata_runtime::resources::MemoryLimit::of_machine(),
         )
         .with_context(|| what.clone())?;
         toml::from_str(&text).with_context(|| what)

@@ -241,12 +241,13 @@ fn bem_curve(
 pub fn inputs(inputs: &Inputs) -> Result<(Scene, Surface, std::path::PathBuf, Table)> {
     let scene = Scene::from_file(&inputs.scene)
         .with_context(|| format!("--scene {}", inputs.scene.display()))?;
-    let surface = crate::engine::load_surface(&scene).context("scene surface")?;
+    let surface = crate::engine::load_surface(&scene, &inputs.memory).context("scene surface")?;
     if !surface.is_periodic() {
         bail!("--scene: the study's BEM needs a periodic surface");
     }
     let table_path = scene.table.clone().unwrap_or_else(|| inputs.table.clone());
-    let table = Table::load(&table_path).with_context(|| table_path.display().to_string())?;
+    let table = Table::load_within(&table_path, &inputs.memory)
+        .with_context(|| table_path.display().to_string())?;
     table
         .law_for(&scene.bodies)
         .with_context(|| format!("{} does not serve the scene's stack", table_path.display()))?;

@@ -10,6 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
 use strata_runtime::constriction::{Side, radius_range, series_conductances};
+use strata_runtime::resources::MemoryLimit;
 use strata_runtime::rough::conductance::{
     Body, ConductanceError, Kernel, KernelInfo, PathError, path_conductances,
 };
@@ -171,11 +172,16 @@ impl SpotPair {
 
     /// Checks, before any work, that the I model's conduction kernel of a sample of
     /// sides `extent` (m) can be built (periodic images: its table within the cap and
-    /// the memory limit, [`Kernel::check_periodic`]; isolated: nothing to check).
-    pub fn check_kernel(&self, extent: (f64, f64), images: Images) -> Result<(), SpotPairError> {
+    /// `memory`, [`Kernel::check_periodic`]; isolated: nothing to check).
+    pub fn check_kernel(
+        &self,
+        extent: (f64, f64),
+        images: Images,
+        memory: &MemoryLimit,
+    ) -> Result<(), SpotPairError> {
         let [a, b] = self.bodies();
         match images {
-            Images::Periodic(_) => Kernel::check_periodic(a, b, extent)
+            Images::Periodic(_) => Kernel::check_periodic(a, b, extent, memory)
                 .map(|_| ())
                 .map_err(SpotPairError::Kernel),
             Images::Isolated => Ok(()),
@@ -189,24 +195,26 @@ impl SpotPair {
     /// cell of sides `extent` (m) or isolated; the interactions of every summit that
     /// touches at some step filled once for the path ([`strata_runtime::rough::conductance::Interactions`]: the same h_c as
     /// filling each step's network afresh, bit for bit). h_c per step (W/(m²·K) or S/m²)
-    /// and the kernel's parameters.
+    /// and the kernel's parameters. The kernel's table and the interactions are checked
+    /// against `memory` before they are allocated.
     pub fn interacting(
         &self,
         steps: &[Step],
         summits: &[Summit],
         extent: (f64, f64),
         images: Images,
+        memory: &MemoryLimit,
     ) -> Result<(Vec<f64>, KernelInfo), SpotPairError> {
         let [a, b] = self.bodies();
         let kernel = match images {
-            Images::Periodic(_) => Kernel::periodic(a, b, extent),
+            Images::Periodic(_) => Kernel::periodic(a, b, extent, memory),
             Images::Isolated => Kernel::isolated(a, b, extent),
         }
         .map_err(SpotPairError::Kernel)?;
         let area = extent.0 * extent.1;
         let g = self.spot_conductances(steps)?;
         let points: Vec<(f64, f64)> = summits.iter().map(|s| (s.x, s.y)).collect();
-        let h = path_conductances(&kernel, &g, &points, area).map_err(|e| match e {
+        let h = path_conductances(&kernel, &g, &points, area, memory).map_err(|e| match e {
             PathError::Step { step, error } => SpotPairError::Network { step, error },
             PathError::Interactions(e) => SpotPairError::Kernel(e),
         })?;

@@ -12,7 +12,7 @@ use std::process::Command;
 
 use strata_bem::{Array2, BemLoad, BemOptions, BemSolver, Geometry};
 use strata_runtime::Stack;
-use strata_runtime::resources::check_against;
+use strata_runtime::resources::MemoryLimit;
 use strata_runtime::surface::{GenerateParams, Surface};
 use strata_tablegen::asperity::{Asperity, Options};
 
@@ -175,7 +175,9 @@ fn soft_stack_beyond_peak_to_valley() {
 fn memory_limit_is_an_error_not_an_abort() {
     let need = BemSolver::memory_needed(16384, 16384, true);
     assert!(need > 16 << 30, "{need}");
-    let e = check_against("BEM grid 16384×16384", need, (1 << 30, "test")).unwrap_err();
+    let e = MemoryLimit::new(1 << 30, "test")
+        .check("BEM grid 16384×16384", need)
+        .unwrap_err();
     assert!(e.to_string().contains("BEM grid 16384×16384"), "{e}");
     assert!(BemSolver::memory_needed(16384, 16384, false) > need);
     let d = crate::support::scratch().join("bem-mem");

@@ -9,6 +9,7 @@ use strata::engine::{EngineOptions, WithMaps, solve};
 use strata::scene::Scene;
 use strata::spots::SpotSum;
 use strata_bem::{ConductanceOptions, ConductanceSolver, Conductor, Geometry};
+use strata_runtime::resources::MemoryLimit;
 use strata_runtime::rough::conductance::{Body, Kernel, Spot, interface_conductance};
 use strata_runtime::rough::{Images, Step};
 use strata_runtime::summits::Summit;
@@ -25,7 +26,13 @@ use crate::support::{fresh_dir, repo, stderr_of};
 fn two_discs_in_a_periodic_cell_against_the_bem() {
     let (l, k) = (1e-3, 20.0);
     let a = l / 32.0;
-    let kern = Kernel::periodic(Body::HalfSpace(k), Body::Perfect, (l, l)).unwrap();
+    let kern = Kernel::periodic(
+        Body::HalfSpace(k),
+        Body::Perfect,
+        (l, l),
+        &MemoryLimit::default(),
+    )
+    .unwrap();
     for d_over_a in [3.0, 5.0, 8.0] {
         let d = d_over_a * a;
         let centres = [(0.5 * l - 0.5 * d, 0.5 * l), (0.5 * l + 0.5 * d, 0.5 * l)];
@@ -63,7 +70,7 @@ fn two_discs_in_a_periodic_cell_against_the_bem() {
                     y,
                     conductance: 4.0 * k * ae,
                 });
-                interface_conductance(&kern, &spots, l * l)
+                interface_conductance(&kern, &spots, l * l, &MemoryLimit::default())
                     .unwrap()
                     .conductance
                     / hb
@@ -186,7 +193,13 @@ fn spot_models_on_the_bems_own_spots() {
         let steps = [step];
         let h_n = sum.conductances(&steps, l * l).unwrap()[0];
         let (h_i, _) = sum
-            .interacting(&steps, &summits, (l, l), Images::Periodic(2))
+            .interacting(
+                &steps,
+                &summits,
+                (l, l),
+                Images::Periodic(2),
+                &MemoryLimit::default(),
+            )
             .unwrap();
         let (en, ei) = (h_n / hb - 1.0, h_i[0] / hb - 1.0);
         eprintln!(

@@ -35,7 +35,7 @@ fn npy(name: &str, unit: f64) -> (Vec<f64>, usize, usize) {
 #[test]
 fn surface_topography_containers_are_read_with_units_sizes_and_periodic_flags() {
     let zip = fixture().join("container.zip");
-    let entries = list(&zip).unwrap();
+    let entries = list(&zip, &strata_runtime::resources::MemoryLimit::default()).unwrap();
     let names: Vec<&str> = entries.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(names, ["periodic-um", "scan-nm"]);
     assert_eq!(entries[0].unit.as_deref(), Some("µm"));
@@ -299,5 +299,10 @@ fn a_yaml_alias_bomb_in_meta_yml_is_refused() {
     );
     // an anchor used once: read as before
     let zip = legacy_container(&d, &format!("unit0: &u µm\n{LEGACY}"));
-    assert_eq!(list(&zip).unwrap().len(), 1);
+    assert_eq!(
+        list(&zip, &strata_runtime::resources::MemoryLimit::default())
+            .unwrap()
+            .len(),
+        1
+    );
 }

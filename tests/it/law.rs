@@ -235,7 +235,9 @@ fn homogeneous_law_is_the_gw_sum_and_a_valid_abaqus_table() {
 
     // Closed form on the scene's own surface.
     let sc = Scene::from_file(&root().join(scene)).expect("scene");
-    let surf = sc.load_surface().expect("surface");
+    let surf = sc
+        .load_surface(&strata_runtime::resources::MemoryLimit::default())
+        .expect("surface");
     let summits = find_summits(&surf).summits;
     let e = sc.bodies.first.top_plane_strain_modulus();
     let a0 = surf.extent().0 * surf.extent().1;

@@ -127,8 +127,8 @@ fn huge_bem_grid_under_a_small_limit_is_refused() {
 }
 
 /// The I model past its memory limit (a 1024² surface with k_max = 400 under 64 MiB)
-/// exits 1 with a message: the I model estimates its pair storage and calls
-/// `strata_runtime::resources::check_memory`, which `--memory-limit` sets.
+/// exits 1 with a message: the I model estimates its pair storage and checks it against
+/// its `rough::Params::memory`, which the engine sets from `--memory-limit`.
 #[test]
 fn i_model_past_its_limit_is_refused() {
     let d = dir("imodel");

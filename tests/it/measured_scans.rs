@@ -372,8 +372,16 @@ fn punched_hole_in_a_real_scan() {
         for &k in &hole {
             z[k] = f64::NAN;
         }
-        let f = Surface::measured_with(z, n0, n1, Spacing::Extent(lx, ly), false, Repair::Median)
-            .unwrap();
+        let f = Surface::measured_with(
+            z,
+            n0,
+            n1,
+            Spacing::Extent(lx, ly),
+            false,
+            Repair::Median,
+            &strata_runtime::resources::MemoryLimit::default(),
+        )
+        .unwrap();
         assert!(f.repaired() >= hole.len());
         let d = (hole
             .iter()

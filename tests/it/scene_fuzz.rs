@@ -214,7 +214,7 @@ fn check(text: &str, dir: &Path) {
                 SurfaceSource::File(_) => true,
             };
             if small {
-                match s.load_surface() {
+                match s.load_surface(&strata_runtime::resources::MemoryLimit::default()) {
                     Ok(sf) => assert!(sf.heights().iter().all(|z| z.is_finite())),
                     Err(e) => {
                         let m = e.to_string();
@@ -241,7 +241,10 @@ fn unmutated_scenes_are_accepted() {
     let dir = fixture_dir();
     for t in [GENERATED, FROM_FILE] {
         let s = Scene::from_str_in(t, &dir).expect("valid scene");
-        assert!(s.load_surface().is_ok());
+        assert!(
+            s.load_surface(&strata_runtime::resources::MemoryLimit::default())
+                .is_ok()
+        );
     }
 }
 

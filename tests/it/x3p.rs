@@ -404,7 +404,9 @@ fn export_round_trip_and_scene() {
     ]);
     assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--force"));
     let scene = strata::scene::Scene::from_file(&sg).expect("scene");
-    let original = scene.load_surface().expect("generated");
+    let original = scene
+        .load_surface(&strata_runtime::resources::MemoryLimit::default())
+        .expect("generated");
     let back = read(&x3p, Repair::Refuse).expect("x3p");
     assert_eq!(back.heights(), original.heights());
     assert_eq!(back.shape(), original.shape());

@@ -102,6 +102,7 @@ impl BemConductance {
         spec: &ConductanceSpec,
         (n0, n1): (usize, usize),
         geometry: Geometry,
+        opts: &EngineOptions,
         obs: &dyn Observer,
     ) -> Result<Self> {
         let body = spec.body(&scene.bodies.first)?;
@@ -131,7 +132,10 @@ impl BemConductance {
             geometry,
             Conductor::Layered(&body),
             b,
-            ConductanceOptions::default(),
+            ConductanceOptions {
+                memory: opts.memory,
+                ..ConductanceOptions::default()
+            },
         )
         .context("[conductance]")?;
         let definition = if geometry.periodic {
@@ -198,17 +202,19 @@ pub struct AsperityConductance<'s> {
 }
 
 impl<'s> AsperityConductance<'s> {
-    /// Checks the I model's conduction kernel (its table's cap) against the sample
-    /// before any work: a refusal after the mechanical solve would waste it.
+    /// Checks the I model's conduction kernel (its table's cap and the memory limit)
+    /// against the sample before any work: a refusal after the mechanical solve would
+    /// waste it.
     pub fn prepare(
         scene: &'s Scene,
         spec: &'s ConductanceSpec,
         model: Model,
         surface: &Surface,
+        opts: &EngineOptions,
     ) -> Result<Self> {
         if let Model::Interacting(images) = model {
             SpotSum::new(scene, spec)?
-                .check_kernel(surface.extent(), images)
+                .check_kernel(surface.extent(), images, &opts.memory)
                 .context("[conductance]")?;
         }
         Ok(AsperityConductance {
@@ -253,7 +259,7 @@ impl StepObserver for AsperityConductance<'_> {
             Model::Interacting(images) => {
                 let t = Instant::now();
                 let (h, info) = sum
-                    .interacting(path.steps, rc.summits(), rc.extent(), images)
+                    .interacting(path.steps, rc.summits(), rc.extent(), images, &opts.memory)
                     .context("[conductance]")?;
                 log!(
                     obs,

@@ -23,7 +23,7 @@ use strata_runtime::rough::Model;
 use strata_runtime::surface::Surface;
 
 use crate::scene::Scene;
-use crate::setup::Observer;
+use crate::setup::{EngineOptions, Observer};
 pub use observer::{AsperityPath, BemStep, StepObserver, after_path, finish};
 
 /// The observers of a scene solved by the BEM on an `n0 × n1` grid of `geometry`.
@@ -31,12 +31,13 @@ pub fn for_bem<'s>(
     scene: &'s Scene,
     grid: (usize, usize),
     geometry: Geometry,
+    opts: &EngineOptions,
     obs: &dyn Observer,
 ) -> Result<Vec<Box<dyn StepObserver + 's>>> {
     let mut out: Vec<Box<dyn StepObserver + 's>> = Vec::new();
     if let Some(spec) = &scene.conductance {
         out.push(Box::new(conductance::BemConductance::prepare(
-            scene, spec, grid, geometry, obs,
+            scene, spec, grid, geometry, opts, obs,
         )?));
     }
     Ok(out)
@@ -48,11 +49,12 @@ pub fn for_asperities<'s>(
     scene: &'s Scene,
     model: Model,
     surface: &Surface,
+    opts: &EngineOptions,
 ) -> Result<Vec<Box<dyn StepObserver + 's>>> {
     let mut out: Vec<Box<dyn StepObserver + 's>> = Vec::new();
     if let Some(spec) = &scene.conductance {
         out.push(Box::new(conductance::AsperityConductance::prepare(
-            scene, spec, model, surface,
+            scene, spec, model, surface, opts,
         )?));
     }
     Ok(out)

@@ -26,7 +26,7 @@ pub fn solve(
     model: Model,
 ) -> Result<SceneSolution> {
     let obs: &dyn Observer = obs;
-    let mut observers = crate::effects::for_asperities(scene, model, &surface)?;
+    let mut observers = crate::effects::for_asperities(scene, model, &surface, opts)?;
     if scene.unload {
         bail_input!(
             "load.unload is solved by the BEM in this version (model.kind = \"bem\"); the N and \

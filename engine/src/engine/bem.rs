@@ -11,7 +11,7 @@
 use std::time::Instant;
 
 use crate::error::{Context, EngineError, Result};
-use strata_bem::{BemLoad, BemSolver, Geometry};
+use strata_bem::{BemLoad, BemOptions, BemSolver, Geometry};
 use strata_runtime::Solid;
 use strata_runtime::rough::Step;
 use strata_runtime::surface::Surface;
@@ -50,7 +50,10 @@ pub fn solve(
     };
     let stack = &scene.bodies;
     let t0 = Instant::now();
-    let bem_options = scene.solver.bem_options(opts.bem.unwrap_or_default());
+    let bem_options = BemOptions {
+        memory: opts.memory,
+        ..scene.solver.bem_options(opts.bem.unwrap_or_default())
+    };
     let solver = BemSolver::with_geometry(&heights, geometry, stack, bem_options)
         .context("model.kind = \"bem\"")?
         .with_cancel(opts.cancel.clone());
@@ -124,7 +127,7 @@ pub fn solve(
     let mut response = plasticity::bem_response(scene, &solver, obs)?;
     let mut plastic = scene.plasticity.map(|_| Vec::with_capacity(total));
     let probe = StiffnessProbe::new(surface.rms());
-    let mut observers = crate::effects::for_bem(scene, (n0, n1), geometry, obs)?;
+    let mut observers = crate::effects::for_bem(scene, (n0, n1), geometry, opts, obs)?;
     let mut failed = None;
     let mut resolution: Vec<StepResolution> = Vec::with_capacity(total);
     for (k, (name, load)) in loads.into_iter().enumerate() {

@@ -41,7 +41,7 @@ pub fn solve(
 ) -> Result<SceneSolution> {
     let surface = match surface {
         Some(s) => s,
-        None => load_surface(scene)?,
+        None => load_surface(scene, &opts.memory)?,
     };
     if let Some(e) = surface.nothing_left() {
         return Err(e.into());

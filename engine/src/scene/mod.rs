@@ -60,6 +60,7 @@ use std::path::{Path, PathBuf};
 
 use strata_bem::BemOptions;
 use strata_runtime::conduction::{ConductionCompliance, ConductionKind};
+use strata_runtime::resources::MemoryLimit;
 use strata_runtime::rough::{Images, Params};
 use strata_runtime::stack::{Bodies, Counterface, RigidConduction, Stack};
 use strata_runtime::surface::container::Pick;
@@ -354,6 +355,7 @@ impl Scene {
             path,
             strata_runtime::resources::TEXT_FILE_CAP,
             "a scene file",
+            &MemoryLimit::of_machine(),
         )
         .map_err(|e| SceneError::Io {
             path: path.display().to_string(),
@@ -425,22 +427,27 @@ impl Scene {
     /// What the reader did is in [`Surface::log`].
     ///
     /// With a rough counterface (`[counterface.surface]`) the result is the composite
-    /// surface h_A + h_B (physics.md §6.1).
-    pub fn load_surface(&self) -> Result<Surface, SceneError> {
-        let own = load_spec(&self.surface)?;
+    /// surface h_A + h_B (physics.md §6.1). What is allocated is checked against
+    /// `memory` first.
+    pub fn load_surface(&self, memory: &MemoryLimit) -> Result<Surface, SceneError> {
+        let own = load_spec(&self.surface, memory)?;
         match self.bodies.counterface.surface() {
             None => Ok(own),
-            Some(c) => Ok(own.plus_counterface(&load_spec(c)?)?),
+            Some(c) => Ok(own.plus_counterface(&load_spec(c, memory)?)?),
         }
     }
 }
 
-fn load_spec(s: &SurfaceSpec) -> Result<Surface, SceneError> {
+fn load_spec(s: &SurfaceSpec, memory: &MemoryLimit) -> Result<Surface, SceneError> {
+    let read = ReadOptions {
+        memory: *memory,
+        ..s.read
+    };
     Ok(match &s.source {
-        SurfaceSource::Generate(g) => Surface::generate(g)?,
+        SurfaceSource::Generate(g) => Surface::generate_within(g, memory)?,
         SurfaceSource::File(p) => match &s.topography {
-            Some(pick) => strata_runtime::surface::container::read_container(p, pick, &s.read)?,
-            None => Surface::read(p, &s.read)?,
+            Some(pick) => strata_runtime::surface::container::read_container(p, pick, &read)?,
+            None => Surface::read(p, &read)?,
         },
     })
 }
@@ -572,7 +579,7 @@ approach = { from = 1e-6, to = 9e-6, steps = 5 }
             assert!((x - y).abs() < 1e-20);
         }
         assert_eq!(d.len(), 5);
-        assert!(s.load_surface().is_ok());
+        assert!(s.load_surface(&MemoryLimit::default()).is_ok());
     }
 
     fn err(s: &str) -> String {

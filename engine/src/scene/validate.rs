@@ -832,6 +832,7 @@ fn surface_spec_in(sf: &SurfaceFile, dir: &Path) -> Result<SurfaceSpec, SceneErr
                     FileKind::Container => strata_runtime::surface::container::find(
                         &p,
                         topography.as_ref().unwrap_or(&Pick::Index(0)),
+                        &strata_runtime::resources::MemoryLimit::of_machine(),
                     )
                     .ok()
                     .and_then(|e| e.periodic),
@@ -869,6 +870,7 @@ fn surface_spec_in(sf: &SurfaceFile, dir: &Path) -> Result<SurfaceSpec, SceneErr
                     repair,
                     height_unit,
                     detrend,
+                    ..Default::default()
                 },
                 topography,
             }

@@ -103,6 +103,10 @@ pub struct Params {
     /// Cooperative cancellation, checked before every load step and Newton step of
     /// the I model ([`crate::cancel`]). Default: never cancelled. Carries no physics.
     pub cancel: crate::cancel::Cancel,
+    /// The memory limit the I model's pair storage and conduction network are checked
+    /// against before they are allocated ([`crate::resources`]). Default: 75 % of the
+    /// machine's memory. Carries no physics.
+    pub memory: crate::resources::MemoryLimit,
 }
 
 /// A solver parameter outside its range ([`Params::validate`]).
@@ -218,6 +222,7 @@ impl Default for Params {
             independent_pressure_tolerance: 1e-13,
             max_pressure_iterations: 200,
             cancel: crate::cancel::Cancel::default(),
+            memory: crate::resources::MemoryLimit::default(),
         }
     }
 }

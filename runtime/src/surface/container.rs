@@ -31,7 +31,7 @@ use yaml_rust2::{Yaml, YamlLoader};
 
 use super::read::{FileKind, HeightUnit, ReadOptions};
 use super::{Spacing, Surface, SurfaceError};
-use crate::resources::check_memory;
+use crate::resources::MemoryLimit;
 
 /// Which topography of a container: its number (across surfaces, from 0) or its name.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -93,16 +93,17 @@ fn open(path: &Path) -> Result<zip::ZipArchive<std::fs::File>, SurfaceError> {
     })
 }
 
-/// The bytes of member `name` (memory-checked).
+/// The bytes of member `name` (checked against `memory`).
 fn member<R: Read + Seek>(
     zip: &mut zip::ZipArchive<R>,
     name: &str,
     path: &Path,
+    memory: &MemoryLimit,
 ) -> Result<Vec<u8>, SurfaceError> {
     let mut f = zip
         .by_name(name)
         .map_err(|e| format_error(path, format!("the archive has no readable `{name}`: {e}")))?;
-    check_memory(format!("{name} of {}", path.display()), f.size())?;
+    memory.check(format!("{name} of {}", path.display()), f.size())?;
     let mut v = Vec::with_capacity(f.size() as usize);
     f.read_to_end(&mut v)
         .map_err(|e| format_error(path, format!("cannot decompress `{name}`: {e}")))?;
@@ -212,9 +213,14 @@ pub const MAX_YAML_NODES: u64 = 1_000_000;
 const YAML_NODE_BYTES: u64 = 64;
 
 /// Counts the nodes `text` expands to (each alias at the size of the node it names) in
-/// one pass of the event parser, and refuses more than [`MAX_YAML_NODES`] or than the
-/// memory limit allows.
-fn check_yaml_expansion(text: &str, path: &Path, meta: &str) -> Result<(), SurfaceError> {
+/// one pass of the event parser, and refuses more than [`MAX_YAML_NODES`] or than
+/// `memory` allows.
+fn check_yaml_expansion(
+    text: &str,
+    path: &Path,
+    meta: &str,
+    memory: &MemoryLimit,
+) -> Result<(), SurfaceError> {
     use std::collections::HashMap;
     use yaml_rust2::parser::{Event, MarkedEventReceiver, Parser};
     use yaml_rust2::scanner::Marker;
@@ -279,7 +285,7 @@ fn check_yaml_expansion(text: &str, path: &Path, meta: &str) -> Result<(), Surfa
             ),
         ));
     }
-    check_memory(
+    memory.check(
         format!(
             "{meta} of {} (expanded through its aliases)",
             path.display()
@@ -289,15 +295,17 @@ fn check_yaml_expansion(text: &str, path: &Path, meta: &str) -> Result<(), Surfa
     Ok(())
 }
 
-/// The topographies a container lists, in order (`meta.yml`, else `index.json`).
-pub fn list(path: &Path) -> Result<Vec<Entry>, SurfaceError> {
+/// The topographies a container lists, in order (`meta.yml`, else `index.json`); the
+/// metadata's size checked against `memory` before it is read.
+pub fn list(path: &Path, memory: &MemoryLimit) -> Result<Vec<Entry>, SurfaceError> {
     let mut zip = open(path)?;
-    list_in(&mut zip, path)
+    list_in(&mut zip, path, memory)
 }
 
 fn list_in<R: Read + Seek>(
     zip: &mut zip::ZipArchive<R>,
     path: &Path,
+    memory: &MemoryLimit,
 ) -> Result<Vec<Entry>, SurfaceError> {
     let names: Vec<String> = zip
         .file_names()
@@ -313,10 +321,10 @@ fn list_in<R: Read + Seek>(
                 "no meta.yml (nor index.json): not a contact.engineering container",
             )
         })?;
-    let bytes = member(zip, meta, path)?;
+    let bytes = member(zip, meta, path, memory)?;
     let text = String::from_utf8(bytes)
         .map_err(|e| format_error(path, format!("{meta} is not UTF-8 text: {e}")))?;
-    check_yaml_expansion(&text, path, meta)?;
+    check_yaml_expansion(&text, path, meta, memory)?;
     let docs = YamlLoader::load_from_str(&text)
         .map_err(|e| format_error(path, format!("{meta} is not valid YAML: {e}")))?;
     let doc = docs
@@ -325,9 +333,10 @@ fn list_in<R: Read + Seek>(
     entries(doc, path, meta)
 }
 
-/// The entry `pick` names, or an error listing the container's topographies.
-pub fn find(path: &Path, pick: &Pick) -> Result<Entry, SurfaceError> {
-    select(list(path)?, pick, path)
+/// The entry `pick` names, or an error listing the container's topographies
+/// ([`list`] under `memory`).
+pub fn find(path: &Path, pick: &Pick, memory: &MemoryLimit) -> Result<Entry, SurfaceError> {
+    select(list(path, memory)?, pick, path)
 }
 
 fn select(list: Vec<Entry>, pick: &Pick, path: &Path) -> Result<Entry, SurfaceError> {
@@ -418,17 +427,18 @@ fn rename(e: SurfaceError, tmp: &Path, shown: &str) -> SurfaceError {
 /// Reads topography `pick` of the container at `path`: its data file by the readers of
 /// [`Surface::read`] with the metadata's sizes, unit and periodic flag (see the module
 /// docs). `opts` as for [`Surface::read`]: sizes and a height unit only where neither
-/// the data file nor the metadata gives them; `periodic` or the metadata's flag.
+/// the data file nor the metadata gives them; `periodic` or the metadata's flag; every
+/// allocation checked against `opts.memory`.
 pub fn read_container(
     path: &Path,
     pick: &Pick,
     opts: &ReadOptions,
 ) -> Result<Surface, SurfaceError> {
     let mut zip = open(path)?;
-    let e = select(list_in(&mut zip, path)?, pick, path)?;
+    let e = select(list_in(&mut zip, path, &opts.memory)?, pick, path)?;
     let shown = format!("{} (member {})", path.display(), e.datafile);
     let refuse = |m: String| format_error(path, format!("{pick} (`{}`): {m}", e.name));
-    let bytes = member(&mut zip, &e.datafile, path)?;
+    let bytes = member(&mut zip, &e.datafile, path, &opts.memory)?;
     let tmp = extract(&bytes, &e.datafile, path)?;
     drop(bytes);
     let kind = FileKind::of(&tmp.0);
@@ -463,7 +473,7 @@ pub fn read_container(
     // What the data file itself gives (a NetCDF file: sizes and unit; .x3p: sizes, m).
     let (file_lengths, file_unit) = match kind {
         FileKind::NetCdf => {
-            let t = super::netcdf::read_netcdf_topography(&tmp.0)
+            let t = super::netcdf::read_netcdf_topography(&tmp.0, &opts.memory)
                 .map_err(|err| rename(err, &tmp.0, &shown))?;
             (t.lengths.is_some(), t.unit.is_some())
         }

@@ -49,7 +49,18 @@ impl Surface {
     /// Generates a self-affine surface (physics.md §5). Amplitudes |ẑ(k)| ∝ |k|^(−(1+H))
     /// for k_min ≤ |k|L/(2π) ≤ k_max (k integer multiples of 2π/L), uniform random
     /// phases; the real part of the inverse FFT is rescaled to zero mean and the RMS.
+    /// Under the machine's memory limit ([`crate::resources::MemoryLimit::of_machine`]);
+    /// [`Surface::generate_within`] takes one.
     pub fn generate(p: &GenerateParams) -> Result<Self, SurfaceError> {
+        Self::generate_within(p, &crate::resources::MemoryLimit::default())
+    }
+
+    /// [`Surface::generate`], what it allocates checked against `memory` first
+    /// ([`GENERATE_BYTES_PER_POINT`] per grid point).
+    pub fn generate_within(
+        p: &GenerateParams,
+        memory: &crate::resources::MemoryLimit,
+    ) -> Result<Self, SurfaceError> {
         if !(p.size.is_finite() && p.size > 0.0) {
             return Err(invalid("generate.size", p.size, "must be > 0 (m)"));
         }
@@ -62,7 +73,7 @@ impl Surface {
         }
         // before allocating: every entry point (CLI, Python, the C ABI) is bounded
         let n = p.grid as u64;
-        crate::resources::check_memory(
+        memory.check(
             format!("generating the {0}×{0} surface (generate.grid)", p.grid),
             crate::resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
         )?;

@@ -69,6 +69,8 @@ pub use stats::{MAX_RMS_HEIGHT_FRACTION, MAX_RMS_SLOPE, MIN_RMS_HEIGHT, SurfaceS
 
 use thiserror::Error;
 
+use crate::resources::MemoryLimit;
+
 /// Errors from building or reading a surface. Each names the field or file.
 #[derive(Debug, Error)]
 #[non_exhaustive]
@@ -333,7 +335,8 @@ impl Surface {
 
     /// Checks (or repairs, with [`Repair::Median`]) measured heights: non-finite values
     /// and spikes (module documentation), then builds the surface (square pixels, L =
-    /// `size` along the first axis).
+    /// `size` along the first axis), under the machine's memory limit
+    /// ([`MemoryLimit::of_machine`]; [`Surface::measured_with`] takes one).
     pub fn measured(
         z: Vec<f64>,
         n0: usize,
@@ -342,16 +345,28 @@ impl Surface {
         periodic: bool,
         repair: Repair,
     ) -> Result<Self, SurfaceError> {
-        Self::measured_with(z, n0, n1, Spacing::Size(size), periodic, repair)
+        Self::measured_with(
+            z,
+            n0,
+            n1,
+            Spacing::Size(size),
+            periodic,
+            repair,
+            &MemoryLimit::default(),
+        )
     }
 
-    /// Checks, against the memory limit ([`crate::resources`]), what checking and
-    /// building a measured n0 × n1 surface allocates beside the heights handed in
+    /// Checks, against `memory` ([`crate::resources`]), what checking and building a
+    /// measured n0 × n1 surface allocates beside the heights handed in
     /// (`MEASURED_BYTES_PER_POINT`): every entry point (file readers, Python arrays,
     /// the C ABI) calls it before copying, so a huge array is refused by name instead
     /// of aborting the host process.
-    pub fn check_measured_memory(n0: usize, n1: usize) -> Result<(), SurfaceError> {
-        crate::resources::check_memory(
+    pub fn check_measured_memory(
+        n0: usize,
+        n1: usize,
+        memory: &MemoryLimit,
+    ) -> Result<(), SurfaceError> {
+        memory.check(
             format!("checking and building a {n0}×{n1} measured surface"),
             crate::resources::bytes_for(
                 (n0 as u64).saturating_mul(n1 as u64),
@@ -363,7 +378,7 @@ impl Surface {
 
     /// [`Surface::measured`] with any [`Spacing`]; spikes are judged on the heights less
     /// their least-squares plane (none on a periodic grid), see
-    /// [`Surface::measured_judged`].
+    /// [`Surface::measured_judged`]; what they allocate checked against `memory`.
     pub fn measured_with(
         z: Vec<f64>,
         n0: usize,
@@ -371,8 +386,9 @@ impl Surface {
         spacing: Spacing,
         periodic: bool,
         repair: Repair,
+        memory: &MemoryLimit,
     ) -> Result<Self, SurfaceError> {
-        Self::measured_judged(z, n0, n1, spacing, periodic, repair, Detrend::Plane)
+        Self::measured_judged(z, n0, n1, spacing, periodic, repair, Detrend::Plane, memory)
     }
 
     /// Checks (or repairs) measured heights in one order: mark the invalid points
@@ -384,7 +400,9 @@ impl Surface {
     /// Curvature`, a quadric) to z changes nothing but that form, to round-off.
     /// [`Repair::Refuse`] refuses the first non-finite height, else the worst spike; more
     /// than [`MAX_FILL_FRACTION`] of the map to fill is refused. What was found and
-    /// filled is in [`Surface::repair_report`].
+    /// filled is in [`Surface::repair_report`]. What the checks allocate is checked
+    /// against `memory` first ([`Surface::check_measured_memory`]).
+    #[allow(clippy::too_many_arguments)]
     pub fn measured_judged(
         mut z: Vec<f64>,
         n0: usize,
@@ -393,11 +411,12 @@ impl Surface {
         periodic: bool,
         repair: Repair,
         judge: Detrend,
+        memory: &MemoryLimit,
     ) -> Result<Self, SurfaceError> {
         if z.len() != n0 * n1 || n0 < 3 || n1 < 3 {
             return Surface::with_spacing(z, n0, n1, spacing, periodic);
         }
-        Self::check_measured_memory(n0, n1)?;
+        Self::check_measured_memory(n0, n1, memory)?;
         let (dx, dy) = spacing.pixel(n0, n1)?;
         let judge = if periodic { Detrend::None } else { judge };
         let invalid: Vec<bool> = z.iter().map(|v| !v.is_finite()).collect();

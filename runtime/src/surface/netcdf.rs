@@ -155,8 +155,12 @@ fn unit_attribute(path: &Path, d: &netcdf3::DataSet) -> Result<Option<String>, S
     Ok(None)
 }
 
-/// Reads a SurfaceTopography NetCDF topography (see the module docs).
-pub fn read_netcdf_topography(path: &Path) -> Result<NetcdfTopography, SurfaceError> {
+/// Reads a SurfaceTopography NetCDF topography (see the module docs), its size checked
+/// against `memory` before the heights are read.
+pub fn read_netcdf_topography(
+    path: &Path,
+    memory: &crate::resources::MemoryLimit,
+) -> Result<NetcdfTopography, SurfaceError> {
     let len = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
     let mut f = open(path)?;
     let d = f.data_set();
@@ -193,7 +197,7 @@ pub fn read_netcdf_topography(path: &Path) -> Result<NetcdfTopography, SurfaceEr
         .filter_map(|a| attr("heights", a).and_then(number))
         .collect();
     // The data, after its size is known to fit (about three copies are held).
-    crate::resources::check_memory(
+    memory.check(
         format!("reading a {n0}×{n1} NetCDF height map"),
         (n0 as u64)
             .saturating_mul(n1 as u64)

@@ -10,6 +10,7 @@ use ndarray::Array2;
 use ndarray_npy::{ReadNpyError, ReadNpyExt};
 
 use super::{Detrend, Repair, Spacing, Surface, SurfaceError};
+use crate::resources::MemoryLimit;
 
 /// The unit of the heights in a `.npy` or text file (scene `height_unit`); `.x3p`
 /// files are in metres by the standard.
@@ -72,6 +73,9 @@ pub struct ReadOptions {
     /// plane is not periodic). Scenes default to [`Detrend::Plane`] for non-periodic
     /// files; this struct's default is [`Detrend::None`].
     pub detrend: Detrend,
+    /// The memory limit the file's sizes (header, grid, archive members) are checked
+    /// against before they are allocated. Default: 75 % of the machine's memory.
+    pub memory: MemoryLimit,
 }
 
 /// The file formats [`Surface::read`] knows, by extension (case-insensitive).
@@ -161,9 +165,9 @@ impl Surface {
                         .into(),
                 })?;
                 let (mut z, n0, n1) = if kind == FileKind::Npy {
-                    read_npy_raw(path)?
+                    read_npy_raw(path, &opts.memory)?
                 } else {
-                    read_text_raw(path)?
+                    read_text_raw(path, &opts.memory)?
                 };
                 let unit = opts.height_unit.unwrap_or_default();
                 let f = unit.metres();
@@ -198,8 +202,17 @@ impl Surface {
         } else {
             None
         };
-        let mut s = Surface::measured_judged(z, n0, n1, spacing, periodic, opts.repair, judge)
-            .map_err(|e| format_err(path, e))?;
+        let mut s = Surface::measured_judged(
+            z,
+            n0,
+            n1,
+            spacing,
+            periodic,
+            opts.repair,
+            judge,
+            &opts.memory,
+        )
+        .map_err(|e| format_err(path, e))?;
         if let Some(r) = s.repair_report() {
             log.push(format!("checked: {}", r.found()));
             if r.repaired > 0 {
@@ -223,38 +236,56 @@ impl Surface {
     #[cfg(feature = "npy")]
     /// Reads a 2-D f64 `.npy` height map (m), `size` the length of its first axis
     /// (square pixels). Wrong dtype or dimensionality, non-finite heights and spikes
-    /// are errors naming the file (and the grid index).
+    /// are errors naming the file (and the grid index). Under the machine's memory
+    /// limit ([`MemoryLimit::of_machine`]).
     pub fn read_npy(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
-        Self::read_npy_with(path, size, periodic, Repair::Refuse)
+        Self::read_npy_with(
+            path,
+            size,
+            periodic,
+            Repair::Refuse,
+            &MemoryLimit::default(),
+        )
     }
 
     #[cfg(feature = "npy")]
-    /// [`Surface::read_npy`] with a choice of [`Repair`].
+    /// [`Surface::read_npy`] with a choice of [`Repair`], the header's size checked
+    /// against `memory`.
     pub fn read_npy_with(
         path: &Path,
         size: f64,
         periodic: bool,
         repair: Repair,
+        memory: &MemoryLimit,
     ) -> Result<Self, SurfaceError> {
-        Self::read_as(path, FileKind::Npy, size, periodic, repair)
+        Self::read_as(path, FileKind::Npy, size, periodic, repair, memory)
     }
 
     /// Reads a plain-text matrix of heights (m): one grid row per line, values
     /// separated by whitespace and/or commas, `#` comments and blank lines ignored;
     /// `size` the length of the first axis (square pixels). `nan`/`inf` entries and
-    /// spikes are errors naming the file and the grid index.
+    /// spikes are errors naming the file and the grid index. Under the machine's memory
+    /// limit ([`MemoryLimit::of_machine`]).
     pub fn read_text(path: &Path, size: f64, periodic: bool) -> Result<Self, SurfaceError> {
-        Self::read_text_with(path, size, periodic, Repair::Refuse)
+        Self::read_text_with(
+            path,
+            size,
+            periodic,
+            Repair::Refuse,
+            &MemoryLimit::default(),
+        )
     }
 
-    /// [`Surface::read_text`] with a choice of [`Repair`].
+    /// [`Surface::read_text`] with a choice of [`Repair`], the file no larger than
+    /// `memory`.
     pub fn read_text_with(
         path: &Path,
         size: f64,
         periodic: bool,
         repair: Repair,
+        memory: &MemoryLimit,
     ) -> Result<Self, SurfaceError> {
-        Self::read_as(path, FileKind::Text, size, periodic, repair)
+        Self::read_as(path, FileKind::Text, size, periodic, repair, memory)
     }
 
     fn read_as(
@@ -263,13 +294,14 @@ impl Surface {
         size: f64,
         periodic: bool,
         repair: Repair,
+        memory: &MemoryLimit,
     ) -> Result<Self, SurfaceError> {
         let (z, n0, n1) = if kind == FileKind::Npy {
-            read_npy_raw(path)?
+            read_npy_raw(path, memory)?
         } else {
-            read_text_raw(path)?
+            read_text_raw(path, memory)?
         };
-        Surface::measured_with(z, n0, n1, Spacing::Size(size), periodic, repair)
+        Surface::measured_with(z, n0, n1, Spacing::Size(size), periodic, repair, memory)
             .map_err(|e| format_err(path, e))
     }
 
@@ -291,12 +323,12 @@ impl Surface {
     }
 }
 
-/// Checks a `.npy` header's shape against the file's length and the memory limit
+/// Checks a `.npy` header's shape against the file's length and `memory`
 /// before ndarray-npy allocates the array it claims (a 928-byte file may claim
 /// 100000×100000). Float64 data; the reader holds about three copies (array, heights,
 /// surface). Headers it cannot parse are left to ndarray-npy's own errors.
 #[cfg(feature = "npy")]
-fn check_npy_size(path: &Path) -> Result<(), String> {
+fn check_npy_size(path: &Path, memory: &MemoryLimit) -> Result<(), String> {
     use std::io::Read;
     let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
     let len = file.metadata().map_err(|e| e.to_string())?.len();
@@ -345,11 +377,12 @@ fn check_npy_size(path: &Path) -> Result<(), String> {
         .collect::<Vec<_>>()
         .join("×");
     match count.and_then(|c| c.checked_mul(8)) {
-        Some(bytes) if bytes <= data => crate::resources::check_memory(
-            format!("reading a {shown} height map"),
-            bytes.saturating_mul(3),
-        )
-        .map_err(|e| e.to_string()),
+        Some(bytes) if bytes <= data => memory
+            .check(
+                format!("reading a {shown} height map"),
+                bytes.saturating_mul(3),
+            )
+            .map_err(|e| e.to_string()),
         _ => Err(format!(
             "the header claims a {shown} array of float64 but the file holds only {data} bytes of data: truncated, or not a valid .npy file"
         )),
@@ -376,7 +409,7 @@ fn read_x3p_raw(path: &Path, opts: &ReadOptions) -> Result<Raw, SurfaceError> {
             "an .x3p file is in metres by the standard: do not set height_unit",
         ));
     }
-    let x = super::x3p::read_x3p(path)?;
+    let x = super::x3p::read_x3p(path, &opts.memory)?;
     let mut log = x.describe();
     log.push("heights in metres (ISO 25178-72)".into());
     Ok((
@@ -475,7 +508,7 @@ fn read_netcdf_raw(path: &Path, opts: &ReadOptions) -> Result<(Raw, bool), Surfa
         path: path.display().to_string(),
         message,
     };
-    let t = super::netcdf::read_netcdf_topography(path)?;
+    let t = super::netcdf::read_netcdf_topography(path, &opts.memory)?;
     let mut log = vec![format!(
         "NetCDF topography (SurfaceTopography layout): {}×{} points, heights(x, y)",
         t.n0, t.n1
@@ -556,14 +589,17 @@ fn read_netcdf_raw(path: &Path, _: &ReadOptions) -> Result<(Raw, bool), SurfaceE
 
 /// Heights and shape of a 2-D f64 `.npy` (C order).
 #[cfg(feature = "npy")]
-fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+fn read_npy_raw(
+    path: &Path,
+    memory: &MemoryLimit,
+) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     regular_file(path)?;
     let p = path.display().to_string();
     let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
         path: p.clone(),
         message: e.to_string(),
     })?;
-    check_npy_size(path).map_err(|message| SurfaceError::Format {
+    check_npy_size(path, memory).map_err(|message| SurfaceError::Format {
         path: p.clone(),
         message,
     })?;
@@ -591,7 +627,7 @@ fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
 }
 
 #[cfg(not(feature = "npy"))]
-fn read_npy_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+fn read_npy_raw(path: &Path, _: &MemoryLimit) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     Err(SurfaceError::Unsupported(format!(
         "{}: .npy files need the runtime feature `npy`",
         path.display()
@@ -614,10 +650,13 @@ fn regular_file(path: &Path) -> Result<(), SurfaceError> {
 }
 
 /// Heights and shape of a plain-text matrix (one grid row per line).
-fn read_text_raw(path: &Path) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
+fn read_text_raw(
+    path: &Path,
+    memory: &MemoryLimit,
+) -> Result<(Vec<f64>, usize, usize), SurfaceError> {
     regular_file(path)?;
     let p = path.display().to_string();
-    let text = crate::resources::read_data_file(path, "a height map")
+    let text = crate::resources::read_data_file(path, "a height map", memory)
         .and_then(|b| {
             String::from_utf8(b)
                 .map_err(|e| std::io::Error::new(std::io::ErrorKind::InvalidData, e))

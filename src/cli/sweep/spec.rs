@@ -36,6 +36,7 @@
 
 use std::fmt;
 use std::path::{Path, PathBuf};
+use strata_runtime::resources::MemoryLimit;
 
 use crate::scene::{ModelKind, Scene, SurfaceSource, SurfaceSpec};
 use anyhow::{Context, Result, anyhow, bail};
@@ -407,6 +408,7 @@ impl Sweep {
             path,
             strata_runtime::resources::TEXT_FILE_CAP,
             "a sweep file",
+            &MemoryLimit::of_machine(),
         )
         .with_context(|| format!("sweep {}: cannot read it", path.display()))?;
         Sweep::from_str_at(&text, path).with_context(|| format!("sweep {}", path.display()))
@@ -436,6 +438,7 @@ impl Sweep {
                     &p,
                     strata_runtime::resources::TEXT_FILE_CAP,
                     "a scene file",
+                    &MemoryLimit::of_machine(),
                 )
                 .with_context(|| format!("scene: cannot read {}", p.display()))?;
                 let s =
@@ -531,8 +534,12 @@ impl Sweep {
             .part(scene_text.as_bytes());
         let inputs = input_files(&base);
         for f in &inputs {
-            let bytes = strata_runtime::resources::read_data_file(f, "an input file")
-                .with_context(|| format!("reading {} for the sweep's fingerprint", f.display()))?;
+            let bytes = strata_runtime::resources::read_data_file(
+                f,
+                "an input file",
+                &MemoryLimit::of_machine(),
+            )
+            .with_context(|| format!("reading {} for the sweep's fingerprint", f.display()))?;
             hash.part(&bytes);
         }
         let sweep = Sweep {

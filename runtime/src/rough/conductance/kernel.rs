@@ -54,7 +54,7 @@ use strata_fft::RealFft2;
 
 use super::{Body, ConductanceError};
 use crate::hankel::{Remainder, tail_start};
-use crate::resources::{bytes_for, check_memory};
+use crate::resources::{MemoryLimit, bytes_for};
 
 /// Ratio of the table grid's Nyquist wavenumber to the spectrum's extent ρ_max.
 pub(crate) const OVERSAMPLE: f64 = 3.0;
@@ -213,21 +213,25 @@ impl Kernel {
 
     /// Checks, before any work, that the periodic kernel of a cell of sides `extent` (m)
     /// can be built: its table within `MAX_GRID` per side and the memory it takes
-    /// (the scan of the spectrum only, no table). Returns the table grid (nx, ny).
+    /// within `memory` (the scan of the spectrum only, no table). Returns the table grid
+    /// (nx, ny).
     pub fn check_periodic(
         a: Body<'_>,
         b: Body<'_>,
         extent: (f64, f64),
+        memory: &MemoryLimit,
     ) -> Result<(usize, usize), ConductanceError> {
-        let g = PeriodicGrid::new([a, b], extent)?;
+        let g = PeriodicGrid::new([a, b], extent, memory)?;
         Ok((g.nx, g.ny))
     }
 
-    /// The periodic kernel on a cell of sides `extent` (m).
+    /// The periodic kernel on a cell of sides `extent` (m), its table checked against
+    /// `memory` first.
     pub fn periodic(
         a: Body<'_>,
         b: Body<'_>,
         extent: (f64, f64),
+        memory: &MemoryLimit,
     ) -> Result<Kernel, ConductanceError> {
         let bodies = [a, b];
         let PeriodicGrid {
@@ -238,7 +242,7 @@ impl Kernel {
             rho_max,
             nx,
             ny,
-        } = PeriodicGrid::new(bodies, extent)?;
+        } = PeriodicGrid::new(bodies, extent, memory)?;
         let area = lx * ly;
         let fft = RealFft2::new(ny, nx).map_err(|e| ConductanceError::Fft(e.to_string()))?;
         let mut work = fft.work();
@@ -381,7 +385,7 @@ impl Kernel {
 }
 
 /// The periodic kernel's set-up: c, the cell, σ, ρ_max and the table grid, checked
-/// against `MAX_GRID` and the memory limit.
+/// against `MAX_GRID` and a memory limit.
 struct PeriodicGrid {
     c: f64,
     lx: f64,
@@ -393,7 +397,11 @@ struct PeriodicGrid {
 }
 
 impl PeriodicGrid {
-    fn new(bodies: [Body<'_>; 2], extent: (f64, f64)) -> Result<Self, ConductanceError> {
+    fn new(
+        bodies: [Body<'_>; 2],
+        extent: (f64, f64),
+        memory: &MemoryLimit,
+    ) -> Result<Self, ConductanceError> {
         let c = conductivity_sum(bodies)?;
         let (lx, ly) = extent;
         for v in [lx, ly] {
@@ -436,7 +444,7 @@ impl PeriodicGrid {
                 rho_max,
             });
         }
-        check_memory(
+        memory.check(
             format!("I-model conduction kernel: a {nx}×{ny} table and its spectrum"),
             bytes_for((nx * ny) as u64, 8 * 4),
         )?;

@@ -25,7 +25,7 @@ use thiserror::Error;
 pub use kernel::{Kernel, KernelInfo};
 
 use crate::conduction::ConductionCompliance;
-use crate::resources::{ResourceError, bytes_for, check_memory};
+use crate::resources::{MemoryLimit, ResourceError, bytes_for};
 
 /// One body's conduction as the spots see it.
 #[derive(Debug, Clone, Copy)]
@@ -92,12 +92,13 @@ pub struct Network {
     pub heat: Vec<f64>,
 }
 
-/// Solves the spot network (module docs) for h_c on nominal area `area` (m²). No spot:
-/// h_c = 0.
+/// Solves the spot network (module docs) for h_c on nominal area `area` (m²), its
+/// matrix checked against `memory` first. No spot: h_c = 0.
 pub fn interface_conductance(
     kernel: &Kernel,
     spots: &[Spot],
     area: f64,
+    memory: &MemoryLimit,
 ) -> Result<Network, ConductanceError> {
     if !(area.is_finite() && area > 0.0) {
         return Err(ConductanceError::Input {
@@ -131,7 +132,7 @@ pub fn interface_conductance(
             heat: Vec::new(),
         });
     }
-    check_memory(
+    memory.check(
         format!("I-model conduction: the {n}×{n} spot network"),
         bytes_for((n as u64).saturating_mul(n as u64), 8),
     )?;
@@ -170,8 +171,13 @@ pub struct Interactions {
 }
 
 impl Interactions {
-    /// The interactions of `points` (x, y in m) through `kernel`.
-    pub fn new(kernel: &Kernel, points: &[(f64, f64)]) -> Result<Self, ConductanceError> {
+    /// The interactions of `points` (x, y in m) through `kernel`, the matrix checked
+    /// against `memory` first.
+    pub fn new(
+        kernel: &Kernel,
+        points: &[(f64, f64)],
+        memory: &MemoryLimit,
+    ) -> Result<Self, ConductanceError> {
         for &(x, y) in points {
             for v in [x, y] {
                 if !v.is_finite() {
@@ -184,7 +190,7 @@ impl Interactions {
             }
         }
         let n = points.len();
-        check_memory(
+        memory.check(
             format!("I-model conduction: the {n}×{n} interactions of the summits in contact"),
             bytes_for((n as u64).saturating_mul(n as u64), 8),
         )?;
@@ -291,19 +297,20 @@ pub enum PathError {
 /// of `kernel`, Σ_j (δ_ij/G_i + I_ij) Q_j = ΔT, h_c = Σ Q_i/(ΔT A₀), `area` = A₀ (m²).
 /// The interactions of every summit that touches at some step are filled once for the
 /// path ([`Interactions`]: the same h_c as filling each step's network afresh, bit for
-/// bit). h_c per step (W/(m²·K) or S/m²).
+/// bit), checked against `memory` first. h_c per step (W/(m²·K) or S/m²).
 pub fn path_conductances(
     kernel: &Kernel,
     g: &[Vec<f64>],
     points: &[(f64, f64)],
     area: f64,
+    memory: &MemoryLimit,
 ) -> Result<Vec<f64>, PathError> {
     // the summits in contact at some step: their interactions filled once
     let touching: Vec<usize> = (0..points.len())
         .filter(|&k| g.iter().any(|gs| gs.get(k).is_some_and(|&g| g > 0.0)))
         .collect();
     let at: Vec<(f64, f64)> = touching.iter().map(|&k| points[k]).collect();
-    let net = Interactions::new(kernel, &at).map_err(PathError::Interactions)?;
+    let net = Interactions::new(kernel, &at, memory).map_err(PathError::Interactions)?;
     g.iter()
         .enumerate()
         .map(|(step, gs)| {

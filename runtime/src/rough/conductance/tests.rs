@@ -1,6 +1,7 @@
 use super::kernel::erfc;
 use super::*;
 use crate::conduction::{ConductionCompliance, ConductionKind};
+use crate::resources::MemoryLimit;
 use crate::stack::{Base, BaseConduction, Conductivity, Layer, Stack};
 
 /// Z = 4ζ(½)β(½): the zero-mean lattice sum of 1/|n| over the unit square lattice
@@ -66,7 +67,7 @@ fn homogeneous_self_images_are_the_lattice_constant() {
             1.0 / k + 1.0 / (3.0 * k),
         ),
     ] {
-        let kern = Kernel::periodic(a, b, (l, l)).unwrap();
+        let kern = Kernel::periodic(a, b, (l, l), &MemoryLimit::default()).unwrap();
         let exact = c * Z / (TAU * l);
         let got = kern.self_images();
         eprintln!(
@@ -110,8 +111,15 @@ fn layered_kernel_against_direct_fourier_sums() {
             Some(c) => (Body::Layered(c), Body::HalfSpace(c.top_conductivity())),
             None => (Body::Perfect, Body::Perfect),
         };
-        let lay = Kernel::periodic(Body::Layered(a), body_b, (lx, ly)).unwrap();
-        let hom = Kernel::periodic(Body::HalfSpace(a.top_conductivity()), hom_b, (lx, ly)).unwrap();
+        let lay =
+            Kernel::periodic(Body::Layered(a), body_b, (lx, ly), &MemoryLimit::default()).unwrap();
+        let hom = Kernel::periodic(
+            Body::HalfSpace(a.top_conductivity()),
+            hom_b,
+            (lx, ly),
+            &MemoryLimit::default(),
+        )
+        .unwrap();
         let scale = 1.0 / (TAU * a.top_conductivity() * lx);
         let mut worst: f64 = 0.0;
         for (x, y) in [
@@ -145,8 +153,20 @@ fn layered_kernel_against_direct_fourier_sums() {
             -1.0
         };
         let w0 = -(1.0 - gamma).ln() / (TAU * k1 * h);
-        let lay = Kernel::periodic(Body::Layered(c), Body::Perfect, (lx, ly)).unwrap();
-        let hom = Kernel::periodic(Body::HalfSpace(k1), Body::Perfect, (lx, ly)).unwrap();
+        let lay = Kernel::periodic(
+            Body::Layered(c),
+            Body::Perfect,
+            (lx, ly),
+            &MemoryLimit::default(),
+        )
+        .unwrap();
+        let hom = Kernel::periodic(
+            Body::HalfSpace(k1),
+            Body::Perfect,
+            (lx, ly),
+            &MemoryLimit::default(),
+        )
+        .unwrap();
         let d = Kernel::direct_sum(
             [Body::Layered(c), Body::Perfect],
             (lx, ly),
@@ -188,7 +208,7 @@ fn two_spots_isolated() {
                 conductance: g,
             },
         ];
-        let net = interface_conductance(&kern, &spots, 1.0).unwrap();
+        let net = interface_conductance(&kern, &spots, 1.0, &MemoryLimit::default()).unwrap();
         let exact = 2.0 / (1.0 / g + 1.0 / (TAU * k * d));
         assert!((net.conductance / exact - 1.0).abs() < 1e-14, "{d}");
         assert!((net.heat[0] - net.heat[1]).abs() < 1e-15 * net.heat[0]);
@@ -210,7 +230,7 @@ fn two_spots_isolated() {
             conductance: g2,
         },
     ];
-    let net = interface_conductance(&kern, &spots, 2.0).unwrap();
+    let net = interface_conductance(&kern, &spots, 2.0, &MemoryLimit::default()).unwrap();
     let det = 1.0 / (g1 * g2) - i12 * i12;
     let total = (1.0 / g2 - i12 + 1.0 / g1 - i12) / det;
     assert!((net.conductance * 2.0 / total - 1.0).abs() < 1e-14);
@@ -218,17 +238,27 @@ fn two_spots_isolated() {
         Kernel::isolated(Body::Perfect, Body::Perfect, (1.0, 1.0)).err(),
         Some(ConductanceError::BothPerfect)
     );
-    assert!(interface_conductance(&kern, &spots, 0.0).is_err());
-    assert!(interface_conductance(&kern, &[], 1.0).unwrap().conductance == 0.0);
+    assert!(interface_conductance(&kern, &spots, 0.0, &MemoryLimit::default()).is_err());
+    assert!(
+        interface_conductance(&kern, &[], 1.0, &MemoryLimit::default())
+            .unwrap()
+            .conductance
+            == 0.0
+    );
 }
 
 /// A layer too thin for the table cap is refused with the reason.
 #[test]
 fn too_thin_a_layer_is_refused() {
     let c = one_layer(1e-7, 1.0, Some(50.0));
-    let e = Kernel::periodic(Body::Layered(&c), Body::Perfect, (1e-3, 1e-3))
-        .err()
-        .unwrap();
+    let e = Kernel::periodic(
+        Body::Layered(&c),
+        Body::Perfect,
+        (1e-3, 1e-3),
+        &MemoryLimit::default(),
+    )
+    .err()
+    .unwrap();
     assert!(matches!(e, ConductanceError::Grid { .. }), "{e}");
     assert!(e.to_string().contains("too thin"));
 }
@@ -240,7 +270,13 @@ fn too_thin_a_layer_is_refused() {
 fn interactions_reused_on_subsets_equal_the_direct_network() {
     let l = 1e-3;
     let a = one_layer(1e-4, 0.5, None);
-    let kern = Kernel::periodic(Body::Layered(&a), Body::HalfSpace(45.0), (l, l)).unwrap();
+    let kern = Kernel::periodic(
+        Body::Layered(&a),
+        Body::HalfSpace(45.0),
+        (l, l),
+        &MemoryLimit::default(),
+    )
+    .unwrap();
     // 16 points on a jittered grid
     let points: Vec<(f64, f64)> = (0..16)
         .map(|i| {
@@ -251,7 +287,7 @@ fn interactions_reused_on_subsets_equal_the_direct_network() {
             )
         })
         .collect();
-    let all = Interactions::new(&kern, &points).unwrap();
+    let all = Interactions::new(&kern, &points, &MemoryLimit::default()).unwrap();
     for subset in [vec![0, 3, 4, 9, 15], (0..16).collect(), vec![7]] {
         let g = |i: usize| 1e-4 * (1.0 + 0.1 * i as f64);
         let spots: Vec<Spot> = subset
@@ -262,7 +298,7 @@ fn interactions_reused_on_subsets_equal_the_direct_network() {
                 conductance: g(i),
             })
             .collect();
-        let direct = interface_conductance(&kern, &spots, l * l).unwrap();
+        let direct = interface_conductance(&kern, &spots, l * l, &MemoryLimit::default()).unwrap();
         let pairs: Vec<(usize, f64)> = subset.iter().map(|&i| (i, g(i))).collect();
         let reused = all.network(&pairs, l * l).unwrap();
         assert_eq!(direct, reused, "{subset:?}");

@@ -7,7 +7,7 @@
 
 use super::far_field::{FarModel, NB, Vb};
 use super::pair_sums::{DenseSums, PairSums, Rows, Sources, Work};
-use crate::resources::{bytes_for, check_memory};
+use crate::resources::{MemoryLimit, bytes_for};
 use crate::rough::{FarFieldError, Images, RoughError};
 use crate::summits::Summit;
 
@@ -74,7 +74,9 @@ pub(crate) fn reach(images: Images, extent: (f64, f64)) -> f64 {
 impl Prepared {
     /// The geometry of the candidates `cand` (summit indices) of `summits` on a sample of
     /// sides `extent` (m) under `images`, with the far-field model `far` (None: every
-    /// image pair exact), its pair sums held as `sums` asks (tolerance `tol`).
+    /// image pair exact), its pair sums held as `sums` asks (tolerance `tol`); their
+    /// storage checked against `memory` first.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         summits: &[Summit],
         extent: (f64, f64),
@@ -83,6 +85,7 @@ impl Prepared {
         far: Option<FarModel>,
         sums: Sums,
         tol: f64,
+        memory: &MemoryLimit,
     ) -> Result<Prepared, RoughError> {
         let (lx, ly) = extent;
         let m = cells(images);
@@ -97,7 +100,7 @@ impl Prepared {
         #[cfg(feature = "spectral")]
         if let (Sums::Grid, Some(f)) = (sums, far.as_ref()) {
             use super::near::{FastError, FastSums};
-            match FastSums::build(summits, &cand, extent, m, f, tol) {
+            match FastSums::build(summits, &cand, extent, m, f, tol, memory) {
                 Ok(Some((fast, near))) => {
                     let far_pairs = fast.modelled_pairs + n * near_self_far(m, near_self.len());
                     let near_of = near_of(n, &near);
@@ -121,7 +124,7 @@ impl Prepared {
                 Err(FastError::Fft(e)) => return Err(FarFieldError::Grid(e.to_string()).into()),
             }
         }
-        check_memory(
+        memory.check(
             format!(
                 "I model: pair coefficients of {n} loaded asperities ({} bytes per pair, dense Jacobian included)",
                 PAIR_BYTES

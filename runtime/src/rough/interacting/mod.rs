@@ -214,6 +214,7 @@ impl<'r, 'a> Problem<'r, 'a> {
                 None,
                 Sums::Dense,
                 0.0,
+                &rc.params.memory,
             )?,
             builds: 0,
         };
@@ -240,7 +241,16 @@ impl<'r, 'a> Problem<'r, 'a> {
             self.builds += 1;
             FarModel::build(rc.law, bound, reach, tol, rc.params.g_difference_step)
         };
-        self.geo = Prepared::new(&rc.summits, rc.extent, self.images, cand, far, sums, tol)?;
+        self.geo = Prepared::new(
+            &rc.summits,
+            rc.extent,
+            self.images,
+            cand,
+            far,
+            sums,
+            tol,
+            &rc.params.memory,
+        )?;
         self.geo.a_valid = self.geo.a_valid.min(self.radius_cap());
         if self.zero_mean.is_some() {
             self.geo.rows_from = f64::NEG_INFINITY;

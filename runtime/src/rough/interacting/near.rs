@@ -14,7 +14,7 @@ use super::far_field::{FarModel, NB, Vb, dot};
 use super::far_grid::{FarGrid, Stencil};
 use super::pair_sums::{GridInfo, LEAD, NearPairs, PairSums, Rows, Sources, Work};
 use crate::fft::FftError;
-use crate::resources::{ResourceError, bytes_for, check_memory};
+use crate::resources::{MemoryLimit, ResourceError, bytes_for};
 use crate::summits::Summit;
 use rayon::prelude::*;
 
@@ -161,7 +161,7 @@ impl FastSums {
     /// The fast sums of the candidates at `pts` (m) on a sample of sides `extent` (m)
     /// with `m` image cells, far model `far`, tolerance `tol` (module docs); None when no
     /// grid meets the tolerance (the caller sums densely). The exact near list is
-    /// returned alongside.
+    /// returned alongside. The storage is checked against `memory` first.
     pub fn build(
         summits: &[Summit],
         cand: &[usize],
@@ -169,6 +169,7 @@ impl FastSums {
         m: i64,
         far: &FarModel,
         tol: f64,
+        memory: &MemoryLimit,
     ) -> Result<Option<(FastSums, Exact)>, FastError> {
         let n = cand.len();
         let pts: Vec<(f64, f64)> = cand.iter().map(|&k| (summits[k].x, summits[k].y)).collect();
@@ -204,7 +205,7 @@ impl FastSums {
         for q in 0..n {
             visit(q, &mut |_, _, _| count += 1);
         }
-        check_memory(
+        memory.check(
             format!(
                 "I model: grid far field ({} × {} cells) and {count} near corrections of {n} loaded asperities",
                 gx, gy

@@ -359,7 +359,9 @@ pub fn cached_response<S: Solid + ?Sized>(
             && r.hardness.to_bits() == hardness.to_bits()
             && r.h1.map(f64::to_bits) == h1.map(f64::to_bits)
     };
-    let held = crate::resources::read_data_file(&path, "a cache file")
+    // a file larger than the machine's memory limit counts as damaged (rebuilt)
+    let memory = crate::resources::MemoryLimit::of_machine();
+    let held = crate::resources::read_data_file(&path, "a cache file", &memory)
         .ok()
         .and_then(|b| PlasticResponse::from_bytes(&b).ok())
         .filter(|(k, r)| *k == key && same(r));

@@ -38,7 +38,7 @@ use std::io::Read;
 use std::path::Path;
 
 use super::SurfaceError;
-use crate::resources::{bytes_for, check_memory};
+use crate::resources::{MemoryLimit, bytes_for};
 
 /// The data types of the `CZ` axis.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -168,20 +168,23 @@ impl X3pData {
     }
 }
 
-/// Reads an `.x3p` file (module docs); errors name the file and what is wrong.
-pub fn read_x3p(path: &Path) -> Result<X3pData, SurfaceError> {
+/// Reads an `.x3p` file (module docs), its sizes checked against `memory` before they
+/// are allocated; errors name the file and what is wrong.
+pub fn read_x3p(path: &Path, memory: &MemoryLimit) -> Result<X3pData, SurfaceError> {
     let p = path.display().to_string();
     let file = std::fs::File::open(path).map_err(|e| SurfaceError::Io {
         path: p.clone(),
         message: e.to_string(),
     })?;
-    parse_x3p(std::io::BufReader::new(file), &p)
+    parse_x3p(std::io::BufReader::new(file), &p, memory)
 }
 
-/// Reads an `.x3p` container from any seekable reader (`name` is used in errors).
+/// Reads an `.x3p` container from any seekable reader (`name` is used in errors), its
+/// sizes checked against `memory`.
 pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
     reader: R,
     name: &str,
+    memory: &MemoryLimit,
 ) -> Result<X3pData, SurfaceError> {
     let fail = |message: String| SurfaceError::Format {
         path: name.to_string(),
@@ -192,7 +195,7 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
             "not a readable zip archive ({e}); an .x3p file is a zip holding main.xml"
         ))
     })?;
-    let main = entry(&mut zip, "main.xml", name)?;
+    let main = entry(&mut zip, "main.xml", name, memory)?;
     let mut warnings = Vec::new();
     let text =
         std::str::from_utf8(&main).map_err(|e| fail(format!("main.xml is not UTF-8 text: {e}")))?;
@@ -210,7 +213,7 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
     // Record4: checksum of main.xml (a warning when it does not verify).
     match x.opt_text(root, &["Record4", "ChecksumFile"]) {
         None => warnings.push("main.xml: no Record4/ChecksumFile: main.xml not verified".into()),
-        Some(f) => match entry(&mut zip, &f, name) {
+        Some(f) => match entry(&mut zip, &f, name, memory) {
             Err(_) => warnings.push(format!("checksum file {f} missing: main.xml not verified")),
             Ok(sum) => {
                 let stated = String::from_utf8_lossy(&sum)
@@ -356,7 +359,7 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
             "Record3/MatrixDimension {nx}×{ny} is empty or too large"
         ))
     })?;
-    check_memory(
+    memory.check(
         format!("reading the {nx}×{ny} grid of {name}"),
         bytes_for(n as u64, 3 * 8),
     )?;
@@ -364,7 +367,7 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
     let storage;
     if let Some(link) = x.find(root, &["Record3", "DataLink"]) {
         let file = x.text(link, &["PointDataLink"])?;
-        let data = entry(&mut zip, &file, name)?;
+        let data = entry(&mut zip, &file, name, memory)?;
         let need = n * data_type.bytes();
         if data.len() < need {
             return Err(fail(format!(
@@ -395,7 +398,7 @@ pub fn parse_x3p<R: std::io::Read + std::io::Seek>(
             *r = data_type.decode(&data, k);
         }
         if let Some(vfile) = x.opt_text(link, &["ValidPointsLink"]) {
-            let valid = entry(&mut zip, &vfile, name)?;
+            let valid = entry(&mut zip, &vfile, name, memory)?;
             if valid.len() < n.div_ceil(8) {
                 return Err(fail(format!(
                     "{vfile} holds {} bytes, but {n} points need {} validity bytes",
@@ -512,11 +515,12 @@ fn verify(
     Ok(())
 }
 
-/// The bytes of zip entry `entry` (memory-checked), or an error naming it.
+/// The bytes of zip entry `entry` (checked against `memory`), or an error naming it.
 fn entry<R: std::io::Read + std::io::Seek>(
     zip: &mut zip::ZipArchive<R>,
     entry: &str,
     name: &str,
+    memory: &MemoryLimit,
 ) -> Result<Vec<u8>, SurfaceError> {
     let fail = |message: String| SurfaceError::Format {
         path: name.to_string(),
@@ -525,7 +529,7 @@ fn entry<R: std::io::Read + std::io::Seek>(
     let mut f = zip
         .by_name(entry)
         .map_err(|e| fail(format!("the archive has no readable {entry}: {e}")))?;
-    check_memory(format!("{entry} of {name}"), f.size())?;
+    memory.check(format!("{entry} of {name}"), f.size())?;
     let mut v = Vec::with_capacity(f.size() as usize);
     f.read_to_end(&mut v)
         .map_err(|e| fail(format!("cannot decompress {entry}: {e}")))?;

@@ -13,7 +13,7 @@ use zip::write::SimpleFileOptions;
 use zip::{CompressionMethod, ZipWriter};
 
 use super::DataType;
-use crate::resources::{bytes_for, check_memory};
+use crate::resources::{MemoryLimit, bytes_for};
 use crate::surface::{Surface, SurfaceError};
 
 /// How [`Surface::write_x3p`] stores the heights.
@@ -23,6 +23,8 @@ pub struct X3pWriteOptions {
     pub data_type: DataType,
     /// `Record2/Comment` (e.g. where the surface came from).
     pub comment: Option<String>,
+    /// The memory limit the encoded file is checked against before it is built.
+    pub memory: MemoryLimit,
 }
 
 /// XML text escaping (&, <, >, ", ').
@@ -71,7 +73,7 @@ impl Surface {
         let (dx, dy) = self.pixel_size();
         let t = opts.data_type;
         let n = nx * ny;
-        check_memory(
+        opts.memory.check(
             format!("writing the {nx}×{ny} grid as .x3p"),
             bytes_for(n as u64, 2 * t.bytes() as u64 + 8),
         )?;
@@ -251,9 +253,10 @@ mod tests {
                 .to_x3p_bytes(&X3pWriteOptions {
                     data_type: t,
                     comment: Some("test <surface> & co".into()),
+                    ..X3pWriteOptions::default()
                 })
                 .unwrap();
-            let x = parse_x3p(Cursor::new(bytes), "mem").unwrap();
+            let x = parse_x3p(Cursor::new(bytes), "mem", &MemoryLimit::default()).unwrap();
             assert!(x.warnings.is_empty(), "{:?}", x.warnings);
             assert_eq!((x.nx, x.ny, x.dx, x.dy), (7, 5, 1.5e-6, 2.25e-6));
             assert_eq!(x.data_type, t);
