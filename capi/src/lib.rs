@@ -376,6 +376,7 @@ impl StrataLawOptions {
         Ok(LawEffects {
             hardness,
             conductance: kind.map(|kind| ConductanceSpec { kind, counterface }),
+            friction: None,
         })
     }
 }

@@ -72,6 +72,7 @@ fn conductance_between_samples_against_a_finer_law() {
             kind: strata_runtime::conduction::ConductionKind::Thermal,
             counterface: CounterfaceConduction::HalfSpace(50.0),
         }),
+        friction: None,
     };
     let build = |n| {
         build_law_with_effects(

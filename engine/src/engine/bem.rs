@@ -229,12 +229,14 @@ pub fn solve(
             .plasticity
             .map(|pl| plasticity::bem_summary(pl.hardness)),
         conductance: None,
+        friction: None,
         partial: failed.as_ref().map(PartialSummary::of),
     };
     let mut solution = SceneSolution {
         steps,
         plastic,
         conductance: None,
+        tangential: None,
         summary,
         seconds,
         failed,
