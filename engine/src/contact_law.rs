@@ -82,6 +82,12 @@ impl ContactLaw {
         Ok(self)
     }
 
+    /// The full-stick tangential stiffness's curve K_t(g) (its samples, PCHIP between
+    /// them), when the law carries one (`[friction]`).
+    pub fn tangential_stiffness(&self) -> Option<&ConductanceCurve> {
+        self.tangential.as_ref()
+    }
+
     /// Whether the law carries the tangential stiffness (`[friction]`).
     pub fn has_tangential_stiffness(&self) -> bool {
         self.tangential.is_some()

@@ -182,3 +182,110 @@ fn friction_table_errors_name_the_field() {
     let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
     assert!(!csv.contains("tangential_stiffness"), "{csv}");
 }
+
+/// The `tangential_stiffness` column of `csv` (the last).
+fn last_column(csv: &str) -> Vec<f64> {
+    let header = csv.lines().next().unwrap();
+    assert!(header.ends_with(",tangential_stiffness"), "{header}");
+    csv.lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap().parse().unwrap())
+        .collect()
+}
+
+/// `strata compare` and `strata sweep` give the same tangential_stiffness as
+/// `strata solve` of the same scene, for the N and I models (bit for bit: the same
+/// solve); compare's BEM run has no such column; a sweep that would give the BEM
+/// `[friction]` is refused, naming the field.
+#[test]
+fn compare_and_sweep_equal_solve() {
+    let d = fresh_dir("friction", "front_ends");
+    let surface = SURFACE
+        .replace("grid = 256", "grid = 64")
+        .replace("k_max = 10", "k_max = 8");
+    let load = "separations = [6e-6, 4.5e-6, 3e-6]";
+    let mut solved = Vec::new();
+    for model in ["independent", "interacting"] {
+        let text = homogeneous_scene(
+            &surface,
+            &format!("\"{model}\"\nimages = \"isolated\""),
+            load,
+        ) + "[friction]\ncoefficient = 0.3\n";
+        let (o, out) = crate::support::solve_text(&d, model, &text);
+        assert!(o.status.success(), "{}", stderr_of(&o));
+        solved.push(last_column(
+            &std::fs::read_to_string(out.join("curve.csv")).unwrap(),
+        ));
+    }
+    assert!(solved[0].iter().all(|k| *k > 0.0), "{solved:?}");
+    // compare on the I model's scene: curve_independent.csv and curve_interacting.csv carry the column
+    let scene = d.join("interacting.toml");
+    let cmp = d.join("compare");
+    let o = crate::support::run_strata(&[
+        "compare",
+        scene.to_str().unwrap(),
+        "--out",
+        cmp.to_str().unwrap(),
+        "--no-plots",
+    ]);
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    for (file, want) in [
+        ("curve_independent.csv", &solved[0]),
+        ("curve_interacting.csv", &solved[1]),
+    ] {
+        let got = last_column(&std::fs::read_to_string(cmp.join(file)).unwrap());
+        assert_eq!(&got, want, "{file}");
+    }
+    let bem = std::fs::read_to_string(cmp.join("curve_bem.csv")).unwrap();
+    assert!(!bem.contains("tangential_stiffness"));
+    // sweep over the two models
+    let base = homogeneous_scene(&surface, "\"independent\"\nimages = \"isolated\"", load)
+        + "[friction]\ncoefficient = 0.3\n";
+    let nested: String = base
+        .lines()
+        .map(|l| match l.strip_prefix('[') {
+            Some(rest) if rest.starts_with('[') => format!("[[scene.{}", &rest[1..]),
+            Some(rest) => format!("[scene.{rest}"),
+            None => l.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let sweep = d.join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        format!("{nested}\n[sweep]\nmodel.kind = [\"independent\", \"interacting\"]\n"),
+    )
+    .unwrap();
+    let out = d.join("sweep");
+    let o = crate::support::run_strata(&[
+        "sweep",
+        sweep.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--no-plots",
+    ]);
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    let col = last_column(&csv);
+    assert_eq!(col.len(), 6);
+    assert_eq!(&col[..3], &solved[0][..]);
+    assert_eq!(&col[3..], &solved[1][..]);
+    std::fs::write(
+        &sweep,
+        format!("{nested}\n[sweep]\nmodel.kind = [\"independent\", \"bem\"]\n"),
+    )
+    .unwrap();
+    let o = crate::support::run_strata(&[
+        "sweep",
+        sweep.to_str().unwrap(),
+        "--out",
+        d.join("sweep-bem").to_str().unwrap(),
+        "--no-plots",
+    ]);
+    assert!(!o.status.success());
+    let err = stderr_of(&o);
+    assert!(
+        err.contains("friction") && err.contains("sweep.model.kind"),
+        "{err}"
+    );
+}
