@@ -129,13 +129,15 @@ module strata
   !> StrataLawOptions: the law's effects for strata_law_new_with_law_options (fill with
   !> strata_law_options_default, which sets `size`): the hardness of the asperity tips
   !> (Pa; 0 or +Inf: elastic), the interface conductance to solve
-  !> (STRATA_CONDUCTANCE_*) and how the counterface conducts.
+  !> (STRATA_CONDUCTANCE_*), how the counterface conducts, and the coefficient of
+  !> friction (0: none; > 0: the law carries the full-stick tangential stiffness).
   type, bind(C), public :: strata_law_options
      integer(c_size_t) :: size
      real(c_double) :: hardness
      integer(c_int32_t) :: conductance_kind
      integer(c_int32_t) :: counterface_conduction
      real(c_double) :: counterface_conductivity
+     real(c_double) :: friction_coefficient
   end type strata_law_options
 
   interface

@@ -168,6 +168,11 @@ typedef struct StrataLawOptions {
   // The rigid flat's conductivity (W/(m·K) or S/m, in [1e-30, 1e30]) with
   // `STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE`; ignored otherwise.
   double counterface_conductivity;
+  // The coefficient of friction μ (> 0, finite): the law then carries the full-stick
+  // tangential stiffness K_t of the sample at every sample (N/m; `strata law` on a
+  // scene with `[friction] coefficient = μ`), read with
+  // `strata_law_tangential_stiffness`. 0 (the default): none.
+  double friction_coefficient;
 } StrataLawOptions;
 
 #ifdef __cplusplus
@@ -425,6 +430,15 @@ int32_t strata_law_conductance_kind(const struct StrataLaw *law, int32_t *out);
 // The hardness H (Pa) the law's asperity tips were capped at; `INFINITY` for an
 // elastic law.
 int32_t strata_law_hardness(const struct StrataLaw *law, double *out);
+
+// The full-stick tangential stiffness K_t of the sample (N/m) at separation `gap`
+// (m), for a law built with `options.friction_coefficient` > 0: the solved value at
+// the samples (each contact disc's K_t summed, `strata solve`'s
+// `tangential_stiffness`), monotone cubic between them (∝ √δ next to first
+// contact), 0 at and above first contact, `STRATA_ERR_OUT_OF_RANGE` below the
+// smallest sampled separation. A law built without friction is
+// `STRATA_ERR_INVALID_ARGUMENT`.
+int32_t strata_law_tangential_stiffness(const struct StrataLaw *law, double gap, double *out);
 
 // The interface conductance h_c(g) (W/(m²·K) or S/m²; physics.md §6.2) at
 // separation `gap` (m): the solved value at the samples, monotone cubic between

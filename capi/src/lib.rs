@@ -39,11 +39,11 @@
 
 /// The law's effects (a hardness, a conductance): the engine's.
 pub use strata_engine::law_build::LawEffects;
-/// A law's conductance: its kind and how the counterface conducts (the engine's).
-pub use strata_engine::scene::ConductanceSpec;
 /// How the counterface conducts (`StrataLawOptions.counterface_conduction`): the
 /// engine's, as a scene's `[counterface]` states it.
 pub use strata_engine::scene::CounterfaceConduction;
+/// A law's conductance: its kind and how the counterface conducts (the engine's).
+pub use strata_engine::scene::{ConductanceSpec, FrictionSpec};
 /// h_c(g), h_c(p) between a law's samples: the runtime's, shared with the Python package.
 pub use strata_runtime::interface::conductance_curve;
 
@@ -304,6 +304,11 @@ pub struct StrataLawOptions {
     /// The rigid flat's conductivity (W/(m·K) or S/m, in [1e-30, 1e30]) with
     /// `STRATA_COUNTERFACE_CONDUCTION_HALF_SPACE`; ignored otherwise.
     pub counterface_conductivity: f64,
+    /// The coefficient of friction μ (> 0, finite): the law then carries the full-stick
+    /// tangential stiffness K_t of the sample at every sample (N/m; `strata law` on a
+    /// scene with `[friction] coefficient = μ`), read with
+    /// `strata_law_tangential_stiffness`. 0 (the default): none.
+    pub friction_coefficient: f64,
 }
 
 impl Default for StrataLawOptions {
@@ -314,6 +319,7 @@ impl Default for StrataLawOptions {
             conductance_kind: STRATA_CONDUCTANCE_NONE,
             counterface_conduction: STRATA_COUNTERFACE_CONDUCTION_STACK,
             counterface_conductivity: 0.0,
+            friction_coefficient: 0.0,
         }
     }
 }
@@ -373,9 +379,21 @@ impl StrataLawOptions {
                 ));
             }
         };
+        let mu = self.friction_coefficient;
+        let friction = if mu == 0.0 {
+            None
+        } else if mu.is_finite() && mu > 0.0 {
+            Some(FrictionSpec { coefficient: mu })
+        } else {
+            return Err(invalid(
+                "options.friction_coefficient",
+                format!("{mu} must be finite and > 0 (0: no tangential stiffness)"),
+            ));
+        };
         Ok(LawEffects {
             hardness,
             conductance: kind.map(|kind| ConductanceSpec { kind, counterface }),
+            friction,
         })
     }
 }
@@ -1154,6 +1172,12 @@ pub fn build_law_with_effects(
         )),
         e => CapiError::Solve(e.to_string()),
     })?;
+    let contact = match &sampled.tangential_stiffness {
+        Some(k) => contact
+            .with_tangential_stiffness(k)
+            .map_err(|e| CapiError::Solve(format!("friction: {e}")))?,
+        None => contact,
+    };
     Ok(StrataLaw {
         contact,
         hardness: effects.hardness,
@@ -1217,12 +1241,17 @@ fn conductance_at(
 }
 
 /// The law as CSV, as `strata law --format csv` writes it: the samples
-/// (`InterfaceLaw::csv`) and, with a conductance, the column `conductance`; with a
+/// (`InterfaceLaw::csv`) and, with a conductance, the column `conductance`; with
+/// friction, the column `tangential_stiffness`; with a
 /// hardness, the column `branch` (`loading`: the asperity models give the loading curve
 /// only).
 pub fn law_csv(l: &StrataLaw) -> String {
     let base = l.law().csv();
-    if l.contact.conductance().is_none() && l.hardness.is_none() {
+    let kt: Option<Vec<f64>> = l
+        .contact
+        .tangential_stiffness()
+        .map(|c| c.samples().collect());
+    if l.contact.conductance().is_none() && l.hardness.is_none() && kt.is_none() {
         return base;
     }
     let h: Option<Vec<f64>> = l.contact.conductance().map(|(_, c)| c.samples().collect());
@@ -1235,6 +1264,15 @@ pub fn law_csv(l: &StrataLaw) -> String {
                 _ => match h.get(i - 1) {
                     Some(v) if v.is_finite() => out.push_str(&format!(",{v:e}")),
                     _ => out.push(','),
+                },
+            }
+        }
+        if let Some(k) = &kt {
+            match i {
+                0 => out.push_str(",tangential_stiffness"),
+                _ => match k.get(i - 1) {
+                    Some(v) => out.push_str(&format!(",{v:e}")),
+                    None => out.push(','),
                 },
             }
         }
@@ -2013,6 +2051,43 @@ mod exported {
         guard(|| {
             let l = unsafe { get("law", law) }?;
             unsafe { out_f64("out", out, l.hardness.unwrap_or(f64::INFINITY)) }
+        })
+    }
+
+    /// The full-stick tangential stiffness K_t of the sample (N/m) at separation `gap`
+    /// (m), for a law built with `options.friction_coefficient` > 0: the solved value at
+    /// the samples (each contact disc's K_t summed, `strata solve`'s
+    /// `tangential_stiffness`), monotone cubic between them (∝ √δ next to first
+    /// contact), 0 at and above first contact, `STRATA_ERR_OUT_OF_RANGE` below the
+    /// smallest sampled separation. A law built without friction is
+    /// `STRATA_ERR_INVALID_ARGUMENT`.
+    #[unsafe(no_mangle)]
+    pub unsafe extern "C" fn strata_law_tangential_stiffness(
+        law: *const StrataLaw,
+        gap: f64,
+        out: *mut f64,
+    ) -> i32 {
+        guard(|| {
+            let l = unsafe { get("law", law) }?;
+            if !l.contact.has_tangential_stiffness() {
+                return Err(CapiError::Invalid {
+                    name: "law",
+                    reason: "was built without friction: build it with \
+                             strata_law_new_with_law_options and options.friction_coefficient > 0"
+                        .into(),
+                });
+            }
+            if out.is_null() {
+                return Err(CapiError::Null("out"));
+            }
+            let v = l
+                .contact
+                .tangential_stiffness_at_gap(gap)
+                .map_err(|e| match e {
+                    ContactLawError::Conductance(error) => CapiError::Curve { name: "gap", error },
+                    e => CapiError::Solve(format!("gap: {e}")),
+                })?;
+            unsafe { out_f64("out", out, v) }
         })
     }
 

@@ -72,6 +72,7 @@ fn conductance_between_samples_against_a_finer_law() {
             kind: strata_runtime::conduction::ConductionKind::Thermal,
             counterface: CounterfaceConduction::HalfSpace(50.0),
         }),
+        friction: None,
     };
     let build = |n| {
         build_law_with_effects(
@@ -158,4 +159,117 @@ fn hardness_outside_its_range_is_refused() {
         };
         assert_eq!(o.effects().unwrap().hardness, want, "H = {h}");
     }
+}
+
+/// With `options.friction_coefficient` the law carries the full-stick tangential
+/// stiffness: `strata_law_tangential_stiffness` at the law's own samples equals the
+/// `tangential_stiffness` column of `strata solve` (the engine's `solve`) of the same
+/// scene at those separations, for the N and I models (homogeneous half-space); a law
+/// without friction and a negative coefficient are refused, naming `law` and
+/// `options.friction_coefficient`.
+#[test]
+fn tangential_stiffness_equals_solve() {
+    let stack = Stack::half_space(4e9, 0.15).unwrap();
+    let s = surface(8.0, 7);
+    let opts = StrataLawOptions {
+        friction_coefficient: 0.3,
+        ..StrataLawOptions::default()
+    };
+    let effects = opts.effects().unwrap();
+    let mut worst = 0.0f64;
+    for (model, kind) in [
+        (Model::Independent, "independent"),
+        (
+            Model::Interacting(strata_runtime::rough::Images::Isolated),
+            "interacting",
+        ),
+    ] {
+        let law =
+            build_law_with_effects(None, &stack, &s, model, 2e-6, 8, Params::default(), effects)
+                .expect("law");
+        let csv = law_csv(&law);
+        assert!(
+            csv.lines()
+                .next()
+                .unwrap()
+                .ends_with(",tangential_stiffness"),
+            "{csv}"
+        );
+        let gaps: Vec<f64> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').next().unwrap().parse().unwrap())
+            .collect();
+        let c: Vec<f64> = gaps
+            .iter()
+            .map(|&g| {
+                let mut out = f64::NAN;
+                // SAFETY: a live law and a writable double.
+                assert_eq!(
+                    unsafe { strata_law_tangential_stiffness(&law, g, &mut out) },
+                    STRATA_OK
+                );
+                out
+            })
+            .collect();
+        // the same scene through the engine's solve at the law's separations
+        // (all of them, first contact too: the I model's path is warm-started step by step)
+        let list: Vec<String> = gaps.iter().map(|g| format!("{g:e}")).collect();
+        let text = format!(
+            "[stack]\n[[stack.layer]]\nthickness = 1e-3\nyoung = 4e9\npoisson = 0.15\n\
+             [stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.15\n\
+             [surface]\nperiodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 128\n\
+             fractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 3.4e-6\nseed = 7\n\
+             [model]\nkind = \"{kind}\"\nimages = \"isolated\"\n[load]\nseparations = [{}]\n\
+             [friction]\ncoefficient = 0.3\n",
+            list.join(", ")
+        );
+        let dir = std::env::temp_dir().join(format!("strata-capi-kt-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join(format!("{kind}.toml"));
+        std::fs::write(&p, text).unwrap();
+        let scene = strata::scene::Scene::from_file(&p).unwrap();
+        let sol = strata::engine::solve(
+            &scene,
+            None,
+            &strata::engine::EngineOptions::default(),
+            &mut strata::engine::Quiet,
+        )
+        .unwrap();
+        let kt = sol.tangential_stiffnesses().unwrap();
+        assert_eq!(c[0], 0.0, "first contact");
+        assert_eq!(kt.len(), c.len());
+        for (a, b) in c[1..].iter().zip(&kt[1..]) {
+            assert!(*b > 0.0 || *a == 0.0);
+            worst = worst.max(rel(*a, *b));
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    eprintln!("C ABI K_t vs solve: worst {worst:.1e}");
+    // the same solve at the same separations: bit for bit (measured 0)
+    assert_eq!(worst, 0.0);
+    // refusals
+    let plain = build_law_with_effects(
+        None,
+        &stack,
+        &s,
+        Model::Independent,
+        2e-6,
+        4,
+        Params::default(),
+        LawEffects::default(),
+    )
+    .unwrap();
+    let mut out = 0.0;
+    // SAFETY: a live law and a writable double.
+    assert_eq!(
+        unsafe { strata_law_tangential_stiffness(&plain, 1e-6, &mut out) },
+        STRATA_ERR_INVALID_ARGUMENT
+    );
+    let bad = StrataLawOptions {
+        friction_coefficient: -0.1,
+        ..StrataLawOptions::default()
+    };
+    let e = bad.effects().unwrap_err().to_string();
+    assert!(e.contains("options.friction_coefficient"), "{e}");
 }

@@ -4,7 +4,8 @@
 //! nondimensional fingerprint (`stack-<hex>.strata`), so every scene and command with
 //! the same stack shares it. Beside them: the ψ tables of conducting stacks
 //! (`psi-<hex>.strata`) and the capped asperity's response tables of `[plasticity]`
-//! scenes with the N and I models (`capped-<hex>.strata`, [`capped_response`]).
+//! scenes with the N and I models (`capped-<hex>.strata`, [`capped_response`]), and the
+//! disc-stiffness tables of `[friction]` scenes (`kt-<hex>.strata`, [`disc_stiffness`]).
 //!
 //! Location, first that applies:
 //! 1. `--cache-dir DIR` of the command;
@@ -105,6 +106,61 @@ pub fn capped_response<S: strata_runtime::Solid + ?Sized>(
         crate::progress::log(line);
     }
     Ok(resp)
+}
+
+/// The disc-stiffness table of `stack` (K_n and K_t of a contact disc against a/h₁,
+/// `strata_runtime::disc_stiffness`) covering the radii `lo` ≤ `hi` (m) from the table
+/// cache `dir` (file `kt-<hex>.strata`, `strata_tablegen::stiffness_table::cached`):
+/// read when it covers them, else built (or extended) by Fredholm solves (16 a decade
+/// of a/h₁) and kept there; homogeneous bodies need none (ψ ≡ 1). One log line says which; a cache
+/// that cannot be written is a warning (the table built is used). The same values,
+/// bit for bit, as a build in memory.
+pub fn disc_stiffness<S: strata_runtime::Solid + ?Sized>(
+    stack: &S,
+    lo: f64,
+    hi: f64,
+    dir: &Path,
+    quiet: bool,
+) -> Result<
+    strata_runtime::disc_stiffness::StiffnessTable,
+    strata_tablegen::stiffness_table::StiffnessTableError,
+> {
+    use strata_tablegen::stiffness_table::{CacheUse, cached};
+    if stack.is_homogeneous() {
+        // ψ ≡ 1 on homogeneous bodies (S_LL = S_TT = 1): no table, no solve
+        let tc = strata_runtime::compliance::tangential::TangentialCompliance::new(stack);
+        return Ok(strata_runtime::disc_stiffness::StiffnessTable::half_space(
+            tc.plane_strain_modulus(),
+            tc.shear_modulus(),
+        ));
+    }
+    let t0 = std::time::Instant::now();
+    let solver = strata_tablegen::stiffness::Stiffness::new(stack);
+    let (table, used) = cached(&solver, lo, hi, dir)?;
+    let s = t0.elapsed().as_secs_f64();
+    let line = match used {
+        CacheUse::HalfSpace => return Ok(table),
+        CacheUse::Read(p) => format!(
+            "friction: the disc-stiffness table read from the table cache {}",
+            p.display()
+        ),
+        CacheUse::Written { path, decades } => format!(
+            "friction: the disc-stiffness table solved for a/h1 = 1e{} … 1e{} (16 Fredholm solves a decade, {s:.1} s) into the table cache {}",
+            decades.0,
+            decades.1,
+            path.display()
+        ),
+        CacheUse::NotWritten(why) => {
+            crate::progress::warn(format_args!(
+                "friction: the disc-stiffness table could not be kept in the table cache ({why}); it is solved again next time"
+            ));
+            return Ok(table);
+        }
+    };
+    if !quiet {
+        crate::progress::log(line);
+    }
+    Ok(table)
 }
 
 // passed on by the engine with `?` (engine/src/error.rs)

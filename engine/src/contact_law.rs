@@ -3,8 +3,10 @@
 //! the runtime's [`InterfaceLaw`] (monotone interpolation of the samples) and, with
 //! `[conductance]`, h_c(g) and h_c(p) from its [`ConductanceCurve`] (PCHIP in g, ∝ √δ
 //! next to first contact; h_c(p) at the largest separation where p(g) = p, by bisection
-//! on the monotone p(g)). SI units: g in m, p in Pa, dp/dg in Pa/m, h_c in W/(m²·K)
-//! (thermal) or S/m² (electrical).
+//! on the monotone p(g)) and, with `[friction]`, the full-stick tangential stiffness
+//! K_t(g) and K_t(p) of the sample (the same PCHIP curve: K_t ∝ √δ next to first contact
+//! as h_c is, one Hertz disc of radius √(Rδ)). SI units: g in m, p in Pa, dp/dg in Pa/m,
+//! h_c in W/(m²·K) (thermal) or S/m² (electrical), K_t in N/m over the sample.
 
 use strata_runtime::conduction::ConductionKind;
 use strata_runtime::interface::InterfaceError;
@@ -30,6 +32,12 @@ pub enum ContactLawError {
         "the law's conductances are not finite and ≥ 0 at every sample (full contact): h_c is infinite there"
     )]
     InfiniteConductance,
+    /// The law carries no tangential stiffness.
+    #[error("this law has no tangential stiffness: add [friction] to the scene (coefficient = μ)")]
+    NoTangentialStiffness,
+    /// Tangential stiffnesses that are not one finite value ≥ 0 per sample.
+    #[error("the law's tangential stiffnesses are not one finite value >= 0 per sample")]
+    BadTangentialStiffness,
 }
 
 /// p(g), A(g)/A₀, dp/dg and (with a conductance) h_c(g), h_c(p) of an interface.
@@ -37,6 +45,7 @@ pub enum ContactLawError {
 pub struct ContactLaw {
     law: InterfaceLaw,
     conductance: Option<(ConductionKind, ConductanceCurve)>,
+    tangential: Option<ConductanceCurve>,
 }
 
 impl ContactLaw {
@@ -56,7 +65,55 @@ impl ContactLaw {
             }
             None => None,
         };
-        Ok(ContactLaw { law, conductance })
+        Ok(ContactLaw {
+            law,
+            conductance,
+            tangential: None,
+        })
+    }
+
+    /// The law with the full-stick tangential stiffnesses K_t (N/m over the sample) at
+    /// its samples (in the order of [`InterfaceLaw::samples`], 0 at first contact);
+    /// they must be finite and ≥ 0.
+    pub fn with_tangential_stiffness(mut self, k: &[f64]) -> Result<Self, ContactLawError> {
+        let gaps: Vec<f64> = self.law.samples().map(|(g, ..)| g).collect();
+        self.tangential =
+            Some(ConductanceCurve::new(&gaps, k).ok_or(ContactLawError::BadTangentialStiffness)?);
+        Ok(self)
+    }
+
+    /// The full-stick tangential stiffness's curve K_t(g) (its samples, PCHIP between
+    /// them), when the law carries one (`[friction]`).
+    pub fn tangential_stiffness(&self) -> Option<&ConductanceCurve> {
+        self.tangential.as_ref()
+    }
+
+    /// Whether the law carries the tangential stiffness (`[friction]`).
+    pub fn has_tangential_stiffness(&self) -> bool {
+        self.tangential.is_some()
+    }
+
+    /// The full-stick tangential stiffness K_t (N/m over the sample) at separation `gap`
+    /// (m): the solved values at the samples, PCHIP between them (∝ √δ next to first
+    /// contact), 0 at and above first contact; below the smallest sample an error.
+    pub fn tangential_stiffness_at_gap(&self, gap: f64) -> Result<f64, ContactLawError> {
+        let c = self
+            .tangential
+            .as_ref()
+            .ok_or(ContactLawError::NoTangentialStiffness)?;
+        Ok(c.at_gap(gap)?)
+    }
+
+    /// K_t (N/m) at mean contact pressure `pressure` (Pa): at the largest separation
+    /// where p(g) equals it (bisection on the monotone p(g)); a sample's own pressure
+    /// gives its K_t exactly.
+    pub fn tangential_stiffness_at_pressure(&self, pressure: f64) -> Result<f64, ContactLawError> {
+        let c = self
+            .tangential
+            .as_ref()
+            .ok_or(ContactLawError::NoTangentialStiffness)?;
+        let law = &self.law;
+        Ok(c.at_pressure(pressure, |g| law.eval(g).map_or(f64::NAN, |q| q.pressure))?)
     }
 
     /// The law of a solved load path: first contact at separation `first_contact_gap`
@@ -69,6 +126,18 @@ impl ContactLaw {
         nominal_area: f64,
         conductance: Option<(ConductionKind, &[f64])>,
     ) -> Result<Self, ContactLawError> {
+        Self::from_steps_with(first_contact_gap, steps, nominal_area, conductance, None)
+    }
+
+    /// As [`ContactLaw::from_steps`], with the steps' full-stick tangential stiffnesses
+    /// `tangential` (N/m over the sample; 0 at first contact when it is prepended).
+    pub fn from_steps_with(
+        first_contact_gap: f64,
+        steps: &[Step],
+        nominal_area: f64,
+        conductance: Option<(ConductionKind, &[f64])>,
+        tangential: Option<&[f64]>,
+    ) -> Result<Self, ContactLawError> {
         let starts_at_contact = steps.first().is_some_and(|s| s.gap >= first_contact_gap);
         let mut all: Vec<Step> = Vec::with_capacity(steps.len() + 1);
         let mut h: Vec<f64> = Vec::with_capacity(steps.len() + 1);
@@ -79,13 +148,21 @@ impl ContactLaw {
             h.push(0.0);
         }
         all.extend(steps.iter().cloned());
+        let mut k: Vec<f64> = vec![0.0; h.len()];
         let law = InterfaceLaw::from_steps(&all, nominal_area)?;
-        match conductance {
+        let out = match conductance {
             Some((kind, hs)) => {
                 h.extend_from_slice(hs);
                 Self::new(law, Some((kind, &h)))
             }
             None => Self::new(law, None),
+        }?;
+        match tangential {
+            Some(ks) => {
+                k.extend_from_slice(ks);
+                out.with_tangential_stiffness(&k)
+            }
+            None => Ok(out),
         }
     }
 

@@ -96,6 +96,7 @@ passed_on!(
     strata_tablegen::psi_table::PsiError,
     strata_tablegen::spot::SpotError,
     strata_tablegen::spot_pair::SpotPairError,
+    strata_tablegen::stiffness_table::StiffnessTableError,
 );
 
 /// Attaches a place to an error (or to a missing value), as `anyhow::Context` does.

@@ -15,8 +15,8 @@ use strata_runtime::{Bodies, Solid};
 
 use crate::sampled_law::SampledLaw;
 use crate::scene::{
-    ConductanceSpec, LoadSpec, ModelKind, ModelSpec, OutputSpec, PlasticitySpec, Scene, SolverSpec,
-    SurfaceSource, SurfaceSpec,
+    ConductanceSpec, FrictionSpec, LoadSpec, ModelKind, ModelSpec, OutputSpec, PlasticitySpec,
+    Scene, SolverSpec, SurfaceSource, SurfaceSpec,
 };
 use crate::setup::EngineOptions;
 
@@ -32,6 +32,9 @@ pub struct LawEffects {
     /// The interface conductance h_c to solve at every sample (physics.md §6.2): its kind
     /// and how the counterface conducts.
     pub conductance: Option<ConductanceSpec>,
+    /// The coefficient of friction: with it, the full-stick tangential stiffness K_t of
+    /// the sample at every sample (the engine's `effects::friction`).
+    pub friction: Option<FrictionSpec>,
 }
 
 /// A law's inputs in memory.
@@ -94,6 +97,7 @@ pub fn scene_of(
         plasticity: effects.hardness.map(|hardness| PlasticitySpec { hardness }),
         unload: false,
         conductance: effects.conductance,
+        friction: effects.friction,
     }
 }
 

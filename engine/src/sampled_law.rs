@@ -68,6 +68,10 @@ pub struct SampledLaw {
     /// With `[conductance]`: the interface conductance h_c (W/(m²·K) or S/m²) at each
     /// sample, in the order of [`InterfaceLaw::samples`] (0 at first contact).
     pub conductance: Option<(ConductionKind, Vec<f64>)>,
+    /// With `[friction]` (N and I models): the full-stick tangential stiffness K_t of the
+    /// sample (N/m) at each sample, in the order of [`InterfaceLaw::samples`] (0 at
+    /// first contact).
+    pub tangential_stiffness: Option<Vec<f64>>,
     /// With `[plasticity]` (BEM): the hardness (Pa) and the unloading curve from the
     /// deepest sample back to first contact, (gap, mean pressure, area fraction) per
     /// sample — it lies below the loading curve (the flattened tips do not spring back).
@@ -76,13 +80,17 @@ pub struct SampledLaw {
 
 impl SampledLaw {
     /// The law as a [`ContactLaw`]: p(g), A(g)/A₀, dp/dg and, with `[conductance]`,
-    /// h_c(g) and h_c(p). An error when a sample's conductance is infinite (full
-    /// contact).
+    /// h_c(g) and h_c(p), with `[friction]` K_t(g) and K_t(p). An error when a
+    /// sample's conductance is infinite (full contact).
     pub fn contact_law(&self) -> Result<ContactLaw, ContactLawError> {
-        ContactLaw::new(
+        let law = ContactLaw::new(
             self.law.clone(),
             self.conductance.as_ref().map(|(k, h)| (*k, h.as_slice())),
-        )
+        )?;
+        match &self.tangential_stiffness {
+            Some(k) => law.with_tangential_stiffness(k),
+            None => Ok(law),
+        }
     }
 
     /// The Abaqus/CalculiX `*SURFACE BEHAVIOR` block with its `**` comment lines
@@ -395,7 +403,7 @@ pub fn solve_asperities(
         return solve_capped_asperities(scene, surface, opts, obs, model, samples, min_gap, pl);
     }
     let (surface_json, warnings) = crate::setup::surface_report(&surface, obs);
-    let keep = scene.conductance.is_some().then(|| surface.clone());
+    let keep = (scene.conductance.is_some() || scene.friction.is_some()).then(|| surface.clone());
     let law = law_for(scene, opts, obs)?;
     let rc = RoughContact::from_surface(law.as_ref(), &surface)?
         .with_params(crate::setup::solver_params(scene, opts));
@@ -421,16 +429,26 @@ pub fn solve_asperities(
             "sampling the load curve"
         },
     )?;
-    let conductance = match (&scene.conductance, keep) {
-        (Some(spec), Some(surface)) => {
-            // the model's (N or I) conductance at the law's own separations
+    // the model's (N or I) effects (conductance, tangential stiffness) at the law's own
+    // separations, in one solve
+    let effects = match keep {
+        Some(surface) => {
             let mut at = scene.clone();
             at.load = LoadSpec::Separations(il.samples().map(|s| s.0).collect());
-            let sol = solve(&at, Some(surface), opts, &mut Quiet).context("[conductance]")?;
-            Some((spec.kind, sol.conductances().unwrap_or_default()))
+            let what = match (&scene.conductance, &scene.friction) {
+                (Some(_), Some(_)) => "[conductance], [friction]",
+                (Some(_), None) => "[conductance]",
+                _ => "[friction]",
+            };
+            Some(solve(&at, Some(surface), opts, &mut Quiet).context(what)?)
         }
+        None => None,
+    };
+    let conductance = match (&scene.conductance, &effects) {
+        (Some(spec), Some(sol)) => Some((spec.kind, sol.conductances().unwrap_or_default())),
         _ => None,
     };
+    let tangential_stiffness = effects.as_ref().and_then(|s| s.tangential_stiffnesses());
     Ok(SampledLaw {
         law: il,
         model: describe(Some(model)),
@@ -440,6 +458,7 @@ pub fn solve_asperities(
         surface: surface_json,
         warnings,
         conductance,
+        tangential_stiffness,
         unloading: None,
     })
 }
@@ -486,6 +505,7 @@ fn solve_capped_asperities(
             .conductance
             .as_ref()
             .map(|spec| (spec.kind, sol.conductances().unwrap_or_default())),
+        tangential_stiffness: sol.tangential_stiffnesses(),
         unloading: Some((pl.hardness, Vec::new())),
     })
 }
@@ -612,6 +632,8 @@ fn solve_bem(
         surface: sol.summary.surface.clone(),
         warnings,
         conductance,
+        // [friction] is refused with the BEM when the scene is read
+        tangential_stiffness: None,
         unloading,
     })
 }
@@ -631,7 +653,8 @@ pub fn range_path(inp: &std::path::Path) -> (std::path::PathBuf, String) {
 }
 
 /// The law's CSV; with `[conductance]` a `conductance` column after `valid` (h_c,
-/// W/(m²·K) or S/m², empty where infinite: full contact); with `[plasticity]` a
+/// W/(m²·K) or S/m², empty where infinite: full contact); with `[friction]` a
+/// `tangential_stiffness` column after it (K_t of the sample, N/m); with `[plasticity]` a
 /// `branch` column (`loading`, then `unloading` from the deepest sample back to first
 /// contact: gap, overclosure, pressure, area, dp_dg the one-sided difference along the
 /// unloading branch (`sampled_law::unloading_slopes`); valid 1 and the conductance NaN
@@ -651,6 +674,15 @@ pub fn csv(s: &SampledLaw) -> String {
                 },
             }
         }
+        if let Some(k) = &s.tangential_stiffness {
+            match i {
+                0 => out.push_str(",tangential_stiffness"),
+                _ => match k.get(i - 1) {
+                    Some(v) => out.push_str(&format!(",{v:e}")),
+                    None => out.push(','),
+                },
+            }
+        }
         if s.unloading.is_some() {
             out.push_str(if i == 0 { ",branch" } else { ",loading" });
         }
@@ -659,10 +691,15 @@ pub fn csv(s: &SampledLaw) -> String {
     if let Some((_, back)) = &s.unloading {
         let g0 = s.law.first_contact_gap();
         let hc = if h.is_some() { ",NaN" } else { "" };
+        let kt = if s.tangential_stiffness.is_some() {
+            ",NaN"
+        } else {
+            ""
+        };
         let slopes = unloading_slopes(back);
         for ((g, p, a), d) in back.iter().zip(&slopes).skip(1) {
             out.push_str(&format!(
-                "{g:e},{:e},{p:e},{a:e},{d:e},1{hc},unloading\n",
+                "{g:e},{:e},{p:e},{a:e},{d:e},1{hc}{kt},unloading\n",
                 g0 - g
             ));
         }
@@ -712,6 +749,7 @@ mod tests {
             ),
             warnings: Vec::new(),
             conductance: Some((ConductionKind::Thermal, h)),
+            tangential_stiffness: None,
             unloading: None,
         };
         let block = s.gap_conductance_block();

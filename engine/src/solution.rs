@@ -31,6 +31,8 @@ pub struct SceneSolution {
     pub plastic: Option<Vec<PlasticInfo>>,
     /// With `[conductance]`: one record per step (same order as `steps`).
     pub conductance: Option<Vec<ConductanceInfo>>,
+    /// With `[friction]`: one record per step (same order as `steps`).
+    pub tangential: Option<Vec<TangentialInfo>>,
     /// Summary for `curve.json`: model, solid, E*₁, nominal area, the effects' settings…
     pub summary: Summary,
     /// Wall time of the solve, without table building (s).
@@ -57,9 +59,18 @@ impl SceneSolution {
             .map(|p| p.iter().map(|p| p.plastic_area_fraction).collect())
     }
 
+    /// The full-stick tangential stiffness K_t of the sample at each step (N/m), when the
+    /// scene has `[friction]`.
+    pub fn tangential_stiffnesses(&self) -> Option<Vec<f64>> {
+        self.tangential
+            .as_ref()
+            .map(|t| t.iter().map(|t| t.tangential_stiffness).collect())
+    }
+
     /// The per-step columns the scene's effects add to curve.csv after `valid`, in their
     /// order: `plastic_area_fraction` with `[plasticity]`, then `conductance` with
-    /// `[conductance]` (∞ at full contact).
+    /// `[conductance]` (∞ at full contact), then `tangential_stiffness` with
+    /// `[friction]`.
     pub fn effect_columns(&self) -> Vec<(&'static str, Vec<f64>)> {
         let mut out = Vec::new();
         if let Some(p) = self.plastic_area_fractions() {
@@ -67,6 +78,9 @@ impl SceneSolution {
         }
         if let Some(h) = self.conductances() {
             out.push(("conductance", h));
+        }
+        if let Some(k) = self.tangential_stiffnesses() {
+            out.push(("tangential_stiffness", k));
         }
         out
     }
@@ -112,6 +126,14 @@ pub struct ConductanceInfo {
     /// The BEM's iterative solve (none for the asperity models).
     #[serde(flatten)]
     pub bem: Option<BemConductanceInfo>,
+}
+
+/// One step's full-stick tangential stiffness (`[friction]`,
+/// [`crate::effects::friction`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TangentialInfo {
+    /// K_t of the sample (N/m): the contact discs' full-stick stiffnesses in parallel.
+    pub tangential_stiffness: f64,
 }
 
 /// The BEM conduction solve's records of one step.
@@ -169,6 +191,9 @@ pub struct Summary {
     /// `[conductance]`: its settings.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub conductance: Option<ConductanceSummary>,
+    /// `[friction]`: its settings and what was computed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionSummary>,
     /// A path that stopped at a failing step.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub partial: Option<PartialSummary>,
@@ -397,6 +422,28 @@ pub struct ConductanceSummary {
     /// Time of the conductance solves (s).
     pub seconds: f64,
     pub units: ConductanceUnits,
+}
+
+/// `[friction]`'s settings and what was computed.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrictionSummary {
+    /// The coefficient of friction μ (1).
+    pub coefficient: f64,
+    /// What the tangential stiffness is.
+    pub definition: &'static str,
+    /// The decades [k₀, k₁) of log₁₀(a/h₁) of the disc-stiffness table used (null on a
+    /// half-space or without contact).
+    pub table_decades: Option<[i32; 2]>,
+    /// Time of the tangential stiffness, with its table (s).
+    pub seconds: f64,
+    pub units: FrictionUnits,
+}
+
+/// The units of [`FrictionSummary`] and its per-step column.
+#[derive(Debug, Clone, Serialize)]
+pub struct FrictionUnits {
+    pub coefficient: &'static str,
+    pub tangential_stiffness: &'static str,
 }
 
 /// The units of [`ConductanceSummary`].

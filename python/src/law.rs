@@ -88,6 +88,9 @@ impl PyContactLaw {
         if let Some((_, h)) = &self.sampled.conductance {
             out.set_item("conductance", h.clone().into_pyarray(py))?;
         }
+        if let Some(k) = &self.sampled.tangential_stiffness {
+            out.set_item("tangential_stiffness", k.clone().into_pyarray(py))?;
+        }
         Ok(out)
     }
 
@@ -159,6 +162,46 @@ impl PyContactLaw {
             .map_err(err(Kind::Law))?;
         conv::map(py, pressure, "pressure", Kind::Law, |p| {
             Ok(c.conductance_at_pressure(p)?)
+        })
+    }
+
+    /// The full-stick tangential stiffness K_t of the sample (N/m) at separation g (m;
+    /// scalar or array), as the C ABI's `strata_law_tangential_stiffness`: the solved
+    /// values at the samples, a monotone cubic between them (∝ √δ next to first
+    /// contact), 0 at and above first contact; below the smallest sample an error.
+    /// Needs `[friction]` in the scene.
+    fn tangential_stiffness<'py>(
+        &self,
+        py: Python<'py>,
+        gap: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = self.contact()?;
+        if !c.has_tangential_stiffness() {
+            return Err(err(Kind::Law)(
+                strata_engine::contact_law::ContactLawError::NoTangentialStiffness,
+            ));
+        }
+        conv::map(py, gap, "gap", Kind::Law, |g| {
+            Ok(c.tangential_stiffness_at_gap(g)?)
+        })
+    }
+
+    /// K_t (N/m) at mean contact pressure p (Pa; scalar or array): at the largest
+    /// separation where the law's p(g) equals p; a sample's own pressure gives its K_t
+    /// exactly. Needs `[friction]` in the scene.
+    fn tangential_stiffness_at_pressure<'py>(
+        &self,
+        py: Python<'py>,
+        pressure: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let c = self.contact()?;
+        if !c.has_tangential_stiffness() {
+            return Err(err(Kind::Law)(
+                strata_engine::contact_law::ContactLawError::NoTangentialStiffness,
+            ));
+        }
+        conv::map(py, pressure, "pressure", Kind::Law, |p| {
+            Ok(c.tangential_stiffness_at_pressure(p)?)
         })
     }
 

@@ -134,7 +134,7 @@ const MEMORY: &str = "<python>";
 #[pymethods]
 impl PyScene {
     #[new]
-    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None, counterface=None, counterface_surface=None, plasticity=None, conductance=None))]
+    #[pyo3(signature = (stack, surface, model="interacting", load=None, images=None, image_cells=None, table=None, solver=None, counterface=None, counterface_surface=None, plasticity=None, conductance=None, friction=None))]
     #[allow(clippy::too_many_arguments)]
     fn new(
         stack: &Bound<'_, PyAny>,
@@ -149,6 +149,7 @@ impl PyScene {
         counterface_surface: Option<&Bound<'_, PySurface>>,
         plasticity: Option<&Bound<'_, PyAny>>,
         conductance: Option<&Bound<'_, PyAny>>,
+        friction: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Self> {
         let stack = stack_of(stack, "Scene: stack")?;
         let mut surface = surface.get().surface.clone();
@@ -205,6 +206,10 @@ impl PyScene {
         }
         if let Some(cd) = conductance {
             top.insert("conductance".into(), py_to_json(cd, "conductance")?);
+        }
+        // [friction] as a dict ({"coefficient": 0.3}), validated as a scene file's
+        if let Some(fr) = friction {
+            top.insert("friction".into(), py_to_json(fr, "friction")?);
         }
         let scene = Scene::from_data_in(
             J::Object(top),
@@ -279,7 +284,8 @@ impl PyScene {
     /// returns a dict of numpy arrays with the columns of curve.csv (delta, gap,
     /// mean_pressure, pressure_ratio, area_fraction, contacts, stiffness) plus load,
     /// kkt_residual (NaN where none), valid, and `meta` (curve.json's summary); a scene
-    /// with `[conductance]` adds `conductance` (h_c per step, W/(m²·K) or S/m²).
+    /// with `[conductance]` adds `conductance` (h_c per step, W/(m²·K) or S/m²), one with
+    /// `[friction]` `tangential_stiffness` (K_t of the sample per step, N/m, full stick).
     /// maps ("none", "last", "all"; BEM only) adds the pressure (Pa) and gap (m) maps.
     /// Runs off the GIL; progress: True shows progress and log lines (in a notebook's
     /// cell, else on stderr), False only warnings, None (default) progress when in a
@@ -343,6 +349,10 @@ impl PyScene {
         // [conductance]: h_c per step (W/(m²·K) or S/m²; inf at full contact)
         if let Some(h) = sol.conductances() {
             out.set_item("conductance", h.into_pyarray(py))?;
+        }
+        // [friction]: the full-stick tangential stiffness of the sample per step (N/m)
+        if let Some(k) = sol.tangential_stiffnesses() {
+            out.set_item("tangential_stiffness", k.into_pyarray(py))?;
         }
         // the summary as a dict: JSON made here, at the Python boundary
         let meta = serde_json::to_value(&sol.summary)

@@ -68,6 +68,7 @@ pub mod cancel;
 pub mod compliance;
 pub mod conduction;
 pub mod constriction;
+pub mod disc_stiffness;
 /// The one 2-D FFT helper of the workspace (crate `strata-fft`, re-exported).
 #[cfg(feature = "spectral")]
 pub use strata_fft as fft;

@@ -754,6 +754,10 @@ fn compare_scene(
     {
         let mut sc = scene.clone();
         sc.model.kind = kind;
+        if kind == ModelKind::Bem {
+            // the tangential stiffness is the asperity models' (curve_independent.csv, curve_interacting.csv)
+            sc.friction = None;
+        }
         let opts = EngineOptions {
             cache_dir: a.cache_dir.clone(),
             memory,

@@ -20,7 +20,9 @@
 //! With `[conductance]` in the scene (BEM, N or I model) the CSV gains a `conductance`
 //! column after `valid`, the JSON each sample's interface conductance h_c (physics.md
 //! §6.2) and the `.inp` a `*GAP CONDUCTANCE, PRESSURE` block after the table
-//! ([`SampledLaw::gap_conductance_block`]).
+//! ([`SampledLaw::gap_conductance_block`]). With `[friction]` (N and I models) the CSV
+//! gains a `tangential_stiffness` column after them and the JSON each sample's
+//! `tangential_stiffness`: the full-stick tangential stiffness K_t of the sample (N/m).
 //!
 //! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
 //! (default: the smallest separation the scene's `[load]` reaches; for
@@ -188,6 +190,13 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
         }
         v["units"]["conductance"] = serde_json::json!(kind.interface_conductance_unit());
         v["conductance_kind"] = serde_json::json!(kind.name());
+    }
+    if let Some(k) = &s.tangential_stiffness {
+        // [friction]: the sample's full-stick tangential stiffness per sample
+        for (entry, &kt) in v["law"].as_array_mut().into_iter().flatten().zip(k) {
+            entry["tangential_stiffness"] = serde_json::json!(kt);
+        }
+        v["units"]["tangential_stiffness"] = serde_json::json!("N/m (over the sample, full stick)");
     }
     Ok(serde_json::to_string_pretty(&v)?)
 }

@@ -8,7 +8,8 @@
 //!   of the whole sample in N/m; valid 1/0: inside the model's validity), followed by
 //!   `plastic_area_fraction` for a scene with `[plasticity]` and `conductance` (h_c,
 //!   W/(m²·K) or S/m², empty where infinite: full contact) for a scene with
-//!   `[conductance]`, in that order;
+//!   `[conductance]` and `tangential_stiffness` (K_t of the sample in full stick, N/m)
+//!   for a scene with `[friction]` (N and I models), in that order;
 //! - `DIR/curve.json`: the same per step plus the KKT residual, the validity and its
 //!   reasons, the scene summary and which effects were simulated;
 //! - `DIR/pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `DIR/area_pressure.svg`
@@ -402,6 +403,10 @@ pub fn write_outputs(set: &OutputSet, no_plots: bool, sol: &SceneSolution) -> Re
                 sol.conductance
                     .as_ref()
                     .and_then(|c| c.get(k))
+                    .map(serde_json::to_value),
+                sol.tangential
+                    .as_ref()
+                    .and_then(|t| t.get(k))
                     .map(serde_json::to_value),
             ];
             for r in records.into_iter().flatten() {

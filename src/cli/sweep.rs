@@ -11,7 +11,8 @@
 //!   precision (`{:e}`), as in `strata solve`'s curve.csv; `valid` 1/0 (inside the
 //!   model's validity); then, as in curve.csv, `plastic_area_fraction` when the base
 //!   scene has `[plasticity]` and `conductance` (empty where infinite) when it has
-//!   `[conductance]`, in that order;
+//!   `[conductance]` and `tangential_stiffness` (N and I models) when it has
+//!   `[friction]`, in that order;
 //! - `DIR/sweep.json`: the sidecar (strata version, sweep fingerprint, case count,
 //!   shard, columns, axes, per-case wall times, the CSV's row count and FNV-1a
 //!   checksum, the input files and their checksums);
@@ -143,7 +144,8 @@ fn shard_stem(i: usize, n: usize) -> String {
 
 /// The effect columns after `valid`, as `strata solve` writes them to curve.csv:
 /// `plastic_area_fraction` when the base scene has `[plasticity]`, `conductance` when it
-/// has `[conductance]`, in that order (every case shares the base scene's sections).
+/// has `[conductance]`, `tangential_stiffness` when it has `[friction]`, in that order
+/// (every case shares the base scene's sections).
 fn effect_header(sweep: &Sweep) -> Vec<&'static str> {
     let mut h = Vec::new();
     if sweep.base.plasticity.is_some() {
@@ -151,6 +153,9 @@ fn effect_header(sweep: &Sweep) -> Vec<&'static str> {
     }
     if sweep.base.conductance.is_some() {
         h.push("conductance");
+    }
+    if sweep.base.friction.is_some() {
+        h.push("tangential_stiffness");
     }
     h
 }

@@ -107,29 +107,7 @@ pub enum StiffnessError {
     },
 }
 
-/// The three punch factors ψ (dimensionless, 1 on a half-space) at one radius.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PunchFactors {
-    /// ψ_zz: the normal flat punch, K_n = 2E*₁aψ_zz.
-    pub normal: f64,
-    /// ψ_LL: the in-plane mode along the wavevector, K_L = 2E*₁aψ_LL.
-    pub along: f64,
-    /// ψ_TT: the antiplane mode across it, K_T = 4μ₁aψ_TT.
-    pub across: f64,
-}
-
-/// The stiffnesses of one disc (N/m).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DiscStiffness {
-    /// Disc radius a (m).
-    pub a: f64,
-    /// K_n = P/δ of the frictionless flat punch.
-    pub normal: f64,
-    /// K_t = Q/δ of the full-stick disc (coupling ignored).
-    pub tangential: f64,
-    /// The punch factors behind them.
-    pub psi: PunchFactors,
-}
+pub use strata_runtime::disc_stiffness::{DiscStiffness, PunchFactors, harmonic_mean};
 
 /// The disc-stiffness solver of one stack (module docs).
 #[derive(Debug, Clone)]
@@ -141,6 +119,7 @@ pub struct Stiffness {
     e_star: f64,
     mu_star: f64,
     method: Method,
+    key: u64,
 }
 
 /// The largest ratio of two Young moduli in the stack (and its counterface), ≥ 1.
@@ -165,11 +144,6 @@ fn modulus_contrast<S: Solid + ?Sized>(stack: &S) -> f64 {
     }
 }
 
-/// K_t = 2K_LK_T/(K_L + K_T) from the two modes' punch stiffnesses (N/m).
-pub fn harmonic_mean(k_l: f64, k_t: f64) -> f64 {
-    2.0 * k_l * k_t / (k_l + k_t)
-}
-
 impl Stiffness {
     /// Prepares the solver for `stack` (with its counterface, if any).
     pub fn new<S: Solid + ?Sized>(stack: &S) -> Stiffness {
@@ -182,6 +156,7 @@ impl Stiffness {
             mu_star: tc.shear_modulus(),
             tc,
             method: Method::Auto,
+            key: strata_runtime::disc_stiffness::fingerprint(stack),
         }
     }
 
@@ -204,6 +179,12 @@ impl Stiffness {
     /// The top layer's thickness h₁ (m); None on a half-space.
     pub fn top_thickness(&self) -> Option<f64> {
         self.h1
+    }
+
+    /// The stack's fingerprint ([`strata_runtime::disc_stiffness::fingerprint`]): what
+    /// names its table in the table cache.
+    pub fn fingerprint(&self) -> u64 {
+        self.key
     }
 
     /// The tangential compliance the solver uses.
@@ -264,11 +245,7 @@ impl Stiffness {
         }
         let Some(h1) = self.h1 else {
             // A half-space (or two): k ≡ 0, ψ ≡ 1.
-            return Ok(PunchFactors {
-                normal: 1.0,
-                along: 1.0,
-                across: 1.0,
-            });
+            return Ok(PunchFactors::HALF_SPACE);
         };
         let [qz, ql, qt] = self.rules(h1, a)?;
         Ok(PunchFactors {
@@ -280,14 +257,7 @@ impl Stiffness {
 
     /// K_n and K_t from the punch factors at radius `a` (m).
     pub fn from_factors(&self, a: f64, psi: PunchFactors) -> DiscStiffness {
-        let k_l = 2.0 * self.e_star * a * psi.along;
-        let k_t = 4.0 * self.mu_star * a * psi.across;
-        DiscStiffness {
-            a,
-            normal: 2.0 * self.e_star * a * psi.normal,
-            tangential: harmonic_mean(k_l, k_t),
-            psi,
-        }
+        strata_runtime::disc_stiffness::disc_stiffness(a, psi, self.e_star, self.mu_star)
     }
 
     /// The normal and tangential stiffness of the disc of radius `a` (m).

@@ -1,6 +1,8 @@
 //! Tables of the disc stiffnesses against a/h₁ ([`crate::stiffness`]), so that a load
 //! path's many contact radii cost an interpolation each (microseconds) instead of three
-//! Fredholm solves.
+//! Fredholm solves: this module fills the runtime's table
+//! ([`strata_runtime::disc_stiffness`], its grid, interpolation and file form) and keeps
+//! it in the table cache ([`cached`]), so that a stack's table is solved once.
 //!
 //! The three punch factors ψ_zz, ψ_LL, ψ_TT depend on a only through a/h₁ and are held on
 //! whole decades of log₁₀(a/h₁), each with [`NODES`] Chebyshev–Lobatto nodes
@@ -16,18 +18,17 @@
 //! layer on a rigid base (ν = 0.45) was 1.2e-5 off with 9 (the test below).
 //! Measured against direct solves in the tests below and in docs/validation.md.
 
-use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
 use thiserror::Error;
 
-use crate::stiffness::{DiscStiffness, PunchFactors, Stiffness, StiffnessError};
+use strata_runtime::disc_stiffness::{self as kt, PunchFactors, StiffnessTableError as FileError};
+pub use strata_runtime::disc_stiffness::{
+    MAX_DECADES, NODES, StiffnessNodes, StiffnessTable, node_radius,
+};
 
-/// Chebyshev–Lobatto nodes per decade of a/h₁ (16 solves a decade).
-pub const NODES: usize = 17;
-
-/// Most decades a table may span.
-pub const MAX_DECADES: i32 = 40;
+use crate::stiffness::{Stiffness, StiffnessError};
 
 /// A stiffness table that cannot be built.
 #[derive(Debug, Error, Clone, PartialEq)]
@@ -41,70 +42,61 @@ pub enum StiffnessTableError {
         "disc radii {lo:e} … {hi:e} m: a stiffness table needs positive, finite radii within {MAX_DECADES} decades of a/h1"
     )]
     Range { lo: f64, hi: f64 },
+    /// The nodes do not make a table (cannot happen for solved nodes).
+    #[error(transparent)]
+    Table(#[from] FileError),
 }
 
-/// K_n(a) and K_t(a) of one stack from tabulated punch factors (module docs).
-#[derive(Debug, Clone, PartialEq)]
-pub struct StiffnessTable {
-    /// h₁ (m); None on a half-space (no table).
-    h1: Option<f64>,
-    /// The first decade k₀ (log₁₀(a/h₁) from k₀).
-    first: i32,
-    /// The node factors, decade p at (NODES − 1)p … (NODES − 1)p + NODES − 1.
-    psi: Vec<PunchFactors>,
-    e_star: f64,
-    mu_star: f64,
+/// The table of `solver`'s stack covering the radii `lo` ≤ `hi` (m), its nodes solved
+/// in parallel.
+pub fn build(solver: &Stiffness, lo: f64, hi: f64) -> Result<StiffnessTable, StiffnessTableError> {
+    extend(None, solver, lo, hi)
 }
 
-/// The Lobatto points of [−1, 1], x_j = −cos(πj/(NODES − 1)).
-fn lobatto(j: usize) -> f64 {
-    if j == 0 {
-        -1.0
-    } else if j == NODES - 1 {
-        1.0
-    } else {
-        -(PI * j as f64 / (NODES - 1) as f64).cos()
+/// The punch factors of `table` (a table of `solver`'s stack, or None) extended to
+/// cover the radii `lo` ≤ `hi` (m): the decades it holds are kept bit for bit, the
+/// missing ones solved (in parallel). A table of another stack (its fingerprint or h₁)
+/// is ignored and rebuilt.
+pub fn extend(
+    table: Option<&StiffnessNodes>,
+    solver: &Stiffness,
+    lo: f64,
+    hi: f64,
+) -> Result<StiffnessTable, StiffnessTableError> {
+    let range = StiffnessTableError::Range { lo, hi };
+    if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+        return Err(range);
     }
-}
-
-/// The radius (m) of node j of decade k: h₁·10^(k + (x_j + 1)/2).
-pub fn node_radius(h1: f64, decade: i32, j: usize) -> f64 {
-    h1 * 10f64.powf(f64::from(decade) + 0.5 * (lobatto(j) + 1.0))
-}
-
-impl StiffnessTable {
-    /// The table of `solver`'s stack covering the radii `lo` ≤ `hi` (m), its nodes
-    /// solved in parallel.
-    pub fn build(
-        solver: &Stiffness,
-        lo: f64,
-        hi: f64,
-    ) -> Result<StiffnessTable, StiffnessTableError> {
-        let (e_star, mu_star) = (solver.plane_strain_modulus(), solver.shear_modulus());
-        let range = StiffnessTableError::Range { lo, hi };
-        if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+    let half_space =
+        || StiffnessTable::half_space(solver.plane_strain_modulus(), solver.shear_modulus());
+    let Some(h1) = solver.top_thickness() else {
+        return Ok(half_space());
+    };
+    let key = solver.fingerprint();
+    let (mut d0, mut d1) = kt::decades(h1, lo, hi).ok_or(range.clone())?;
+    let old = table.filter(|t| t.key() == key && t.top_thickness() == h1);
+    if let Some(t) = old {
+        let (f, e) = t.decades();
+        // keep the table contiguous
+        (d0, d1) = (d0.min(f), d1.max(e));
+        if d1 - d0 > MAX_DECADES {
             return Err(range);
         }
-        let Some(h1) = solver.top_thickness() else {
-            return Ok(StiffnessTable {
-                h1: None,
-                first: 0,
-                psi: Vec::new(),
-                e_star,
-                mu_star,
-            });
-        };
-        let (u0, u1) = ((lo / h1).log10(), (hi / h1).log10());
-        let (d0, d1) = (u0.floor(), u1.floor() + 1.0);
-        if !(d0.is_finite() && d1.is_finite() && d1 - d0 <= f64::from(MAX_DECADES)) {
-            return Err(range);
-        }
-        let (d0, d1) = (d0 as i32, d1 as i32);
-        let m = NODES - 1;
-        let n = (d1 - d0) as usize * m + 1;
-        let psi: Vec<PunchFactors> = (0..n)
-            .into_par_iter()
-            .map(|i| {
+    }
+    let m = NODES - 1;
+    let n = (d1 - d0) as usize * m + 1;
+    let held = |i: usize| -> Option<PunchFactors> {
+        let t = old?;
+        let at = i as i64 - i64::from(t.decades().0 - d0) * m as i64;
+        (at >= 0)
+            .then(|| t.nodes().get(at as usize).copied())
+            .flatten()
+    };
+    let psi: Vec<PunchFactors> = (0..n)
+        .into_par_iter()
+        .map(|i| match held(i) {
+            Some(v) => Ok(v),
+            None => {
                 let (d, j) = if i == n - 1 {
                     (d1 - 1, m)
                 } else {
@@ -114,75 +106,84 @@ impl StiffnessTable {
                 solver
                     .factors(a)
                     .map_err(|error| StiffnessTableError::Node { a, error })
-            })
-            .collect::<Result<_, _>>()?;
-        Ok(StiffnessTable {
-            h1: Some(h1),
-            first: d0,
-            psi,
-            e_star,
-            mu_star,
-        })
-    }
-
-    /// The decades [k₀, k₁) of log₁₀(a/h₁) held (None on a half-space).
-    pub fn decades(&self) -> Option<(i32, i32)> {
-        self.h1.map(|_| {
-            let n = ((self.psi.len() - 1) / (NODES - 1)) as i32;
-            (self.first, self.first + n)
-        })
-    }
-
-    /// The interpolated punch factors at radius `a` (m): the barycentric Lobatto
-    /// interpolant of the decade holding a/h₁ (the end decades extended for radii just
-    /// outside).
-    pub fn factors(&self, a: f64) -> PunchFactors {
-        let (Some(h1), Some((f, e))) = (self.h1, self.decades()) else {
-            return PunchFactors {
-                normal: 1.0,
-                along: 1.0,
-                across: 1.0,
-            };
-        };
-        let u = (a / h1).log10();
-        let k = u.floor().clamp(f64::from(f), f64::from(e - 1));
-        let x = 2.0 * (u - k) - 1.0;
-        let p = (k as i32 - f) as usize;
-        let v = &self.psi[p * (NODES - 1)..p * (NODES - 1) + NODES];
-        let (mut num, mut den) = ([0.0; 3], 0.0);
-        for (j, vj) in v.iter().enumerate() {
-            let d = x - lobatto(j);
-            if d == 0.0 {
-                return *vj;
             }
-            // weights (−1)^j, halved at the ends
-            let w = if j % 2 == 0 { 1.0 } else { -1.0 }
-                * if j == 0 || j == NODES - 1 { 0.5 } else { 1.0 };
-            let c = w / d;
-            num[0] += c * vj.normal;
-            num[1] += c * vj.along;
-            num[2] += c * vj.across;
-            den += c;
-        }
-        PunchFactors {
-            normal: num[0] / den,
-            along: num[1] / den,
-            across: num[2] / den,
-        }
-    }
+        })
+        .collect::<Result<_, _>>()?;
+    let nodes = StiffnessNodes::from_nodes(key, h1, d0, psi)?;
+    Ok(StiffnessTable::from_parts(
+        Some(nodes),
+        solver.plane_strain_modulus(),
+        solver.shear_modulus(),
+    ))
+}
 
-    /// K_n and K_t (N/m) of the disc of radius `a` (m) from the table.
-    pub fn at(&self, a: f64) -> DiscStiffness {
-        let psi = self.factors(a);
-        let k_l = 2.0 * self.e_star * a * psi.along;
-        let k_t = 4.0 * self.mu_star * a * psi.across;
-        DiscStiffness {
-            a,
-            normal: 2.0 * self.e_star * a * psi.normal,
-            tangential: crate::stiffness::harmonic_mean(k_l, k_t),
-            psi,
-        }
+/// The file of `solver`'s table in the cache directory `dir`:
+/// `kt-<fingerprint>.strata` ([`strata_runtime::disc_stiffness::cache_path`]).
+pub fn cache_path(solver: &Stiffness, dir: &Path) -> PathBuf {
+    kt::cache_path(solver.fingerprint(), dir)
+}
+
+/// What [`cached`] did with the cache file.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CacheUse {
+    /// A half-space: no table, no file.
+    HalfSpace,
+    /// The file held every decade needed.
+    Read(PathBuf),
+    /// The table was built (missing or unreadable file) or extended, and written.
+    Written { path: PathBuf, decades: (i32, i32) },
+    /// Built or extended, but the file could not be written (the message): the table
+    /// is used all the same.
+    NotWritten(String),
+}
+
+/// `solver`'s table covering the radii `lo` ≤ `hi` (m) from the cache directory `dir`:
+/// read when the file there covers them, else built (or the file's table extended by
+/// the missing decades, [`extend`]) and written back atomically (a temporary file
+/// renamed). An unreadable, damaged or foreign file is rebuilt; a directory that
+/// cannot be written costs only the file ([`CacheUse::NotWritten`]). The values are
+/// those of [`build`] bit for bit, cached or not.
+pub fn cached(
+    solver: &Stiffness,
+    lo: f64,
+    hi: f64,
+    dir: &Path,
+) -> Result<(StiffnessTable, CacheUse), StiffnessTableError> {
+    let range = StiffnessTableError::Range { lo, hi };
+    if !(lo > 0.0 && hi >= lo && hi.is_finite()) {
+        return Err(range);
     }
+    let Some(h1) = solver.top_thickness() else {
+        return Ok((build(solver, lo, hi)?, CacheUse::HalfSpace));
+    };
+    let path = cache_path(solver, dir);
+    let need = kt::decades(h1, lo, hi).ok_or(range)?;
+    let old = kt::read_cached(&path, solver.fingerprint(), h1);
+    let old = match old {
+        Some(t) if t.covers(need) => {
+            let table = StiffnessTable::from_parts(
+                Some(t),
+                solver.plane_strain_modulus(),
+                solver.shear_modulus(),
+            );
+            return Ok((table, CacheUse::Read(path)));
+        }
+        other => other,
+    };
+    let table = extend(old.as_ref(), solver, lo, hi)?;
+    let Some(nodes) = table.nodes() else {
+        return Err(StiffnessTableError::Table(FileError::Invalid(
+            "a layered stack without nodes".into(),
+        )));
+    };
+    let used = match crate::psi_table::write_atomic(&path, &nodes.to_bytes()) {
+        Ok(()) => CacheUse::Written {
+            decades: nodes.decades(),
+            path,
+        },
+        Err(e) => CacheUse::NotWritten(format!("{}: {e}", path.display())),
+    };
+    Ok((table, used))
 }
 
 #[cfg(test)]
@@ -227,7 +228,7 @@ mod tests {
     /// pseudo-random sample).
     fn worst_against_direct(st: &Stack, lo: f64, hi: f64) -> f64 {
         let s = Stiffness::new(st);
-        let t = StiffnessTable::build(&s, 10f64.powf(lo) * H, 10f64.powf(hi) * H).unwrap();
+        let t = build(&s, 10f64.powf(lo) * H, 10f64.powf(hi) * H).unwrap();
         let mut worst = 0.0f64;
         let mut x = 0.5f64;
         for _ in 0..24 {
@@ -263,18 +264,90 @@ mod tests {
         eprintln!("stiffness table vs direct solves: worst {worst:.1e}");
     }
 
+    /// The cache (written, read, extended, a damaged file rebuilt, an unwritable
+    /// directory) gives the bits of one direct build.
+    #[test]
+    fn cached_tables_equal_a_direct_build() {
+        let st = &stacks()[1];
+        let s = Stiffness::new(st);
+        let (lo, hi) = (0.05 * H, 3.0 * H);
+        let direct = build(&s, lo, hi).unwrap();
+        let small = build(&s, 0.5 * H, 0.6 * H).unwrap();
+        assert_eq!(small.decades(), Some((-1, 0)));
+        assert_eq!(
+            extend(small.nodes(), &s, lo, hi).unwrap(),
+            direct,
+            "extended by decades"
+        );
+        let dir = std::env::temp_dir().join(format!("strata-kt-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let path = cache_path(&s, &dir);
+        let (t, u) = cached(&s, 0.5 * H, 0.6 * H, &dir).unwrap();
+        assert_eq!(
+            (&t, u),
+            (
+                &small,
+                CacheUse::Written {
+                    path: path.clone(),
+                    decades: (-1, 0)
+                }
+            )
+        );
+        let (t, u) = cached(&s, 0.4 * H, 0.7 * H, &dir).unwrap();
+        assert_eq!((&t, u), (&small, CacheUse::Read(path.clone())));
+        let (t, u) = cached(&s, lo, hi, &dir).unwrap();
+        assert_eq!(
+            (&t, u),
+            (
+                &direct,
+                CacheUse::Written {
+                    path: path.clone(),
+                    decades: (-2, 1)
+                }
+            )
+        );
+        let mut bytes = std::fs::read(&path).unwrap();
+        bytes[60] ^= 0x10;
+        std::fs::write(&path, &bytes).unwrap();
+        let (t, u) = cached(&s, lo, hi, &dir).unwrap();
+        assert_eq!(
+            (&t, u),
+            (
+                &direct,
+                CacheUse::Written {
+                    path: path.clone(),
+                    decades: (-2, 1)
+                }
+            )
+        );
+        // the runtime reads the file without the solver
+        let nodes = strata_runtime::disc_stiffness::read_cached(&path, s.fingerprint(), H).unwrap();
+        assert_eq!(StiffnessTable::new(st, Some(nodes)).unwrap(), direct);
+        // a plain file where the directory should be: nothing written, same table
+        let blocked = dir.join("plain-file");
+        std::fs::write(&blocked, b"x").unwrap();
+        let (t, u) = cached(&s, lo, hi, &blocked.join("sub")).unwrap();
+        assert_eq!(t, direct);
+        assert!(matches!(u, CacheUse::NotWritten(_)), "{u:?}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     /// A half-space needs no table; radii out of range are refused.
     #[test]
     fn half_space_and_range() {
         let hs = Stack::half_space(1e9, 0.3).unwrap();
         let s = Stiffness::new(&hs);
-        let t = StiffnessTable::build(&s, 1e-6, 1e-3).unwrap();
+        let t = build(&s, 1e-6, 1e-3).unwrap();
         assert_eq!(t.decades(), None);
         assert_eq!(t.at(1e-4), s.at(1e-4).unwrap());
         let st = Stack::paper_two_layer(5.0).unwrap();
         let s = Stiffness::new(&st);
         assert!(matches!(
-            StiffnessTable::build(&s, 0.0, 1e-3),
+            cached(&Stiffness::new(&hs), 1e-6, 1e-3, Path::new("/nonexistent")),
+            Ok((_, CacheUse::HalfSpace))
+        ));
+        assert!(matches!(
+            build(&s, 0.0, 1e-3),
             Err(StiffnessTableError::Range { .. })
         ));
     }

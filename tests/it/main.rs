@@ -25,6 +25,7 @@ mod counterface;
 mod docs;
 mod errors;
 mod field_inputs;
+mod friction;
 mod fuzz_solvers;
 mod hard_cases;
 mod law;

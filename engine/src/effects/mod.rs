@@ -7,12 +7,15 @@
 //! - [`conductance`]: a [`StepObserver`] ([`observer`]) — prepared before the first step, called after
 //!   each BEM step or once after an asperity model's path, its records moved into the
 //!   solution at the end;
-//! - [`stiffness`]: the BEM's dP/dδ probe after each step.
+//! - [`stiffness`]: the BEM's dP/dδ probe after each step;
+//! - [`friction`]: a [`StepObserver`] of the N and I models' path, the full-stick
+//!   tangential stiffness of every step from the contact radii.
 //!
 //! A new effect is a module here plus a field of the solution
 //! ([`crate::solution::SceneSolution`]).
 
 pub mod conductance;
+pub mod friction;
 pub mod observer;
 pub mod plasticity;
 pub mod stiffness;
@@ -56,6 +59,9 @@ pub fn for_asperities<'s>(
         out.push(Box::new(conductance::AsperityConductance::prepare(
             scene, spec, model, surface, opts,
         )?));
+    }
+    if let Some(spec) = scene.friction {
+        out.push(Box::new(friction::AsperityFriction::new(scene, spec)));
     }
     Ok(out)
 }

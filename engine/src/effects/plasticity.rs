@@ -420,6 +420,7 @@ fn solve_capped(
         steps,
         plastic: Some(plastic),
         conductance: None,
+        tangential: None,
         summary,
         seconds,
         failed: None,

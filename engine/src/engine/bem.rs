@@ -36,6 +36,13 @@ pub fn solve(
     opts: &EngineOptions,
     obs: &mut dyn Observer,
 ) -> Result<SceneSolution> {
+    if scene.friction.is_some() {
+        crate::error::bail_input!(
+            "friction: the tangential stiffness is computed by the asperity models in this \
+             version (model.kind = \"independent\" or \"interacting\"); the BEM's tangential \
+             contact is not"
+        );
+    }
     let (surface_report, mut warnings) = surface_report(&surface, obs);
     let (n0, n1) = surface.shape();
     let periodic = surface.is_periodic();
@@ -232,12 +239,14 @@ pub fn solve(
             .plasticity
             .map(|pl| plasticity::bem_summary(pl.hardness)),
         conductance: None,
+        friction: None,
         partial: failed.as_ref().map(PartialSummary::of),
     };
     let mut solution = SceneSolution {
         steps,
         plastic,
         conductance: None,
+        tangential: None,
         summary,
         seconds,
         failed,

@@ -217,6 +217,7 @@ pub(crate) fn solve_elastic(
         steps,
         plastic: None,
         conductance: None,
+        tangential: None,
         summary,
         seconds,
         failed,
@@ -253,6 +254,7 @@ pub(crate) fn asperity_summary(
         counterface: None,
         plasticity: None,
         conductance: None,
+        friction: None,
         partial: None,
     }
 }

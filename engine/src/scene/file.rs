@@ -37,6 +37,8 @@ pub struct SceneFile {
     pub plasticity: Option<PlasticityFile>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub conductance: Option<ConductanceFile>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction: Option<FrictionFile>,
 }
 
 /// `[stack]`: a stack `file` or an inline stack (`name`, `[[stack.layer]]`,
@@ -337,6 +339,14 @@ pub struct SolverFile {
 pub struct PlasticityFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub hardness: Option<f64>,
+}
+
+/// `[friction]`.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, expecting = "a table")]
+pub struct FrictionFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coefficient: Option<f64>,
 }
 
 /// `conductance.kind`.

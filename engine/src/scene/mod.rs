@@ -52,6 +52,9 @@
 //!                              # counterface's: [counterface] thermal_conductivity = 50
 //!                              # (a rigid flat as a conducting half-space), conduction =
 //!                              # "perfect", or an elastic counterface's own stack
+//! [friction]                   # optional (model.kind = "independent" or "interacting"):
+//! coefficient = 0.3            # μ > 0; curve.csv gains tangential_stiffness (N/m over the
+//!                              # sample, full stick: Σ K_t(a_i) of the contact discs)
 //! ```
 //!
 //! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
@@ -238,6 +241,17 @@ pub struct Scene {
     /// The optional `[conductance]` table: the interface conductance per nominal area
     /// of every step (physics.md §6.2). Absent: nothing of conduction is computed.
     pub conductance: Option<ConductanceSpec>,
+    /// The optional `[friction]` table: the coefficient of friction; with it every
+    /// step gets the full-stick tangential stiffness of the sample (the engine's
+    /// `effects::friction`). Absent: nothing tangential is computed.
+    pub friction: Option<FrictionSpec>,
+}
+
+/// `[friction]`: Coulomb friction at the interface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionSpec {
+    /// The coefficient of friction μ (1), finite and > 0.
+    pub coefficient: f64,
 }
 
 /// `[conductance]`: the interface conductance h_c per nominal area (physics.md §6.2),

@@ -21,8 +21,9 @@ use super::file::{
     SceneFile, SolverFile, SurfaceFile, TopographyPick,
 };
 use super::{
-    ConductanceSpec, CounterfaceConduction, LoadSpec, MapFormats, MapsSpec, ModelKind, ModelSpec,
-    OutputSpec, PlasticitySpec, Scene, SceneError, SolverSpec, SurfaceSource, SurfaceSpec,
+    ConductanceSpec, CounterfaceConduction, FrictionSpec, LoadSpec, MapFormats, MapsSpec,
+    ModelKind, ModelSpec, OutputSpec, PlasticitySpec, Scene, SceneError, SolverSpec, SurfaceSource,
+    SurfaceSpec,
 };
 
 fn invalid(field: impl Into<String>, reason: impl Into<String>) -> SceneError {
@@ -352,12 +353,28 @@ impl SceneFile {
             None => None,
             Some(c) => Some(conductance(c, &counter, &bodies)?),
         };
+        let friction = match self.friction {
+            None => None,
+            Some(f) => {
+                let coefficient = positive(f.coefficient, "friction.coefficient")?;
+                if kind == ModelKind::Bem {
+                    return Err(invalid(
+                        "friction",
+                        "the tangential stiffness is computed by the asperity models in this \
+                         version (model.kind = \"independent\" or \"interacting\"); the BEM's \
+                         tangential contact is not",
+                    ));
+                }
+                Some(FrictionSpec { coefficient })
+            }
+        };
         let solver = match self.solver {
             None => SolverSpec::default(),
             Some(s) => solver(s)?,
         };
         Ok(Scene {
             conductance,
+            friction,
             plasticity,
             unload,
             bodies,

@@ -41,6 +41,7 @@ LONG_NAMES = {
     "kkt_residual": "I-model KKT residual relative to the largest interference",
     "valid": "inside the asperity model's validity",
     "conductance": "interface conductance h_c",
+    "tangential_stiffness": "full-stick tangential stiffness K_t of the sample",
 }
 
 
@@ -64,7 +65,9 @@ class Curve:
     sample (N/m) and ``valid`` (inside the asperity model's validity; 1/0 in the
     file). Then ``load`` P (N), ``kkt_residual`` (I model; NaN otherwise), ``meta`` (curve.json's summary)
     and ``maps`` (BEM pressure/gap maps when asked); ``conductance``: the interface conductance
-    h_c per step (W/(m²·K) or S/m²) of a scene with ``[conductance]``, else None.
+    h_c per step (W/(m²·K) or S/m²) of a scene with ``[conductance]``, else None;
+    ``tangential_stiffness``: the full-stick tangential stiffness K_t of the sample per step
+    (N/m) of a scene with ``[friction]`` (N and I models), else None.
     """
 
     delta: np.ndarray
@@ -80,6 +83,7 @@ class Curve:
     meta: Dict[str, Any] = field(default_factory=dict)
     maps: List[Dict[str, Any]] = field(default_factory=list)
     conductance: Optional[np.ndarray] = None
+    tangential_stiffness: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         return len(self.delta)
@@ -90,10 +94,13 @@ class Curve:
         if self.conductance is not None:
             cond = self.meta.get("conductance", {}) if isinstance(self.meta, dict) else {}
             units["conductance"] = cond.get("units", {}).get("conductance", "W/(m^2 K)")
+        if self.tangential_stiffness is not None:
+            units["tangential_stiffness"] = "N/m"
         return units
 
     def _fields(self) -> Dict[str, np.ndarray]:
         names = list(UNITS) + (["conductance"] if self.conductance is not None else [])
+        names += ["tangential_stiffness"] if self.tangential_stiffness is not None else []
         return {n: np.asarray(getattr(self, n)) for n in names}
 
     def to_pandas(self):
@@ -152,17 +159,18 @@ class Scene:
     normalisation); ``counterface_surface`` is that body's roughness, heights as seen from the
     first body on the same grid (added to ``surface``). ``plasticity`` is the scene's
     ``[plasticity]`` table as a dict (``{"hardness": 0.4e9}``: the contact pressure capped at
-    H, BEM and N model) and ``conductance`` its ``[conductance]`` table
-    (``{"kind": "thermal"}``).
+    H, BEM and N model), ``conductance`` its ``[conductance]`` table
+    (``{"kind": "thermal"}``) and ``friction`` its ``[friction]`` table (``{"coefficient": 0.3}``:
+    the full-stick tangential stiffness of every step, N and I models).
     """
 
     def __init__(self, stack, surface, model: str = "interacting", load=None, images: Optional[str] = None,
                  image_cells: Optional[int] = None, table=None, solver: Optional[Dict[str, Any]] = None,
                  counterface=None, counterface_surface=None, plasticity: Optional[Dict[str, Any]] = None,
-                 conductance: Optional[Dict[str, Any]] = None):
+                 conductance: Optional[Dict[str, Any]] = None, friction: Optional[Dict[str, Any]] = None):
         cs = None if counterface_surface is None else as_surface(counterface_surface)
         self._native = _strata.Scene(stack, as_surface(surface), model, load, images, image_cells, table,
-                                     solver, counterface, cs, plasticity, conductance)
+                                     solver, counterface, cs, plasticity, conductance, friction)
 
     @classmethod
     def _wrap(cls, native) -> "Scene":

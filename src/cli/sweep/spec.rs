@@ -778,6 +778,13 @@ impl Sweep {
                 );
             }
         }
+        if scene.friction.is_some() && scene.model.kind == ModelKind::Bem {
+            bail!(
+                "friction: the tangential stiffness is computed by the asperity models in this \
+                 version (model.kind = \"independent\" or \"interacting\"); the BEM's tangential \
+                 contact is not (sweep.model.kind)"
+            );
+        }
         if scene.plasticity.is_some()
             && scene.model.kind != ModelKind::Bem
             && let Some((field, what)) = scene.load.first_reversal()

@@ -1,0 +1,140 @@
+//! The full-stick tangential stiffness K_t of the sample (N/m) of a `[friction]` scene
+//! solved by the N or I model, as an observer of the load path ([`AsperityFriction`]):
+//! after the path, every contacting asperity a bonded disc of the step's contact radius
+//! a_i displaced tangentially without slip, and
+//!
+//! ```text
+//!   K_t = Σ_i K_t(a_i),   K_t(a) = 2K_LK_T/(K_L + K_T),   K_L = 2E*₁aψ_LL(a/h₁),   K_T = 4μ₁aψ_TT(a/h₁)
+//! ```
+//!
+//! (`strata_runtime::disc_stiffness`; Mindlin's 8μa/(2 − ν) on a half-space), the punch
+//! factors read from the stack's disc-stiffness table in the table cache (built by
+//! Fredholm solves when missing, [`crate::cache::disc_stiffness`]). The asperities'
+//! tangential interactions are ignored in both models (Mindlin per asperity, the discs
+//! in parallel); the I model sums its own, interacting contact radii, the N model its
+//! independent ones. The normal–tangential coupling S_zL is ignored, as in Mindlin's
+//! solution. A capped tip (`[plasticity]`) is a bonded disc of its contact radius too.
+//! The coefficient μ itself enters no per-step value: it is what a friction card
+//! carries beside K_t.
+//!
+//! Its records are [`TangentialInfo`] per step and a [`FrictionSummary`].
+
+use std::time::Instant;
+
+use crate::error::{Context, Result};
+use strata_runtime::rough::{Model, Step};
+
+use super::observer::{AsperityPath, StepObserver};
+use crate::scene::{FrictionSpec, Scene};
+use crate::setup::{EngineOptions, Observer, log};
+use crate::solution::{FrictionSummary, FrictionUnits, SceneSolution, TangentialInfo};
+
+/// The definition of the asperity models' tangential stiffness.
+const DEFINITION: &str = "full-stick tangential stiffness of the sample K_t = sum_i K_t(a_i) (N/m): each \
+     contacting asperity a bonded disc of its contact radius a_i (the I model's interacting radii, \
+     the N model's independent ones), K_t(a) = 2 K_L K_T/(K_L + K_T), K_L = 2 E*1 a psi_LL(a/h1), \
+     K_T = 4 mu1 a psi_TT(a/h1) (8 mu a/(2 - nu) on a half-space, Mindlin), the discs in parallel: \
+     tangential interactions between asperities and the normal-tangential coupling ignored";
+
+/// The smallest and largest contact radius over the path's steps (m), None without
+/// contact.
+pub fn radius_range(steps: &[Step]) -> Option<(f64, f64)> {
+    steps
+        .iter()
+        .flat_map(|s| s.radii.iter().copied())
+        .filter(|a| *a > 0.0)
+        .fold(None, |r, a| match r {
+            None => Some((a, a)),
+            Some((lo, hi)) => Some((f64::min(lo, a), f64::max(hi, a))),
+        })
+}
+
+/// The N or I model's tangential stiffness: the contact discs of the path's steps,
+/// summed after it.
+pub struct AsperityFriction<'s> {
+    scene: &'s Scene,
+    spec: FrictionSpec,
+    records: Vec<TangentialInfo>,
+    summary: FrictionSummary,
+}
+
+impl<'s> AsperityFriction<'s> {
+    /// The observer of `scene`'s path.
+    pub fn new(scene: &'s Scene, spec: FrictionSpec) -> Self {
+        AsperityFriction {
+            scene,
+            spec,
+            records: Vec::new(),
+            summary: FrictionSummary {
+                coefficient: spec.coefficient,
+                definition: DEFINITION,
+                table_decades: None,
+                seconds: 0.0,
+                units: FrictionUnits {
+                    coefficient: "1",
+                    tangential_stiffness: "N/m (over the sample, full stick)",
+                },
+            },
+        }
+    }
+}
+
+impl StepObserver for AsperityFriction<'_> {
+    fn after_path(
+        &mut self,
+        path: &AsperityPath<'_, '_>,
+        opts: &EngineOptions,
+        obs: &dyn Observer,
+    ) -> Result<f64> {
+        let t0 = Instant::now();
+        let records: Vec<TangentialInfo> = match radius_range(path.steps) {
+            None => path
+                .steps
+                .iter()
+                .map(|_| TangentialInfo {
+                    tangential_stiffness: 0.0,
+                })
+                .collect(),
+            Some((lo, hi)) => {
+                let dir = crate::cache::dir(opts.cache_dir.as_deref()).0;
+                let table =
+                    crate::cache::disc_stiffness(&self.scene.bodies, lo, hi, &dir, obs.quiet())
+                        .context("[friction]")?;
+                self.summary.table_decades = table.decades().map(|(a, b)| [a, b]);
+                path.steps
+                    .iter()
+                    .map(|s| TangentialInfo {
+                        tangential_stiffness: s
+                            .radii
+                            .iter()
+                            .filter(|a| **a > 0.0)
+                            .map(|&a| table.tangential(a))
+                            .sum(),
+                    })
+                    .collect()
+            }
+        };
+        let seconds = t0.elapsed().as_secs_f64();
+        log!(
+            obs,
+            "friction: μ = {}; full-stick tangential stiffness of the {} contact discs (Σ K_t(a_i), Mindlin per asperity, no tangential interactions) in {seconds:.3} s",
+            self.spec.coefficient,
+            match path.model {
+                Model::Independent => "N model's",
+                Model::Interacting(_) => "I model's (interacting radii)",
+            }
+        );
+        self.summary.seconds = seconds;
+        self.records = records;
+        Ok(seconds)
+    }
+
+    fn truncate(&mut self, n: usize) {
+        self.records.truncate(n);
+    }
+
+    fn finish(self: Box<Self>, solution: &mut SceneSolution) {
+        solution.tangential = Some(self.records);
+        solution.summary.friction = Some(self.summary);
+    }
+}
