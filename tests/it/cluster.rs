@@ -240,7 +240,10 @@ surface.seed = { from = 1, count = 4 }
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("Submitted batch job"), "{stdout}");
     for i in 1..=3 {
-        assert!(runs.join(format!("shard-{i}-of-3.csv")).is_file(), "shard {i}");
+        assert!(
+            runs.join(format!("shard-{i}-of-3.csv")).is_file(),
+            "shard {i}"
+        );
     }
     // 8 cases in 3 tasks: 3, 3 and 2 cases (3 load steps each).
     for (i, cases) in [(1, 3), (2, 3), (3, 2)] {
@@ -268,12 +271,19 @@ surface.seed = { from = 1, count = 4 }
         .arg(&runs)
         .env(
             "PATH",
-            format!("{}:{}", cluster.bin.display(), std::env::var("PATH").unwrap()),
+            format!(
+                "{}:{}",
+                cluster.bin.display(),
+                std::env::var("PATH").unwrap()
+            ),
         )
         .output()
         .unwrap();
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(!o.status.success() && err.contains("shard 2/3 is missing"), "{err}");
+    assert!(
+        !o.status.success() && err.contains("shard 2/3 is missing"),
+        "{err}"
+    );
     assert!(err.contains("shard-2-of-3.csv"), "{err}");
 }
 
@@ -320,12 +330,18 @@ separations = [6e-6, 4.5e-6, 3e-6]
     let o = cluster.run(
         &dir,
         &sbatch,
-        &["--ntasks=2".as_ref(), script("solve.sbatch").as_os_str(), scene.as_os_str(), out.as_os_str()],
+        &[
+            "--ntasks=2".as_ref(),
+            script("solve.sbatch").as_os_str(),
+            scene.as_os_str(),
+            out.as_os_str(),
+        ],
         &[],
     );
     assert!(String::from_utf8_lossy(&o.stdout).contains("Submitted batch job"));
     let log = cluster.logs();
-    let got = std::fs::read_to_string(out.join("curve.csv")).unwrap_or_else(|e| panic!("{e}\n{log}"));
+    let got =
+        std::fs::read_to_string(out.join("curve.csv")).unwrap_or_else(|e| panic!("{e}\n{log}"));
     let reference = dir.join("serial");
     let o = Command::new(env!("CARGO_BIN_EXE_strata"))
         .args(["solve", scene.to_str().unwrap(), "--out"])

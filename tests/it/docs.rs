@@ -709,8 +709,16 @@ fn cluster_scripts_name_only_what_exists() {
         .iter()
         .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
         .collect();
-    for must in ["solve.sbatch", "sweep.sbatch", "merge.sbatch", "submit-sweep.sh"] {
-        assert!(names.iter().any(|n| n == must), "docs/cluster/{must} missing");
+    for must in [
+        "solve.sbatch",
+        "sweep.sbatch",
+        "merge.sbatch",
+        "submit-sweep.sh",
+    ] {
+        assert!(
+            names.iter().any(|n| n == must),
+            "docs/cluster/{must} missing"
+        );
     }
     let mut problems = Vec::new();
     let mut commands = 0;
@@ -751,7 +759,9 @@ fn cluster_script_checker_finds_stale_commands() {
     use clap::Parser;
     assert_eq!(
         shell_words(r#"srun strata solve "$scene" --out "${2:-runs/x}" >log && echo '$x'"#),
-        ["srun", "strata", "solve", "1", "--out", "1", ">", "log", "&", "&", "echo", "$x"]
+        [
+            "srun", "strata", "solve", "1", "--out", "1", ">", "log", "&", "&", "echo", "$x"
+        ]
     );
     let lines = logical_lines("a \\\n  b\nc\n");
     assert_eq!(lines.len(), 2);
