@@ -104,7 +104,7 @@ mkdir -p "$WORK/wheels"
 WHEEL=$(ls "$WORK"/wheels/strata-*.whl 2>/dev/null | head -1)
 [ -n "$WHEEL" ] || fail "maturin built no wheel"
 case "$(basename "$WHEEL")" in
-    *-cp39-abi3-manylinux_2_17_x86_64*) ;;
+    *-cp39-abi3-*manylinux_2_17_x86_64*) ;;
     *) fail "$(basename "$WHEEL") is not an abi3 (cp39-abi3) manylinux_2_17_x86_64 wheel" ;;
 esac
 AUDIT=$("$BUILD_VENV/bin/auditwheel" show "$WHEEL" 2>&1) || fail "auditwheel show failed: $AUDIT"

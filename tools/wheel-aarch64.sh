@@ -38,7 +38,7 @@ PATH="$BUILD_VENV/bin:$PATH" "$BUILD_VENV/bin/maturin" build --profile "$PROFILE
 WHEEL=$(ls "$OUT"/strata-*aarch64*.whl 2>/dev/null | head -1)
 [ -n "$WHEEL" ] || fail "no aarch64 wheel in $OUT"
 case "$(basename "$WHEEL")" in
-    *-cp39-abi3-manylinux_2_17_aarch64*) ;;
+    *-cp39-abi3-*manylinux_2_17_aarch64*) ;;
     *) fail "$(basename "$WHEEL") is not an abi3 manylinux_2_17_aarch64 wheel" ;;
 esac
 AUDIT=$("$BUILD_VENV/bin/auditwheel" show "$WHEEL" 2>&1) || fail "auditwheel show failed: $AUDIT"
