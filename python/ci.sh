@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Tests the Python package as a user meets it: the package built once as an abi3 wheel
-# (maturin, in a build venv), checked manylinux-compatible (`auditwheel show`), installed
+# for manylinux2014 (maturin, in a build venv; linked by zig against glibc 2.17's symbol
+# versions), checked with `auditwheel show` (manylinux_2_17, abi3), installed
 # into a fresh venv on a PATH where neither `cargo` nor `rustc` is found (the README's
 # first way: a wheel, no Rust toolchain), then pytest (+ SurfaceTopography for the adapter
 # test, matplotlib for the examples, mypy for the stubs' stubtest, pandas and xarray for
@@ -15,7 +16,19 @@
 #               instead of making one here.
 #
 # The build venv ($STRATA_PY_BUILD_VENV, default $CARGO_TARGET_DIR/python-build-venv)
-# holds maturin and auditwheel; made here if missing (.ci/run makes it in the background).
+# holds maturin, auditwheel and ziglang (zig from PyPI); made here if missing (.ci/run
+# makes it in the background).
+#
+# manylinux2014 (glibc >= 2.17: RHEL/Rocky 8 and 9, Ubuntu 20.04, most clusters) without
+# Docker: the extension module is linked by zig's cc for x86_64-linux-gnu.2.17 (maturin's
+# zig wrapper; zig carries stubs of every glibc's symbol versions), so every glibc symbol
+# it binds is one 2.17 has. Linked on the build machine's own glibc (Debian 12, 2.36) it
+# bound the newest versions: GLIBC_2.35 at most (hypot), 2.34 (pthread_*, dlsym, moved
+# into libc), 2.33 (stat64, fstat64), 2.29 (exp, log, pow). Only the link changes, so
+# only the last crate gets the linker (`-- -C linker=...`: maturin passes it through
+# `cargo rustc` to the extension module alone) and every library of `cargo test`'s build
+# is reused. `maturin build --zig` builds with `--target x86_64-unknown-linux-gnu` in a
+# directory of its own: every library compiled again (see docs/development.md).
 #
 # Build cost: maturin builds with the dev profile and the same CARGO_TARGET_DIR as
 # `cargo test` (`maturin build --profile dev`). `cargo test` builds every library
@@ -68,23 +81,42 @@ else
         || fail "pip cannot reach PyPI"
 fi
 
-echo "== python: wheel (maturin build, profile $PROFILE, CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
+echo "== python: wheel (maturin build, manylinux2014, profile $PROFILE, CARGO_TARGET_DIR=$CARGO_TARGET_DIR)"
 t1=$(date +%s)
-if ! "$BUILD_VENV/bin/python" -c "import maturin, auditwheel" 2>/dev/null; then
+if ! "$BUILD_VENV/bin/python" -c "import maturin, auditwheel, ziglang" 2>/dev/null; then
     "$PY" -m venv "$BUILD_VENV" || fail "cannot create the build venv $BUILD_VENV"
     "$BUILD_VENV/bin/python" -m pip install --quiet --disable-pip-version-check \
-        "maturin>=1.16,<2" auditwheel || fail "pip could not install maturin and auditwheel"
+        "maturin>=1.16,<2" auditwheel ziglang || fail "pip could not install maturin, auditwheel and ziglang"
 fi
+# The linker of the extension module: zig's cc for glibc 2.17, through maturin's wrapper
+# of it (which adapts rustc's linker arguments to zig).
+ZIGCC="$BUILD_VENV/bin/strata-zigcc-x86_64-linux-gnu.2.17"
+cat >"$ZIGCC" <<EOF
+#!/bin/sh
+export CARGO_ZIGBUILD_ZIG_COMMAND="$BUILD_VENV/bin/python" CARGO_ZIGBUILD_ZIG_COMMAND_ARGS="-m ziglang"
+exec "$BUILD_VENV/bin/maturin" zig cc -- -g -fno-sanitize=all -target x86_64-linux-gnu.2.17 "\$@"
+EOF
+chmod +x "$ZIGCC"
 mkdir -p "$WORK/wheels"
 "$BUILD_VENV/bin/maturin" build --quiet --profile "$PROFILE" -m python/Cargo.toml \
-    --interpreter "$VPY" --out "$WORK/wheels" || fail "maturin build failed"
-WHEEL=$(ls "$WORK"/wheels/strata-*-abi3-*.whl 2>/dev/null | head -1)
-[ -n "$WHEEL" ] || fail "maturin built no abi3 wheel: $(ls "$WORK/wheels")"
+    --compatibility manylinux2014 --interpreter "$VPY" --out "$WORK/wheels" \
+    -- -C "linker=$ZIGCC" || fail "maturin build failed"
+WHEEL=$(ls "$WORK"/wheels/strata-*.whl 2>/dev/null | head -1)
+[ -n "$WHEEL" ] || fail "maturin built no wheel"
+case "$(basename "$WHEEL")" in
+    *-cp39-abi3-*manylinux_2_17_x86_64*) ;;
+    *) fail "$(basename "$WHEEL") is not an abi3 (cp39-abi3) manylinux_2_17_x86_64 wheel" ;;
+esac
 AUDIT=$("$BUILD_VENV/bin/auditwheel" show "$WHEEL" 2>&1) || fail "auditwheel show failed: $AUDIT"
-echo "$AUDIT" | tr '\n' ' ' | grep -qE 'platform tag: *"manylinux_[0-9]+_[0-9]+_[a-z0-9_]+"' \
-    || fail "the wheel is not manylinux-compatible: $AUDIT"
+TAG=$(echo "$AUDIT" | tr '\n' ' ' | grep -oE 'platform tag: *"[^"]+"' | head -1 | sed -E 's/.*"(.*)"/\1/')
+# auditwheel names the oldest policy the wheel satisfies: manylinux_2_17 (manylinux2014),
+# or an older one if no symbol needs 2.17; anything newer fails on RHEL 7 / CentOS 7.
+case "$TAG" in
+    manylinux_2_5_x86_64 | manylinux_2_12_x86_64 | manylinux_2_17_x86_64 | manylinux2014_x86_64) ;;
+    *) fail "auditwheel: $(basename "$WHEEL") is ${TAG:-not manylinux}, not manylinux_2_17 (manylinux2014): a glibc symbol newer than 2.17 is bound: $AUDIT" ;;
+esac
 t2=$(date +%s)
-echo "   $(basename "$WHEEL"): $(echo "$AUDIT" | tr '\n' ' ' | grep -oE 'platform tag: *"[^"]+"' | head -1), $((t2 - t1)) s"
+echo "   $(basename "$WHEEL"): auditwheel platform tag $TAG, $((t2 - t1)) s"
 
 # The CLI the tests compare with, built now (with the toolchain).
 export STRATA_BIN=${STRATA_BIN:-$CARGO_TARGET_DIR/debug/strata}

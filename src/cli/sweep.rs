@@ -541,7 +541,7 @@ fn merge(a: MergeArgs, memory: &MemoryLimit) -> Result<()> {
             dir.display()
         );
     }
-    found.sort_by_key(|f| (f.count, f.index));
+    found.sort_by(|a, b| (a.count, a.index, &a.csv).cmp(&(b.count, b.index, &b.csv)));
     let n = found[0].count;
     if let Some(f) = found.iter().find(|f| f.count != n) {
         bail!(
@@ -549,6 +549,16 @@ fn merge(a: MergeArgs, memory: &MemoryLimit) -> Result<()> {
             dir.display(),
             n,
             f.count
+        );
+    }
+    // Two files for one shard (`shard-1-of-2.csv` beside a copy `shard-01-of-2.csv`):
+    // merging both would count its cases twice.
+    if let Some(w) = found.windows(2).find(|w| w[0].index == w[1].index) {
+        bail!(
+            "merge: shard {}/{n} is duplicated: {} and {} both hold it; remove one",
+            w[0].index,
+            w[0].csv.display(),
+            w[1].csv.display()
         );
     }
     for i in 1..=n {

@@ -579,6 +579,205 @@ fn docs_name_only_what_exists() {
     );
 }
 
+/// The cluster guide's scripts, `docs/cluster/*.sbatch` and `*.sh`.
+fn cluster_scripts() -> Vec<PathBuf> {
+    let dir = repo().join("docs/cluster");
+    let mut out: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.extension().is_some_and(|x| x == "sbatch" || x == "sh"))
+        .collect();
+    out.sort();
+    out
+}
+
+/// A shell script's logical lines (a trailing '\\' joins the next), with the first
+/// line's number.
+fn logical_lines(text: &str) -> Vec<(usize, String)> {
+    let mut out: Vec<(usize, String)> = Vec::new();
+    let mut pending: Option<(usize, String)> = None;
+    for (i, line) in text.lines().enumerate() {
+        let (body, continued) = match line.trim_end().strip_suffix('\\') {
+            Some(b) => (b, true),
+            None => (line, false),
+        };
+        let p = pending.get_or_insert((i + 1, String::new()));
+        p.1.push(' ');
+        p.1.push_str(body);
+        if !continued {
+            out.extend(pending.take());
+        }
+    }
+    out.extend(pending);
+    out
+}
+
+/// The words of one line of shell code as the shell passes them to a command: quotes
+/// removed, every parameter expansion (`$x`, `${x}`, `${x:-default}`, `$1`) read as
+/// "1", operators (`&&`, `||`, `;`, `|`, redirections) as words of their own.
+fn shell_words(code: &str) -> Vec<String> {
+    let mut words = Vec::new();
+    let mut w: Option<String> = None;
+    let mut quote: Option<char> = None;
+    let mut chars = code.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (quote, c) {
+            (Some('\''), '\'') => quote = None,
+            (Some('\''), _) => w.get_or_insert_default().push(c),
+            (_, '$') => {
+                match chars.peek() {
+                    Some('{') => {
+                        let mut depth = 0;
+                        for d in chars.by_ref() {
+                            depth += match d {
+                                '{' => 1,
+                                '}' => -1,
+                                _ => 0,
+                            };
+                            if depth == 0 {
+                                break;
+                            }
+                        }
+                    }
+                    Some('(') => {
+                        let mut depth = 0;
+                        for d in chars.by_ref() {
+                            depth += match d {
+                                '(' => 1,
+                                ')' => -1,
+                                _ => 0,
+                            };
+                            if depth == 0 {
+                                break;
+                            }
+                        }
+                    }
+                    _ => {
+                        while chars
+                            .peek()
+                            .is_some_and(|d| d.is_ascii_alphanumeric() || *d == '_')
+                        {
+                            chars.next();
+                        }
+                    }
+                }
+                w.get_or_insert_default().push('1');
+            }
+            (Some('"'), '"') => quote = None,
+            (Some(_), _) => w.get_or_insert_default().push(c),
+            (None, '"' | '\'') => {
+                quote = Some(c);
+                w.get_or_insert_default();
+            }
+            (None, c) if c.is_whitespace() => words.extend(w.take()),
+            (None, ';' | '|' | '&' | '>' | '<') => {
+                words.extend(w.take());
+                words.push(c.to_string());
+            }
+            (None, _) => w.get_or_insert_default().push(c),
+        }
+    }
+    words.extend(w);
+    words
+}
+
+/// The `strata …` command of a line of shell code, as its argument vector (up to the
+/// first operator), if the line runs strata.
+fn strata_command(code: &str) -> Option<Vec<String>> {
+    let words = shell_words(code);
+    let start = words.iter().position(|w| w == "strata")?;
+    Some(
+        words[start..]
+            .iter()
+            .take_while(|w| !matches!(w.as_str(), ";" | "|" | "&" | ">" | "<"))
+            .cloned()
+            .collect(),
+    )
+}
+
+/// Every repository path a cluster script names (comments included) exists, and every
+/// `strata` command line in them parses with strata's own command-line parser (shell
+/// parameters read as "1"): the scripts the cluster guide ships stay runnable as the
+/// commands change. tests/it/cluster.rs runs them.
+#[test]
+fn cluster_scripts_name_only_what_exists() {
+    use clap::Parser;
+    let root = repo();
+    let scripts = cluster_scripts();
+    let names: Vec<String> = scripts
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    for must in [
+        "solve.sbatch",
+        "sweep.sbatch",
+        "merge.sbatch",
+        "submit-sweep.sh",
+    ] {
+        assert!(
+            names.iter().any(|n| n == must),
+            "docs/cluster/{must} missing"
+        );
+    }
+    let mut problems = Vec::new();
+    let mut commands = 0;
+    for (script, name) in scripts.iter().zip(&names) {
+        let text = std::fs::read_to_string(script).unwrap();
+        for (n, line) in logical_lines(&text) {
+            let spaced = line.replace(":-", " ");
+            for token in spaced.split(|c: char| c.is_whitespace() || "\"'{}()=".contains(c)) {
+                if let Some(path) = repository_path(token)
+                    && !root.join(path).exists()
+                {
+                    problems.push(format!(
+                        "docs/cluster/{name}:{n}: `{path}` is not in the repository"
+                    ));
+                }
+            }
+            let Some(argv) = strata_command(strip_comment(&line)) else {
+                continue;
+            };
+            commands += 1;
+            if let Err(e) = strata::cli::Cli::try_parse_from(&argv) {
+                problems.push(format!(
+                    "docs/cluster/{name}:{n}: `{}` does not parse: {}",
+                    argv.join(" "),
+                    e.to_string().lines().next().unwrap_or("")
+                ));
+            }
+        }
+    }
+    assert!(problems.is_empty(), "{}", problems.join("\n"));
+    // solve, sweep (one task), merge
+    assert!(commands >= 3, "{commands} strata command lines found");
+}
+
+/// The script checker reads the shell as the shell does, and catches a stale option.
+#[test]
+fn cluster_script_checker_finds_stale_commands() {
+    use clap::Parser;
+    assert_eq!(
+        shell_words(r#"srun strata solve "$scene" --out "${2:-runs/x}" >log && echo '$x'"#),
+        [
+            "srun", "strata", "solve", "1", "--out", "1", ">", "log", "&", "&", "echo", "$x"
+        ]
+    );
+    let lines = logical_lines("a \\\n  b\nc\n");
+    assert_eq!(lines.len(), 2);
+    assert_eq!(lines[0].0, 1);
+    assert_eq!(lines[1].0, 3);
+    let parse = |code: &str| strata::cli::Cli::try_parse_from(strata_command(code).unwrap());
+    assert!(parse(r#"strata sweep "$s" --out "$r" --shard "${I}/${N}" --threads 4"#).is_ok());
+    assert!(parse(r#"strata sweep merge "$r" --out "$r/sweep.csv""#).is_ok());
+    assert!(parse(r#"srun strata solve "$scene" --out "$out" --no-plots"#).is_ok());
+    // a misspelt option, a missing required argument, an unknown subcommand
+    assert!(parse(r#"strata sweep "$s" --out "$r" --shards 1/2"#).is_err());
+    assert!(parse(r#"strata solve --out "$out""#).is_err());
+    assert!(parse("strata merge runs").is_err());
+    assert_eq!(strata_command("echo done"), None);
+}
+
 /// The checker finds each kind of stale reference the README had (so that a clean run
 /// means something), and lets the current spellings through.
 #[test]

@@ -11,6 +11,7 @@ mod bem_paths;
 mod bem_reference;
 mod calculix;
 mod calculix_thermal;
+mod cluster;
 mod compare;
 mod compliance_cli;
 mod compliance_hard_cases;

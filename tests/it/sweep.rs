@@ -246,8 +246,8 @@ fn shards_merge_to_the_unsharded_csv() {
     assert_eq!(std::fs::read(&first).unwrap(), before);
 }
 
-/// Merge refuses a missing shard, a duplicate (copied) shard, shards of another sweep
-/// file and a directory mixing shard counts, naming the file.
+/// Merge refuses a missing shard, a duplicate (copied) shard, a shard present twice,
+/// shards of another sweep file and a directory mixing shard counts, naming the file.
 #[test]
 fn merge_refuses_bad_shard_sets() {
     let dir = tmp("merge-bad");
@@ -272,7 +272,10 @@ fn merge_refuses_bad_shard_sets() {
     let a = dir.join("missing");
     run(&sw, &a, "1/2");
     let e = fails(&merge(&a));
-    assert!(e.contains("shard 2/2 is missing"), "{e}");
+    assert!(
+        e.contains("shard 2/2 is missing") && e.contains("shard-2-of-2.csv"),
+        "{e}"
+    );
     // duplicate: shard 1 copied over shard 2 (CSV and sidecar)
     for ext in ["csv", "json"] {
         std::fs::copy(
@@ -302,6 +305,28 @@ fn merge_refuses_bad_shard_sets() {
         e.contains("shard-2-of-2.csv") && e.contains("differs from what its run wrote"),
         "{e}"
     );
+    // duplicated: a second file for shard 1 (a copy under another spelling, sidecar
+    // and all) beside a complete set; both would be merged, shard 1's cases twice
+    let t = dir.join("twice");
+    run(&sw, &t, "1/2");
+    run(&sw, &t, "2/2");
+    for ext in ["csv", "json"] {
+        std::fs::copy(
+            t.join(format!("shard-1-of-2.{ext}")),
+            t.join(format!("shard-01-of-2.{ext}")),
+        )
+        .unwrap();
+    }
+    let e = fails(&merge(&t));
+    assert!(
+        e.contains("shard 1/2 is duplicated")
+            && e.contains("shard-01-of-2.csv")
+            && e.contains("shard-1-of-2.csv"),
+        "{e}"
+    );
+    assert!(!t.join("m.csv").exists(), "a merge was written");
+    std::fs::remove_file(t.join("shard-01-of-2.csv")).unwrap();
+    ok(&merge(&t));
     // another sweep file
     let b = dir.join("foreign");
     run(&sw, &b, "1/2");

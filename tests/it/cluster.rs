@@ -1,0 +1,363 @@
+//! The cluster guide's batch scripts (docs/cluster/), run as SLURM would run them: a
+//! stand-in `sbatch` on PATH runs each submitted script at once with the variables of
+//! an allocation (each task of an `--array` in turn, `SLURM_ARRAY_TASK_ID`,
+//! `SLURM_ARRAY_TASK_COUNT`, `SLURM_NTASKS`, `SLURM_CPUS_PER_TASK`), and a stand-in
+//! `srun` starts the command once, or under `mpirun` with `SLURM_NTASKS` ranks when the
+//! `strata` under test is linked with MPI (`--features mpi`) and `mpirun` is installed.
+//! The docs test (tests/it/docs.rs) checks the scripts' paths and command lines.
+
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use crate::support::{fresh_dir, repo};
+
+/// `sbatch` for the tests: runs the batch script at once, in the caller's directory,
+/// its output to `$SHIM_STATE/job-ID.log` as SLURM's `--output`. A job whose
+/// `--dependency=afterok:…` names a job that did not succeed is refused.
+const SBATCH: &str = r#"#!/bin/bash
+set -euo pipefail
+parsable=; array=; deps=; ntasks=
+while [ $# -gt 0 ]; do
+    case "$1" in
+        --parsable) parsable=1 ;;
+        --array=*) array=${1#--array=} ;;
+        --dependency=*) deps=${1#--dependency=} ;;
+        --ntasks=*) ntasks=${1#--ntasks=} ;;
+        -*) ;;
+        *) break ;;
+    esac
+    shift
+done
+script=$1
+shift
+directive() { sed -n "s/^#SBATCH --$1=//p" "$script" | head -1; }
+[ -n "$array" ] || array=$(directive array)
+if [ -z "$ntasks" ]; then
+    ntasks=$(directive ntasks)
+    if [ -z "$ntasks" ]; then
+        nodes=$(directive nodes)
+        per_node=$(directive ntasks-per-node)
+        ntasks=$(( ${nodes:-1} * ${per_node:-1} ))
+    fi
+fi
+jid=$(( $(cat "$SHIM_STATE/jobs" 2>/dev/null || echo 100) + 1 ))
+echo "$jid" >"$SHIM_STATE/jobs"
+if [ -n "$deps" ]; then
+    IFS=: read -r -a ids <<<"${deps#afterok:}"
+    for d in "${ids[@]}"; do
+        grep -qx "$d ok" "$SHIM_STATE/done" || { echo "sbatch: dependency $d not satisfied" >&2; exit 1; }
+    done
+fi
+log="$SHIM_STATE/job-$jid.log"
+export SLURM_NTASKS=$ntasks SLURM_CPUS_PER_TASK=1 SLURM_SUBMIT_DIR=$PWD
+if [ -n "$array" ]; then
+    lo=${array%%-*}; hi=${array#*-}; hi=${hi%%%*}
+    for ((i = lo; i <= hi; i++)); do
+        echo "== task $i of $lo-$hi" >>"$log"
+        SLURM_JOB_ID=$((jid * 1000 + i)) SLURM_ARRAY_JOB_ID=$jid SLURM_ARRAY_TASK_ID=$i \
+            SLURM_ARRAY_TASK_COUNT=$((hi - lo + 1)) SLURM_ARRAY_TASK_MIN=$lo SLURM_ARRAY_TASK_MAX=$hi \
+            bash "$script" "$@" >>"$log" 2>&1 || { echo "sbatch: job $jid task $i failed (see $log)" >&2; exit 1; }
+    done
+else
+    SLURM_JOB_ID=$jid bash "$script" "$@" >>"$log" 2>&1 || { echo "sbatch: job $jid failed (see $log)" >&2; exit 1; }
+fi
+echo "$jid ok" >>"$SHIM_STATE/done"
+if [ -n "$parsable" ]; then echo "$jid"; else echo "Submitted batch job $jid"; fi
+"#;
+
+/// `srun` for the tests: its options dropped, the command started once, or under
+/// `mpirun` with SLURM_NTASKS ranks when SHIM_MPIRUN is set.
+const SRUN: &str = r#"#!/bin/bash
+set -euo pipefail
+while [ $# -gt 0 ] && [ "${1#-}" != "$1" ]; do shift; done
+if [ -n "${SHIM_MPIRUN:-}" ]; then
+    echo "srun: mpirun -np ${SLURM_NTASKS:-1} $*"
+    exec mpirun --allow-run-as-root --oversubscribe -np "${SLURM_NTASKS:-1}" "$@"
+fi
+echo "srun: $*"
+exec "$@"
+"#;
+
+/// A directory of stand-ins (`sbatch`, `srun`, and `strata`, the binary under test)
+/// and the state of the fake scheduler.
+struct Cluster {
+    bin: PathBuf,
+    state: PathBuf,
+    mpi: bool,
+}
+
+impl Cluster {
+    fn new(dir: &Path) -> Self {
+        use std::os::unix::fs::PermissionsExt;
+        let bin = dir.join("bin");
+        let state = dir.join("slurm");
+        std::fs::create_dir_all(&bin).unwrap();
+        std::fs::create_dir_all(&state).unwrap();
+        for (name, text) in [("sbatch", SBATCH), ("srun", SRUN)] {
+            let p = bin.join(name);
+            std::fs::write(&p, text).unwrap();
+            std::fs::set_permissions(&p, std::fs::Permissions::from_mode(0o755)).unwrap();
+        }
+        std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_strata"), bin.join("strata")).unwrap();
+        // A strata linked with an MPI library runs its ranks under mpirun.
+        let linked_mpi = Command::new("ldd")
+            .arg(env!("CARGO_BIN_EXE_strata"))
+            .output()
+            .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("libmpi"));
+        let mpirun = Command::new("mpirun").arg("--version").output().is_ok();
+        Cluster {
+            bin,
+            state,
+            mpi: linked_mpi && mpirun,
+        }
+    }
+
+    /// Runs `bash SCRIPT ARGS` in `cwd` with the stand-ins first on PATH.
+    fn run(&self, cwd: &Path, script: &Path, args: &[&OsStr], env: &[(&str, &str)]) -> Output {
+        let path = format!(
+            "{}:{}",
+            self.bin.display(),
+            std::env::var("PATH").unwrap_or_default()
+        );
+        let mut c = Command::new("bash");
+        c.arg(script)
+            .args(args)
+            .current_dir(cwd)
+            .env("PATH", path)
+            .env("SHIM_STATE", &self.state)
+            .env("STRATA_CACHE_DIR", self.state.join("cache"))
+            .env_remove("STRATA_PROGRESS")
+            .env_remove("STRATA_MEMORY_LIMIT")
+            .env_remove("RAYON_NUM_THREADS");
+        for (k, v) in env {
+            c.env(k, v);
+        }
+        if self.mpi {
+            c.env("SHIM_MPIRUN", "1");
+        }
+        let o = c.output().expect("run bash");
+        assert!(
+            o.status.success(),
+            "{} failed: {}\n{}\nlogs:\n{}",
+            script.display(),
+            String::from_utf8_lossy(&o.stdout),
+            String::from_utf8_lossy(&o.stderr),
+            self.logs()
+        );
+        o
+    }
+
+    fn logs(&self) -> String {
+        let mut out = String::new();
+        let mut logs: Vec<PathBuf> = std::fs::read_dir(&self.state)
+            .unwrap()
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "log"))
+            .collect();
+        logs.sort();
+        for p in logs {
+            out.push_str(&format!("--- {}\n", p.display()));
+            out.push_str(&std::fs::read_to_string(&p).unwrap_or_default());
+        }
+        out
+    }
+}
+
+fn script(name: &str) -> PathBuf {
+    let p = repo().join("docs/cluster").join(name);
+    assert!(p.is_file(), "{} missing", p.display());
+    p
+}
+
+/// Numbers of two CSV tables, equal to `rel` (same header, same shape).
+fn assert_csv_close(got: &str, want: &str, rel: f64) {
+    let (g, w): (Vec<&str>, Vec<&str>) = (got.lines().collect(), want.lines().collect());
+    assert_eq!(g.len(), w.len(), "row count");
+    assert_eq!(g[0], w[0], "header");
+    for (a, b) in g.iter().zip(&w).skip(1) {
+        for (x, y) in a.split(',').zip(b.split(',')) {
+            match (x.parse::<f64>(), y.parse::<f64>()) {
+                (Ok(x), Ok(y)) => assert!(
+                    (x - y).abs() <= rel * y.abs().max(1e-300),
+                    "{x} vs {y} in\n{a}\n{b}"
+                ),
+                _ => assert_eq!(x, y),
+            }
+        }
+    }
+}
+
+/// docs/cluster/submit-sweep.sh submits docs/cluster/sweep.sbatch as an array of 3
+/// tasks packing 8 cases (3, 3, 2 per task), then docs/cluster/merge.sbatch after it:
+/// the merged CSV is byte for byte the sweep.csv of one unsharded run.
+#[test]
+fn array_sweep_script_merges_to_the_single_run() {
+    let dir = fresh_dir("cluster", "sweep");
+    let sweep = dir.join("sweep.toml");
+    std::fs::write(
+        &sweep,
+        r#"
+title = "cluster sweep"
+[scene.stack]
+[[scene.stack.layer]]
+thickness = 1e-3
+young = 4e9
+poisson = 0.15
+[scene.stack.base]
+kind = "elastic"
+young = 4e9
+poisson = 0.15
+[scene.surface]
+periodic = true
+[scene.surface.generate]
+size = 1e-3
+grid = 64
+fractal_dimension = 2.4
+k_min = 2
+k_max = 8
+rms = 3.4e-6
+seed = 1
+[scene.model]
+kind = "independent"
+images = "isolated"
+[scene.load]
+separations = [6e-6, 4.5e-6, 3e-6]
+[sweep]
+surface.k_max = [4, 8]
+surface.seed = { from = 1, count = 4 }
+"#,
+    )
+    .unwrap();
+    let cluster = Cluster::new(&dir);
+    let runs = dir.join("runs");
+    let o = cluster.run(
+        &dir,
+        &script("submit-sweep.sh"),
+        &[sweep.as_os_str(), runs.as_os_str()],
+        &[("TASKS", "3")],
+    );
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("Submitted batch job"), "{stdout}");
+    for i in 1..=3 {
+        assert!(
+            runs.join(format!("shard-{i}-of-3.csv")).is_file(),
+            "shard {i}"
+        );
+    }
+    // 8 cases in 3 tasks: 3, 3 and 2 cases (3 load steps each).
+    for (i, cases) in [(1, 3), (2, 3), (3, 2)] {
+        let text = std::fs::read_to_string(runs.join(format!("shard-{i}-of-3.csv"))).unwrap();
+        assert_eq!(text.lines().count() - 1, 3 * cases, "shard {i}/3");
+    }
+    let merged = std::fs::read_to_string(runs.join("sweep.csv")).expect("merged sweep.csv");
+    assert!(runs.join("plots/pressure_gap.svg").is_file());
+    let full = dir.join("full");
+    let o = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["sweep", sweep.to_str().unwrap(), "--out"])
+        .arg(&full)
+        .arg("--no-plots")
+        .env("STRATA_CACHE_DIR", cluster.state.join("cache"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let single = std::fs::read_to_string(full.join("sweep.csv")).unwrap();
+    assert_eq!(merged.lines().count(), 1 + 8 * 3);
+    assert_eq!(merged, single, "merged shards differ from the single run");
+    // A rerun of the merge job after one task's shard was lost is refused, naming it.
+    std::fs::remove_file(runs.join("shard-2-of-3.csv")).unwrap();
+    let o = Command::new("bash")
+        .arg(script("merge.sbatch"))
+        .arg(&runs)
+        .env(
+            "PATH",
+            format!(
+                "{}:{}",
+                cluster.bin.display(),
+                std::env::var("PATH").unwrap()
+            ),
+        )
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("shard 2/3 is missing"),
+        "{err}"
+    );
+    assert!(err.contains("shard-2-of-3.csv"), "{err}");
+}
+
+/// docs/cluster/solve.sbatch solves a small BEM scene: under mpirun with 2 ranks when
+/// strata is built with MPI (the same curve to 1e-12), else once (the same bytes as
+/// `strata solve`).
+#[test]
+fn distributed_solve_script_writes_the_serial_curve() {
+    let dir = fresh_dir("cluster", "solve");
+    let scene = dir.join("scene.toml");
+    std::fs::write(
+        &scene,
+        r#"
+[stack]
+[[stack.layer]]
+thickness = 1e-4
+young = 4e9
+poisson = 0.15
+[stack.base]
+kind = "elastic"
+young = 2e10
+poisson = 0.3
+[surface]
+periodic = true
+[surface.generate]
+size = 1e-3
+grid = 32
+fractal_dimension = 2.4
+k_min = 2
+k_max = 8
+rms = 3.4e-6
+seed = 7
+[model]
+kind = "bem"
+[load]
+separations = [6e-6, 4.5e-6, 3e-6]
+"#,
+    )
+    .unwrap();
+    let cluster = Cluster::new(&dir);
+    let out = dir.join("out");
+    // Two ranks (the script asks for 4 nodes; a command-line option wins, as in sbatch).
+    let sbatch = cluster.bin.join("sbatch");
+    let o = cluster.run(
+        &dir,
+        &sbatch,
+        &[
+            "--ntasks=2".as_ref(),
+            script("solve.sbatch").as_os_str(),
+            scene.as_os_str(),
+            out.as_os_str(),
+        ],
+        &[],
+    );
+    assert!(String::from_utf8_lossy(&o.stdout).contains("Submitted batch job"));
+    let log = cluster.logs();
+    let got =
+        std::fs::read_to_string(out.join("curve.csv")).unwrap_or_else(|e| panic!("{e}\n{log}"));
+    let reference = dir.join("serial");
+    let o = Command::new(env!("CARGO_BIN_EXE_strata"))
+        .args(["solve", scene.to_str().unwrap(), "--out"])
+        .arg(&reference)
+        .arg("--no-plots")
+        .env("STRATA_CACHE_DIR", cluster.state.join("cache"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let want = std::fs::read_to_string(reference.join("curve.csv")).unwrap();
+    assert_eq!(got.lines().count(), 4, "{got}");
+    if cluster.mpi {
+        assert!(log.contains("srun: mpirun -np 2"), "{log}");
+        assert_csv_close(&got, &want, 1e-12);
+    } else {
+        assert!(log.contains("srun: strata solve"), "{log}");
+        assert_eq!(got, want);
+    }
+}
