@@ -247,8 +247,8 @@ fn prepare_tables(cases: &mut [Case], opts: &EngineOptions) -> Result<()> {
             let k = match loaded.iter().position(|(q, _)| q == p) {
                 Some(k) => k,
                 None => {
-                    let t =
-                        Table::load(p).with_context(|| format!("stack.table {}", p.display()))?;
+                    let t = Table::load_within(p, &opts.memory)
+                        .with_context(|| format!("stack.table {}", p.display()))?;
                     loaded.push((p.clone(), t));
                     loaded.len() - 1
                 }
