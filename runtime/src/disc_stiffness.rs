@@ -334,9 +334,11 @@ pub fn cache_path(key: u64, dir: &Path) -> PathBuf {
 
 /// The table in the cache file `path` when it is a readable, undamaged table of the
 /// stack `key` with top-layer thickness `h1` (m); None otherwise (missing, damaged or
-/// foreign: the caller rebuilds it).
+/// foreign: the caller rebuilds it). A file larger than the machine's memory limit
+/// counts as damaged (strata writes these files itself; they are a few kB).
 pub fn read_cached(path: &Path, key: u64, h1: f64) -> Option<StiffnessNodes> {
-    crate::resources::read_data_file(path, "a cache file")
+    let memory = crate::resources::MemoryLimit::of_machine();
+    crate::resources::read_data_file(path, "a cache file", &memory)
         .ok()
         .and_then(|b| StiffnessNodes::from_bytes(&b).ok())
         .filter(|t| t.key() == key && t.top_thickness() == h1)
