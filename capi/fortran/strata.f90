@@ -100,7 +100,8 @@ module strata
        c_strata_law_new_from_stack, c_strata_law_eval, c_strata_law_eval_array, &
        c_strata_stack_load, c_strata_stack_set_conductivities, c_strata_law_options_default, &
        c_strata_law_new_with_law_options, c_strata_law_conductance_kind, &
-       c_strata_law_hardness, c_strata_law_conductance, c_strata_law_conductance_array, &
+       c_strata_law_hardness, c_strata_law_tangential_stiffness, &
+       c_strata_law_conductance, c_strata_law_conductance_array, &
        c_strata_law_conductance_at_pressure, c_strata_law_conductance_at_pressure_array, &
        c_strata_law_eval_with_conductance
   public :: strata_last_error_message, strata_version, strata_table_load, &
@@ -113,6 +114,7 @@ module strata
        strata_law_new_from_stack, strata_law_eval, strata_law_eval_array, &
        strata_stack_load, strata_stack_set_conductivities, strata_law_options_default, &
        strata_law_new_with_law_options, strata_law_conductance_kind, strata_law_hardness, &
+       strata_law_tangential_stiffness, &
        strata_law_conductance, strata_law_conductance_array, &
        strata_law_conductance_at_pressure, strata_law_conductance_at_pressure_array, &
        strata_law_eval_with_conductance
@@ -462,6 +464,16 @@ module strata
        type(c_ptr), value :: law, out
        integer(c_int32_t) :: code
      end function c_strata_law_hardness
+
+     !> int32_t strata_law_tangential_stiffness(const StrataLaw *law, double gap, double *out)
+     function c_strata_law_tangential_stiffness(law, gap, out) &
+          bind(C, name="strata_law_tangential_stiffness") result(code)
+       import :: c_double, c_int32_t, c_ptr
+       type(c_ptr), value :: law
+       real(c_double), value :: gap
+       type(c_ptr), value :: out
+       integer(c_int32_t) :: code
+     end function c_strata_law_tangential_stiffness
 
      !> int32_t strata_law_conductance(const StrataLaw *law, double gap, double *out)
      function c_strata_law_conductance(law, gap, out) &
@@ -925,6 +937,16 @@ contains
     integer(c_int32_t) :: code
     code = c_strata_law_hardness(law, c_loc(h))
   end function strata_law_hardness
+
+  !> Full-stick tangential stiffness K_t of the sample (N/m) at separation `gap` (m), for
+  !> a law built with options%friction_coefficient > 0.
+  function strata_law_tangential_stiffness(law, gap, kt) result(code)
+    type(c_ptr), intent(in) :: law
+    real(c_double), intent(in) :: gap
+    real(c_double), intent(inout), target :: kt
+    integer(c_int32_t) :: code
+    code = c_strata_law_tangential_stiffness(law, gap, c_loc(kt))
+  end function strata_law_tangential_stiffness
 
   !> Interface conductance h_c(g) (W/(m^2 K) or S/m^2) at separation `gap` (m).
   function strata_law_conductance(law, gap, h) result(code)
