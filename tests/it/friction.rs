@@ -289,3 +289,57 @@ fn compare_and_sweep_equal_solve() {
         "{err}"
     );
 }
+
+/// `strata law` on a `[friction]` scene: the law's `tangential_stiffness` column equals
+/// `strata solve`'s at the law's own separations, bit for bit (the same steps), and the
+/// first-contact row is `0e0` (an empty f64 sum is −0 and printed `-0e0`).
+#[test]
+fn law_column_equals_solve_at_its_samples() {
+    let d = fresh_dir("friction", "law");
+    let scene = d.join("law.toml");
+    let text = homogeneous_scene(
+        &SURFACE.replace("grid = 256", "grid = 128"),
+        "\"independent\"",
+        "mean_pressures = [1e5, 1e7]",
+    ) + "[friction]\ncoefficient = 0.3\n";
+    std::fs::write(&scene, &text).unwrap();
+    let law = d.join("law.csv");
+    let o = crate::support::strata_in(&d)
+        .args(["law", "--samples", "20", "-q", "--out"])
+        .arg(&law)
+        .arg(&scene)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let csv = std::fs::read_to_string(&law).unwrap();
+    assert!(!csv.contains("-0e0"), "{csv}");
+    assert!(csv.starts_with("gap,"), "{csv}");
+    let gaps: Vec<f64> = csv_rows(&csv).iter().map(|r| r[0]).collect();
+    let kt = last_column(&csv);
+    assert_eq!(kt[0], 0.0);
+    let pick = [1, 7, 13, 19];
+    let list: Vec<String> = pick.iter().map(|&i| format!("{:?}", gaps[i])).collect();
+    let at = d.join("at.toml");
+    std::fs::write(
+        &at,
+        text.replace(
+            "mean_pressures = [1e5, 1e7]",
+            &format!("separations = [{}]", list.join(", ")),
+        ),
+    )
+    .unwrap();
+    let out = d.join("out");
+    let o = crate::support::strata_in(&d)
+        .args(["solve", "--no-plots", "-q", "--out"])
+        .arg(&out)
+        .arg(&at)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let curve = last_column(&std::fs::read_to_string(out.join("curve.csv")).unwrap());
+    assert_eq!(curve.len(), pick.len());
+    for (&i, k) in pick.iter().zip(&curve) {
+        assert!(kt[i] > 0.0);
+        assert_eq!(*k, kt[i], "sample {i}");
+    }
+}

@@ -109,7 +109,8 @@ impl StepObserver for AsperityFriction<'_> {
                             .iter()
                             .filter(|a| **a > 0.0)
                             .map(|&a| table.tangential(a))
-                            .sum(),
+                            // from +0: an empty f64 `sum()` is −0, printed `-0e0`
+                            .fold(0.0, |k, ka| k + ka),
                     })
                     .collect()
             }
