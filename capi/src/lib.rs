@@ -71,7 +71,7 @@ use strata_runtime::table::{Table, TableError};
 use thiserror::Error;
 
 use conductance_curve::{ConductanceCurve, CurveError};
-use strata_tablegen::plastic_asperity::PlasticAsperityError;
+use strata_runtime::rough::plastic::asperity::PlasticAsperityError;
 
 /// Success.
 pub const STRATA_OK: i32 = 0;
@@ -1088,8 +1088,8 @@ fn engine_error(e: EngineError) -> CapiError {
                      treated this way",
                     x.radius,
                     x.y,
-                    strata_tablegen::plastic_asperity::RESPONSE_Y.0,
-                    strata_tablegen::plastic_asperity::RESPONSE_Y.1
+                    strata_runtime::rough::plastic::asperity::RESPONSE_Y.0,
+                    strata_runtime::rough::plastic::asperity::RESPONSE_Y.1
                 ),
             };
         }

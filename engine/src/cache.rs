@@ -20,7 +20,9 @@
 use std::path::{Path, PathBuf};
 
 use strata_runtime::rough::plastic::PlasticResponse;
-use strata_tablegen::plastic_asperity::{PlasticAsperityError, ResponseCacheUse, cached_response};
+use strata_runtime::rough::plastic::asperity::{
+    PlasticAsperityError, ResponseCacheUse, cached_response,
+};
 use thiserror::Error;
 
 /// A cache directory that cannot take a table.
@@ -72,7 +74,7 @@ pub fn ensure_writable(dir: &Path, origin: &'static str) -> Result<(), CacheErro
 
 /// The capped asperity's response table of `stack` at `hardness` (Pa; physics.md §9,
 /// `[plasticity]` with the N and I models) from the table cache `dir` (file
-/// `capped-<hex>.strata`, `strata_tablegen::plastic_asperity::cached_response`): read
+/// `capped-<hex>.strata`, `strata_runtime::rough::plastic::asperity::cached_response`): read
 /// when held, else built by ring solves (13–18 CPU-s on a layered stack) and kept
 /// there. One log line says which; a cache that cannot be written is a warning, not an
 /// error (the table built is used and solved again next time). The same table, bit

@@ -157,7 +157,7 @@ pub fn run(a: Args) -> Result<()> {
         if let Some(why) = strata_runtime::rough::plastic::hardness_problem(h) {
             bail!("--hardness: {why}");
         }
-        let s = strata_tablegen::plastic_asperity::PlasticAsperity::new(&stack, h)
+        let s = strata_runtime::rough::plastic::asperity::PlasticAsperity::new(&stack, h)
             .context("--hardness")?;
         // Where the elastic (Fredholm) asperity's pressure stays at or below H nothing
         // flows: its solution is the capped one (so H → ∞ is `--model full` exactly).

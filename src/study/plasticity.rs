@@ -128,7 +128,7 @@ pub fn run(runner: &mut Runner, errors: &mut Errors, inputs: &Inputs) -> Result<
     };
     let (resp, response_timing) =
         runner.time_value_with(once, "plasticity", "response table", || {
-            Ok(strata_tablegen::plastic_asperity::response(
+            Ok(strata_runtime::rough::plastic::asperity::response(
                 stack, hardness,
             )?)
         })?;

@@ -20,9 +20,9 @@ pub use strata_runtime as runtime;
 pub mod asperity;
 pub mod fredholm;
 pub mod kernel;
-pub mod plastic_asperity;
+#[cfg(test)]
+mod plastic_asperity;
 pub mod psi_table;
-pub mod rings;
 pub mod spot;
 pub mod spot_pair;
 pub mod stiffness;

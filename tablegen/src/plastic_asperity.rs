@@ -1,14 +1,10 @@
-//! The capped (plastic) asperity on rings and its response table: moved to the runtime
-//! ([`strata_runtime::rough::plastic::asperity`], feature `capped`) so that the run time
-//! reaches it without the table builder; re-exported here under its former path.
-//! The check against the Abel–Fredholm asperity (this crate's solver) stays here.
+//! The capped (plastic) asperity on rings (`strata_runtime::rough::plastic::asperity`,
+//! feature `capped`, where the run time reaches it without the table builder) checked
+//! against the Abel–Fredholm asperity, this crate's solver.
 
-pub use strata_runtime::rough::plastic::asperity::*;
-
-#[cfg(test)]
 mod tests {
-    use super::*;
     use strata_runtime::Stack;
+    use strata_runtime::rough::plastic::asperity::*;
 
     fn rel(a: f64, b: f64) -> f64 {
         (a - b).abs() / a.abs().max(b.abs())

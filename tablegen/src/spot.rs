@@ -359,7 +359,7 @@ mod tests {
     /// Surface temperature at radius r of a unit uniform flux on a disc of radius c on a
     /// half-space of unit conductivity (Boussinesq's disc, thermal form).
     fn disc_temperature(r: f64, c: f64) -> f64 {
-        crate::rings::disc_response(r, c)
+        strata_runtime::rings::disc_response(r, c)
     }
 
     /// ψ by an independent method: piecewise-constant flux on `n` rings graded towards

@@ -362,11 +362,11 @@ fn compare_reports_the_capped_models() {
 
 /// One capped paraboloid (R = 100 µm, H = 0.2 GPa on a 4 GPa half-space, δ = 1.4 δ_c:
 /// a plastic core inside an elastic annulus) by the 3-D non-periodic BEM on two grids,
-/// against the axisymmetric solution on rings (`strata_tablegen::plastic_asperity`, the
+/// against the axisymmetric solution on rings (`strata_runtime::rough::plastic::asperity`, the
 /// same capped problem by another discretisation): the BEM's error falls with the grid.
 #[test]
 fn capped_paraboloid_bem_converges_to_the_rings() {
-    use strata_tablegen::plastic_asperity::PlasticAsperity;
+    use strata_runtime::rough::plastic::asperity::PlasticAsperity;
     let stack = Stack::half_space(4e9, 0.15).unwrap();
     let (r, h) = (1e-4, 0.2e9);
     let e = stack.contact_modulus();
@@ -538,7 +538,7 @@ fn plastic_i_model_fixed_point_is_the_elastic_i_model() {
     let mut worst: f64 = 0.0;
     for (name, law, stack) in cases {
         let rc = RoughContact::from_surface(law, &surface).unwrap();
-        let resp = strata_tablegen::plastic_asperity::response(stack, 1e15).unwrap();
+        let resp = strata_runtime::rough::plastic::asperity::response(stack, 1e15).unwrap();
         for images in [Images::Periodic(1), Images::Isolated] {
             for frac in [0.2, 0.4] {
                 let delta = frac * rc.top_to_mean();

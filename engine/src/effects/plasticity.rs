@@ -46,8 +46,8 @@ use crate::solution::{
      too high for this stack's top layer to be treated this way at this load; use \
      model.kind = \"bem\"",
     x = strata_runtime::rough::plastic::ELASTIC_X,
-    lo = strata_tablegen::plastic_asperity::RESPONSE_Y.0,
-    hi = strata_tablegen::plastic_asperity::RESPONSE_Y.1
+    lo = strata_runtime::rough::plastic::asperity::RESPONSE_Y.0,
+    hi = strata_runtime::rough::plastic::asperity::RESPONSE_Y.1
 )]
 pub struct UncoveredSummit {
     /// The summit's index.
@@ -262,7 +262,7 @@ fn solve_capped(
             .top_thickness()
             .filter(|_| !scene.bodies.is_homogeneous())
     {
-        let (lo, hi, _) = strata_tablegen::plastic_asperity::RESPONSE_Y;
+        let (lo, hi, _) = strata_runtime::rough::plastic::asperity::RESPONSE_Y;
         let past = rc
             .summits_past_elastic(e_star, hardness, d)
             .find_map(|(k, r)| {

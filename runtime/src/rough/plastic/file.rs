@@ -1,6 +1,6 @@
 //! The file form of the capped asperity's response table ([`PlasticResponse`],
-//! physics.md §9), so that the table cache keeps it (`strata_tablegen`'s
-//! `plastic_asperity::cached_response`, file `capped-<hex>.strata`): a table is solved
+//! physics.md §9), so that the table cache keeps it (`asperity::cached_response`, file
+//! `capped-<hex>.strata`): a table is solved
 //! once per stack and hardness (13–18 CPU-s of ring solves on a layered stack) and read
 //! by every later `strata solve`, `law` and `compare`.
 //!
