@@ -195,38 +195,11 @@ fn assert_csv_close(got: &str, want: &str, rel: f64) {
 fn array_sweep_script_merges_to_the_single_run() {
     let dir = fresh_dir("cluster", "sweep");
     let sweep = dir.join("sweep.toml");
+    // the sweep tests' small homogeneous case, over 2 × 4 surfaces
     std::fs::write(
         &sweep,
-        r#"
-title = "cluster sweep"
-[scene.stack]
-[[scene.stack.layer]]
-thickness = 1e-3
-young = 4e9
-poisson = 0.15
-[scene.stack.base]
-kind = "elastic"
-young = 4e9
-poisson = 0.15
-[scene.surface]
-periodic = true
-[scene.surface.generate]
-size = 1e-3
-grid = 64
-fractal_dimension = 2.4
-k_min = 2
-k_max = 8
-rms = 3.4e-6
-seed = 1
-[scene.model]
-kind = "independent"
-images = "isolated"
-[scene.load]
-separations = [6e-6, 4.5e-6, 3e-6]
-[sweep]
-surface.k_max = [4, 8]
-surface.seed = { from = 1, count = 4 }
-"#,
+        crate::sweep::BASE.replace("test sweep", "cluster sweep")
+            + "[sweep]\nsurface.k_max = [4, 8]\nsurface.seed = { from = 1, count = 4 }\n",
     )
     .unwrap();
     let cluster = Cluster::new(&dir);

@@ -40,7 +40,7 @@ fn fails(o: &Output) -> String {
 }
 
 /// A homogeneous half-space (E = 4 GPa, ν = 0.15), a small generated surface.
-const BASE: &str = r#"
+pub(crate) const BASE: &str = r#"
 title = "test sweep"
 [scene.stack]
 [[scene.stack.layer]]
