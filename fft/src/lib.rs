@@ -322,6 +322,18 @@ impl RealFft2 {
     /// Buffers for [`forward`](Self::forward), [`inverse`](Self::inverse) and
     /// [`convolve`](Self::convolve).
     pub fn work(&self) -> Fft2Work {
+        let mut w = self.convolution_work();
+        w.spec = vec![Complex::default(); self.spectrum_len()];
+        w
+    }
+
+    /// Buffers for the convolutions only ([`convolve`](Self::convolve),
+    /// [`convolve_with`](Self::convolve_with), [`convolve_fields`](Self::convolve_fields)):
+    /// [`work`](Self::work) without the transposed spectrum, whose column stage runs in
+    /// place on the row spectra: 16·ny·(NX/2 + 1) bytes (≈ 8 per data point on a
+    /// periodic grid) against twice that and more on a padded one. The spectrum is never
+    /// allocated (not even for a moment: it would count in the peak memory).
+    pub fn convolution_work(&self) -> Fft2Work {
         let s = self
             .r2c
             .get_scratch_len()
@@ -330,7 +342,7 @@ impl RealFft2 {
             .max(self.col_inv.get_inplace_scratch_len());
         Fft2Work {
             rows: vec![Complex::default(); self.data.0 * self.half],
-            spec: vec![Complex::default(); self.spectrum_len()],
+            spec: Vec::new(),
             lanes: (0..self.lanes)
                 .map(|_| Lane {
                     real: vec![0.0; self.grid.1],
@@ -339,17 +351,6 @@ impl RealFft2 {
                 })
                 .collect(),
         }
-    }
-
-    /// Buffers for the convolutions only ([`convolve`](Self::convolve),
-    /// [`convolve_with`](Self::convolve_with), [`convolve_fields`](Self::convolve_fields)):
-    /// [`work`](Self::work) without the transposed spectrum, whose column stage runs in
-    /// place on the row spectra: 16·ny·(NX/2 + 1) bytes (≈ 8 per data point on a
-    /// periodic grid) against twice that and more on a padded one.
-    pub fn convolution_work(&self) -> Fft2Work {
-        let mut w = self.work();
-        w.spec = Vec::new();
-        w
     }
 
     fn check(&self, what: &'static str, got: usize, expected: usize) -> Result<(), FftError> {
