@@ -309,7 +309,7 @@ impl BemSolver {
     pub fn with_geometry_owned(
         heights: Array2<f64>,
         geometry: Geometry,
-        stack: &Stack,
+        stack: &(impl Solid + ?Sized),
         options: BemOptions,
     ) -> Result<Self, BemError> {
         Self::build(HeightsIn::Owned(heights), geometry, stack, options)
@@ -318,7 +318,7 @@ impl BemSolver {
     fn build(
         heights: HeightsIn<'_>,
         geometry: Geometry,
-        stack: &Stack,
+        stack: &(impl Solid + ?Sized),
         options: BemOptions,
     ) -> Result<Self, BemError> {
         if geometry.periodic {
@@ -761,65 +761,12 @@ impl BemSolver {
 
     /// The CG control of a load.
     fn control(&self, load: BemLoad) -> Result<Control, BemError> {
-        let bad = |what, value, reason: &str| BemError::Load {
-            what,
-            value,
-            reason: reason.to_string(),
-        };
-        let (approach, what) = match load {
-            BemLoad::Approach(d) => (d, "approach"),
-            // A separation is an approach: δ = (z_M − z̄) − g_n.
-            BemLoad::Separation(gn) => (self.max_separation() - gn, "separation"),
-            BemLoad::MeanGap(g) => {
-                if !self.geometry.periodic {
-                    return Err(bad(
-                        "mean gap",
-                        g,
-                        "is not a load of a non-periodic sample (the mean deflection depends on the unbounded solid); give an approach, a separation or a mean pressure",
-                    ));
-                }
-                if !(g.is_finite() && g > 0.0) {
-                    return Err(bad(
-                        "mean gap",
-                        g,
-                        "must be finite and > 0 m (a zero mean gap is full contact)",
-                    ));
-                }
-                return Ok(Control::Offset {
-                    c: g + self.z_mean,
-                    uniform: false,
-                });
-            }
-            BemLoad::MeanPressure(p) => {
-                if !(p.is_finite() && p > 0.0) {
-                    return Err(bad("mean pressure", p, "must be finite and > 0 Pa"));
-                }
-                return Ok(Control::Pressure(p));
-            }
-        };
-        if !approach.is_finite() {
-            return Err(bad(what, approach, "must be finite (m)"));
-        }
-        if !self.geometry.periodic || self.c0.is_some() {
-            // The flat at c = z_M − δ: any δ (beyond the peak-to-valley height too; the
-            // layers or the unbounded solid compress as a whole).
-            return Ok(Control::Offset {
-                c: self.z_max - approach,
-                uniform: self.c0.is_some(),
-            });
-        }
-        let g = self.max_separation() - approach;
-        if g <= 0.0 {
-            return Err(bad(
-                what,
-                approach,
-                "on an elastic base the approach of a periodic cell must be < z_M − z̄, the separation > 0 (the uniform mode is unbounded: full contact)",
-            ));
-        }
-        Ok(Control::Offset {
-            c: g + self.z_mean,
-            uniform: false,
-        })
+        load_control(
+            load,
+            self.geometry.periodic,
+            self.c0,
+            [self.z_max, self.z_mean],
+        )
     }
 
     /// The influence operator (module `plastic`).
@@ -1063,4 +1010,74 @@ fn extrapolate(a: &BemSolution, b: &BemSolution, load: BemLoad, out: &mut Vec<f6
             .zip(b.pressure.iter())
             .map(|(&x, &y)| (y + f * (y - x)).max(0.0)),
     );
+}
+
+/// The CG control of a load on a sample (`periodic` or not) with the uniform-mode
+/// compliance `c0` (m/Pa; a periodic cell on a rigid base) and the heights' maximum and
+/// mean (m): the flat's offset c or the mean pressure (crate docs, "Loads").
+pub(crate) fn load_control(
+    load: BemLoad,
+    periodic: bool,
+    c0: Option<f64>,
+    [z_max, z_mean]: [f64; 2],
+) -> Result<Control, BemError> {
+    let bad = |what, value, reason: &str| BemError::Load {
+        what,
+        value,
+        reason: reason.to_string(),
+    };
+    let (approach, what) = match load {
+        BemLoad::Approach(d) => (d, "approach"),
+        // A separation is an approach: δ = (z_M − z̄) − g_n.
+        BemLoad::Separation(gn) => ((z_max - z_mean) - gn, "separation"),
+        BemLoad::MeanGap(g) => {
+            if !periodic {
+                return Err(bad(
+                    "mean gap",
+                    g,
+                    "is not a load of a non-periodic sample (the mean deflection depends on the unbounded solid); give an approach, a separation or a mean pressure",
+                ));
+            }
+            if !(g.is_finite() && g > 0.0) {
+                return Err(bad(
+                    "mean gap",
+                    g,
+                    "must be finite and > 0 m (a zero mean gap is full contact)",
+                ));
+            }
+            return Ok(Control::Offset {
+                c: g + z_mean,
+                uniform: false,
+            });
+        }
+        BemLoad::MeanPressure(p) => {
+            if !(p.is_finite() && p > 0.0) {
+                return Err(bad("mean pressure", p, "must be finite and > 0 Pa"));
+            }
+            return Ok(Control::Pressure(p));
+        }
+    };
+    if !approach.is_finite() {
+        return Err(bad(what, approach, "must be finite (m)"));
+    }
+    if !periodic || c0.is_some() {
+        // The flat at c = z_M − δ: any δ (beyond the peak-to-valley height too; the
+        // layers or the unbounded solid compress as a whole).
+        return Ok(Control::Offset {
+            c: z_max - approach,
+            uniform: c0.is_some(),
+        });
+    }
+    let g = (z_max - z_mean) - approach;
+    if g <= 0.0 {
+        return Err(bad(
+            what,
+            approach,
+            "on an elastic base the approach of a periodic cell must be < z_M − z̄, the separation > 0 (the uniform mode is unbounded: full contact)",
+        ));
+    }
+    Ok(Control::Offset {
+        c: g + z_mean,
+        uniform: false,
+    })
 }

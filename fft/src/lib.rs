@@ -790,6 +790,127 @@ impl RealFft2 {
     }
 }
 
+/// One thread's scratch of the slab pieces of [`RealFft2`] ([`RealFft2::slab_scratch`]):
+/// a real row of NX values and the transforms' scratch.
+pub struct SlabScratch {
+    real: Vec<f64>,
+    scratch: Vec<Complex<f64>>,
+}
+
+/// The pieces of a distributed (slab-decomposed) 2-D transform: a process that owns some
+/// data rows transforms them along the rows, exchanges blocks of the row spectra so that
+/// it owns some kx columns over all rows, transforms those along the columns, and back.
+/// The caller does the exchange; each piece runs on the calling thread. The values are
+/// those of [`RealFft2::convolve`] up to the order of the floating-point operations,
+/// which is the same (the same 1-D transforms on the same lines).
+impl RealFft2 {
+    /// Scratch for [`Self::row_forward`], [`Self::row_inverse`] and
+    /// [`Self::column_convolve`].
+    pub fn slab_scratch(&self) -> SlabScratch {
+        let s = self
+            .r2c
+            .get_scratch_len()
+            .max(self.c2r.get_scratch_len())
+            .max(self.col_fwd.get_inplace_scratch_len())
+            .max(self.col_inv.get_inplace_scratch_len());
+        SlabScratch {
+            real: vec![0.0; self.grid.1],
+            scratch: vec![Complex::default(); s],
+        }
+    }
+
+    /// The spectrum (NX/2 + 1 values, `out`) of one data row (`row`, nx values, zero-padded
+    /// to NX): the row stage of the forward transform.
+    pub fn row_forward(
+        &self,
+        row: &[f64],
+        out: &mut [Complex<f64>],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        let (nx, gx) = (self.data.1, self.grid.1);
+        self.check("row", row.len(), nx)?;
+        self.check("row spectrum", out.len(), self.half)?;
+        s.real[..nx].copy_from_slice(row);
+        s.real[nx..gx].fill(0.0);
+        // Lengths are fixed by the plan: the only error is a wrong length.
+        let _ = self
+            .r2c
+            .process_with_scratch(&mut s.real, out, &mut s.scratch);
+        Ok(())
+    }
+
+    /// The data row (`out`, nx values) of a row spectrum (`spec`, NX/2 + 1 values,
+    /// destroyed): the row stage of the inverse transform (unnormalised).
+    pub fn row_inverse(
+        &self,
+        spec: &mut [Complex<f64>],
+        out: &mut [f64],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        let (h, nx) = (self.half, self.data.1);
+        self.check("row spectrum", spec.len(), h)?;
+        self.check("row", out.len(), nx)?;
+        spec[0].im = 0.0;
+        if self.grid.1.is_multiple_of(2) {
+            spec[h - 1].im = 0.0;
+        }
+        let _ = self
+            .c2r
+            .process_with_scratch(spec, &mut s.real, &mut s.scratch);
+        out.copy_from_slice(&s.real[..nx]);
+        Ok(())
+    }
+
+    /// The column stage of a convolution on one kx line (`line`, NY values, the data rows
+    /// first and zeros below them): forward transform, multiplication by the kernel's
+    /// line `at` of `kernel` (a multiplier holding the lines of this process's columns
+    /// only is indexed by its own line number), the (0, 0) entry replaced by `dc` if
+    /// given, inverse transform.
+    pub fn column_convolve(
+        &self,
+        line: &mut [Complex<f64>],
+        kernel: Multiplier<'_>,
+        at: usize,
+        dc: Option<f64>,
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        let gy = self.grid.0;
+        self.check("column", line.len(), gy)?;
+        let need = kernel.expected_len(gy, at + 1);
+        if kernel.len() < need {
+            return Err(FftError::Buffer {
+                what: "kernel",
+                got: kernel.len(),
+                expected: need,
+            });
+        }
+        self.col_fwd.process_with_scratch(line, &mut s.scratch);
+        let z0 = line[0];
+        kernel.apply(at, line);
+        if let Some(dc) = dc {
+            line[0] = z0 * dc;
+        }
+        self.col_inv.process_with_scratch(line, &mut s.scratch);
+        Ok(())
+    }
+
+    /// The forward column transform of one kx line (NY values, in place).
+    pub fn column_forward(
+        &self,
+        line: &mut [Complex<f64>],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        self.check("column", line.len(), self.grid.0)?;
+        self.col_fwd.process_with_scratch(line, &mut s.scratch);
+        Ok(())
+    }
+
+    /// Values per row spectrum, NX/2 + 1.
+    pub fn half(&self) -> usize {
+        self.half
+    }
+}
+
 /// Signed frequency index of `i` on a periodic axis of `n` points: i for i ≤ n/2,
 /// i − n above (the Nyquist index n/2 counts as positive).
 pub fn signed_index(i: usize, n: usize) -> i64 {
