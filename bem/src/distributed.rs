@@ -6,8 +6,9 @@
 //!
 //! The iteration is Polonsky & Keer's as published (the reference path,
 //! [`crate::BemSolver::solve_reference`]: two products per iteration, the stop on the
-//! error ε of the crate docs), warm-started along a load path from the previous step's
-//! pressure. On one rank ([`Serial`](crate::decomp::Serial)) it runs the serial operator
+//! error ε of the crate docs), preconditioned by default (`BemOptions::preconditioner`)
+//! with the inverse operator as the fast path's `pcg` (a third product per iteration),
+//! warm-started along a load path from the previous step's pressure. On one rank ([`Serial`](crate::decomp::Serial)) it runs the serial operator
 //! of [`crate::BemSolver`] and the serial sums: a one-load solve is
 //! `BemSolver::solve_reference` bit for bit (tested). On P ranks the products are the
 //! serial ones bit for bit and the sums differ by the order of the partial sums only.
@@ -20,7 +21,7 @@ use strata_runtime::stack::Stack;
 
 use crate::decomp::{self, Decomposition};
 use crate::operator::Operator;
-use crate::reference::{self, Settings};
+use crate::reference::{self, Apply, Settings};
 use crate::slab::SlabOperator;
 use crate::solver::{Geometry, load_control, uniform_compliance};
 use crate::{BemError, BemLoad, BemOptions};
@@ -47,6 +48,9 @@ pub struct SlabSolver<'c> {
     stiffness: f64,
     c0: Option<f64>,
     product: Product<'c>,
+    /// The preconditioner M⁻¹ = K̂⁻¹ (`BemOptions::preconditioner`; `None` where the
+    /// operator's spectrum is not positive).
+    precond: Option<Product<'c>>,
     options: BemOptions,
 }
 
@@ -172,8 +176,17 @@ impl<'c> SlabSolver<'c> {
             comp.s(geometry.fundamental())
         };
         let s1 = if s1.is_finite() && s1 > 0.0 { s1 } else { 1.0 };
+        let precond = if !options.preconditioner {
+            None
+        } else {
+            match &product {
+                Product::Serial(op) => op.inverse().map(|m| Product::Serial(Box::new(m))),
+                Product::Slab(op) => op.inverse().map(Product::Slab),
+            }
+        };
         Ok(SlabSolver {
             comm,
+            precond,
             ny,
             nx,
             geometry,
@@ -239,18 +252,38 @@ impl<'c> SlabSolver<'c> {
             max_iterations: self.options.max_iterations,
             points: n2,
             warm,
+            precondition: false,
         };
-        let out = match &self.product {
-            Product::Serial(op) => {
+        let settings = Settings {
+            precondition: self.precond.is_some(),
+            ..settings
+        };
+        let out = match (&self.product, &self.precond) {
+            (Product::Serial(op), minv) => {
+                let minv = match minv {
+                    Some(Product::Serial(m)) => Some(m),
+                    _ => None,
+                };
                 let mut work = op.work();
                 let product =
-                    |i: &[f64], o: &mut [f64], uniform: bool| op.apply(i, o, uniform, &mut work);
+                    |which: Apply, i: &[f64], o: &mut [f64], uniform: bool| match (which, minv) {
+                        (Apply::Inverse, Some(m)) => m.apply(i, o, uniform, &mut work),
+                        _ => op.apply(i, o, uniform, &mut work),
+                    };
                 reference::run(self.comm, product, &self.z, settings, control, p)?
             }
-            Product::Slab(op) => {
+            (Product::Slab(op), minv) => {
+                let minv = match minv {
+                    Some(Product::Slab(m)) => Some(m),
+                    _ => None,
+                };
+                // One set of exchange buffers for both operators (same grid).
                 let mut work = op.work();
                 let product =
-                    |i: &[f64], o: &mut [f64], uniform: bool| op.apply(i, o, uniform, &mut work);
+                    |which: Apply, i: &[f64], o: &mut [f64], uniform: bool| match (which, minv) {
+                        (Apply::Inverse, Some(m)) => m.apply(i, o, uniform, &mut work),
+                        _ => op.apply(i, o, uniform, &mut work),
+                    };
                 reference::run(self.comm, product, &self.z, settings, control, p)?
             }
         };
@@ -415,20 +448,49 @@ mod tests {
     }
 
     /// The slab product is the serial product bit for bit, on even and odd grids, with
-    /// and without the uniform mode, periodic and free, on 1 to 4 ranks.
+    /// and without the uniform mode, periodic and free, the operator and its inverse, on
+    /// 1 to 4 ranks.
     #[test]
     fn slab_product_is_the_serial_product_bit_for_bit() {
         for (ny, nx) in [(12, 10), (9, 7), (16, 5)] {
             let input = field(ny, nx);
             let kernel = |i: usize, j: usize| Ok(1.0 / (1.0 + (i * i + 3 * j * j) as f64));
+            // A Gaussian (positive spectrum: the inverse exists) on the first grid.
             let g: Vec<f64> = (0..ny * nx)
-                .map(|k| 1.0 / (1.0 + (k / nx + k % nx) as f64))
+                .map(|k| {
+                    let (dy, dx) = ((k / nx) as f64, (k % nx) as f64);
+                    if ny == 12 {
+                        (-(dy * dy + dx * dx) / 2.0).exp()
+                    } else {
+                        1.0 / (1.0 + dy + dx)
+                    }
+                })
                 .collect();
-            for periodic in [true, false] {
+            for (periodic, inverse) in [(true, false), (false, false), (true, true), (false, true)]
+            {
                 let op = if periodic {
                     Operator::periodic(ny, nx, 0.25, kernel).unwrap()
                 } else {
                     Operator::free(ny, nx, &g).unwrap()
+                };
+                let op = match (inverse, op.inverse()) {
+                    (false, _) => op,
+                    (true, Some(m)) => m,
+                    (true, None) => {
+                        // No inverse (K̂ not positive): none on any rank either. (The
+                        // Gaussian's and the periodic kernel's exist.)
+                        assert!(ny != 12 && !periodic, "{ny}×{nx}: no inverse");
+                        let none = on_ranks(3, |comm| {
+                            let s = if periodic {
+                                SlabOperator::periodic(comm, ny, nx, 0.25, kernel).unwrap()
+                            } else {
+                                SlabOperator::free(comm, ny, nx, &g).unwrap()
+                            };
+                            s.inverse().is_none()
+                        });
+                        assert!(none.iter().all(|&n| n), "{ny}×{nx} periodic {periodic}");
+                        continue;
+                    }
                 };
                 for uniform in [false, true] {
                     let mut want = vec![0.0; ny * nx];
@@ -441,6 +503,7 @@ mod tests {
                             } else {
                                 SlabOperator::free(comm, ny, nx, &g).unwrap()
                             };
+                            let s = if inverse { s.inverse().unwrap() } else { s };
                             let rows = s.rows();
                             let mut out = vec![0.0; rows.len() * nx];
                             s.apply(
@@ -459,7 +522,7 @@ mod tests {
                             .all(|(a, b)| a.to_bits() == b.to_bits());
                         assert!(
                             same,
-                            "{ny}×{nx} periodic {periodic} uniform {uniform} P {p}"
+                            "{ny}×{nx} periodic {periodic} inverse {inverse} uniform {uniform} P {p}"
                         );
                     }
                 }
@@ -494,8 +557,8 @@ mod tests {
         .unwrap()
     }
 
-    /// One rank is the serial reference path: the first (cold) load of a curve is
-    /// `BemSolver::solve_reference` bit for bit.
+    /// One rank without the preconditioner is the serial reference path: the first
+    /// (cold) load of a curve is `BemSolver::solve_reference` bit for bit.
     #[test]
     fn one_rank_is_the_serial_reference_solve() {
         let (ny, nx) = (32, 24);
@@ -505,7 +568,11 @@ mod tests {
             periodic: true,
         };
         let stack = layered();
-        let options = BemOptions::default();
+        // The reference path is the plain iteration.
+        let options = BemOptions {
+            preconditioner: false,
+            ..BemOptions::default()
+        };
         let z = ndarray::Array2::from_shape_fn((ny, nx), |(i, j)| surface(i, j, (ny, nx)));
         let serial = crate::BemSolver::with_geometry(&z, g, &stack, options).unwrap();
         let load = BemLoad::Approach(0.4 * serial.max_separation());

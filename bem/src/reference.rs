@@ -31,8 +31,9 @@ use crate::state::Control;
 /// Solves from a cold start; on return `p` holds the pressure.
 pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgOutcome, BemError> {
     let mut work = pb.op.work();
-    let product =
-        |input: &[f64], out: &mut [f64], uniform: bool| pb.op.apply(input, out, uniform, &mut work);
+    let product = |_: Apply, input: &[f64], out: &mut [f64], uniform: bool| {
+        pb.op.apply(input, out, uniform, &mut work)
+    };
     let settings = Settings {
         z_rms: pb.z_rms,
         stiffness: pb.stiffness,
@@ -40,6 +41,7 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
         max_iterations: pb.max_iterations,
         points: pb.z.len(),
         warm: false,
+        precondition: false,
     };
     run(&Serial, product, pb.z, settings, control, p)
 }
@@ -58,13 +60,32 @@ pub(crate) struct Settings {
     /// Start from the given `p` (rescaled to the mean pressure under pressure control)
     /// instead of the cold guess.
     pub warm: bool,
+    /// Precondition the direction with the inverse operator M⁻¹ (Vollebregt, as
+    /// [`crate::pcg`]): y = P_C M⁻¹ P_C g (less its mean on C under pressure control),
+    /// t = y + β t, β = Σ_C g y / (Σ_C g y)_old; the plain direction g once the
+    /// preconditioned one stalls (offset control without the uniform mode, see `pcg`).
+    pub precondition: bool,
 }
 
-/// The iteration on this rank's rows: `z` and `p` are the rank's rows, `product(p, u,
-/// uniform)` the operator on them (every rank calls it together), the sums global.
+/// Which operator a product applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Apply {
+    /// The influence operator K.
+    K,
+    /// The preconditioner M⁻¹ = K̂⁻¹.
+    Inverse,
+}
+
+/// Iterations without the error halving after which the preconditioned direction counts
+/// as stalled (as `pcg`).
+const STALL: usize = 24;
+
+/// The iteration on this rank's rows: `z` and `p` are the rank's rows, `product(which,
+/// p, u, uniform)` the operator K (or the preconditioner) on them (every rank calls it
+/// together), the sums global.
 pub(crate) fn run(
     comm: &dyn Decomposition,
-    mut product: impl FnMut(&[f64], &mut [f64], bool) -> Result<(), BemError>,
+    mut product: impl FnMut(Apply, &[f64], &mut [f64], bool) -> Result<(), BemError>,
     z: &[f64],
     s: Settings,
     control: Control,
@@ -89,8 +110,15 @@ pub(crate) fn run(
     let mut g_old = 1.0;
     let mut delta = 0.0;
     let mut error = f64::INFINITY;
+    let mut precondition = s.precondition;
+    // The stall watch of the preconditioned direction (offset control without the
+    // uniform mode only): the best error and the iterations since it halved.
+    let watch = matches!(control, Control::Offset { uniform: false, .. });
+    let (mut best, mut since) = (f64::INFINITY, 0usize);
+    let mut products = 0usize;
     for it in 0..=s.max_iterations {
-        product(p, &mut u, uniform)?;
+        products += 1;
+        product(Apply::K, p, &mut u, uniform)?;
         // Σ_{p>0} (u − z) and the count of the contact set.
         let mut sums = [
             contact_sum(p, |i| u[i] - z[i]),
@@ -124,8 +152,7 @@ pub(crate) fn run(
         if error <= s.tolerance {
             return Ok(CgOutcome {
                 iterations: it,
-                // Two products per iteration and the final gap's.
-                products: 2 * it + 1,
+                products,
                 error,
                 offset: c,
                 gap: g,
@@ -142,15 +169,58 @@ pub(crate) fn run(
             delta = 0.0;
             continue;
         }
-        let mut gg = [contact_sum(p, |i| g[i] * g[i])];
-        decomp::sum(comm, &mut gg);
-        let gg = gg[0];
-        let beta = delta * gg / g_old;
-        g_old = gg;
-        for i in 0..n {
-            t[i] = if p[i] > 0.0 { g[i] + beta * t[i] } else { 0.0 };
+        if precondition && watch {
+            if error < 0.5 * best {
+                (best, since) = (error, 0);
+            } else {
+                since += 1;
+            }
+            if since >= STALL {
+                // Stalled: the plain direction from here on, conjugation restarted.
+                precondition = false;
+                delta = 0.0;
+            }
         }
-        product(&t, &mut r, uniform)?;
+        if precondition {
+            // y = P_C M⁻¹ P_C g, into u (free until the next product K p); P_C g in r.
+            for i in 0..n {
+                r[i] = if p[i] > 0.0 { g[i] } else { 0.0 };
+            }
+            products += 1;
+            product(Apply::Inverse, &r, &mut u, uniform)?;
+            for i in 0..n {
+                if p[i] <= 0.0 {
+                    u[i] = 0.0;
+                }
+            }
+            if known.is_none() {
+                let mut ys = [contact_sum(p, |i| u[i])];
+                decomp::sum(comm, &mut ys);
+                let ybar = ys[0] / count;
+                for i in (0..n).filter(|&i| p[i] > 0.0) {
+                    u[i] -= ybar;
+                }
+            }
+            let mut gy = [contact_sum(p, |i| g[i] * u[i])];
+            decomp::sum(comm, &mut gy);
+            let gy = gy[0];
+            let beta = if g_old > 0.0 { delta * gy / g_old } else { 0.0 };
+            g_old = gy;
+            for i in 0..n {
+                t[i] = if p[i] > 0.0 { u[i] + beta * t[i] } else { 0.0 };
+            }
+        } else {
+            let mut gg = [contact_sum(p, |i| g[i] * g[i])];
+            decomp::sum(comm, &mut gg);
+            let gg = gg[0];
+            let beta = delta * gg / g_old;
+            g_old = gg;
+            for i in 0..n {
+                t[i] = if p[i] > 0.0 { g[i] + beta * t[i] } else { 0.0 };
+            }
+        }
+        products += 1;
+        product(Apply::K, &t, &mut r, uniform)?;
         if known.is_none() {
             let mut rs = [contact_sum(p, |i| r[i])];
             decomp::sum(comm, &mut rs);

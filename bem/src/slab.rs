@@ -22,6 +22,7 @@
 //! per owned point each on a periodic grid), and one column line.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use strata_runtime::fft::{Complex, Multiplier, RealFft2, SlabScratch};
 
@@ -31,8 +32,13 @@ use crate::decomp::{Decomposition, slab, slab_max};
 /// The rank's columns of the kernel.
 enum SlabKernel {
     /// Periodic: `table[(kx − c0)·(NY/2 + 1) + fy]` (m/Pa), scaled by `scale` = 1/(ny·nx)
-    /// as it is used (the layout of the serial operator's table, cut by columns).
-    Folded { table: Vec<f64>, scale: f64 },
+    /// as it is used (the layout of the serial operator's table, cut by columns);
+    /// `inverse`: the multiplier is 1/K̂ from the same table (the preconditioner).
+    Folded {
+        table: Arc<Vec<f64>>,
+        scale: f64,
+        inverse: bool,
+    },
     /// Free: the half spectrum `kernel[(kx − c0)·NY + ky]`, normalisation included.
     Half(Vec<f64>),
 }
@@ -87,8 +93,9 @@ impl<'c> SlabOperator<'c> {
             cols,
             plan,
             kernel: SlabKernel::Folded {
-                table,
+                table: Arc::new(table),
                 scale: 1.0 / (ny * nx) as f64,
+                inverse: false,
             },
             periodic: true,
         })
@@ -155,6 +162,51 @@ impl<'c> SlabOperator<'c> {
         })
     }
 
+    /// The inverse operator, the Fourier multiplier 1/K̂ on the same grid (the
+    /// preconditioner), as [`Operator::inverse`](crate::operator::Operator::inverse):
+    /// `None` on every rank if K̂ is not positive and finite off (0, 0) on any rank.
+    /// Periodic: read from the same table (no memory of its own).
+    pub fn inverse(&self) -> Option<SlabOperator<'c>> {
+        let (gy, gx) = self.plan.grid();
+        let norm = 1.0 / (gy * gx) as f64;
+        // The entries other than the global (0, 0) one, as the multiplier uses them.
+        let skip = usize::from(self.cols.start == 0);
+        let bad = match &self.kernel {
+            SlabKernel::Folded { table, scale, .. } => table
+                .iter()
+                .skip(skip)
+                .any(|&t| !(t * scale > 0.0 && (t * scale).is_finite())),
+            SlabKernel::Half(k) => k.iter().skip(skip).any(|&k| !(k > 0.0 && k.is_finite())),
+        };
+        if crate::decomp::any(self.comm, bad) {
+            return None;
+        }
+        let kernel = match &self.kernel {
+            SlabKernel::Folded {
+                table,
+                scale,
+                inverse,
+            } => SlabKernel::Folded {
+                table: Arc::clone(table),
+                scale: *scale,
+                inverse: !inverse,
+            },
+            SlabKernel::Half(k) => SlabKernel::Half(
+                k.iter()
+                    .map(|&k| if k > 0.0 { norm * norm / k } else { 0.0 })
+                    .collect(),
+            ),
+        };
+        Some(SlabOperator {
+            comm: self.comm,
+            plan: RealFft2::padded((gy, gx), self.plan.data()).ok()?,
+            rows: self.rows.clone(),
+            cols: self.cols.clone(),
+            kernel,
+            periodic: self.periodic,
+        })
+    }
+
     /// This rank's data rows.
     #[cfg(test)]
     pub fn rows(&self) -> Range<usize> {
@@ -194,13 +246,26 @@ impl<'c> SlabOperator<'c> {
     /// the uniform mode.
     fn multiplier(&self, uniform: bool) -> (Multiplier<'_>, Option<f64>) {
         let (m, origin) = match &self.kernel {
-            SlabKernel::Folded { table, scale } => (
+            SlabKernel::Folded {
+                table,
+                scale,
+                inverse,
+            } => (
                 Multiplier::Folded {
                     table,
                     scale: *scale,
-                    inverse: false,
+                    inverse: *inverse,
                 },
-                table.first().map(|t| t * scale),
+                table.first().map(|&t| {
+                    let k = t * scale;
+                    if !inverse {
+                        k
+                    } else if k > 0.0 {
+                        scale * scale / k
+                    } else {
+                        0.0
+                    }
+                }),
             ),
             SlabKernel::Half(k) => (Multiplier::Half(k), k.first().copied()),
         };

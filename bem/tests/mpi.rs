@@ -50,7 +50,8 @@ fn worst(a: &[Vec<f64>], b: &[Vec<f64>]) -> f64 {
 }
 
 fn agree(scene: &str, ny: usize, nx: usize) {
-    let dir = std::env::temp_dir().join(format!("strata-mpi-{}", std::process::id()));
+    // A directory per test: the two run at once.
+    let dir = std::env::temp_dir().join(format!("strata-mpi-{}-{scene}", std::process::id()));
     let serial = curve(1, scene, ny, nx, &dir);
     assert!(serial.len() == 3 && serial.iter().all(|r| r[2] > 0.0 && r[4] > 0.0));
     for np in [2, 4] {

@@ -149,7 +149,9 @@ fn run(world: &World) -> Result<(), String> {
         Err(e) => return Err(e.to_string()),
     };
     let products: usize = if curve.is_empty() {
-        2 * cap.unwrap_or(0) + 1
+        // Capped: the cap's iterations of three products (K p, M⁻¹ g, K t) and the
+        // last exact product.
+        3 * cap.unwrap_or(0) + 1
     } else {
         curve.iter().map(|s| s.products).sum()
     };
