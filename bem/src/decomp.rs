@@ -8,7 +8,7 @@
 //!
 //! [`Serial`] is the one-rank decomposition (no MPI): every exchange is a copy and every
 //! reduction returns its input, so a solver run on it does exactly the serial arithmetic.
-//! [`crate::mpi::World`] (feature `mpi`) is the MPI one.
+//! `strata_bem::mpi::World` (feature `mpi`) is the MPI one.
 //!
 //! Reductions are formed in rank order on every rank ([`sum`], [`max`]): each rank's
 //! partial value is gathered to all ranks, which add them up 0, 1, …, P − 1. The result is

@@ -7,10 +7,11 @@
 //! The iteration is Polonsky & Keer's as published (the reference path,
 //! [`crate::BemSolver::solve_reference`]: two products per iteration, the stop on the
 //! error ε of the crate docs), preconditioned by default (`BemOptions::preconditioner`)
-//! with the inverse operator as the fast path's `pcg` (a third product per iteration),
-//! warm-started along a load path from the previous step's pressure. On one rank ([`Serial`](crate::decomp::Serial)) it runs the serial operator
-//! of [`crate::BemSolver`] and the serial sums: a one-load solve is
-//! `BemSolver::solve_reference` bit for bit (tested). On P ranks the products are the
+//! with the inverse operator as the fast path's (a third product per iteration), and
+//! warm-started along a load path from the previous step's pressure. On one rank
+//! ([`Serial`](crate::decomp::Serial)) it runs the serial operator of
+//! [`crate::BemSolver`] and the serial sums: without the preconditioner a one-load solve
+//! is `BemSolver::solve_reference` bit for bit (tested). On P ranks the products are the
 //! serial ones bit for bit and the sums differ by the order of the partial sums only.
 //!
 //! Outputs are scalars per load ([`SlabStep`], the columns of a load curve), the same on

@@ -117,7 +117,7 @@ mod operator;
 mod pcg;
 pub mod plastic;
 mod reference;
-mod slab;
+pub mod slab;
 mod solver;
 mod state;
 #[cfg(test)]

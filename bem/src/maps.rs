@@ -218,7 +218,7 @@ pub(crate) fn resample_flat(
     }
     let from = RealFft2::new(ny, nx)?;
     let mut wf = from.work();
-    from.forward(&a, &mut wf)?;
+    from.forward(a, &mut wf)?;
     let to = RealFft2::new(my, mx)?;
     let mut wt = to.work();
     wt.spec.fill(Default::default());

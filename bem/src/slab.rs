@@ -13,7 +13,7 @@
 //! ```
 //!
 //! The 1-D transforms are [`RealFft2`]'s, on the same lines with the same values as the
-//! serial product's ([`crate::operator::Operator::apply`]): the product is the serial one
+//! serial product's (the operator of [`crate::BemSolver`]): the product is the serial one
 //! bit for bit, whatever P (tested). Each exchange sends, per rank, its m data rows'
 //! spectra less the block it keeps: 16·m·(NX/2+1)·(P−1)/P bytes, twice per product.
 //!
@@ -163,7 +163,7 @@ impl<'c> SlabOperator<'c> {
     }
 
     /// The inverse operator, the Fourier multiplier 1/K̂ on the same grid (the
-    /// preconditioner), as [`Operator::inverse`](crate::operator::Operator::inverse):
+    /// preconditioner), as the serial operator's inverse:
     /// `None` on every rank if K̂ is not positive and finite off (0, 0) on any rank.
     /// Periodic: read from the same table (no memory of its own).
     pub fn inverse(&self) -> Option<SlabOperator<'c>> {

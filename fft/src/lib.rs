@@ -193,6 +193,9 @@ fn lane_chunks<const K: usize>(
         .collect()
 }
 
+/// A lane's index, its columns of every row of the row spectra, and its scratch.
+type LaneCols<'a> = (usize, (Vec<&'a mut [Complex<f64>]>, &'a mut Lane));
+
 /// A lane's row spectra, its chunks of the K fields, and its scratch.
 type LaneRows<'a, const K: usize> = ((&'a mut [Complex<f64>], [&'a mut [f64]; K]), &'a mut Lane);
 
@@ -521,7 +524,7 @@ impl RealFft2 {
                 rest = b;
             }
         }
-        let run = |(c, (mut cols, lane)): (usize, (Vec<&mut [Complex<f64>]>, &mut Lane))| {
+        let run = |(c, (mut cols, lane)): LaneCols<'_>| {
             let k0 = c * chunk;
             let kn = cols.first().map_or(0, |r| r.len());
             for b in (0..kn).step_by(BLOCK) {
