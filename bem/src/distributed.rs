@@ -111,8 +111,14 @@ impl<'c> SlabSolver<'c> {
         mut row: impl FnMut(usize, &mut [f64]),
     ) -> Result<Self, BemError> {
         let min = if geometry.periodic { 4 } else { 2 };
-        if ny < min || nx < min || ny < comm.size() {
+        if ny < min || nx < min {
             return Err(BemError::Grid { rows: ny, cols: nx });
+        }
+        if ny < comm.size() {
+            return Err(BemError::Ranks {
+                rows: ny,
+                ranks: comm.size(),
+            });
         }
         for (what, value) in [("Lx", geometry.lx), ("Ly", geometry.ly)] {
             if !(value.is_finite() && value > 0.0) {
@@ -334,19 +340,22 @@ fn heights_stats(
     row0: usize,
     (ny, nx): (usize, usize),
 ) -> Result<[f64; 3], BemError> {
+    // The first non-finite height, on the lowest rank that has one: its (row, column,
+    // value) handed to every rank (the others add zeros).
     let bad = z.iter().position(|v| !v.is_finite());
-    if decomp::any(comm, bad.is_some()) {
-        return Err(match bad {
-            Some(k) => BemError::NonFiniteHeight {
-                row: row0 + k / nx,
-                col: k % nx,
-                value: z[k],
-            },
-            None => BemError::NonFiniteHeight {
-                row: usize::MAX,
-                col: usize::MAX,
-                value: f64::NAN,
-            },
+    let mut lowest = [bad.map_or(f64::NEG_INFINITY, |_| -(comm.rank() as f64))];
+    decomp::max(comm, &mut lowest);
+    if lowest[0] > f64::NEG_INFINITY {
+        let mine = -lowest[0] == comm.rank() as f64;
+        let mut at = match bad {
+            Some(k) if mine => [(row0 + k / nx) as f64, (k % nx) as f64, z[k]],
+            _ => [0.0; 3],
+        };
+        decomp::sum(comm, &mut at);
+        return Err(BemError::NonFiniteHeight {
+            row: at[0] as usize,
+            col: at[1] as usize,
+            value: at[2],
         });
     }
     let n = (ny * nx) as f64;
@@ -589,6 +598,48 @@ mod tests {
         assert_eq!(got.mean_gap.to_bits(), want.mean_gap.to_bits());
         assert_eq!(got.contact_points, want.contact_points);
         assert_eq!(got.iterations, want.iterations);
+    }
+
+    /// Bad input on a slab: a non-finite height on one rank is reported by every rank
+    /// with its global place; more ranks than rows are refused.
+    #[test]
+    fn bad_heights_are_named_on_every_rank() {
+        let g = Geometry::square(1e-3);
+        let stack = layered();
+        let errs = on_ranks(3, |comm| {
+            SlabSolver::new(comm, (8, 8), g, &stack, BemOptions::default(), |i, row| {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = if (i, j) == (6, 5) {
+                        f64::NAN
+                    } else {
+                        surface(i, j, (8, 8))
+                    };
+                }
+            })
+            .err()
+        });
+        for e in errs {
+            match e {
+                Some(BemError::NonFiniteHeight {
+                    row: 6,
+                    col: 5,
+                    value,
+                }) => assert!(value.is_nan()),
+                other => panic!("{other:?}"),
+            }
+        }
+        let errs = on_ranks(5, |comm| {
+            SlabSolver::new(comm, (4, 8), g, &stack, BemOptions::default(), |i, row| {
+                for (j, v) in row.iter_mut().enumerate() {
+                    *v = surface(i, j, (4, 8));
+                }
+            })
+            .err()
+        });
+        assert!(
+            errs.iter()
+                .all(|e| matches!(e, Some(BemError::Ranks { rows: 4, ranks: 5 })))
+        );
     }
 
     /// 2 and 3 ranks give the one-rank curve to round-off (periodic layered, and an
