@@ -29,6 +29,8 @@ const YOUNG: f64 = 4e9;
 const POISSON: f64 = 0.15;
 
 /// Peak RSS (bytes) and exit status of `cmd` run as a child of this process.
+// The child is reaped by `wait4` (for its rusage), not by `Child::wait`.
+#[allow(clippy::zombie_processes)]
 fn peak_of(cmd: &mut Command) -> (u64, bool) {
     let child = cmd.spawn().unwrap_or_else(|e| {
         eprintln!("cannot start {cmd:?}: {e}");
