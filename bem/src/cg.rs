@@ -86,6 +86,7 @@ pub(crate) fn solve(pb: &Problem, control: Control, p: &mut [f64]) -> Result<CgO
             return Ok(out);
         }
         s.materialise(p);
+        s.plain_buffers();
         s.exact(p)?;
     }
     plain(&mut s, p, &mut it)

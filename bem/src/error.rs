@@ -10,6 +10,10 @@ pub enum BemError {
         "heights: the grid must be at least 4×4 (2×2 for a non-periodic sample), got {rows}×{cols}"
     )]
     Grid { rows: usize, cols: usize },
+    #[error(
+        "heights: a grid of {rows} rows cannot be cut into slabs for {ranks} ranks (at least one row each); run on at most {rows} ranks"
+    )]
+    Ranks { rows: usize, ranks: usize },
     #[error("heights[{row}, {col}] = {value} is not finite")]
     NonFiniteHeight { row: usize, col: usize, value: f64 },
     #[error("heights: the surface is flat (zero RMS height); there is no rough contact to solve")]

@@ -49,13 +49,18 @@ pub(crate) struct State<'a> {
     pub(crate) control: Control,
     pub(crate) u: Vec<f64>,
     pub(crate) t: Vec<f64>,
+    /// r = K t; in the preconditioned iteration also the preconditioned gap y between
+    /// the preconditioner's product and the direction's (module `pcg`: the two are never
+    /// needed at once).
     pub(crate) r: Vec<f64>,
     /// Δp off the step direction (zero except between an update and its correction).
+    /// Plain iteration only: the preconditioned one keeps Δp in `r` (see
+    /// [`Self::corr_buffer`]); empty until the plain iteration runs.
     pub(crate) corr: Vec<f64>,
-    /// The gap on the contact set (0 elsewhere), the input of a fused iteration's product.
+    /// The gap on the contact set (0 elsewhere), the input of a fused iteration's
+    /// product. Plain iteration only (the preconditioned one forms it row by row where
+    /// it is needed); empty until the plain iteration runs.
     pub(crate) g: Vec<f64>,
-    /// The preconditioned gap (preconditioned iteration only; empty otherwise).
-    pub(crate) y: Vec<f64>,
     pub(crate) work: Fft2Work,
     /// Pending scale of p and u.
     pub(crate) f: f64,
@@ -131,13 +136,8 @@ impl<'a> State<'a> {
             u: vec![0.0; n],
             t: vec![0.0; n],
             r: vec![0.0; n],
-            corr: vec![0.0; n],
-            g: vec![0.0; n],
-            y: if pb.precond.is_some() {
-                vec![0.0; n]
-            } else {
-                Vec::new()
-            },
+            corr: Vec::new(),
+            g: Vec::new(),
             work: pb.op.work(),
             f: 1.0,
             c: control.known_offset().unwrap_or(0.0),
@@ -146,8 +146,35 @@ impl<'a> State<'a> {
             m: 0.0,
             products: 0,
         });
+        if pb.precond.is_none() {
+            s.plain_buffers();
+        }
         s.exact(p)?;
         Ok(Start::Run(s))
+    }
+
+    /// The buffers only the plain iteration needs (g and Δp of its own), allocated
+    /// when it runs: the preconditioned iteration holds four grid fields (p, u, t, r),
+    /// the plain one six.
+    pub(crate) fn plain_buffers(&mut self) {
+        let n = self.u.len();
+        if self.g.len() != n {
+            self.g = vec![0.0; n];
+        }
+        if self.corr.len() != n {
+            self.corr = vec![0.0; n];
+        }
+    }
+
+    /// Where Δp (the correction's input) lives: `corr` in the plain iteration, `r` in the
+    /// preconditioned one (r is read by the update before Δp is written over it, and
+    /// the next r = K t is formed after the correction).
+    pub(crate) fn corr_buffer(&mut self) -> &mut Vec<f64> {
+        if self.corr.is_empty() {
+            &mut self.r
+        } else {
+            &mut self.corr
+        }
     }
 
     /// The head of an iteration: the error of the state; before accepting it, or when a
@@ -177,13 +204,17 @@ impl<'a> State<'a> {
         }
         if error <= pb.tolerance {
             let c = self.c;
-            let gap = self.u.par_iter().zip(pb.z.par_iter());
+            // The gap g = u − z + c written over u (the state ends here).
+            let mut gap = std::mem::take(&mut self.u);
+            gap.par_chunks_mut(CHUNK)
+                .zip(pb.z.par_chunks(CHUNK))
+                .for_each(|(g, z)| g.iter_mut().zip(z).for_each(|(g, z)| *g = *g - z + c));
             return Ok(Head::Done(CgOutcome {
                 iterations: it0,
                 products: self.products,
                 error,
                 offset: c,
-                gap: gap.map(|(u, z)| u - z + c).collect(),
+                gap,
             }));
         }
         if it0 >= pb.max_iterations {
@@ -325,4 +356,35 @@ fn stats_pass(p: &[f64], u: &[f64], z: &[f64], f: f64, c: f64) -> Stats {
             a
         })
         .reduce(Stats::default, Stats::merge)
+}
+
+thread_local! {
+    /// Per-thread rows for the row loops' scratch (`with_rows`).
+    static ROWS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// Runs `f` on two zeroed scratch rows of `n` values each (per thread, reused).
+pub(crate) fn with_rows<R>(n: usize, f: impl FnOnce(&mut [f64], &mut [f64]) -> R) -> R {
+    ROWS.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut buf) => {
+            buf.clear();
+            buf.resize(2 * n, 0.0);
+            let (a, b) = buf.split_at_mut(n);
+            f(a, b)
+        }
+        Err(_) => {
+            let mut buf = vec![0.0; 2 * n];
+            let (a, b) = buf.split_at_mut(n);
+            f(a, b)
+        }
+    })
+}
+
+/// The gap on the contact set of a row: g = f u − z + c where p > 0, 0 elsewhere (the
+/// values the fills form: the same operations in the same order).
+#[inline]
+pub(crate) fn contact_gap(g: &mut [f64], p: &[f64], u: &[f64], z: &[f64], f: f64, c: f64) {
+    for k in 0..g.len() {
+        g[k] = if p[k] > 0.0 { f * u[k] - z[k] + c } else { 0.0 };
+    }
 }

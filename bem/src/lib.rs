@@ -103,16 +103,21 @@
 mod capped;
 mod cg;
 pub mod conduction;
+pub mod decomp;
+pub mod distributed;
 mod error;
 pub mod influence;
 mod iteration;
 mod kernels;
 mod maps;
+#[cfg(feature = "mpi")]
+pub mod mpi;
 pub mod netcdf;
 mod operator;
 mod pcg;
 pub mod plastic;
 mod reference;
+pub mod slab;
 mod solver;
 mod state;
 #[cfg(test)]
@@ -120,6 +125,8 @@ mod tests;
 mod update;
 
 pub use conduction::{Conductance, ConductanceOptions, ConductanceSolver, Conductor};
+pub use decomp::{Decomposition, Serial};
+pub use distributed::{SlabSolver, SlabStep};
 pub use error::BemError;
 pub use maps::{
     BemSolution, count_patches, median_patch_size, patch_sizes, read_heights_npy, resample_rect,

@@ -48,14 +48,18 @@ pub struct BemSolution {
     pub error: f64,
     /// Pressure map p (Pa), ny×nx, same orientation as the heights.
     pub pressure: Array2<f64>,
-    /// Gap map g (m), ny×nx.
+    /// Gap map g (m), ny×nx (0×0 from [`BemSolver::solve_pressure_only`] until
+    /// [`BemSolver::complete_maps`]).
+    ///
+    /// [`BemSolver::solve_pressure_only`]: crate::BemSolver::solve_pressure_only
+    /// [`BemSolver::complete_maps`]: crate::BemSolver::complete_maps
     pub gap: Array2<f64>,
     /// Surface deflection map w (m), ny×nx: the elastic displacement of the surface
     /// into the solid under `pressure`, so that g = w − z + c with z the heights (the
     /// flattened heights under plasticity) and c the flat's position. On a periodic cell
     /// its mean is [`Self::mean_deflection`] (C₀p̄ on a rigid base, 0 on an elastic base
     /// or the half-space); on an isolated sample it is the free solid's absolute
-    /// deflection.
+    /// deflection. 0×0 like [`Self::gap`] from a pressure-only solve.
     pub displacement: Array2<f64>,
     /// Plastic depth map u_pl (m), ny×nx, of a capped solve (`None` for an elastic one):
     /// the overlap flattened so far along the path, so that with the undeformed heights
@@ -65,6 +69,9 @@ pub struct BemSolution {
     pub sides: [f64; 2],
     /// Whether the sample is one cell of a periodic pattern.
     pub periodic: bool,
+    /// The flat's offset c (m) in g = w − z + c (the Lagrange multiplier of the mean
+    /// pressure under force control).
+    pub offset: f64,
 }
 
 impl BemSolution {
@@ -194,14 +201,24 @@ pub fn resample_spectral(field: &Array2<f64>, m: usize) -> Result<Array2<f64>, B
 /// [`resample_spectral`] on rectangles: ny×nx → my×mx, keeping |fy| < min(ny, my)/2 and
 /// |fx| < min(nx, mx)/2.
 pub fn resample_rect(field: &Array2<f64>, my: usize, mx: usize) -> Result<Array2<f64>, BemError> {
-    let (ny, nx) = field.dim();
+    let a = field.as_standard_layout();
+    let out = resample_flat(a.as_slice().unwrap_or_default(), field.dim(), my, mx)?;
+    Array2::from_shape_vec((my, mx), out).map_err(|_| BemError::Resample(my))
+}
+
+/// [`resample_rect`] of the row-major ny × nx field `a` (no copy of it).
+pub(crate) fn resample_flat(
+    a: &[f64],
+    (ny, nx): (usize, usize),
+    my: usize,
+    mx: usize,
+) -> Result<Vec<f64>, BemError> {
     if my < 4 || mx < 4 || !my.is_multiple_of(2) || !mx.is_multiple_of(2) {
         return Err(BemError::Resample(my.min(mx)));
     }
-    let a: Vec<f64> = field.iter().copied().collect();
     let from = RealFft2::new(ny, nx)?;
     let mut wf = from.work();
-    from.forward(&a, &mut wf)?;
+    from.forward(a, &mut wf)?;
     let to = RealFft2::new(my, mx)?;
     let mut wt = to.work();
     wt.spec.fill(Default::default());
@@ -214,9 +231,10 @@ pub fn resample_rect(field: &Array2<f64>, my: usize, mx: usize) -> Result<Array2
             wt.spec[kx * my + dst] = wf.spec[kx * ny + src];
         }
     }
+    drop(wf);
     let mut out = vec![0.0; my * mx];
     to.inverse(&mut out, &mut wt)?;
     let norm = 1.0 / (ny * nx) as f64;
     out.iter_mut().for_each(|v| *v *= norm);
-    Array2::from_shape_vec((my, mx), out).map_err(|_| BemError::Resample(my))
+    Ok(out)
 }

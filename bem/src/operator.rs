@@ -9,28 +9,100 @@
 //!   real-space influence coefficients G of a uniformly loaded pixel ([`crate::influence`]),
 //!   by circulant embedding on the zero-padded 2ny × 2nx grid.
 
-use strata_runtime::fft::{Fft2Work, Fields, Merge, RealFft2, RowPasses};
+use std::sync::Arc;
+
+use strata_runtime::fft::{Fft2Work, Fields, Merge, Multiplier, RealFft2, RowPasses};
 
 use crate::BemError;
+
+/// The kernel of an operator in Fourier space.
+#[derive(Clone)]
+enum Kernel {
+    /// The half-spectrum layout of [`RealFft2`] (`kernel[kx·NY + ky]`), normalisation
+    /// included, the (0, 0) entry the value with the uniform mode (free boundary).
+    Half(Vec<f64>),
+    /// Periodic: K even in ky, held once per (kx, |ky|) as `table[kx·(ny/2 + 1) + fy]`
+    /// (m/Pa, without the FFT's normalisation, which is applied as the kernel is used:
+    /// a quarter of the grid, shared with the preconditioner, the inverse read from the
+    /// same table, and with the coarse grid's operator); `table[0]` the uniform-mode
+    /// value.
+    Folded {
+        table: Arc<Vec<f64>>,
+        /// The normalisation 1/(ny·nx).
+        scale: f64,
+        /// The inverse operator 1/K̂ (the preconditioner).
+        inverse: bool,
+    },
+}
+
+impl Kernel {
+    fn multiplier(&self) -> Multiplier<'_> {
+        match self {
+            Kernel::Half(k) => Multiplier::Half(k),
+            Kernel::Folded {
+                table,
+                scale,
+                inverse,
+            } => Multiplier::Folded {
+                table,
+                scale: *scale,
+                inverse: *inverse,
+            },
+        }
+    }
+
+    /// The multiplier's value for a stored entry.
+    fn value(&self, x: f64) -> f64 {
+        match self {
+            Kernel::Half(_) => x,
+            Kernel::Folded { scale, inverse, .. } => {
+                let k = x * scale;
+                if !inverse {
+                    k
+                } else if k > 0.0 {
+                    scale * scale / k
+                } else {
+                    0.0
+                }
+            }
+        }
+    }
+
+    fn stored(&self) -> &[f64] {
+        match self {
+            Kernel::Half(k) => k,
+            Kernel::Folded { table, .. } => table,
+        }
+    }
+
+    /// The (0, 0) entry.
+    fn at_origin(&self) -> f64 {
+        self.value(self.stored()[0])
+    }
+
+    /// The entries other than (0, 0) (each distinct wavevector's at least once).
+    fn rest(&self) -> impl Iterator<Item = f64> + '_ {
+        self.stored()[1..].iter().map(|&x| self.value(x))
+    }
+}
 
 /// A convolution operator on an ny × nx field.
 pub(crate) struct Operator {
     plan: RealFft2,
-    /// Kernel in the half-spectrum layout of [`RealFft2`], normalisation included,
-    /// the (0, 0) entry set to the value with the uniform mode.
-    kernel: Vec<f64>,
+    kernel: Kernel,
     /// Periodic: the (0, 0) entry can be switched off (zero-mean convention).
     periodic: bool,
-    /// The real-space response to a unit point load at the origin, `points[dy·nx + dx]`
-    /// for 0 ≤ dy < ny, 0 ≤ dx < nx (periodic: without the uniform mode, offsets taken
-    /// modulo the cell; free: G, even in both offsets). Used by [`Self::add_points`].
+    /// The real-space response to a unit point load at the origin (the uniform mode
+    /// excluded). Periodic: even in both offsets, held for 0 ≤ dy ≤ ny/2, 0 ≤ dx ≤ nx/2
+    /// as `points[dy·(nx/2 + 1) + dx]` (offsets folded modulo the cell); free: G,
+    /// `points[dy·nx + dx]` for 0 ≤ dy < ny, 0 ≤ dx < nx. Used by [`Self::add_points`].
     points: Vec<f64>,
 }
 
 impl Operator {
     /// Periodic operator from the kernel K(kx, ky) (m/Pa) given on the half spectrum:
-    /// `kernel_of(i, j)` with i ∈ 0..=nx/2 the x index and j ∈ 0..ny the signed-folded
-    /// y index; `k00` the uniform-mode value (m/Pa).
+    /// `kernel_of(i, j)` with i ∈ 0..=nx/2 the x index and j ∈ 0..=ny/2 the folded
+    /// y index (K is even in ky); `k00` the uniform-mode value (m/Pa).
     pub(crate) fn periodic(
         ny: usize,
         nx: usize,
@@ -38,31 +110,50 @@ impl Operator {
         mut kernel_of: impl FnMut(usize, usize) -> Result<f64, BemError>,
     ) -> Result<Self, BemError> {
         let plan = RealFft2::new(ny, nx)?;
-        let norm = 1.0 / (ny * nx) as f64;
-        let mut kernel = vec![0.0; plan.spectrum_len()];
+        let hy = ny / 2 + 1;
+        let mut table = vec![0.0; (nx / 2 + 1) * hy];
         for kx in 0..=nx / 2 {
-            for ky in 0..ny {
-                let fy = if ky <= ny / 2 { ky } else { ny - ky };
-                kernel[kx * ny + ky] = if kx == 0 && ky == 0 {
-                    k00 * norm
+            for fy in 0..hy {
+                table[kx * hy + fy] = if kx == 0 && fy == 0 {
+                    k00
                 } else {
-                    kernel_of(kx, fy)? * norm
+                    kernel_of(kx, fy)?
                 };
             }
         }
         let mut op = Operator {
             plan,
-            kernel,
+            kernel: Kernel::Folded {
+                table: Arc::new(table),
+                scale: 1.0 / (ny * nx) as f64,
+                inverse: false,
+            },
             periodic: true,
             points: Vec::new(),
         };
-        // The response to a unit load at the origin (zero-mean convention).
+        // The response to a unit load at the origin (zero-mean convention), kept on the
+        // quarter of offsets it is even over.
         let mut unit = vec![0.0; ny * nx];
         unit[0] = 1.0;
-        let mut points = vec![0.0; ny * nx];
-        op.apply(&unit, &mut points, false, &mut op.work())?;
+        let mut full = vec![0.0; ny * nx];
+        op.apply(&unit, &mut full, false, &mut op.work())?;
+        drop(unit);
+        let hx = nx / 2 + 1;
+        let mut points = Vec::with_capacity(hy * hx);
+        for dy in 0..hy {
+            points.extend_from_slice(&full[dy * nx..dy * nx + hx]);
+        }
         op.points = points;
         Ok(op)
+    }
+
+    /// The kernel table of a periodic operator (`table[i·(ny/2 + 1) + j]`, see
+    /// [`Self::periodic`], m/Pa; `table[0]` the uniform-mode value); `None` when free.
+    pub(crate) fn periodic_table(&self) -> Option<&[f64]> {
+        match &self.kernel {
+            Kernel::Folded { table, .. } => Some(table),
+            Kernel::Half(_) => None,
+        }
     }
 
     /// Free-boundary operator from real-space influence coefficients `g[dy * nx + dx]`
@@ -102,7 +193,7 @@ impl Operator {
         drop(work);
         Ok(Operator {
             plan: RealFft2::padded((gy, gx), (ny, nx))?,
-            kernel,
+            kernel: Kernel::Half(kernel),
             periodic: false,
             points: g.to_vec(),
         })
@@ -111,21 +202,30 @@ impl Operator {
     /// The inverse operator, the Fourier multiplier 1/K̂ on the same grid (the
     /// preconditioner of [`crate::pcg`]); the uniform mode dropped where K̂(0) = 0.
     /// `None` if K̂ is not positive elsewhere (a zero-padded kernel may not be), when
-    /// the inverse is no preconditioner.
+    /// the inverse is no preconditioner. Periodic: read from the operator's own table
+    /// (no memory of its own).
     pub(crate) fn inverse(&self) -> Option<Operator> {
         let (gy, gx) = self.plan.grid();
         let norm = 1.0 / (gy * gx) as f64;
-        if self.kernel[1..]
-            .iter()
-            .any(|&k| !(k > 0.0 && k.is_finite()))
-        {
+        if self.kernel.rest().any(|k| !(k > 0.0 && k.is_finite())) {
             return None;
         }
-        let kernel = self
-            .kernel
-            .iter()
-            .map(|&k| if k > 0.0 { norm * norm / k } else { 0.0 })
-            .collect();
+        let kernel = match &self.kernel {
+            Kernel::Half(k) => Kernel::Half(
+                k.iter()
+                    .map(|&k| if k > 0.0 { norm * norm / k } else { 0.0 })
+                    .collect(),
+            ),
+            Kernel::Folded {
+                table,
+                scale,
+                inverse,
+            } => Kernel::Folded {
+                table: Arc::clone(table),
+                scale: *scale,
+                inverse: !inverse,
+            },
+        };
         Some(Operator {
             plan: RealFft2::padded((gy, gx), self.plan.data()).ok()?,
             kernel,
@@ -141,12 +241,13 @@ impl Operator {
     pub(crate) fn norm_bound(&self, uniform: bool) -> f64 {
         let (gy, gx) = self.plan.grid();
         let scale = (gy * gx) as f64;
-        let rest = self.kernel[1..].iter().fold(0.0_f64, |m, k| m.max(k.abs()));
+        let rest = self.kernel.rest().fold(0.0_f64, |m, k| m.max(k.abs()));
         rest.max(self.dc(uniform).abs()) * scale
     }
 
+    /// The buffers of a product (the row spectra, ≈ 8 bytes per point on a periodic grid).
     pub(crate) fn work(&self) -> Fft2Work {
-        self.plan.work()
+        self.plan.convolution_work()
     }
 
     /// out = K · input. `uniform`: include the periodic k = 0 mode (no effect on a
@@ -159,7 +260,7 @@ impl Operator {
         work: &mut Fft2Work,
     ) -> Result<(), BemError> {
         self.plan
-            .convolve(input, out, &self.kernel, self.dc(uniform), work)?;
+            .convolve(input, out, self.kernel.multiplier(), self.dc(uniform), work)?;
         Ok(())
     }
 
@@ -183,7 +284,7 @@ impl Operator {
         let rows = RowPasses {
             data,
             out,
-            kernel: &self.kernel,
+            kernel: self.kernel.multiplier(),
             dc: self.dc(uniform),
         };
         Ok(self.plan.convolve_with(rows, work, fill, drain)?)
@@ -203,7 +304,7 @@ impl Operator {
     ) -> Result<(A, Option<B>), BemError> {
         let f = Fields {
             fields,
-            kernel: &self.kernel,
+            kernel: self.kernel.multiplier(),
             dc: self.dc(uniform),
         };
         Ok(self.plan.convolve_fields(f, work, fill, gate, drain)?)
@@ -227,28 +328,30 @@ impl Operator {
     ) {
         let (ny, nx) = self.plan.data();
         let shift = if self.periodic && uniform {
-            self.kernel[0]
+            self.kernel.at_origin()
         } else {
             0.0
         };
         for &(at, c) in points {
             let (si, sx) = (at as usize / nx, at as usize % nx);
-            let dy = if self.periodic {
-                (i + ny - si) % ny
-            } else {
-                i.abs_diff(si)
-            };
-            let krow = &self.points[dy * nx..(dy + 1) * nx];
             if self.periodic {
+                // Offsets folded modulo the cell: d → min(d, n − d).
+                let dy = (i + ny - si) % ny;
+                let fy = dy.min(ny - dy);
+                let hx = nx / 2 + 1;
+                let krow = &self.points[fy * hx..(fy + 1) * hx];
+                let k = |dx: usize| krow[dx.min(nx - dx)];
                 // x ≥ sx: offset x − sx; x < sx: offset x − sx + nx.
                 let (lo, hi) = out.split_at_mut(sx);
-                for (o, &k) in hi.iter_mut().zip(&krow[..nx - sx]) {
-                    *o += c * (k + shift);
+                for (dx, o) in hi.iter_mut().enumerate() {
+                    *o += c * (k(dx) + shift);
                 }
-                for (o, &k) in lo.iter_mut().zip(&krow[nx - sx..]) {
-                    *o += c * (k + shift);
+                for (x, o) in lo.iter_mut().enumerate() {
+                    *o += c * (k(x + nx - sx) + shift);
                 }
             } else {
+                let dy = i.abs_diff(si);
+                let krow = &self.points[dy * nx..(dy + 1) * nx];
                 // x ≥ sx: offset x − sx; x < sx: offset sx − x (G is even).
                 let (lo, hi) = out.split_at_mut(sx);
                 for (o, &k) in hi.iter_mut().zip(&krow[..nx - sx]) {
@@ -266,22 +369,23 @@ impl Operator {
         if self.periodic && !uniform {
             0.0
         } else {
-            self.kernel[0]
+            self.kernel.at_origin()
         }
     }
 
     /// Bytes the operator and one work set take for an ny × nx field (estimate for the
     /// memory check, before anything is allocated).
     pub(crate) fn bytes(ny: usize, nx: usize, periodic: bool) -> u64 {
-        let (gy, gx) = if periodic { (ny, nx) } else { (2 * ny, 2 * nx) };
-        let half = (gx / 2 + 1) as u64 * gy as u64;
-        // kernel (f64) + spectrum and row spectra (complex) + set-up copies (free).
-        let setup = if periodic {
-            0
-        } else {
-            8 * (gy * gx) as u64 + 16 * half
-        };
-        // kernel + spectra + the point-load response (ny·nx).
-        8 * half + 16 * half + 16 * (ny as u64 * (gx / 2 + 1) as u64) + 8 * (ny * nx) as u64 + setup
+        let (ny64, nx64) = (ny as u64, nx as u64);
+        if periodic {
+            let quarter = (nx64 / 2 + 1) * (ny64 / 2 + 1);
+            // the kernel table and the point-load response (quarters), the row spectra
+            return 8 * quarter + 8 * quarter + 16 * ny64 * (nx64 / 2 + 1);
+        }
+        let (gy, gx) = (2 * ny64, 2 * nx64);
+        let half = (gx / 2 + 1) * gy;
+        // kernel (f64), the row spectra (complex), the point-load response (ny·nx), the
+        // set-up's circulant and its spectrum
+        8 * half + 16 * ny64 * (gx / 2 + 1) + 8 * ny64 * nx64 + 8 * gy * gx + 16 * half
     }
 }

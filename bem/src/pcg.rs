@@ -23,7 +23,7 @@
 use strata_runtime::fft::Merge;
 
 use crate::BemError;
-use crate::iteration::{CgOutcome, Head, State};
+use crate::iteration::{CgOutcome, Head, State, contact_gap, with_rows};
 use crate::kernels::Kernels;
 use crate::operator::Operator;
 use crate::state::{Control, Pending, REFRESH, Sums};
@@ -188,53 +188,59 @@ pub(crate) fn run(
 }
 
 impl State<'_> {
-    /// y = P_C M⁻¹ P_C g of the current state (one product): g on C written to `g`,
-    /// y to `y`.
+    /// y = P_C M⁻¹ P_C g of the current state (one product), y written to `r` (see
+    /// [`State::r`]); g on C formed row by row where it is read.
     fn precondition(&mut self, p: &[f64], minv: &Operator) -> Result<Precond, BemError> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let (f, c) = (self.f, self.c);
         let u = &self.u;
         let kernels = self.pb.kernels;
         self.products += 1;
+        // y is written to `r` (free until the direction's product, which reads y in its
+        // fill before it writes r in its drain).
         let ((), sums) = minv.apply_fields(
-            [&mut self.g, &mut self.y],
+            [&mut self.r],
             self.control.uniform(),
             &mut self.work,
-            |i, [g, _], input| {
+            |i, _, input| {
                 let row = i * nx..(i + 1) * nx;
-                let (prow, urow, zrow) = (&p[row.clone()], &u[row.clone()], &z[row]);
-                for k in 0..nx {
-                    let v = if prow[k] > 0.0 {
-                        f * urow[k] - zrow[k] + c
-                    } else {
-                        0.0
-                    };
-                    g[k] = v;
-                    input[k] = v;
-                }
+                contact_gap(input, &p[row.clone()], &u[row.clone()], &z[row], f, c);
             },
             |_| Some(()),
-            |_, i, [g, y], q| PcSums::drain(kernels, &p[i * nx..(i + 1) * nx], g, y, q),
+            |_, i, [y], q| {
+                let row = i * nx..(i + 1) * nx;
+                let (prow, urow, zrow) = (&p[row.clone()], &u[row.clone()], &z[row]);
+                with_rows(nx, |g, _| {
+                    contact_gap(g, prow, urow, zrow, f, c);
+                    PcSums::drain(kernels, prow, g, y, q)
+                })
+            },
         )?;
         Ok(sums.unwrap_or_default().precond(self.control))
     }
 
     /// The direction t = (y − ȳ) + β t on C and r = K t (one product), the step τ.
     fn direction_pc(&mut self, p: &[f64], beta: f64, ybar: f64) -> Result<Pending, BemError> {
-        let nx = self.pb.op.nx();
-        let f = self.f;
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let (f, c) = (self.f, self.c);
+        let u = &self.u;
         let kernels = self.pb.kernels;
         self.products += 1;
+        // `r` holds y until every row's fill has read it; the drain then writes r = K t.
         let (gt, d) = self.pb.op.apply_fields(
-            [&mut self.t, &mut self.r, &mut self.y, &mut self.g],
+            [&mut self.t, &mut self.r],
             self.control.uniform(),
             &mut self.work,
-            |i, [t, _, y, g], input| {
-                let prow = &p[i * nx..(i + 1) * nx];
-                kernels.direction_pc_row([ybar, beta], prow, y, g, t, input)
+            |i, [t, y], input| {
+                let row = i * nx..(i + 1) * nx;
+                let (prow, urow, zrow) = (&p[row.clone()], &u[row.clone()], &z[row]);
+                with_rows(nx, |g, _| {
+                    contact_gap(g, prow, urow, zrow, f, c);
+                    kernels.direction_pc_row([ybar, beta], prow, y, g, t, input)
+                })
             },
             |_| Some(()),
-            |_, i, [t, r, _, _], q| {
+            |_, i, [t, r], q| {
                 r.copy_from_slice(q);
                 kernels.step_sums(f, &p[i * nx..(i + 1) * nx], t, q)
             },
@@ -259,23 +265,28 @@ impl State<'_> {
         let fill = self.update_fill(step, p.len());
         let (tol, z_rms) = (self.pb.tolerance, self.pb.z_rms);
         let gate = |a: &Sums| (go && !a.changed.any() && a.stats.error(z_rms) > tol).then_some(());
+        let (z, nx) = (self.pb.z, self.pb.op.nx());
+        let (f2, c2) = (fill.f2, fill.c2);
         let (sums, drained) = minv.apply_fields(
-            [
-                &mut *p,
-                &mut self.u,
-                &mut self.g,
-                &mut self.t,
-                &mut self.r,
-                &mut self.corr,
-                &mut self.y,
-            ],
+            [&mut *p, &mut self.u, &mut self.t, &mut self.r],
             self.control.uniform(),
             &mut self.work,
-            |i, [p, u, g, t, r, corr, _], input| {
-                kernels.update_fill_row(&fill, i, [p, u, g, t, r, corr], input)
+            |i, [p, u, t, r], input| {
+                with_rows(nx, |g, corr| {
+                    let sums = kernels.update_fill_row(&fill, i, [p, u, g, t, r, corr], input);
+                    // r is read: Δp (0 where p stayed on the step) goes over it.
+                    r.copy_from_slice(corr);
+                    sums
+                })
             },
             gate,
-            |_, _, [p, _, g, _, _, _, y], q| PcSums::drain(kernels, p, g, y, q),
+            // The set is unchanged (else no drain): Δp = 0 in `r`, the next y goes there.
+            |_, i, [p, u, _, y], q| {
+                with_rows(nx, |g, _| {
+                    contact_gap(g, p, u, &z[i * nx..(i + 1) * nx], f2, c2);
+                    PcSums::drain(kernels, p, g, y, q)
+                })
+            },
         )?;
         if drained.is_some() {
             self.products += 1;

@@ -408,6 +408,7 @@ impl<'s> PlasticPath<'s> {
             ),
             sides: parts.sides,
             periodic: parts.periodic,
+            offset: c,
         };
         let info = PlasticInfo {
             plastic_area_fraction: plastic_points as f64 / n2,

@@ -1,7 +1,5 @@
 //! [`BemSolver`]: one surface on one stack, many loads.
 
-use std::sync::OnceLock;
-
 use ndarray::Array2;
 use strata_runtime::cancel::Cancel;
 use strata_runtime::compliance::Compliance;
@@ -11,7 +9,7 @@ use strata_runtime::stack::{Base, Bodies, Solid};
 use crate::cg;
 use crate::iteration::Problem;
 use crate::kernels::Kernels;
-use crate::maps::{BemSolution, count_patches, resample_rect};
+use crate::maps::{BemSolution, count_patches};
 use crate::operator::Operator;
 use crate::state::Control;
 use crate::{BemError, BemLoad, BemOptions};
@@ -95,9 +93,9 @@ pub struct BemSolver {
     options: BemOptions,
     /// The row loops (scalar or AVX2), chosen once when the solver is built.
     kernels: Kernels,
-    /// How to build the operator of the half grid (coarse-to-fine start).
+    /// How to build the operator of the half grid (coarse-to-fine start; the half-grid
+    /// solver is built for each cold start and dropped after it, not kept).
     source: KernelSource,
-    coarse: OnceLock<Option<Box<BemSolver>>>,
     /// Checked at the head of every iteration ([`Self::with_cancel`]).
     cancel: Cancel,
 }
@@ -105,8 +103,9 @@ pub struct BemSolver {
 /// What the operator was built from (for the coarse grid).
 #[derive(Clone)]
 enum KernelSource {
-    /// Periodic: S(|k|) per distinct (i, j) wavenumber pair of this grid.
-    Spectral(std::sync::Arc<Vec<f64>>),
+    /// Periodic: the operator's own kernel table, K per distinct (i, |j|) wavevector of
+    /// this grid (the half grid's wavevectors are among them).
+    Spectral,
     /// Non-periodic: the stack.
     Stack(Box<Bodies>),
 }
@@ -131,18 +130,97 @@ struct Heights {
     max: f64,
 }
 
-fn validate_heights(heights: &Array2<f64>, periodic: bool) -> Result<Heights, BemError> {
-    let (rows, cols) = heights.dim();
-    let min = if periodic { 4 } else { 2 };
-    if rows < min || cols < min {
-        return Err(BemError::Grid { rows, cols });
-    }
-    let mut z = Vec::with_capacity(rows * cols);
-    for ((row, col), &value) in heights.indexed_iter() {
-        if !value.is_finite() {
-            return Err(BemError::NonFiniteHeight { row, col, value });
+/// The first iterate of a solve: a borrowed pressure map (copied) or an owned one (the
+/// iteration's own buffer).
+enum Start<'a> {
+    Borrowed(&'a [f64]),
+    Owned(Vec<f64>),
+}
+
+impl Start<'_> {
+    fn values(&self) -> &[f64] {
+        match self {
+            Start::Borrowed(p) => p,
+            Start::Owned(p) => p,
         }
-        z.push(value);
+    }
+}
+
+/// The entries of a field other than +0.0 (its contact points, for a pressure map; a
+/// −0.0 is kept too): flat index and value, given back as the dense field bit for bit.
+struct ContactPoints {
+    at: Vec<u32>,
+    value: Vec<f64>,
+}
+
+impl ContactPoints {
+    /// Of `p` with `count` entries other than +0.0 (indices below 2³²).
+    fn of(p: &[f64], count: usize) -> Self {
+        let mut at = Vec::with_capacity(count);
+        let mut value = Vec::with_capacity(count);
+        for (k, &v) in p.iter().enumerate() {
+            if v.to_bits() != 0 {
+                at.push(k as u32);
+                value.push(v);
+            }
+        }
+        ContactPoints { at, value }
+    }
+
+    /// The dense field of `n` entries (+0.0 elsewhere).
+    fn dense(&self, n: usize) -> Vec<f64> {
+        let mut p = vec![0.0; n];
+        for (&k, &v) in self.at.iter().zip(&self.value) {
+            p[k as usize] = v;
+        }
+        p
+    }
+}
+
+/// The heights of a new solver: borrowed (copied once) or owned (moved in, no copy).
+enum HeightsIn<'a> {
+    Borrowed(&'a Array2<f64>),
+    Owned(Array2<f64>),
+}
+
+impl HeightsIn<'_> {
+    fn dim(&self) -> (usize, usize) {
+        match self {
+            HeightsIn::Borrowed(h) => h.dim(),
+            HeightsIn::Owned(h) => h.dim(),
+        }
+    }
+
+    /// The heights row-major, checked, with their statistics.
+    fn validate(self, periodic: bool) -> Result<Heights, BemError> {
+        let (rows, cols) = self.dim();
+        let min = if periodic { 4 } else { 2 };
+        if rows < min || cols < min {
+            return Err(BemError::Grid { rows, cols });
+        }
+        let z = match self {
+            HeightsIn::Owned(h) if h.is_standard_layout() => {
+                // contiguous, row-major: the values from the buffer's offset on
+                let (mut z, offset) = h.into_raw_vec_and_offset();
+                z.drain(..offset.unwrap_or(0).min(z.len()));
+                z.truncate(rows * cols);
+                z
+            }
+            HeightsIn::Owned(h) => h.iter().copied().collect(),
+            HeightsIn::Borrowed(h) => h.iter().copied().collect(),
+        };
+        validate_heights_flat(z, cols)
+    }
+}
+
+/// Row-major heights (`cols` a row) checked finite and not flat, with their statistics.
+fn validate_heights_flat(z: Vec<f64>, cols: usize) -> Result<Heights, BemError> {
+    if let Some((k, &value)) = z.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        return Err(BemError::NonFiniteHeight {
+            row: k / cols,
+            col: k % cols,
+            value,
+        });
     }
     let n = z.len() as f64;
     let mean = z.iter().sum::<f64>() / n;
@@ -183,13 +261,20 @@ impl BemSolver {
     /// against [`BemOptions::memory`] before anything is allocated.
     pub fn memory_needed(ny: usize, nx: usize, periodic: bool) -> u64 {
         let points = (ny as u64).saturating_mul(nx as u64);
-        // z, p, u, t, r, corr, g, y (preconditioned gap), the solution's three maps
-        // (pressure, gap, deflection), a coarse grid (1/4); the operator and its inverse
-        // (the preconditioner's kernel).
-        let (gy, gx) = if periodic { (ny, nx) } else { (2 * ny, 2 * nx) };
-        let inverse = 8 * (gx as u64 / 2 + 1).saturating_mul(gy as u64);
-        bytes_for(points, 8 * 12)
-            .saturating_add(bytes_for(points, 8 * 12) / 4)
+        // The largest set alive at once: z, the iteration's p, u, t and r, and a second
+        // pressure map (a step's, beside its stiffness probe, or the warm start being
+        // moved in): six fields; the operator with its row spectra and, non-periodic,
+        // its inverse (the preconditioner's kernel; periodic, it is read from the
+        // operator's table). The cold start's half grid (≈ 36 B/pt with the fine z and
+        // p) and the maps formed after a step (z, p, the warm start, gap, deflection and
+        // the row spectra) stay below it; the plain iteration's g and Δp (+16 B/pt, only
+        // where the preconditioned iteration gives way to it) are not counted.
+        let inverse = if periodic {
+            0
+        } else {
+            8 * (nx as u64 + 1).saturating_mul(2 * ny as u64)
+        };
+        bytes_for(points, 8 * 6)
             .saturating_add(Operator::bytes(ny, nx, periodic))
             .saturating_add(inverse)
     }
@@ -215,6 +300,27 @@ impl BemSolver {
         stack: &(impl Solid + ?Sized),
         options: BemOptions,
     ) -> Result<Self, BemError> {
+        Self::build(HeightsIn::Borrowed(heights), geometry, stack, options)
+    }
+
+    /// [`with_geometry`](Self::with_geometry) taking the heights by value: they become
+    /// the solver's own (no copy of the grid; the way to build a solver on a grid near
+    /// the memory's limit).
+    pub fn with_geometry_owned(
+        heights: Array2<f64>,
+        geometry: Geometry,
+        stack: &(impl Solid + ?Sized),
+        options: BemOptions,
+    ) -> Result<Self, BemError> {
+        Self::build(HeightsIn::Owned(heights), geometry, stack, options)
+    }
+
+    fn build(
+        heights: HeightsIn<'_>,
+        geometry: Geometry,
+        stack: &(impl Solid + ?Sized),
+        options: BemOptions,
+    ) -> Result<Self, BemError> {
         if geometry.periodic {
             let homogeneous = stack.is_homogeneous();
             let comp = Compliance::new(stack);
@@ -229,8 +335,8 @@ impl BemSolver {
         }
         check_geometry(&geometry)?;
         check_options(&options)?;
-        let h = validate_heights(heights, false)?;
         let (ny, nx) = heights.dim();
+        let h = heights.validate(false)?;
         options.memory.check(
             format!("BEM grid {ny}×{nx} (non-periodic)"),
             Self::memory_needed(ny, nx, false),
@@ -273,7 +379,7 @@ impl BemSolver {
         options: BemOptions,
     ) -> Result<Self, BemError> {
         Self::periodic(
-            heights,
+            HeightsIn::Borrowed(heights),
             Geometry::square(size),
             e_star1,
             c0,
@@ -283,7 +389,7 @@ impl BemSolver {
     }
 
     fn periodic(
-        heights: &Array2<f64>,
+        heights: HeightsIn<'_>,
         geometry: Geometry,
         e_star1: f64,
         c0: Option<f64>,
@@ -298,8 +404,8 @@ impl BemSolver {
             return Err(BemError::UniformCompliance(c));
         }
         check_options(&options)?;
-        let h = validate_heights(heights, true)?;
         let (ny, nx) = heights.dim();
+        let h = heights.validate(true)?;
         options.memory.check(
             format!("BEM grid {ny}×{nx}"),
             Self::memory_needed(ny, nx, true),
@@ -330,8 +436,8 @@ impl BemSolver {
                 s_tab[i * (hy + 1) + j] = s;
             }
         }
-        let s_tab = std::sync::Arc::new(s_tab);
-        let op = Self::spectral_operator(ny, nx, &geometry, e_star1, c0, &s_tab, ny, nx)?;
+        let op = Self::spectral_operator(ny, nx, &geometry, e_star1, c0, &s_tab)?;
+        drop(s_tab);
         let s1 = s_of_k(geometry.fundamental());
         Ok(Self::assemble(
             ny,
@@ -342,13 +448,12 @@ impl BemSolver {
             c0,
             op,
             options,
-            KernelSource::Spectral(s_tab),
+            KernelSource::Spectral,
         ))
     }
 
-    /// The periodic operator on an ny × nx grid from S tabulated on the (fy, fx) grid
-    /// of the (ty, tx) grid where it was computed (same cell; ny ≤ ty, nx ≤ tx).
-    #[allow(clippy::too_many_arguments)]
+    /// The periodic operator on the ny × nx grid from S tabulated per distinct
+    /// wavevector (`s_tab[i·(ny/2 + 1) + j]`, i ≤ nx/2, j ≤ ny/2).
     fn spectral_operator(
         ny: usize,
         nx: usize,
@@ -356,11 +461,9 @@ impl BemSolver {
         e_star1: f64,
         c0: Option<f64>,
         s_tab: &[f64],
-        ty: usize,
-        _tx: usize,
     ) -> Result<Operator, BemError> {
         let (dkx, dky) = (std::f64::consts::TAU / g.lx, std::f64::consts::TAU / g.ly);
-        let hy = ty / 2;
+        let hy = ny / 2;
         Operator::periodic(ny, nx, c0.unwrap_or(0.0), |i, j| {
             let k = (dkx * i as f64).hypot(dky * j as f64);
             Ok(2.0 * s_tab[i * (hy + 1) + j] / (e_star1 * k))
@@ -400,7 +503,6 @@ impl BemSolver {
             options,
             kernels: Kernels::detect(),
             source,
-            coarse: OnceLock::new(),
             cancel: Cancel::default(),
         }
     }
@@ -483,23 +585,130 @@ impl BemSolver {
         load: BemLoad,
         initial: Option<&[f64]>,
     ) -> Result<BemSolution, BemError> {
+        self.solve_maps(load, initial.map(Start::Borrowed), true)
+    }
+
+    /// [`solve_from`](Self::solve_from) keeping only the pressure map: the solution's
+    /// `gap` and `displacement` are left empty (0×0), its scalars are those of
+    /// `solve_from`. [`complete_maps`](Self::complete_maps) computes the two maps later
+    /// from the pressure (one convolution; the same values). A load step then holds the
+    /// pressure alone (8 bytes per point) while, e.g., its stiffness probe runs.
+    pub fn solve_pressure_only(
+        &self,
+        load: BemLoad,
+        initial: Option<&[f64]>,
+    ) -> Result<BemSolution, BemError> {
+        self.solve_maps(load, initial.map(Start::Borrowed), false)
+    }
+
+    /// [`solve_pressure_only`](Self::solve_pressure_only) from `initial` taken by value:
+    /// its buffer becomes the iteration's pressure and the solution's (no copy of the
+    /// grid beside it). The same solution as from `Some(&initial)`.
+    pub fn solve_pressure_only_in(
+        &self,
+        load: BemLoad,
+        initial: Vec<f64>,
+    ) -> Result<BemSolution, BemError> {
+        self.solve_maps(load, Some(Start::Owned(initial)), false)
+    }
+
+    /// [`solve_pressure_only`](Self::solve_pressure_only) warm-started from the pressure of
+    /// `start` (a solution of this solver), which lends its pressure map to the iteration
+    /// as its first iterate and keeps meanwhile its contact points alone (index and
+    /// value: 12 bytes per point in contact instead of 8 per grid point; a copy where
+    /// that is not smaller). `start.pressure` is given back bit for bit, also when the
+    /// solve fails. The same solution as
+    /// `solve_pressure_only(load, Some(start.pressure))`: a stiffness probe after a step
+    /// holds one full pressure map, not two.
+    pub fn solve_lent(
+        &self,
+        load: BemLoad,
+        start: &mut BemSolution,
+    ) -> Result<BemSolution, BemError> {
+        let n2 = self.ny * self.nx;
+        let shape = start.pressure.dim();
+        let Some(p) = start.pressure.as_slice().filter(|p| p.len() == n2) else {
+            let init: Vec<f64> = start.pressure.iter().copied().collect();
+            return self.solve_pressure_only(load, Some(&init));
+        };
+        let contact = p.iter().filter(|v| v.to_bits() != 0).count();
+        if 12 * contact >= 8 * n2 || u32::try_from(n2).is_err() {
+            return self.solve_pressure_only(load, Some(p));
+        }
+        let kept = ContactPoints::of(p, contact);
+        let lent = std::mem::take(&mut start.pressure);
+        let (lent, offset) = lent.into_raw_vec_and_offset();
+        debug_assert_eq!(offset.unwrap_or(0), 0);
+        let out = self.solve_pressure_only_in(load, lent);
+        start.pressure = Array2::from_shape_vec(shape, kept.dense(n2)).unwrap_or_default();
+        out
+    }
+
+    /// The gap and displacement maps of a solution from
+    /// [`solve_pressure_only`](Self::solve_pressure_only) (of this solver), from its
+    /// pressure and offset: u = K p, g = u − z + c, the values `solve_from` returns. A
+    /// solution that has them is left as it is.
+    pub fn complete_maps(&self, sol: &mut BemSolution) -> Result<(), BemError> {
+        let n2 = self.ny * self.nx;
+        if sol.gap.len() == n2 && sol.displacement.len() == n2 {
+            return Ok(());
+        }
+        let control = self.control(sol.load)?;
+        let p = sol.pressure.as_standard_layout();
+        if p.len() != n2 {
+            return Err(BemError::Initial {
+                expected: n2,
+                got: p.len(),
+            });
+        }
+        let mut gap = vec![0.0; n2];
+        let p = p.as_slice().unwrap_or_default();
+        self.op
+            .apply(p, &mut gap, control.uniform(), &mut self.op.work())?;
+        let c = sol.offset;
+        gap.iter_mut()
+            .zip(&self.z)
+            .for_each(|(g, z)| *g = *g - z + c);
+        let displacement = crate::maps::deflection(
+            &gap,
+            &self.z,
+            c,
+            self.geometry.periodic.then_some(sol.mean_deflection),
+        );
+        let shape = (self.ny, self.nx);
+        sol.gap = Array2::from_shape_vec(shape, gap).unwrap_or_default();
+        sol.displacement = Array2::from_shape_vec(shape, displacement).unwrap_or_default();
+        Ok(())
+    }
+
+    fn solve_maps(
+        &self,
+        load: BemLoad,
+        initial: Option<Start<'_>>,
+        maps: bool,
+    ) -> Result<BemSolution, BemError> {
         let n2 = self.ny * self.nx;
         let control = self.control(load)?;
-        let mut p = vec![0.0; n2];
-        match initial {
-            Some(init) => {
-                if init.len() != n2 || init.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-                    return Err(BemError::Initial {
-                        expected: n2,
-                        got: init.len(),
-                    });
-                }
-                p.copy_from_slice(init);
+        if let Some(init) = &initial {
+            let init = init.values();
+            if init.len() != n2 || init.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+                return Err(BemError::Initial {
+                    expected: n2,
+                    got: init.len(),
+                });
             }
-            None => self.coarse_start(control, &mut p),
         }
+        let mut p = match initial {
+            Some(Start::Owned(p)) => p,
+            Some(Start::Borrowed(init)) => init.to_vec(),
+            None => {
+                let mut p = vec![0.0; n2];
+                self.coarse_start(control, &mut p);
+                p
+            }
+        };
         let out = cg::solve(&self.problem(), control, &mut p)?;
-        let s = self.summarise(load, control, p, out);
+        let s = self.summarise(load, control, p, out, maps);
         // Absurd loads (an approach of 1e300 m on a rigid base) overflow the sums.
         if !(s.mean_pressure.is_finite() && s.mean_gap.is_finite() && s.approach.is_finite()) {
             return Err(BemError::NonFinite(s.iterations));
@@ -516,7 +725,7 @@ impl BemSolver {
         let control = self.control(load)?;
         let mut p = vec![0.0; self.ny * self.nx];
         let out = crate::reference::solve(&self.problem(), control, &mut p)?;
-        Ok(self.summarise(load, control, p, out))
+        Ok(self.summarise(load, control, p, out, true))
     }
 
     fn problem(&self) -> Problem<'_> {
@@ -552,65 +761,12 @@ impl BemSolver {
 
     /// The CG control of a load.
     fn control(&self, load: BemLoad) -> Result<Control, BemError> {
-        let bad = |what, value, reason: &str| BemError::Load {
-            what,
-            value,
-            reason: reason.to_string(),
-        };
-        let (approach, what) = match load {
-            BemLoad::Approach(d) => (d, "approach"),
-            // A separation is an approach: δ = (z_M − z̄) − g_n.
-            BemLoad::Separation(gn) => (self.max_separation() - gn, "separation"),
-            BemLoad::MeanGap(g) => {
-                if !self.geometry.periodic {
-                    return Err(bad(
-                        "mean gap",
-                        g,
-                        "is not a load of a non-periodic sample (the mean deflection depends on the unbounded solid); give an approach, a separation or a mean pressure",
-                    ));
-                }
-                if !(g.is_finite() && g > 0.0) {
-                    return Err(bad(
-                        "mean gap",
-                        g,
-                        "must be finite and > 0 m (a zero mean gap is full contact)",
-                    ));
-                }
-                return Ok(Control::Offset {
-                    c: g + self.z_mean,
-                    uniform: false,
-                });
-            }
-            BemLoad::MeanPressure(p) => {
-                if !(p.is_finite() && p > 0.0) {
-                    return Err(bad("mean pressure", p, "must be finite and > 0 Pa"));
-                }
-                return Ok(Control::Pressure(p));
-            }
-        };
-        if !approach.is_finite() {
-            return Err(bad(what, approach, "must be finite (m)"));
-        }
-        if !self.geometry.periodic || self.c0.is_some() {
-            // The flat at c = z_M − δ: any δ (beyond the peak-to-valley height too; the
-            // layers or the unbounded solid compress as a whole).
-            return Ok(Control::Offset {
-                c: self.z_max - approach,
-                uniform: self.c0.is_some(),
-            });
-        }
-        let g = self.max_separation() - approach;
-        if g <= 0.0 {
-            return Err(bad(
-                what,
-                approach,
-                "on an elastic base the approach of a periodic cell must be < z_M − z̄, the separation > 0 (the uniform mode is unbounded: full contact)",
-            ));
-        }
-        Ok(Control::Offset {
-            c: g + self.z_mean,
-            uniform: false,
-        })
+        load_control(
+            load,
+            self.geometry.periodic,
+            self.c0,
+            [self.z_max, self.z_mean],
+        )
     }
 
     /// The influence operator (module `plastic`).
@@ -667,7 +823,7 @@ impl BemSolver {
     /// Coarse-to-fine start: the same load solved on the half grid (loosely), its
     /// pressure injected on 2×2 blocks. Only on large even grids.
     fn coarse_start(&self, control: Control, p: &mut [f64]) {
-        let Some(coarse) = self.coarse.get_or_init(|| self.build_coarse()).as_deref() else {
+        let Some(coarse) = self.build_coarse() else {
             return;
         };
         let mut pc = vec![0.0; coarse.ny * coarse.nx];
@@ -693,30 +849,33 @@ impl BemSolver {
             return None;
         }
         let (my, mx) = (ny / 2, nx / 2);
-        let z = Array2::from_shape_vec((ny, nx), self.z.clone()).ok()?;
+        let z = &self.z;
         let zc = if self.geometry.periodic {
-            resample_rect(&z, my, mx).ok()?
+            crate::maps::resample_flat(z, (ny, nx), my, mx).ok()?
         } else {
-            Array2::from_shape_fn((my, mx), |(i, j)| {
-                0.25 * (z[[2 * i, 2 * j]]
-                    + z[[2 * i + 1, 2 * j]]
-                    + z[[2 * i, 2 * j + 1]]
-                    + z[[2 * i + 1, 2 * j + 1]])
-            })
+            let mut zc = Vec::with_capacity(my * mx);
+            for i in 0..my {
+                for j in 0..mx {
+                    zc.push(
+                        0.25 * (z[2 * i * nx + 2 * j]
+                            + z[(2 * i + 1) * nx + 2 * j]
+                            + z[2 * i * nx + 2 * j + 1]
+                            + z[(2 * i + 1) * nx + 2 * j + 1]),
+                    );
+                }
+            }
+            zc
         };
-        let h = validate_heights(&zc, self.geometry.periodic).ok()?;
+        let zc = Array2::from_shape_vec((my, mx), zc).ok()?;
+        let h = HeightsIn::Owned(zc).validate(self.geometry.periodic).ok()?;
         let op = match &self.source {
-            KernelSource::Spectral(s_tab) => Self::spectral_operator(
-                my,
-                mx,
-                &self.geometry,
-                self.e_star1,
-                self.c0,
-                s_tab,
-                ny,
-                nx,
-            )
-            .ok()?,
+            KernelSource::Spectral => {
+                // The half grid's wavevectors are this grid's (same cell): its kernel
+                // entries are this table's.
+                let table = self.op.periodic_table()?;
+                let hy = ny / 2 + 1;
+                Operator::periodic(my, mx, table[0], |i, j| Ok(table[i * hy + j])).ok()?
+            }
             KernelSource::Stack(stack) => {
                 let g = crate::influence::coefficients(
                     stack.as_ref(),
@@ -764,6 +923,7 @@ impl BemSolver {
         control: Control,
         p: Vec<f64>,
         out: crate::iteration::CgOutcome,
+        maps: bool,
     ) -> BemSolution {
         let (ny, nx) = (self.ny, self.nx);
         let n2 = (ny * nx) as f64;
@@ -781,12 +941,22 @@ impl BemSolver {
             let approach = self.z_max - out.offset;
             (approach, mean_gap - (out.offset - self.z_mean))
         };
-        let displacement = crate::maps::deflection(
-            &out.gap,
-            &self.z,
-            out.offset,
-            self.geometry.periodic.then_some(mean_deflection),
-        );
+        let shape = (ny, nx);
+        let (gap, displacement) = if maps {
+            let w = crate::maps::deflection(
+                &out.gap,
+                &self.z,
+                out.offset,
+                self.geometry.periodic.then_some(mean_deflection),
+            );
+            (
+                Array2::from_shape_vec(shape, out.gap).unwrap_or_default(),
+                Array2::from_shape_vec(shape, w).unwrap_or_default(),
+            )
+        } else {
+            drop(out.gap);
+            (Array2::zeros((0, 0)), Array2::zeros((0, 0)))
+        };
         BemSolution {
             load,
             mean_pressure,
@@ -802,12 +972,13 @@ impl BemSolver {
             iterations: out.iterations,
             products: out.products,
             error: out.error,
-            pressure: Array2::from_shape_vec((ny, nx), p).unwrap_or_default(),
-            displacement: Array2::from_shape_vec((ny, nx), displacement).unwrap_or_default(),
-            gap: Array2::from_shape_vec((ny, nx), out.gap).unwrap_or_default(),
+            pressure: Array2::from_shape_vec(shape, p).unwrap_or_default(),
+            displacement,
+            gap,
             plastic_depth: None,
             sides: [self.geometry.lx, self.geometry.ly],
             periodic: self.geometry.periodic,
+            offset: out.offset,
         }
     }
 }
@@ -839,4 +1010,74 @@ fn extrapolate(a: &BemSolution, b: &BemSolution, load: BemLoad, out: &mut Vec<f6
             .zip(b.pressure.iter())
             .map(|(&x, &y)| (y + f * (y - x)).max(0.0)),
     );
+}
+
+/// The CG control of a load on a sample (`periodic` or not) with the uniform-mode
+/// compliance `c0` (m/Pa; a periodic cell on a rigid base) and the heights' maximum and
+/// mean (m): the flat's offset c or the mean pressure (crate docs, "Loads").
+pub(crate) fn load_control(
+    load: BemLoad,
+    periodic: bool,
+    c0: Option<f64>,
+    [z_max, z_mean]: [f64; 2],
+) -> Result<Control, BemError> {
+    let bad = |what, value, reason: &str| BemError::Load {
+        what,
+        value,
+        reason: reason.to_string(),
+    };
+    let (approach, what) = match load {
+        BemLoad::Approach(d) => (d, "approach"),
+        // A separation is an approach: δ = (z_M − z̄) − g_n.
+        BemLoad::Separation(gn) => ((z_max - z_mean) - gn, "separation"),
+        BemLoad::MeanGap(g) => {
+            if !periodic {
+                return Err(bad(
+                    "mean gap",
+                    g,
+                    "is not a load of a non-periodic sample (the mean deflection depends on the unbounded solid); give an approach, a separation or a mean pressure",
+                ));
+            }
+            if !(g.is_finite() && g > 0.0) {
+                return Err(bad(
+                    "mean gap",
+                    g,
+                    "must be finite and > 0 m (a zero mean gap is full contact)",
+                ));
+            }
+            return Ok(Control::Offset {
+                c: g + z_mean,
+                uniform: false,
+            });
+        }
+        BemLoad::MeanPressure(p) => {
+            if !(p.is_finite() && p > 0.0) {
+                return Err(bad("mean pressure", p, "must be finite and > 0 Pa"));
+            }
+            return Ok(Control::Pressure(p));
+        }
+    };
+    if !approach.is_finite() {
+        return Err(bad(what, approach, "must be finite (m)"));
+    }
+    if !periodic || c0.is_some() {
+        // The flat at c = z_M − δ: any δ (beyond the peak-to-valley height too; the
+        // layers or the unbounded solid compress as a whole).
+        return Ok(Control::Offset {
+            c: z_max - approach,
+            uniform: c0.is_some(),
+        });
+    }
+    let g = (z_max - z_mean) - approach;
+    if g <= 0.0 {
+        return Err(bad(
+            what,
+            approach,
+            "on an elastic base the approach of a periodic cell must be < z_M − z̄, the separation > 0 (the uniform mode is unbounded: full contact)",
+        ));
+    }
+    Ok(Control::Offset {
+        c: g + z_mean,
+        uniform: false,
+    })
 }

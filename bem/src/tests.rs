@@ -1000,3 +1000,94 @@ fn hertz_patch_error_by_pixels_per_patch() {
         assert!(row.2 < 0.15 && row.3 < 0.03, "{rows:?}");
     }
 }
+
+#[test]
+fn pressure_only_solves_complete_to_the_full_solution() {
+    // A step kept as its pressure alone and its maps completed later (one product) gives
+    // solve_from's maps bit for bit; the heights moved in give the borrowed ones' solver.
+    let n = 64;
+    let l = 1e-3;
+    let z = sine_surface(n, l, 1e-6);
+    let stack = Stack::paper_two_layer(5.0).unwrap();
+    let es = stack.top_plane_strain_modulus();
+    let periodic = Geometry::square(l);
+    let free = Geometry {
+        periodic: false,
+        ..periodic
+    };
+    for (geometry, load) in [
+        (periodic, BemLoad::MeanPressure(0.002 * es)),
+        (periodic, BemLoad::Approach(1.2e-6)),
+        (free, BemLoad::Approach(1.2e-6)),
+    ] {
+        let a = BemSolver::with_geometry(&z, geometry, &stack, BemOptions::default()).unwrap();
+        let b = BemSolver::with_geometry_owned(z.clone(), geometry, &stack, BemOptions::default())
+            .unwrap();
+        let full = a.solve_from(load, None).unwrap();
+        let mut lean = b.solve_pressure_only(load, None).unwrap();
+        assert_eq!(lean.gap.len(), 0);
+        assert_eq!(lean.displacement.len(), 0);
+        assert_eq!(lean.pressure, full.pressure, "{load:?}");
+        assert_eq!(lean.offset, full.offset);
+        assert_eq!(lean.mean_gap, full.mean_gap);
+        b.complete_maps(&mut lean).unwrap();
+        assert_eq!(lean.gap, full.gap, "{load:?}: gap");
+        assert_eq!(lean.displacement, full.displacement, "{load:?}: deflection");
+        // warm-started from it (the stiffness probe)
+        let next = BemLoad::Approach(full.approach + 1e-9);
+        let x = a.solve_from(next, full.pressure.as_slice()).unwrap();
+        let y = b
+            .solve_pressure_only(next, full.pressure.as_slice())
+            .unwrap();
+        assert_eq!(x.total_load, y.total_load);
+        // from the step's pressure taken by value, or lent by the step (kept meanwhile as
+        // its contact points): the same probe, the step's pressure given back bit for bit
+        let z = b
+            .solve_pressure_only_in(next, full.pressure.iter().copied().collect())
+            .unwrap();
+        assert_eq!(z.pressure, x.pressure);
+        assert_eq!(z.total_load, x.total_load);
+        let mut step = b.solve_pressure_only(load, None).unwrap();
+        // a −0.0 off the contact set is given back as −0.0
+        let off = step.pressure.iter().position(|&v| v == 0.0).unwrap();
+        step.pressure.as_slice_mut().unwrap()[off] = -0.0;
+        let bits = |a: &Array2<f64>| a.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        let before = bits(&step.pressure);
+        assert!(
+            12 * step.contact_points < 8 * n * n,
+            "{load:?}: the sparse path"
+        );
+        let w = b.solve_lent(next, &mut step).unwrap();
+        assert_eq!(w.pressure, x.pressure, "{load:?}: lent");
+        assert_eq!(w.total_load, x.total_load);
+        assert_eq!(bits(&step.pressure), before, "{load:?}: given back");
+        // a failing solve gives it back too
+        assert!(
+            b.solve_lent(BemLoad::MeanPressure(-1.0), &mut step)
+                .is_err()
+        );
+        assert_eq!(bits(&step.pressure), before);
+    }
+}
+
+#[test]
+fn lent_start_in_full_contact_is_copied() {
+    // In full contact the contact points would take more than the map: the start is
+    // copied, the same solution.
+    let n = 32;
+    let l = 1e-3;
+    let z = sine_surface(n, l, 1e-7);
+    let stack = Stack::paper_two_layer(1.0).unwrap();
+    let s = BemSolver::new(&z, l, &stack, BemOptions::default()).unwrap();
+    let es = stack.top_plane_strain_modulus();
+    let mut step = s
+        .solve_pressure_only(BemLoad::MeanPressure(0.05 * es), None)
+        .unwrap();
+    assert_eq!(step.contact_points, n * n);
+    let before = step.pressure.clone();
+    let next = BemLoad::MeanPressure(0.051 * es);
+    let want = s.solve_pressure_only(next, before.as_slice()).unwrap();
+    let got = s.solve_lent(next, &mut step).unwrap();
+    assert_eq!(got.pressure, want.pressure);
+    assert_eq!(step.pressure, before);
+}

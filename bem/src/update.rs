@@ -10,7 +10,7 @@ use rayon::prelude::*;
 use strata_runtime::fft::Merge;
 
 use crate::BemError;
-use crate::iteration::State;
+use crate::iteration::{State, with_rows};
 use crate::state::{CHUNK, Changed, Control, Pending, Sums, UpdateChunk, UpdateFill, UpdateStep};
 
 impl<'a> State<'a> {
@@ -56,26 +56,55 @@ impl<'a> State<'a> {
             tau,
             known: self.control.known_offset(),
         };
+        if !self.corr.is_empty() {
+            return p
+                .par_chunks_mut(CHUNK)
+                .enumerate()
+                .zip(self.u.par_chunks_mut(CHUNK))
+                .zip(self.corr.par_chunks_mut(CHUNK))
+                .zip(self.t.par_chunks(CHUNK))
+                .zip(self.r.par_chunks(CHUNK))
+                .zip(self.pb.z.par_chunks(CHUNK))
+                .map(|((((((chunk, p), u), corr), t), r), z)| {
+                    kernels.update_chunk(
+                        &step,
+                        chunk * CHUNK,
+                        UpdateChunk {
+                            p,
+                            u,
+                            corr,
+                            t,
+                            r,
+                            z,
+                        },
+                    )
+                })
+                .reduce(Sums::default, Sums::merge);
+        }
+        // Preconditioned: Δp written over r, each chunk once the update has read it.
         p.par_chunks_mut(CHUNK)
             .enumerate()
             .zip(self.u.par_chunks_mut(CHUNK))
-            .zip(self.corr.par_chunks_mut(CHUNK))
+            .zip(self.r.par_chunks_mut(CHUNK))
             .zip(self.t.par_chunks(CHUNK))
-            .zip(self.r.par_chunks(CHUNK))
             .zip(self.pb.z.par_chunks(CHUNK))
-            .map(|((((((chunk, p), u), corr), t), r), z)| {
-                kernels.update_chunk(
-                    &step,
-                    chunk * CHUNK,
-                    UpdateChunk {
-                        p,
-                        u,
-                        corr,
-                        t,
-                        r,
-                        z,
-                    },
-                )
+            .map(|(((((chunk, p), u), r), t), z)| {
+                with_rows(r.len(), |corr, _| {
+                    let sums = kernels.update_chunk(
+                        &step,
+                        chunk * CHUNK,
+                        UpdateChunk {
+                            p,
+                            u,
+                            corr: &mut *corr,
+                            t,
+                            r: &*r,
+                            z,
+                        },
+                    );
+                    r.copy_from_slice(corr);
+                    sums
+                })
             })
             .reduce(Sums::default, Sums::merge)
     }
@@ -91,8 +120,13 @@ impl<'a> State<'a> {
         let (z, nx) = (self.pb.z, self.pb.op.nx());
         let known = self.control.known_offset();
         self.products += 1;
+        let corr = if self.corr.is_empty() {
+            &mut self.r
+        } else {
+            &mut self.corr
+        };
         let ((), add) = self.pb.op.apply_with(
-            &mut self.corr,
+            corr,
             &mut self.u,
             self.control.uniform(),
             &mut self.work,
@@ -128,7 +162,7 @@ impl State<'_> {
         let mut loads = [(0u32, 0.0); Changed::CAP];
         let mut m = 0;
         for &i in at {
-            let c = std::mem::take(&mut self.corr[i as usize]);
+            let c = std::mem::take(&mut self.corr_buffer()[i as usize]);
             if c != 0.0 {
                 loads[m] = (i, c);
                 m += 1;

@@ -203,7 +203,7 @@ impl FusedPass {
                         &mut z[..],
                         &mut g[..],
                     ],
-                    kernel: &self.kernel,
+                    kernel: (&self.kernel).into(),
                     dc: 0.0,
                 },
                 &mut self.work,

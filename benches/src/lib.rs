@@ -3,10 +3,10 @@
 use strata_bem::Array2;
 use strata_runtime::surface::{GenerateParams, Surface};
 
-/// The BEM benches' paper-like surface at n² (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm,
-/// seed 20240611), heights in m.
-pub fn paper_surface(n: usize) -> Array2<f64> {
-    let s = Surface::generate(&GenerateParams {
+/// The parameters of the BEM benches' paper-like surface at n² (L = 1 mm, D_f = 2.4,
+/// k = 2…10, RMS 3.4 µm, seed 20240611).
+pub fn paper_surface_params(n: usize) -> GenerateParams {
+    GenerateParams {
         size: 1e-3,
         grid: n,
         fractal_dimension: 2.4,
@@ -14,8 +14,12 @@ pub fn paper_surface(n: usize) -> Array2<f64> {
         k_max: 10.0,
         rms: 3.4e-6,
         seed: 20240611,
-    })
-    .expect("surface");
+    }
+}
+
+/// The BEM benches' paper-like surface at n² ([`paper_surface_params`]), heights in m.
+pub fn paper_surface(n: usize) -> Array2<f64> {
+    let s = Surface::generate(&paper_surface_params(n)).expect("surface");
     Array2::from_shape_vec((n, n), s.heights().to_vec()).expect("heights")
 }
 

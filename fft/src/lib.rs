@@ -32,8 +32,6 @@ use rustfft::{Fft, FftPlanner};
 const PARALLEL_MIN_POINTS: usize = 128 * 128;
 /// Columns transposed per block (cache lines of the row spectra).
 const BLOCK: usize = 16;
-/// Rows gathered per block from the transposed spectrum (cache lines of its kx lines).
-const ROW_BLOCK: usize = 8;
 
 /// A plan for 2-D real FFTs on an `NY × NX` grid with the data in the top-left
 /// `ny × nx` block (see the module docs).
@@ -61,9 +59,11 @@ impl std::fmt::Debug for RealFft2 {
 /// Buffers of one transform; make one per thread of the caller with [`RealFft2::work`].
 /// Holding it across calls means no allocation per transform.
 pub struct Fft2Work {
-    /// Row spectra, `ny × (NX/2 + 1)`.
+    /// Row spectra, `ny × (NX/2 + 1)`: the one grid-sized buffer of a convolution (its
+    /// column stage runs in place on them, a block of columns at a time).
     rows: Vec<Complex<f64>>,
-    /// The transposed half spectrum, `(NX/2 + 1) × NY`.
+    /// The transposed half spectrum, `(NX/2 + 1) × NY`, of [`RealFft2::forward`] and
+    /// [`RealFft2::inverse`]; empty in the buffers of [`RealFft2::convolution_work`].
     pub spec: Vec<Complex<f64>>,
     lanes: Vec<Lane>,
 }
@@ -72,8 +72,91 @@ pub struct Fft2Work {
 struct Lane {
     real: Vec<f64>,
     scratch: Vec<Complex<f64>>,
-    /// [`ROW_BLOCK`] row spectra gathered from the transposed spectrum.
-    block: Vec<Complex<f64>>,
+    /// [`BLOCK`] column lines (NY values each) gathered from the row spectra.
+    lines: Vec<Complex<f64>>,
+}
+
+/// A real Fourier multiplier of a convolution, on the half spectrum.
+#[derive(Clone, Copy, Debug)]
+pub enum Multiplier<'a> {
+    /// `kernel[kx · NY + ky]`, normalisation included.
+    Half(&'a [f64]),
+    /// A kernel even in ky held once for ky and NY − ky: `table[kx · (NY/2 + 1) + fy]`
+    /// with fy = min(ky, NY − ky), half the memory of [`Multiplier::Half`]. The
+    /// multiplier is s·t (`inverse` false) or s²/(s·t) where s·t > 0, else 0 (`inverse`
+    /// true: the inverse operator from the same table), s = `scale`.
+    Folded {
+        /// The table, (NX/2 + 1)·(NY/2 + 1) values.
+        table: &'a [f64],
+        /// The factor s applied to each value (e.g. the normalisation 1/(NX·NY)).
+        scale: f64,
+        /// Whether the multiplier is the inverse s²/(s·t).
+        inverse: bool,
+    },
+}
+
+impl<'a> From<&'a [f64]> for Multiplier<'a> {
+    fn from(kernel: &'a [f64]) -> Self {
+        Multiplier::Half(kernel)
+    }
+}
+
+impl<'a> From<&'a Vec<f64>> for Multiplier<'a> {
+    fn from(kernel: &'a Vec<f64>) -> Self {
+        Multiplier::Half(kernel)
+    }
+}
+
+impl Multiplier<'_> {
+    /// Values it holds for a grid with NY rows and NX/2 + 1 = `half` kx lines.
+    fn expected_len(&self, gy: usize, half: usize) -> usize {
+        match self {
+            Multiplier::Half(_) => half * gy,
+            Multiplier::Folded { .. } => half * (gy / 2 + 1),
+        }
+    }
+
+    fn len(&self) -> usize {
+        match self {
+            Multiplier::Half(k) => k.len(),
+            Multiplier::Folded { table, .. } => table.len(),
+        }
+    }
+
+    /// Multiplies the kx line `line` (NY values) by the multiplier.
+    #[inline(always)]
+    fn apply(&self, kx: usize, line: &mut [Complex<f64>]) {
+        let gy = line.len();
+        match *self {
+            Multiplier::Half(kernel) => {
+                for (v, &kv) in line.iter_mut().zip(&kernel[kx * gy..(kx + 1) * gy]) {
+                    *v *= kv;
+                }
+            }
+            Multiplier::Folded {
+                table,
+                scale,
+                inverse,
+            } => {
+                let hy = gy / 2 + 1;
+                let t = &table[kx * hy..(kx + 1) * hy];
+                let value = |x: f64| {
+                    let k = x * scale;
+                    if !inverse {
+                        k
+                    } else if k > 0.0 {
+                        scale * scale / k
+                    } else {
+                        0.0
+                    }
+                };
+                for (ky, v) in line.iter_mut().enumerate() {
+                    let fy = if ky <= gy / 2 { ky } else { gy - ky };
+                    *v *= value(t[fy]);
+                }
+            }
+        }
+    }
 }
 
 /// Errors of the plan: only wrong sizes (a bug of the caller), reported, never a panic.
@@ -109,6 +192,9 @@ fn lane_chunks<const K: usize>(
         .map(|_| std::array::from_fn(|j| iters[j].next().unwrap_or(&mut [])))
         .collect()
 }
+
+/// A lane's index, its columns of every row of the row spectra, and its scratch.
+type LaneCols<'a> = (usize, (Vec<&'a mut [Complex<f64>]>, &'a mut Lane));
 
 /// A lane's row spectra, its chunks of the K fields, and its scratch.
 type LaneRows<'a, const K: usize> = ((&'a mut [Complex<f64>], [&'a mut [f64]; K]), &'a mut Lane);
@@ -158,8 +244,8 @@ pub struct RowPasses<'a> {
     pub data: &'a mut [f64],
     /// Row destination of the drain hook (ny·nx).
     pub out: &'a mut [f64],
-    /// Kernel, `kernel[kx · NY + ky]`.
-    pub kernel: &'a [f64],
+    /// The kernel ([`Multiplier`]).
+    pub kernel: Multiplier<'a>,
     /// Value used in place of the (0, 0) kernel entry.
     pub dc: f64,
 }
@@ -170,8 +256,8 @@ pub struct RowPasses<'a> {
 pub struct Fields<'a, const K: usize> {
     /// The fields (each ny·nx).
     pub fields: [&'a mut [f64]; K],
-    /// Kernel, `kernel[kx · NY + ky]`.
-    pub kernel: &'a [f64],
+    /// The kernel ([`Multiplier`]).
+    pub kernel: Multiplier<'a>,
     /// Value used in place of the (0, 0) kernel entry.
     pub dc: f64,
 }
@@ -239,6 +325,18 @@ impl RealFft2 {
     /// Buffers for [`forward`](Self::forward), [`inverse`](Self::inverse) and
     /// [`convolve`](Self::convolve).
     pub fn work(&self) -> Fft2Work {
+        let mut w = self.convolution_work();
+        w.spec = vec![Complex::default(); self.spectrum_len()];
+        w
+    }
+
+    /// Buffers for the convolutions only ([`convolve`](Self::convolve),
+    /// [`convolve_with`](Self::convolve_with), [`convolve_fields`](Self::convolve_fields)):
+    /// [`work`](Self::work) without the transposed spectrum, whose column stage runs in
+    /// place on the row spectra: 16·ny·(NX/2 + 1) bytes (≈ 8 per data point on a
+    /// periodic grid) against twice that and more on a padded one. The spectrum is never
+    /// allocated (not even for a moment: it would count in the peak memory).
+    pub fn convolution_work(&self) -> Fft2Work {
         let s = self
             .r2c
             .get_scratch_len()
@@ -247,12 +345,12 @@ impl RealFft2 {
             .max(self.col_inv.get_inplace_scratch_len());
         Fft2Work {
             rows: vec![Complex::default(); self.data.0 * self.half],
-            spec: vec![Complex::default(); self.spectrum_len()],
+            spec: Vec::new(),
             lanes: (0..self.lanes)
                 .map(|_| Lane {
                     real: vec![0.0; self.grid.1],
                     scratch: vec![Complex::default(); s],
-                    block: vec![Complex::default(); ROW_BLOCK * self.half],
+                    lines: vec![Complex::default(); BLOCK * self.grid.0],
                 })
                 .collect(),
         }
@@ -273,6 +371,7 @@ impl RealFft2 {
     /// module docs).
     pub fn forward(&self, input: &[f64], work: &mut Fft2Work) -> Result<(), FftError> {
         self.check("input", input.len(), self.data.0 * self.data.1)?;
+        self.check("spectrum", work.spec.len(), self.spectrum_len())?;
         self.rows_forward(input, work);
         self.transpose_in(work);
         self.columns(&mut work.spec, &mut work.lanes, |line, _, lane| {
@@ -285,6 +384,7 @@ impl RealFft2 {
     /// The spectrum must be that of a real field (Hermitian along kx = 0 and NX/2).
     pub fn inverse(&self, out: &mut [f64], work: &mut Fft2Work) -> Result<(), FftError> {
         self.check("output", out.len(), self.data.0 * self.data.1)?;
+        self.check("spectrum", work.spec.len(), self.spectrum_len())?;
         self.columns(&mut work.spec, &mut work.lanes, |line, _, lane| {
             self.col_inv.process_with_scratch(line, &mut lane.scratch);
         });
@@ -294,23 +394,28 @@ impl RealFft2 {
     }
 
     /// Convolution by a real spectral kernel: `out = F⁻¹[K · F[input]]`, with the kernel
-    /// in the half-spectrum layout (`kernel[kx · NY + ky]`, normalisation included) and
-    /// its (0, 0) entry replaced by `dc`. The kernel multiply happens between the forward
+    /// a [`Multiplier`] (a `&[f64]` in the half-spectrum layout `kernel[kx · NY + ky]`,
+    /// normalisation included) and its (0, 0) entry replaced by `dc`. The kernel multiply happens between the forward
     /// and inverse column transforms of each kx line, while it is in cache.
-    pub fn convolve(
+    pub fn convolve<'k>(
         &self,
         input: &[f64],
         out: &mut [f64],
-        kernel: &[f64],
+        kernel: impl Into<Multiplier<'k>>,
         dc: f64,
         work: &mut Fft2Work,
     ) -> Result<(), FftError> {
+        let kernel = kernel.into();
         let n = self.data.0 * self.data.1;
         self.check("input", input.len(), n)?;
         self.check("output", out.len(), n)?;
-        self.check("kernel", kernel.len(), self.spectrum_len())?;
+        self.check(
+            "kernel",
+            kernel.len(),
+            kernel.expected_len(self.grid.0, self.half),
+        )?;
         self.rows_forward(input, work);
-        self.columns_from_rows(kernel, dc, work);
+        self.columns_in_rows(kernel, dc, work);
         self.rows_inverse_fields([out], work, &|_, [o]: [&mut [f64]; 1], result: &[f64]| {
             o.copy_from_slice(result)
         });
@@ -384,55 +489,78 @@ impl RealFft2 {
         for f in fields.iter() {
             self.check("field", f.len(), n)?;
         }
-        self.check("kernel", kernel.len(), self.spectrum_len())?;
+        self.check(
+            "kernel",
+            kernel.len(),
+            kernel.expected_len(self.grid.0, self.half),
+        )?;
         let a = self.rows_forward_fields(fields.each_mut().map(|f| &mut **f), work, &fill);
         let Some(g) = gate(&a) else {
             return Ok((a, None));
         };
-        self.columns_from_rows(kernel, dc, work);
+        self.columns_in_rows(kernel, dc, work);
         let b =
             self.rows_inverse_fields(fields, work, &|i, rows, result| drain(&g, i, rows, result));
         Ok((a, Some(b)))
     }
 
-    /// The column stage of a convolution: each lane gathers its kx lines from the row
-    /// spectra (the transpose, BLOCK lines at a time, zero below the data rows), and
-    /// transforms, multiplies by the kernel and transforms back each line while it is
-    /// in cache.
-    fn columns_from_rows(&self, kernel: &[f64], dc: f64, work: &mut Fft2Work) {
+    /// The column stage of a convolution, in place on the row spectra: each lane owns a
+    /// range of kx columns, gathers them BLOCK lines at a time (zero below the data
+    /// rows), transforms, multiplies by the kernel and transforms back each line while it
+    /// is in cache, and scatters the data rows back.
+    fn columns_in_rows(&self, kernel: Multiplier<'_>, dc: f64, work: &mut Fft2Work) {
         let (gy, ny, h) = (self.grid.0, self.data.0, self.half);
-        let rows = &work.rows;
-        let chunk = h.div_ceil(work.lanes.len());
-        let run = |(c, (spec, lane)): (usize, (&mut [Complex<f64>], &mut Lane))| {
+        let lanes = work.lanes.len();
+        let chunk = h.div_ceil(lanes);
+        // Each lane's columns of every row.
+        let mut parts: Vec<Vec<&mut [Complex<f64>]>> =
+            (0..lanes).map(|_| Vec::with_capacity(ny)).collect();
+        for row in work.rows.chunks_mut(h) {
+            let mut rest = row;
+            for part in parts.iter_mut() {
+                let take = chunk.min(rest.len());
+                let (a, b) = std::mem::take(&mut rest).split_at_mut(take);
+                part.push(a);
+                rest = b;
+            }
+        }
+        let run = |(c, (mut cols, lane)): LaneCols<'_>| {
             let k0 = c * chunk;
-            let kn = spec.len() / gy;
+            let kn = cols.first().map_or(0, |r| r.len());
             for b in (0..kn).step_by(BLOCK) {
                 let be = (b + BLOCK).min(kn);
-                gather_columns(rows, spec, [ny, h, gy], k0, b..be);
-                for k in b..be {
-                    let line = &mut spec[k * gy..(k + 1) * gy];
+                for (i, r) in cols.iter().enumerate() {
+                    for (k, &v) in r[b..be].iter().enumerate() {
+                        lane.lines[k * gy + i] = v;
+                    }
+                }
+                for k in 0..be - b {
+                    let line = &mut lane.lines[k * gy..(k + 1) * gy];
                     line[ny..].fill(Complex::default());
                     self.col_fwd.process_with_scratch(line, &mut lane.scratch);
                     let z0 = line[0];
-                    let kx = k0 + k;
-                    for (v, &kv) in line.iter_mut().zip(&kernel[kx * gy..(kx + 1) * gy]) {
-                        *v *= kv;
-                    }
+                    let kx = k0 + b + k;
+                    kernel.apply(kx, line);
                     if kx == 0 {
                         line[0] = z0 * dc;
                     }
                     self.col_inv.process_with_scratch(line, &mut lane.scratch);
                 }
+                for (i, r) in cols.iter_mut().enumerate() {
+                    for (k, v) in r[b..be].iter_mut().enumerate() {
+                        *v = lane.lines[k * gy + i];
+                    }
+                }
             }
         };
-        if work.lanes.len() > 1 {
-            work.spec
-                .par_chunks_mut(chunk * gy)
+        if lanes > 1 {
+            parts
+                .into_par_iter()
                 .zip(work.lanes.par_iter_mut())
                 .enumerate()
                 .for_each(run);
-        } else {
-            run((0, (&mut work.spec, &mut work.lanes[0])));
+        } else if let Some(cols) = parts.pop() {
+            run((0, (cols, &mut work.lanes[0])));
         }
     }
 
@@ -481,9 +609,8 @@ impl RealFft2 {
         }
     }
 
-    /// The inverse row stage of a convolution: each lane gathers its rows from the
-    /// transposed spectrum (ROW_BLOCK rows at a time), transforms them back and hands
-    /// each result row, with the fields' rows, to `drain`.
+    /// The inverse row stage of a convolution: each lane transforms its rows of the row
+    /// spectra back and hands each result row, with the fields' rows, to `drain`.
     fn rows_inverse_fields<const K: usize, B: Merge>(
         &self,
         fields: [&mut [f64]; K],
@@ -491,56 +618,41 @@ impl RealFft2 {
         drain: &(impl Fn(usize, [&mut [f64]; K], &[f64]) -> B + Sync),
     ) -> B {
         let (ny, nx) = self.data;
-        let (gy, h) = (self.grid.0, self.half);
+        let h = self.half;
         let lanes = work.lanes.len();
         let chunk = ny.div_ceil(lanes);
         let c2r = &self.c2r;
         let even = self.grid.1.is_multiple_of(2);
-        let spec = &work.spec;
         let parts = lane_chunks(fields, chunk, nx, lanes);
-        let run = |(c, (mut part, lane)): (usize, ([&mut [f64]; K], &mut Lane))| {
+        let run = |(c, ((spec, mut part), lane)): (usize, LaneRows<'_, K>)| {
             let i0 = c * chunk;
-            let rn = ny.saturating_sub(i0).min(chunk);
-            let Lane {
-                real,
-                scratch,
-                block,
-            } = lane;
+            let Lane { real, scratch, .. } = lane;
             let mut acc = B::default();
-            for b in (0..rn).step_by(ROW_BLOCK) {
-                let be = (b + ROW_BLOCK).min(rn);
-                for k in 0..h {
-                    let col = &spec[k * gy + i0 + b..k * gy + i0 + be];
-                    for (r, &v) in col.iter().enumerate() {
-                        block[r * h + k] = v;
-                    }
+            for (r, row) in spec.chunks_mut(h).enumerate() {
+                // A real field's row spectrum has real DC and Nyquist terms; round-off
+                // left there is dropped (realfft would report it).
+                row[0].im = 0.0;
+                if even {
+                    row[h - 1].im = 0.0;
                 }
-                for r in b..be {
-                    let row = &mut block[(r - b) * h..(r - b + 1) * h];
-                    // A real field's row spectrum has real DC and Nyquist terms; round-off
-                    // left there is dropped (realfft would report it).
-                    row[0].im = 0.0;
-                    if even {
-                        row[h - 1].im = 0.0;
-                    }
-                    let _ = c2r.process_with_scratch(row, real, scratch);
-                    acc = acc.merge(drain(i0 + r, row_of(&mut part, r, nx), &real[..nx]));
-                }
+                let _ = c2r.process_with_scratch(row, real, scratch);
+                acc = acc.merge(drain(i0 + r, row_of(&mut part, r, nx), &real[..nx]));
             }
             acc
         };
         if lanes > 1 {
-            parts
-                .into_par_iter()
+            work.rows
+                .par_chunks_mut(chunk * h)
+                .zip(parts.into_par_iter())
                 .zip(work.lanes.par_iter_mut())
                 .enumerate()
                 .map(run)
                 .reduce(B::default, B::merge)
         } else {
-            let lane = &mut work.lanes[0];
+            let (rows, lane) = (&mut work.rows, &mut work.lanes[0]);
             parts
                 .into_iter()
-                .map(|part| run((0, (part, &mut *lane))))
+                .map(|part| run((0, ((&mut *rows, part), &mut *lane))))
                 .fold(B::default(), B::merge)
         }
     }
@@ -678,6 +790,127 @@ impl RealFft2 {
         } else {
             run((0, &mut work.rows));
         }
+    }
+}
+
+/// One thread's scratch of the slab pieces of [`RealFft2`] ([`RealFft2::slab_scratch`]):
+/// a real row of NX values and the transforms' scratch.
+pub struct SlabScratch {
+    real: Vec<f64>,
+    scratch: Vec<Complex<f64>>,
+}
+
+/// The pieces of a distributed (slab-decomposed) 2-D transform: a process that owns some
+/// data rows transforms them along the rows, exchanges blocks of the row spectra so that
+/// it owns some kx columns over all rows, transforms those along the columns, and back.
+/// The caller does the exchange; each piece runs on the calling thread. The values are
+/// those of [`RealFft2::convolve`] up to the order of the floating-point operations,
+/// which is the same (the same 1-D transforms on the same lines).
+impl RealFft2 {
+    /// Scratch for [`Self::row_forward`], [`Self::row_inverse`] and
+    /// [`Self::column_convolve`].
+    pub fn slab_scratch(&self) -> SlabScratch {
+        let s = self
+            .r2c
+            .get_scratch_len()
+            .max(self.c2r.get_scratch_len())
+            .max(self.col_fwd.get_inplace_scratch_len())
+            .max(self.col_inv.get_inplace_scratch_len());
+        SlabScratch {
+            real: vec![0.0; self.grid.1],
+            scratch: vec![Complex::default(); s],
+        }
+    }
+
+    /// The spectrum (NX/2 + 1 values, `out`) of one data row (`row`, nx values, zero-padded
+    /// to NX): the row stage of the forward transform.
+    pub fn row_forward(
+        &self,
+        row: &[f64],
+        out: &mut [Complex<f64>],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        let (nx, gx) = (self.data.1, self.grid.1);
+        self.check("row", row.len(), nx)?;
+        self.check("row spectrum", out.len(), self.half)?;
+        s.real[..nx].copy_from_slice(row);
+        s.real[nx..gx].fill(0.0);
+        // Lengths are fixed by the plan: the only error is a wrong length.
+        let _ = self
+            .r2c
+            .process_with_scratch(&mut s.real, out, &mut s.scratch);
+        Ok(())
+    }
+
+    /// The data row (`out`, nx values) of a row spectrum (`spec`, NX/2 + 1 values,
+    /// destroyed): the row stage of the inverse transform (unnormalised).
+    pub fn row_inverse(
+        &self,
+        spec: &mut [Complex<f64>],
+        out: &mut [f64],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        let (h, nx) = (self.half, self.data.1);
+        self.check("row spectrum", spec.len(), h)?;
+        self.check("row", out.len(), nx)?;
+        spec[0].im = 0.0;
+        if self.grid.1.is_multiple_of(2) {
+            spec[h - 1].im = 0.0;
+        }
+        let _ = self
+            .c2r
+            .process_with_scratch(spec, &mut s.real, &mut s.scratch);
+        out.copy_from_slice(&s.real[..nx]);
+        Ok(())
+    }
+
+    /// The column stage of a convolution on one kx line (`line`, NY values, the data rows
+    /// first and zeros below them): forward transform, multiplication by the kernel's
+    /// line `at` of `kernel` (a multiplier holding the lines of this process's columns
+    /// only is indexed by its own line number), the (0, 0) entry replaced by `dc` if
+    /// given, inverse transform.
+    pub fn column_convolve(
+        &self,
+        line: &mut [Complex<f64>],
+        kernel: Multiplier<'_>,
+        at: usize,
+        dc: Option<f64>,
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        let gy = self.grid.0;
+        self.check("column", line.len(), gy)?;
+        let need = kernel.expected_len(gy, at + 1);
+        if kernel.len() < need {
+            return Err(FftError::Buffer {
+                what: "kernel",
+                got: kernel.len(),
+                expected: need,
+            });
+        }
+        self.col_fwd.process_with_scratch(line, &mut s.scratch);
+        let z0 = line[0];
+        kernel.apply(at, line);
+        if let Some(dc) = dc {
+            line[0] = z0 * dc;
+        }
+        self.col_inv.process_with_scratch(line, &mut s.scratch);
+        Ok(())
+    }
+
+    /// The forward column transform of one kx line (NY values, in place).
+    pub fn column_forward(
+        &self,
+        line: &mut [Complex<f64>],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        self.check("column", line.len(), self.grid.0)?;
+        self.col_fwd.process_with_scratch(line, &mut s.scratch);
+        Ok(())
+    }
+
+    /// Values per row spectrum, NX/2 + 1.
+    pub fn half(&self) -> usize {
+        self.half
     }
 }
 

@@ -116,7 +116,7 @@ fn fused_convolution_equals_plain_with_row_sums() {
         let rows = RowPasses {
             data: &mut d,
             out: &mut out,
-            kernel: &kernel,
+            kernel: (&kernel).into(),
             dc: 0.5,
         };
         let (a, b) = plan
@@ -156,7 +156,7 @@ fn gated_fields_convolution_stops_or_hands_its_value_to_the_drain() {
         let (mut a, mut b, mut c) = (z.clone(), vec![0.0; ny * nx], vec![0.0; ny * nx]);
         let fields = Fields {
             fields: [&mut a, &mut b, &mut c],
-            kernel: &kernel,
+            kernel: (&kernel).into(),
             dc: 0.0,
         };
         let (sum, drained) = plan
@@ -194,6 +194,67 @@ fn gated_fields_convolution_stops_or_hands_its_value_to_the_drain() {
                     assert!((x - 3.0 * y).abs() < 1e-10 * (1.0 + y.abs()), "{x} {y}");
                 }
             }
+        }
+    }
+}
+
+#[test]
+fn folded_multiplier_equals_its_expanded_half_kernel_and_its_inverse() {
+    // A kernel even in ky held once per |ky| (the BEM's periodic kernel and its inverse,
+    // the preconditioner) gives the same bits as the kernel written out on the half
+    // spectrum, with the buffers of convolution_work (no transposed spectrum).
+    for (ny, nx) in [(6, 10), (9, 6), (130, 128)] {
+        let plan = RealFft2::new(ny, nx).unwrap();
+        let (h, hy) = (nx / 2 + 1, ny / 2 + 1);
+        let scale = 1.0 / (ny * nx) as f64;
+        let table: Vec<f64> = (0..h * hy)
+            .map(|i| if i == 3 { 0.0 } else { 1.0 / (1.0 + i as f64) })
+            .collect();
+        let z = field(ny, nx);
+        for inverse in [false, true] {
+            let value = |t: f64| {
+                let k = t * scale;
+                if !inverse {
+                    k
+                } else if k > 0.0 {
+                    scale * scale / k
+                } else {
+                    0.0
+                }
+            };
+            let half: Vec<f64> = (0..h * ny)
+                .map(|i| {
+                    let (kx, ky) = (i / ny, i % ny);
+                    let fy = if ky <= ny / 2 { ky } else { ny - ky };
+                    value(table[kx * hy + fy])
+                })
+                .collect();
+            let mut want = vec![0.0; ny * nx];
+            plan.convolve(&z, &mut want, &half, half[0], &mut plan.work())
+                .unwrap();
+            let mut w = plan.convolution_work();
+            assert!(w.spec.is_empty());
+            let (mut a, mut out) = (z.clone(), vec![0.0; ny * nx]);
+            let f = Fields {
+                fields: [&mut a, &mut out],
+                kernel: strata_fft::Multiplier::Folded {
+                    table: &table,
+                    scale,
+                    inverse,
+                },
+                dc: half[0],
+            };
+            plan.convolve_fields(
+                f,
+                &mut w,
+                |_, [a, _], input| input.copy_from_slice(a),
+                |_| Some(()),
+                |_, _, [_, o], result| o.copy_from_slice(result),
+            )
+            .unwrap();
+            assert_eq!(out, want, "{ny}×{nx}, inverse {inverse}");
+            // The transforms need the spectrum: an error, not a panic.
+            assert!(plan.forward(&z, &mut w).is_err());
         }
     }
 }

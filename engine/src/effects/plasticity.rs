@@ -61,32 +61,49 @@ pub struct UncoveredSummit {
 /// How the BEM's surface responds to a load step: elastic, or capped at the hardness.
 pub trait BemResponse {
     /// Solves one load step from the state the previous one left (`warm`: the previous
-    /// step's pressure, a start for the elastic solve); with the step's plastic records
-    /// when capped.
+    /// step's pressure, a start for the elastic solve, whose buffer it becomes); with the
+    /// step's plastic records when capped.
     fn step(
         &mut self,
         load: BemLoad,
-        warm: Option<&[f64]>,
+        warm: Option<Vec<f64>>,
     ) -> Result<(BemSolution, Option<PlasticInfo>)>;
     /// The solution at approach `delta` (m) from the state the last step started from,
-    /// warm-started from `warm` (the last step's pressure): the stiffness probe.
-    fn probe(&mut self, delta: f64, warm: &[f64]) -> Result<BemSolution>;
+    /// warm-started from `step` (the last step's solution, whose pressure the elastic
+    /// response lends to the probe's iteration and gets back bit for bit): the stiffness
+    /// probe.
+    fn probe(&mut self, delta: f64, step: &mut BemSolution) -> Result<BemSolution>;
+    /// The gap and displacement maps of a solution of [`Self::step`] or [`Self::probe`]
+    /// that left them out (the elastic response solves for the pressure alone, so that
+    /// a step and its probe hold one pressure map each; the maps are formed from it
+    /// when they are handed on, with the same values).
+    fn complete(&self, solution: &mut BemSolution) -> Result<()>;
 }
 
-/// The elastic response: every step solved afresh, warm-started.
+/// The elastic response: every step solved afresh, warm-started, for its pressure map
+/// alone ([`BemSolver::solve_pressure_only`]; [`BemResponse::complete`] adds the gap and
+/// displacement maps).
 pub struct Elastic<'s>(pub &'s BemSolver);
 
 impl BemResponse for Elastic<'_> {
     fn step(
         &mut self,
         load: BemLoad,
-        warm: Option<&[f64]>,
+        warm: Option<Vec<f64>>,
     ) -> Result<(BemSolution, Option<PlasticInfo>)> {
-        Ok((self.0.solve_from(load, warm)?, None))
+        let sol = match warm {
+            Some(p) => self.0.solve_pressure_only_in(load, p)?,
+            None => self.0.solve_pressure_only(load, None)?,
+        };
+        Ok((sol, None))
     }
 
-    fn probe(&mut self, delta: f64, warm: &[f64]) -> Result<BemSolution> {
-        Ok(self.0.solve_from(BemLoad::Approach(delta), Some(warm))?)
+    fn probe(&mut self, delta: f64, step: &mut BemSolution) -> Result<BemSolution> {
+        Ok(self.0.solve_lent(BemLoad::Approach(delta), step)?)
+    }
+
+    fn complete(&self, solution: &mut BemSolution) -> Result<()> {
+        Ok(self.0.complete_maps(solution)?)
     }
 }
 
@@ -103,7 +120,7 @@ impl BemResponse for Capped<'_> {
     fn step(
         &mut self,
         load: BemLoad,
-        _warm: Option<&[f64]>,
+        _warm: Option<Vec<f64>>,
     ) -> Result<(BemSolution, Option<PlasticInfo>)> {
         let before = self.path.clone();
         let (sol, info) = self.path.step(load)?;
@@ -124,13 +141,18 @@ impl BemResponse for Capped<'_> {
         Ok((sol, Some(record)))
     }
 
-    fn probe(&mut self, delta: f64, _warm: &[f64]) -> Result<BemSolution> {
+    fn probe(&mut self, delta: f64, _step: &mut BemSolution) -> Result<BemSolution> {
         let Some(mut probe) = self.before.take() else {
             return Err(EngineError::Internal(
                 "plasticity (a probe before any step)",
             ));
         };
         Ok(probe.step(BemLoad::Approach(delta))?.0)
+    }
+
+    fn complete(&self, _solution: &mut BemSolution) -> Result<()> {
+        // a capped step returns its maps (they are the state the path advances by)
+        Ok(())
     }
 }
 

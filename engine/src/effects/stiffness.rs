@@ -30,18 +30,18 @@ impl StiffnessProbe {
         1e-4 * delta.abs().max(self.floor)
     }
 
-    /// After step `name` solved to `solution` (its pressure map `pressure`, row-major,
-    /// Pa): the stiffness dP/dδ (N/m) and the probe's solution at δ + dδ.
+    /// After step `name` solved to `solution` (whose pressure map the probe borrows as
+    /// its start and gives back as it was): the stiffness dP/dδ (N/m) and the probe's
+    /// solution at δ + dδ.
     pub fn after_step(
         &self,
         response: &mut dyn BemResponse,
-        solution: &BemSolution,
-        pressure: &[f64],
+        solution: &mut BemSolution,
         name: &str,
     ) -> Result<(f64, BemSolution)> {
         let dd = self.increment(solution.approach);
         let next = response
-            .probe(solution.approach + dd, pressure)
+            .probe(solution.approach + dd, solution)
             .with_context(|| format!("{name}: stiffness"))?;
         Ok(((next.total_load - solution.total_load) / dd, next))
     }

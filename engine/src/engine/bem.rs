@@ -8,6 +8,7 @@
 //! observers ([`crate::effects`]) run; the maps go to the [`Observer`]. No effect code
 //! here.
 
+use std::borrow::Cow;
 use std::time::Instant;
 
 use crate::error::{Context, EngineError, Result};
@@ -46,10 +47,14 @@ pub fn solve(
     let (surface_report, mut warnings) = surface_report(&surface, obs);
     let (n0, n1) = surface.shape();
     let periodic = surface.is_periodic();
-    let heights = ndarray::Array2::from_shape_vec((n0, n1), surface.heights().to_vec())
-        .context("surface: heights")?;
     // Rows (first index, n0 points) span extent().0, columns extent().1.
     let (rows_side, cols_side) = surface.extent();
+    let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
+    let top_to_mean = z_max - surface.mean();
+    let probe = StiffnessProbe::new(surface.rms());
+    // The heights move into the solver: one copy of the grid in the process, not two.
+    let heights = ndarray::Array2::from_shape_vec((n0, n1), surface.into_heights())
+        .context("surface: heights")?;
     let geometry = Geometry {
         lx: cols_side,
         ly: rows_side,
@@ -61,12 +66,9 @@ pub fn solve(
         memory: opts.memory,
         ..scene.solver.bem_options(opts.bem.unwrap_or_default())
     };
-    let solver = BemSolver::with_geometry(&heights, geometry, stack, bem_options)
+    let solver = BemSolver::with_geometry_owned(heights, geometry, stack, bem_options)
         .context("model.kind = \"bem\"")?
         .with_cancel(opts.cancel.clone());
-    drop(heights);
-    let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
-    let top_to_mean = z_max - surface.mean();
     let solid = if stack.is_homogeneous() {
         "homogeneous solid (kernel 2/(E*|k|))".to_string()
     } else {
@@ -133,22 +135,28 @@ pub fn solve(
     // the surface's response, chosen once: elastic or capped at the hardness
     let mut response = plasticity::bem_response(scene, &solver, obs)?;
     let mut plastic = scene.plasticity.map(|_| Vec::with_capacity(total));
-    let probe = StiffnessProbe::new(surface.rms());
     let mut observers = crate::effects::for_bem(scene, (n0, n1), geometry, opts, obs)?;
     let mut failed = None;
     let mut resolution: Vec<StepResolution> = Vec::with_capacity(total);
     for (k, (name, load)) in loads.into_iter().enumerate() {
         opts.cancel.check()?;
         // One step; an error here stops the path (below: a partial curve or the error).
+        // Memory: the step and its probe hold their pressure maps only (the previous
+        // step's, the warm start, becomes this step's; the step's is kept as its contact
+        // points while the probe iterates from it); the step's gap and deflection maps
+        // are formed after the probe, when they go to the observer.
         let mut one_step = || -> Result<strata_bem::BemSolution> {
-            let (sol, record) = response
-                .step(load, warm.as_deref())
+            let (mut sol, record) = response
+                .step(load, warm.take())
                 .with_context(|| name.clone())?;
             if let (Some(p), Some(r)) = (plastic.as_mut(), record) {
                 p.push(r);
             }
-            let flat: Vec<f64> = sol.pressure.iter().copied().collect();
-            let (stiffness, next) = probe.after_step(response.as_mut(), &sol, &flat, &name)?;
+            let (stiffness, next) = probe.after_step(response.as_mut(), &mut sol, &name)?;
+            let flat: Cow<'_, [f64]> = match sol.pressure.as_slice() {
+                Some(p) => Cow::Borrowed(p),
+                None => Cow::Owned(sol.pressure.iter().copied().collect()),
+            };
             resolution.push(StepResolution::of(&flat, n0, n1, periodic));
             worst_error = worst_error.max(sol.error).max(next.error);
             let mut st = Step::default();
@@ -170,7 +178,9 @@ pub fn solve(
             for o in observers.iter_mut() {
                 o.after_step(&seen, obs)?;
             }
-            warm = Some(flat);
+            drop(next);
+            warm = Some(flat.into_owned());
+            response.complete(&mut sol).with_context(|| name.clone())?;
             Ok(sol)
         };
         let sol = match one_step() {

@@ -623,6 +623,11 @@ impl Surface {
     pub fn heights(&self) -> &[f64] {
         &self.z
     }
+    /// The heights, row-major (m), taken out of the surface (no copy: a solver that
+    /// keeps its own heights takes them this way).
+    pub fn into_heights(self) -> Vec<f64> {
+        self.z
+    }
     /// Grid shape (n0, n1); n0 runs along x.
     pub fn shape(&self) -> (usize, usize) {
         (self.n0, self.n1)

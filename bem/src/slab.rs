@@ -1,0 +1,362 @@
+//! The influence operator u = K p on a slab decomposition ([`crate::decomp`]): each rank
+//! holds the rows `rows` of p and u (and of every other field of the iteration) and the kx
+//! columns `cols` of the kernel; no rank holds a whole grid.
+//!
+//! One product, on P ranks:
+//!
+//! ```text
+//!   row FFTs of the rank's data rows        (m·(NX/2+1) complex values)
+//!   all-to-all: block (my rows × q's columns) to rank q
+//!   per owned kx line: column FFT, × K̂(kx, ky), inverse column FFT
+//!   all-to-all back: block (q's rows × my columns) to rank q
+//!   inverse row FFTs into the rank's rows of u
+//! ```
+//!
+//! The 1-D transforms are [`RealFft2`]'s, on the same lines with the same values as the
+//! serial product's (the operator of [`crate::BemSolver`]): the product is the serial one
+//! bit for bit, whatever P (tested). Each exchange sends, per rank, its m data rows'
+//! spectra less the block it keeps: 16·m·(NX/2+1)·(P−1)/P bytes, twice per product.
+//!
+//! Memory per rank: the kernel's columns (periodic: (NX/2+1)(NY/2+1)/P values; free:
+//! (NX/2+1)·NY/P) and two exchange buffers of P·⌈m⌉·⌈(NX/2+1)/P⌉ complex values (≈ 8 bytes
+//! per owned point each on a periodic grid), and one column line.
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use strata_runtime::fft::{Complex, Multiplier, RealFft2, SlabScratch};
+
+use crate::BemError;
+use crate::decomp::{Decomposition, slab, slab_max};
+
+/// The rank's columns of the kernel.
+enum SlabKernel {
+    /// Periodic: `table[(kx − c0)·(NY/2 + 1) + fy]` (m/Pa), scaled by `scale` = 1/(ny·nx)
+    /// as it is used (the layout of the serial operator's table, cut by columns);
+    /// `inverse`: the multiplier is 1/K̂ from the same table (the preconditioner).
+    Folded {
+        table: Arc<Vec<f64>>,
+        scale: f64,
+        inverse: bool,
+    },
+    /// Free: the half spectrum `kernel[(kx − c0)·NY + ky]`, normalisation included.
+    Half(Vec<f64>),
+}
+
+/// A convolution operator on a slab decomposition (see the module docs).
+pub struct SlabOperator<'c> {
+    comm: &'c dyn Decomposition,
+    plan: RealFft2,
+    rows: Range<usize>,
+    cols: Range<usize>,
+    kernel: SlabKernel,
+    periodic: bool,
+}
+
+/// The buffers of a product on one rank.
+pub struct SlabWork {
+    a: Vec<f64>,
+    b: Vec<f64>,
+    line: Vec<Complex<f64>>,
+    row: Vec<Complex<f64>>,
+    scratch: SlabScratch,
+}
+
+impl<'c> SlabOperator<'c> {
+    /// Periodic operator on the ny × nx cell from the kernel K(kx, ky) (m/Pa):
+    /// `kernel_of(i, j)` with i ∈ 0..=nx/2 and the folded j ∈ 0..=ny/2, `k00` the
+    /// uniform-mode value; each rank evaluates its own columns only.
+    pub fn periodic(
+        comm: &'c dyn Decomposition,
+        ny: usize,
+        nx: usize,
+        k00: f64,
+        mut kernel_of: impl FnMut(usize, usize) -> Result<f64, BemError>,
+    ) -> Result<Self, BemError> {
+        let plan = RealFft2::new(ny, nx)?;
+        let (p, q) = (comm.size(), comm.rank());
+        let cols = slab(plan.half(), p, q);
+        let hy = ny / 2 + 1;
+        let mut table = Vec::with_capacity(cols.len() * hy);
+        for kx in cols.clone() {
+            for fy in 0..hy {
+                table.push(if kx == 0 && fy == 0 {
+                    k00
+                } else {
+                    kernel_of(kx, fy)?
+                });
+            }
+        }
+        Ok(SlabOperator {
+            comm,
+            rows: slab(ny, p, q),
+            cols,
+            plan,
+            kernel: SlabKernel::Folded {
+                table: Arc::new(table),
+                scale: 1.0 / (ny * nx) as f64,
+                inverse: false,
+            },
+            periodic: true,
+        })
+    }
+
+    /// Free-boundary operator on an ny × nx sample from the real-space influence
+    /// coefficients `g[dy·nx + dx]` (m/Pa, all offsets: the set-up holds them whole), by
+    /// circulant embedding on the 2ny × 2nx grid as the serial operator. Each rank
+    /// transforms every row of the embedding and keeps its own columns of the spectrum.
+    pub fn free(
+        comm: &'c dyn Decomposition,
+        ny: usize,
+        nx: usize,
+        g: &[f64],
+    ) -> Result<Self, BemError> {
+        let (gy, gx) = (2 * ny, 2 * nx);
+        let full = RealFft2::new(gy, gx)?;
+        let (p, q) = (comm.size(), comm.rank());
+        let cols = slab(full.half(), p, q);
+        let nc = cols.len();
+        let mut s = full.slab_scratch();
+        let mut row = vec![0.0; gx];
+        let mut spec = vec![Complex::default(); full.half()];
+        let mut lines = vec![Complex::default(); nc * gy];
+        for i in 0..gy {
+            row.fill(0.0);
+            let di = if i < ny {
+                Some(i)
+            } else if i > ny {
+                Some(gy - i)
+            } else {
+                None
+            };
+            if let Some(di) = di {
+                for j in 0..gx {
+                    let dj = if j < nx {
+                        j
+                    } else if j > nx {
+                        gx - j
+                    } else {
+                        continue;
+                    };
+                    row[j] = g[di * nx + dj];
+                }
+            }
+            full.row_forward(&row, &mut spec, &mut s)?;
+            for (k, kx) in cols.clone().enumerate() {
+                lines[k * gy + i] = spec[kx];
+            }
+        }
+        let norm = 1.0 / (gy * gx) as f64;
+        let mut kernel = Vec::with_capacity(nc * gy);
+        for line in lines.chunks_mut(gy) {
+            full.column_forward(line, &mut s)?;
+            kernel.extend(line.iter().map(|z| z.re * norm));
+        }
+        Ok(SlabOperator {
+            comm,
+            rows: slab(ny, p, q),
+            cols,
+            plan: RealFft2::padded((gy, gx), (ny, nx))?,
+            kernel: SlabKernel::Half(kernel),
+            periodic: false,
+        })
+    }
+
+    /// The inverse operator, the Fourier multiplier 1/K̂ on the same grid (the
+    /// preconditioner), as the serial operator's inverse:
+    /// `None` on every rank if K̂ is not positive and finite off (0, 0) on any rank.
+    /// Periodic: read from the same table (no memory of its own).
+    pub fn inverse(&self) -> Option<SlabOperator<'c>> {
+        let (gy, gx) = self.plan.grid();
+        let norm = 1.0 / (gy * gx) as f64;
+        // The entries other than the global (0, 0) one, as the multiplier uses them.
+        let skip = usize::from(self.cols.start == 0);
+        let bad = match &self.kernel {
+            SlabKernel::Folded { table, scale, .. } => table
+                .iter()
+                .skip(skip)
+                .any(|&t| !(t * scale > 0.0 && (t * scale).is_finite())),
+            SlabKernel::Half(k) => k.iter().skip(skip).any(|&k| !(k > 0.0 && k.is_finite())),
+        };
+        if crate::decomp::any(self.comm, bad) {
+            return None;
+        }
+        let kernel = match &self.kernel {
+            SlabKernel::Folded {
+                table,
+                scale,
+                inverse,
+            } => SlabKernel::Folded {
+                table: Arc::clone(table),
+                scale: *scale,
+                inverse: !inverse,
+            },
+            SlabKernel::Half(k) => SlabKernel::Half(
+                k.iter()
+                    .map(|&k| if k > 0.0 { norm * norm / k } else { 0.0 })
+                    .collect(),
+            ),
+        };
+        Some(SlabOperator {
+            comm: self.comm,
+            plan: RealFft2::padded((gy, gx), self.plan.data()).ok()?,
+            rows: self.rows.clone(),
+            cols: self.cols.clone(),
+            kernel,
+            periodic: self.periodic,
+        })
+    }
+
+    /// This rank's data rows.
+    #[cfg(test)]
+    pub fn rows(&self) -> Range<usize> {
+        self.rows.clone()
+    }
+
+    /// Values of one exchange block (complex values as two reals).
+    fn block(&self) -> usize {
+        let p = self.comm.size();
+        2 * slab_max(self.plan.data().0, p) * slab_max(self.plan.half(), p)
+    }
+
+    /// The buffers of a product.
+    pub fn work(&self) -> SlabWork {
+        let n = self.comm.size() * self.block();
+        SlabWork {
+            a: vec![0.0; n],
+            b: vec![0.0; n],
+            line: vec![Complex::default(); self.plan.grid().0],
+            row: vec![Complex::default(); self.plan.half()],
+            scratch: self.plan.slab_scratch(),
+        }
+    }
+
+    /// Bytes the operator and one work set take on one rank (kernel columns, the two
+    /// exchange buffers).
+    pub fn bytes(&self) -> u64 {
+        let kernel = match &self.kernel {
+            SlabKernel::Folded { table, .. } => table.len(),
+            SlabKernel::Half(k) => k.len(),
+        };
+        8 * (kernel + 2 * self.comm.size() * self.block()) as u64
+    }
+
+    /// The multiplier of this rank's columns and the (0, 0) entry's replacement on the
+    /// rank that holds kx = 0: the uniform-mode value, or 0 on a periodic cell without
+    /// the uniform mode.
+    fn multiplier(&self, uniform: bool) -> (Multiplier<'_>, Option<f64>) {
+        let (m, origin) = match &self.kernel {
+            SlabKernel::Folded {
+                table,
+                scale,
+                inverse,
+            } => (
+                Multiplier::Folded {
+                    table,
+                    scale: *scale,
+                    inverse: *inverse,
+                },
+                table.first().map(|&t| {
+                    let k = t * scale;
+                    if !inverse {
+                        k
+                    } else if k > 0.0 {
+                        scale * scale / k
+                    } else {
+                        0.0
+                    }
+                }),
+            ),
+            SlabKernel::Half(k) => (Multiplier::Half(k), k.first().copied()),
+        };
+        let dc = if self.cols.start != 0 {
+            None
+        } else if self.periodic && !uniform {
+            Some(0.0)
+        } else {
+            origin
+        };
+        (m, dc)
+    }
+
+    /// out = K · input on this rank's rows (m·nx values each); every rank calls it
+    /// together. `uniform`: include the periodic k = 0 mode.
+    pub fn apply(
+        &self,
+        input: &[f64],
+        out: &mut [f64],
+        uniform: bool,
+        w: &mut SlabWork,
+    ) -> Result<(), BemError> {
+        let p = self.comm.size();
+        let (ny, nx) = self.plan.data();
+        let (gy, h) = (self.plan.grid().0, self.plan.half());
+        let m = self.rows.len();
+        let cm = slab_max(h, p);
+        let blk = self.block();
+        for (what, got) in [("input", input.len()), ("output", out.len())] {
+            if got != m * nx {
+                return Err(strata_runtime::fft::FftError::Buffer {
+                    what,
+                    got,
+                    expected: m * nx,
+                }
+                .into());
+            }
+        }
+        // Row transforms, scattered into the blocks for the column owners.
+        for r in 0..m {
+            self.plan
+                .row_forward(&input[r * nx..(r + 1) * nx], &mut w.row, &mut w.scratch)?;
+            for q in 0..p {
+                let cq = slab(h, p, q);
+                let dst = &mut w.a[q * blk + 2 * r * cm..];
+                for (k, v) in w.row[cq].iter().enumerate() {
+                    dst[2 * k] = v.re;
+                    dst[2 * k + 1] = v.im;
+                }
+            }
+        }
+        self.comm.all_to_all(&w.a, &mut w.b);
+        // The owned kx lines over all rows: gathered from the blocks, convolved, put back.
+        let (kernel, dc) = self.multiplier(uniform);
+        for k in 0..self.cols.len() {
+            for q in 0..p {
+                let rq = slab(ny, p, q);
+                let src = &w.b[q * blk..];
+                for r in 0..rq.len() {
+                    let at = 2 * (r * cm + k);
+                    w.line[rq.start + r] = Complex::new(src[at], src[at + 1]);
+                }
+            }
+            w.line[ny..gy].fill(Complex::default());
+            let dc = if k == 0 { dc } else { None };
+            self.plan
+                .column_convolve(&mut w.line, kernel, k, dc, &mut w.scratch)?;
+            for q in 0..p {
+                let rq = slab(ny, p, q);
+                let dst = &mut w.b[q * blk..];
+                for r in 0..rq.len() {
+                    let at = 2 * (r * cm + k);
+                    let v = w.line[rq.start + r];
+                    dst[at] = v.re;
+                    dst[at + 1] = v.im;
+                }
+            }
+        }
+        self.comm.all_to_all(&w.b, &mut w.a);
+        // Inverse row transforms of the rows' spectra gathered from the column owners.
+        for r in 0..m {
+            for q in 0..p {
+                let cq = slab(h, p, q);
+                let src = &w.a[q * blk + 2 * r * cm..];
+                for (k, v) in w.row[cq].iter_mut().enumerate() {
+                    *v = Complex::new(src[2 * k], src[2 * k + 1]);
+                }
+            }
+            self.plan
+                .row_inverse(&mut w.row, &mut out[r * nx..(r + 1) * nx], &mut w.scratch)?;
+        }
+        Ok(())
+    }
+}
