@@ -153,11 +153,22 @@ impl From<crate::resources::ResourceError> for SurfaceError {
 /// module documentation).
 pub const SPIKE_LIMIT: f64 = 20.0;
 
-/// Bytes per grid point that checking a measured surface allocates beside its heights
-/// (the masks, the fitted form, the residuals and their sorted copies, the harmonic
-/// fill's index and conjugate-gradient vectors, the built surface): an estimate for the
-/// memory limit.
-pub(crate) const MEASURED_BYTES_PER_POINT: u64 = 96;
+/// Bytes per grid point that judging a measured surface allocates beside its heights
+/// ([`Surface::measured_judged`] up to its spike list): the invalid and valid masks (1 + 1),
+/// the fitted form and the heights less it (8 + 8; neither on a periodic grid, whose form
+/// is zero), the prediction residuals and their finite copy for the median (8 + 8; the
+/// absolute deviations overwrite that copy). Counted, and held to by a test that measures
+/// the allocations (runtime/tests/surface_memory.rs).
+pub(crate) const JUDGE_BYTES_PER_POINT: u64 = 34;
+
+/// Bytes per grid point that repairing allocates beside the heights, whatever is filled:
+/// the four masks (invalid, spike, fill, kept: 4), the form (8), the heights less it (8)
+/// and the fill's index of unknowns (8).
+pub(crate) const REPAIR_BYTES_PER_POINT: u64 = 28;
+
+/// Bytes per filled point of the harmonic fill: its list of unknowns and the
+/// conjugate-gradient vectors (diagonal, right-hand side, x, Ax, r, z, p, Ap): 9 × 8.
+pub(crate) const REPAIR_BYTES_PER_FILLED_POINT: u64 = 72;
 
 /// What the file readers do with non-finite heights and spikes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -356,11 +367,11 @@ impl Surface {
         )
     }
 
-    /// Checks, against `memory` ([`crate::resources`]), what checking and building a
-    /// measured n0 × n1 surface allocates beside the heights handed in
-    /// (`MEASURED_BYTES_PER_POINT`): every entry point (file readers, Python arrays,
-    /// the C ABI) calls it before copying, so a huge array is refused by name instead
-    /// of aborting the host process.
+    /// Checks, against `memory` ([`crate::resources`]), what judging a measured n0 × n1
+    /// surface allocates beside the heights handed in (`JUDGE_BYTES_PER_POINT`, 34 B per
+    /// point): every entry point (file readers, Python arrays, the C ABI) calls it before
+    /// copying, so a huge array is refused by name instead of aborting the host process.
+    /// A repair checks what it needs when it knows how many points it fills.
     pub fn check_measured_memory(
         n0: usize,
         n1: usize,
@@ -370,7 +381,7 @@ impl Surface {
             format!("checking and building a {n0}×{n1} measured surface"),
             crate::resources::bytes_for(
                 (n0 as u64).saturating_mul(n1 as u64),
-                MEASURED_BYTES_PER_POINT,
+                JUDGE_BYTES_PER_POINT,
             ),
         )?;
         Ok(())
@@ -438,9 +449,19 @@ impl Surface {
             });
         }
         let valid: Vec<bool> = invalid.iter().map(|b| !b).collect();
-        let residual =
-            |form: &[f64]| -> Vec<f64> { z.iter().zip(form).map(|(a, f)| a - f).collect() };
-        let form = form::fit_form(&z, &valid, n0, n1, judge);
+        // The form is zero on a periodic grid (`judge` None): no form and no copy of the
+        // heights less it are held then (z − 0 is z, bit for bit).
+        let fit = |z: &[f64], keep: &[bool]| {
+            (judge != Detrend::None).then(|| form::fit_form(z, keep, n0, n1, judge))
+        };
+        let residual = |form: &Option<Vec<f64>>| -> std::borrow::Cow<'_, [f64]> {
+            match form {
+                Some(f) => z.iter().zip(f).map(|(a, f)| a - f).collect(),
+                None => std::borrow::Cow::Borrowed(&z[..]),
+            }
+        };
+        let form = fit(&z, &valid);
+        drop(valid);
         // round-off of the heights: 1e-12 × the largest |z| (a plane of 1e-5 m leaves
         // ~1e-21 m of noise after its removal; 1e-17 m is no roughness)
         // and the heights' quantum (an instrument's integer heights times its step): a
@@ -471,39 +492,55 @@ impl Surface {
         for &(k, _) in &bad {
             spike[k] = !invalid[k];
         }
+        drop(bad);
         let fill: Vec<bool> = invalid.iter().zip(&spike).map(|(a, b)| *a || *b).collect();
         let n_fill = fill.iter().filter(|&&b| b).count();
+        let mut fill_iterations = 0;
         if n_fill as f64 > MAX_FILL_FRACTION * total {
             return Err(SurfaceError::TooLittleValid {
                 fraction: n_fill as f64 / total,
                 limit: MAX_FILL_FRACTION,
             });
         }
-        let kept: Vec<bool> = fill.iter().map(|b| !b).collect();
-        let form = if n_fill > n_invalid {
-            form::fit_form(&z, &kept, n0, n1, judge)
-        } else {
-            form
-        };
-        let mut r = residual(&form);
-        let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic).map_err(
-            |e| match e {
-                repair::FillError::NothingValid => SurfaceError::TooLittleValid {
-                    fraction: 1.0,
-                    limit: MAX_FILL_FRACTION,
-                },
-                repair::FillError::NotConverged {
-                    points,
-                    iterations,
-                    residual,
-                } => SurfaceError::Unsupported(format!(
-                    "repair: the harmonic fill of {points} points did not converge in \
-                     {iterations} conjugate-gradient iterations (relative residual {residual:e})"
+        if n_fill > 0 {
+            memory.check(
+                format!("repairing {n_fill} points of a {n0}×{n1} measured surface"),
+                crate::resources::bytes_for(
+                    (n0 as u64).saturating_mul(n1 as u64),
+                    REPAIR_BYTES_PER_POINT,
+                )
+                .saturating_add(crate::resources::bytes_for(
+                    n_fill as u64,
+                    REPAIR_BYTES_PER_FILLED_POINT,
                 )),
-            },
-        )?;
-        for k in (0..z.len()).filter(|&k| fill[k]) {
-            z[k] = r[k] + form[k];
+            )?;
+            let form = if n_fill > n_invalid {
+                drop(form);
+                let kept: Vec<bool> = fill.iter().map(|b| !b).collect();
+                fit(&z, &kept)
+            } else {
+                form
+            };
+            let mut r = residual(&form).into_owned();
+            let iterations = repair::harmonic_fill(&mut r, &fill, n0, n1, (dx, dy), periodic)
+                .map_err(|e| match e {
+                    repair::FillError::NothingValid => SurfaceError::TooLittleValid {
+                        fraction: 1.0,
+                        limit: MAX_FILL_FRACTION,
+                    },
+                    repair::FillError::NotConverged {
+                        points,
+                        iterations,
+                        residual,
+                    } => SurfaceError::Unsupported(format!(
+                        "repair: the harmonic fill of {points} points did not converge in \
+                         {iterations} conjugate-gradient iterations (relative residual {residual:e})"
+                    )),
+                })?;
+            for k in (0..z.len()).filter(|&k| fill[k]) {
+                z[k] = r[k] + form.as_ref().map_or(0.0, |f| f[k]);
+            }
+            fill_iterations = iterations;
         }
         let (ic, il) = repair::clusters(&invalid, n0, n1, periodic);
         let (sc, sl) = repair::clusters(&spike, n0, n1, periodic);
@@ -519,7 +556,7 @@ impl Surface {
             clusters: fc,
             largest: fl,
             fraction: n_fill as f64 / total,
-            iterations,
+            iterations: fill_iterations,
         };
         let mut s = Surface::with_spacing(z, n0, n1, spacing, periodic)?;
         s.repaired = n_fill;
@@ -743,10 +780,11 @@ fn suspect_points(
     periodic: bool,
     floor: f64,
 ) -> Vec<(usize, f64)> {
-    let finite: Vec<f64> = z.iter().copied().filter(|v| v.is_finite()).collect();
-    let nf = finite.len().max(1) as f64;
-    let mean = finite.iter().sum::<f64>() / nf;
-    let rms = (finite.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / nf).sqrt();
+    // the finite heights' mean and RMS, summed in order without a copy of them
+    let finite = || z.iter().copied().filter(|v| v.is_finite());
+    let nf = finite().count().max(1) as f64;
+    let mean = finite().sum::<f64>() / nf;
+    let rms = (finite().map(|v| (v - mean) * (v - mean)).sum::<f64>() / nf).sqrt();
     let all = |_: usize| true;
     let res: Vec<f64> = (0..z.len())
         .map(|k| match predict(z, n0, n1, periodic, k, &all) {
@@ -759,8 +797,10 @@ fn suspect_points(
         0.0
     } else {
         let c = median(&mut r);
-        let mut dev: Vec<f64> = r.iter().map(|v| (v - c).abs()).collect();
-        1.4826 * median(&mut dev)
+        // the absolute deviations overwrite the residuals' copy (the median of a set
+        // does not depend on its order)
+        r.iter_mut().for_each(|v| *v = (*v - c).abs());
+        1.4826 * median(&mut r)
     }
     .max(1e-3 * rms)
     .max(floor);

@@ -623,7 +623,16 @@ fn read_npy_raw(
         SurfaceError::Format { path: p, message }
     })?;
     let (n0, n1) = arr.dim();
-    Ok((arr.iter().copied().collect(), n0, n1)) // logical (C) order
+    // the heights in logical (C) order: the array's own buffer when the file is in C
+    // order (no second copy of the grid), else a copy in that order
+    let z = if arr.is_standard_layout() {
+        let (z, offset) = arr.into_raw_vec_and_offset();
+        debug_assert_eq!(offset.unwrap_or(0), 0);
+        z
+    } else {
+        arr.iter().copied().collect()
+    };
+    Ok((z, n0, n1))
 }
 
 #[cfg(not(feature = "npy"))]
