@@ -18,7 +18,8 @@
 //! every rank; whoever writes them (rank 0) writes what a serial run writes.
 
 use strata_runtime::compliance::Compliance;
-use strata_runtime::stack::Stack;
+use strata_runtime::resources::bytes_for;
+use strata_runtime::stack::Solid;
 
 use crate::decomp::{self, Decomposition};
 use crate::operator::Operator;
@@ -99,14 +100,49 @@ impl SlabStep {
 }
 
 impl<'c> SlabSolver<'c> {
+    /// Bytes rank `rank` of `ranks` needs for an ny × nx grid: its rows of the
+    /// iteration's six fields (z, p, u, g, t, r) and of a seventh, the stiffness probe's
+    /// pressure beside the step's (56 bytes per owned point); its columns of the kernel
+    /// (periodic: (NX/2+1)/P columns of NY/2+1 values, the preconditioner reading the
+    /// same table; free: 2NX/2+1 … of 2NY values, twice, the inverse's own) and the two
+    /// exchange buffers of the product (P blocks of ⌈m⌉·⌈(NX/2+1)/P⌉ complex values
+    /// each). Free: plus the influence coefficients of every offset (ny·nx values), which
+    /// the operator's set-up holds whole on every rank.
+    pub fn memory_needed(
+        (ny, nx): (usize, usize),
+        periodic: bool,
+        ranks: usize,
+        rank: usize,
+    ) -> u64 {
+        let ranks = ranks.max(1);
+        let m = decomp::slab(ny, ranks, rank).len() as u64;
+        let owned = m.saturating_mul(nx as u64);
+        let (gy, gx) = if periodic { (ny, nx) } else { (2 * ny, 2 * nx) };
+        let half = gx / 2 + 1;
+        let cols = decomp::slab(half, ranks, rank).len() as u64;
+        let kernel = if periodic {
+            cols.saturating_mul(ny as u64 / 2 + 1)
+        } else {
+            2 * cols.saturating_mul(gy as u64) + (ny as u64).saturating_mul(nx as u64)
+        };
+        let block = 2 * decomp::slab_max(ny, ranks) as u64 * decomp::slab_max(half, ranks) as u64;
+        let exchange = 2 * (ranks as u64).saturating_mul(block);
+        bytes_for(owned, 8 * 7)
+            .saturating_add(bytes_for(kernel, 8))
+            .saturating_add(bytes_for(exchange, 8))
+    }
+
     /// The solver of an ny × nx grid with sides and boundary condition `geometry` on
     /// `stack`, the heights of each of this rank's rows written by `row(i, z_row)` (global
-    /// row index i, nx values, m). Every rank calls it together.
+    /// row index i, nx values, m). Every rank calls it together. Each rank checks its
+    /// own share ([`Self::memory_needed`]) against `options.memory` before it allocates;
+    /// if any rank's share is over its limit every rank returns an error (the rank over
+    /// it: [`BemError::Memory`] naming the grid and the rank).
     pub fn new(
         comm: &'c dyn Decomposition,
         (ny, nx): (usize, usize),
         geometry: Geometry,
-        stack: &Stack,
+        stack: &(impl Solid + ?Sized),
         options: BemOptions,
         mut row: impl FnMut(usize, &mut [f64]),
     ) -> Result<Self, BemError> {
@@ -124,6 +160,28 @@ impl<'c> SlabSolver<'c> {
             if !(value.is_finite() && value > 0.0) {
                 return Err(BemError::Size { what, value });
             }
+        }
+        let (p, q) = (comm.size(), comm.rank());
+        let mine = decomp::slab(ny, p, q);
+        let kind = if geometry.periodic {
+            ""
+        } else {
+            " (non-periodic)"
+        };
+        let checked = options.memory.check(
+            format!(
+                "BEM grid {ny}×{nx}{kind}, rank {q} of {p} (rows {}..{})",
+                mine.start, mine.end
+            ),
+            Self::memory_needed((ny, nx), geometry.periodic, p, q),
+        );
+        if decomp::any(comm, checked.is_err()) {
+            return Err(match checked {
+                Err(e) => e.into(),
+                Ok(()) => BemError::OtherRank {
+                    what: format!("the memory check of the BEM grid {ny}×{nx}"),
+                },
+            });
         }
         let rows = decomp::slab(ny, comm.size(), comm.rank());
         let mut z = vec![0.0; rows.len() * nx];
@@ -244,7 +302,16 @@ impl<'c> SlabSolver<'c> {
         Ok(out)
     }
 
-    fn solve_step(&self, load: BemLoad, p: &mut [f64], warm: bool) -> Result<SlabStep, BemError> {
+    /// Solves one load on this rank's rows of `p` (Pa): from `p` itself when `warm`
+    /// (rescaled to the mean pressure under pressure control), else from the cold guess.
+    /// On return `p` holds the rank's rows of the solution. Every rank calls it together;
+    /// the step is the same on every rank.
+    pub fn solve_step(
+        &self,
+        load: BemLoad,
+        p: &mut [f64],
+        warm: bool,
+    ) -> Result<SlabStep, BemError> {
         let control = load_control(
             load,
             self.geometry.periodic,
@@ -330,6 +397,151 @@ impl<'c> SlabSolver<'c> {
     pub fn e_star1(&self) -> f64 {
         self.e_star1
     }
+
+    /// Nominal area Lx·Ly (m²).
+    pub fn area(&self) -> f64 {
+        self.geometry.lx * self.geometry.ly
+    }
+
+    /// The grid (rows ny, columns nx).
+    pub fn shape(&self) -> (usize, usize) {
+        (self.ny, self.nx)
+    }
+
+    /// The sizes (points) of the contact patches (p > 0, 4-connected, across the cell's
+    /// edges when periodic) of the pressure whose rows on this rank are `p`, the same on
+    /// every rank ([`patch_sizes`]).
+    pub fn patch_sizes(&self, p: &[f64]) -> Vec<usize> {
+        let mask: Vec<bool> = p.iter().map(|&v| v > 0.0).collect();
+        patch_sizes(self.comm, &mask, (self.ny, self.nx), self.geometry.periodic)
+    }
+}
+
+/// The contact patches of a mask held by rows (`mask` this rank's rows of the ny × nx
+/// grid, [`decomp::slab`]'s cut): their sizes (points, in no particular order), the same
+/// on every rank and the same multiset as [`crate::patch_sizes`] of the whole mask.
+/// 4-connected, across the cell's edges when `periodic`.
+///
+/// Each rank labels the patches of its own rows (union-find within its slab); the ranks
+/// then exchange their patch sizes and the labels of their first and last rows, and
+/// every rank joins the labels that meet across the slab borders (the last row of rank q
+/// against the first of rank q + 1, and of the last rank against rank 0 when periodic).
+/// Communication: the ranks' patch counts, 2·nx labels and the patch sizes per rank; no
+/// rank holds the mask of another.
+pub fn patch_sizes(
+    comm: &dyn Decomposition,
+    mask: &[bool],
+    (ny, nx): (usize, usize),
+    periodic: bool,
+) -> Vec<usize> {
+    let (np, q) = (comm.size(), comm.rank());
+    let m = decomp::slab(ny, np, q).len();
+    debug_assert_eq!(mask.len(), m * nx);
+    // Union-find within the slab: right neighbours (across the x edge when periodic)
+    // and down neighbours inside the slab.
+    let mut parent: Vec<usize> = (0..mask.len()).collect();
+    fn find(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    for i in 0..m {
+        for j in 0..nx {
+            let a = i * nx + j;
+            if !mask[a] {
+                continue;
+            }
+            let right = (j + 1 < nx || periodic).then(|| i * nx + (j + 1) % nx);
+            let down = (i + 1 < m).then(|| (i + 1) * nx + j);
+            for b in [right, down].into_iter().flatten() {
+                if mask[b] {
+                    let (ra, rb) = (find(&mut parent, a), find(&mut parent, b));
+                    if ra != rb {
+                        parent[ra] = rb;
+                    }
+                }
+            }
+        }
+    }
+    // Local labels 0..count in order of their roots (`root_label`), and their sizes;
+    // then each point's label in `parent` (usize::MAX outside the mask).
+    let mut root_label = vec![usize::MAX; mask.len()];
+    let mut sizes: Vec<f64> = Vec::new();
+    for a in 0..mask.len() {
+        if mask[a] {
+            let r = find(&mut parent, a);
+            if root_label[r] == usize::MAX {
+                root_label[r] = sizes.len();
+                sizes.push(0.0);
+            }
+            sizes[root_label[r]] += 1.0;
+        }
+    }
+    let edge_labels = |i: usize, parent: &mut [usize]| -> Vec<f64> {
+        (0..nx)
+            .map(|j| {
+                let a = i * nx + j;
+                if mask[a] {
+                    root_label[find(parent, a)] as f64
+                } else {
+                    -1.0
+                }
+            })
+            .collect()
+    };
+    let mut first_last = edge_labels(0, &mut parent);
+    first_last.extend(edge_labels(m - 1, &mut parent));
+    drop(parent);
+    drop(root_label);
+    // Counts, then the sizes padded to the largest count, then the edge rows.
+    let mut counts = vec![0.0; np];
+    comm.all_gather(&[sizes.len() as f64], &mut counts);
+    let counts: Vec<usize> = counts.iter().map(|&c| c as usize).collect();
+    let most = counts.iter().copied().max().unwrap_or(0);
+    let mut padded = sizes;
+    padded.resize(most, 0.0);
+    let mut all_sizes = vec![0.0; most * np];
+    comm.all_gather(&padded, &mut all_sizes);
+    drop(padded);
+    let mut edges = vec![0.0; 2 * nx * np];
+    comm.all_gather(&first_last, &mut edges);
+    // Global labels: rank r's label k is offset[r] + k.
+    let mut offset = vec![0usize; np + 1];
+    for r in 0..np {
+        offset[r + 1] = offset[r] + counts[r];
+    }
+    let mut size = vec![0usize; offset[np]];
+    let mut up: Vec<usize> = (0..offset[np]).collect();
+    for r in 0..np {
+        for k in 0..counts[r] {
+            size[offset[r] + k] = all_sizes[r * most + k] as usize;
+        }
+    }
+    drop(all_sizes);
+    for r in 0..np {
+        if r + 1 == np && !periodic {
+            break;
+        }
+        let s = (r + 1) % np;
+        let last = &edges[r * 2 * nx + nx..(r + 1) * 2 * nx];
+        let first = &edges[s * 2 * nx..s * 2 * nx + nx];
+        for (&a, &b) in last.iter().zip(first) {
+            if a >= 0.0 && b >= 0.0 {
+                let (ga, gb) = (offset[r] + a as usize, offset[s] + b as usize);
+                let (ra, rb) = (find(&mut up, ga), find(&mut up, gb));
+                if ra != rb {
+                    up[ra] = rb;
+                    size[rb] += size[ra];
+                }
+            }
+        }
+    }
+    (0..up.len())
+        .filter(|&k| find(&mut up, k) == k)
+        .map(|k| size[k])
+        .collect()
 }
 
 /// The maximum, mean and RMS of the heights over all ranks (`z` this rank's rows, the
@@ -385,7 +597,7 @@ mod tests {
     use super::*;
     use crate::decomp::Serial;
     use crate::slab::SlabOperator;
-    use strata_runtime::stack::{Base, Layer};
+    use strata_runtime::stack::{Base, Layer, Stack};
 
     /// P ranks as P threads of one process: the collectives through shared slots.
     struct Threads {
@@ -640,6 +852,90 @@ mod tests {
             errs.iter()
                 .all(|e| matches!(e, Some(BemError::Ranks { rows: 4, ranks: 5 })))
         );
+    }
+
+    /// The patches of a mask held by slabs are those of the whole mask (as a multiset of
+    /// sizes), periodic or not, on 1 to 4 ranks: patches that cross slab borders, the
+    /// periodic edges, one-row slabs and an empty mask.
+    #[test]
+    fn slab_patches_are_the_whole_mask_patches() {
+        for (ny, nx) in [(9, 7), (16, 12), (4, 5)] {
+            for density in [0.0, 0.3, 0.55, 0.8] {
+                let mask: Vec<bool> = (0..ny * nx)
+                    .map(|k| {
+                        let h = (k as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40;
+                        (h as f64 / (1u64 << 24) as f64) < density
+                    })
+                    .collect();
+                for periodic in [false, true] {
+                    let mut want = crate::patch_sizes(&mask, ny, nx, periodic);
+                    want.sort_unstable();
+                    for p in 1..=4 {
+                        let got = on_ranks(p, |comm| {
+                            let rows = decomp::slab(ny, p, comm.rank());
+                            let mut s = patch_sizes(
+                                comm,
+                                &mask[rows.start * nx..rows.end * nx],
+                                (ny, nx),
+                                periodic,
+                            );
+                            s.sort_unstable();
+                            s
+                        });
+                        for (rank, s) in got.iter().enumerate() {
+                            assert_eq!(
+                                s, &want,
+                                "{ny}×{nx} density {density} periodic {periodic} P {p} rank {rank}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// Each rank checks its own share against the memory limit before allocating; a
+    /// limit between rank 1's share and rank 0's (rank 0 has the extra rows) stops every
+    /// rank: rank 0 with the error naming the grid and itself, the others saying another
+    /// rank failed.
+    #[test]
+    fn each_rank_checks_its_share_of_memory() {
+        let (ny, nx) = (9, 8);
+        let need = |q| SlabSolver::memory_needed((ny, nx), true, 2, q);
+        assert!(need(0) > need(1));
+        // About half the one-rank figure each.
+        let one = SlabSolver::memory_needed((ny, nx), true, 1, 0);
+        assert!(
+            need(0) < one && need(1) < one,
+            "{one} {} {}",
+            need(0),
+            need(1)
+        );
+        let options = BemOptions {
+            memory: strata_runtime::resources::MemoryLimit::new(need(1), "test"),
+            ..BemOptions::default()
+        };
+        let stack = layered();
+        let errs = on_ranks(2, |comm| {
+            SlabSolver::new(
+                comm,
+                (ny, nx),
+                Geometry::square(1e-3),
+                &stack,
+                options,
+                |i, row| {
+                    for (j, v) in row.iter_mut().enumerate() {
+                        *v = surface(i, j, (ny, nx));
+                    }
+                },
+            )
+            .err()
+            .map(|e| e.to_string())
+        });
+        let e0 = errs[0].as_deref().expect("rank 0 over its limit");
+        assert!(e0.contains("9×8") && e0.contains("rank 0 of 2"), "{e0}");
+        let e1 = errs[1].as_deref().expect("rank 1 stops too");
+        assert!(e1.contains("another rank"), "{e1}");
     }
 
     /// 2 and 3 ranks give the one-rank curve to round-off (periodic layered, and an

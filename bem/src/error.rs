@@ -14,6 +14,9 @@ pub enum BemError {
         "heights: a grid of {rows} rows cannot be cut into slabs for {ranks} ranks (at least one row each); run on at most {rows} ranks"
     )]
     Ranks { rows: usize, ranks: usize },
+    /// A distributed solve stopped because another rank failed (that rank reports why).
+    #[error("{what} failed on another rank (its message says why)")]
+    OtherRank { what: String },
     #[error("heights[{row}, {col}] = {value} is not finite")]
     NonFiniteHeight { row: usize, col: usize, value: f64 },
     #[error("heights: the surface is flat (zero RMS height); there is no rough contact to solve")]

@@ -6,6 +6,8 @@ pub mod compare;
 pub mod compliance;
 pub mod conductance;
 pub mod law;
+#[cfg(feature = "mpi")]
+pub mod ranks;
 pub mod solve;
 pub mod stiffness;
 pub mod study;

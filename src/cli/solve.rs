@@ -112,19 +112,37 @@ pub fn curve_csv_extra(steps: &[Step], extra: &[(&str, Vec<f64>)]) -> Result<Str
 }
 
 pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
-    let t0 = Instant::now();
-    let scene = Scene::from_file(&a.scene)?;
-    refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
-    let set = OutputSet::dir("--out", &a.out, a.force)?;
-    let opts = EngineOptions {
+    // Under mpirun (the `mpi` build): the BEM distributed over the ranks.
+    #[cfg(feature = "mpi")]
+    if let Some(world) = crate::cli::ranks::launched() {
+        use strata_bem::Decomposition;
+        if world.size() > 1 {
+            return run_ranks(a, memory, &world);
+        }
+    }
+    run_one(a, memory)
+}
+
+/// The options of a solve.
+fn engine_options(a: &Args, memory: MemoryLimit) -> EngineOptions {
+    EngineOptions {
         cache_dir: a.cache_dir.clone(),
         keep_partial: true,
         memory,
         ..Default::default()
-    };
+    }
+}
+
+/// The solve in this process alone.
+fn run_one(a: Args, memory: MemoryLimit) -> Result<()> {
+    let t0 = Instant::now();
+    let scene = Scene::from_file(&a.scene)?;
+    refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
+    let set = OutputSet::dir("--out", &a.out, a.force)?;
+    let opts = engine_options(&a, memory);
     let mut maps = MapWriter::new(&set, scene.output.maps, !a.no_plots)
         .with_formats(scene.output.format, scene.plasticity.map(|p| p.hardness));
-    let mut sol = solve(
+    let sol = solve(
         &scene,
         None,
         &opts,
@@ -137,8 +155,80 @@ pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
         },
     )
     .with_context(|| format!("scene {}", a.scene.display()))?;
-    sol.summary.scene = a.scene.display().to_string();
     maps.finish()?;
+    finish(&a, memory, set, sol, t0)
+}
+
+/// A scene under `mpirun -np P` (P > 1, the `mpi` build): a BEM scene solved on the
+/// ranks together ([`strata_engine::engine::distributed`]), rank 0 writing the outputs;
+/// any other model on rank 0 alone (the log says so), the other ranks exiting at once.
+#[cfg(feature = "mpi")]
+fn run_ranks(a: Args, memory: MemoryLimit, comm: &dyn strata_bem::Decomposition) -> Result<()> {
+    use crate::engine::distributed;
+    use crate::scene::ModelKind;
+    use strata_bem::decomp;
+    let (ranks, rank) = (comm.size(), comm.rank());
+    if rank != 0 {
+        progress::init(true);
+    }
+    let t0 = Instant::now();
+    let on_rank = |e: anyhow::Error| {
+        if rank == 0 {
+            e
+        } else {
+            e.context(format!("rank {rank} of {ranks}"))
+        }
+    };
+    let scene = Scene::from_file(&a.scene).map_err(|e| on_rank(e.into()))?;
+    if scene.model.kind != ModelKind::Bem {
+        if rank != 0 {
+            return Ok(());
+        }
+        progress::log(format!(
+            "mpirun: {ranks} ranks, but only the BEM is distributed: the {:?} model runs on rank 0 alone (ranks 1..{ranks} exit)",
+            scene.model.kind
+        ));
+        return run_one(a, memory);
+    }
+    // Rank 0 checks the scene's fields and prepares the output set; the others follow
+    // its word (on its error they exit at once, rank 0 reports it).
+    let set = (rank == 0).then(|| -> Result<OutputSet> {
+        if let Some(why) = distributed::not_distributed(&scene) {
+            bail!("scene {}: {why}", a.scene.display());
+        }
+        refuse_inputs("--out", &a.out, &scene.inputs(&a.scene))?;
+        Ok(OutputSet::dir("--out", &a.out, a.force)?)
+    });
+    if decomp::any(comm, matches!(set, Some(Err(_)))) {
+        return match set {
+            Some(Err(e)) => Err(e),
+            _ => Ok(()),
+        };
+    }
+    let opts = engine_options(&a, memory);
+    let sol = if rank == 0 {
+        distributed::solve(&scene, comm, &opts, &mut crate::engine::Console)
+    } else {
+        distributed::solve(&scene, comm, &opts, &mut crate::engine::Quiet)
+    }
+    .with_context(|| format!("scene {}", a.scene.display()))
+    .map_err(on_rank)?;
+    match set {
+        Some(Ok(set)) => finish(&a, memory, set, sol, t0),
+        _ => Ok(()),
+    }
+}
+
+/// Writes a solution's outputs into `set` (a partial curve never replaces a complete
+/// one) and reports.
+fn finish(
+    a: &Args,
+    memory: MemoryLimit,
+    set: OutputSet,
+    mut sol: SceneSolution,
+    t0: Instant,
+) -> Result<()> {
+    sol.summary.scene = a.scene.display().to_string();
     if let Some(f) = &sol.failed {
         // A failing run never replaces complete results (docs/conventions.md).
         if holds_complete_curve(&a.out, &memory) {

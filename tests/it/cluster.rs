@@ -170,22 +170,31 @@ fn script(name: &str) -> PathBuf {
     p
 }
 
-/// Numbers of two CSV tables, equal to `rel` (same header, same shape).
-fn assert_csv_close(got: &str, want: &str, rel: f64) {
-    let (g, w): (Vec<&str>, Vec<&str>) = (got.lines().collect(), want.lines().collect());
-    assert_eq!(g.len(), w.len(), "row count");
-    assert_eq!(g[0], w[0], "header");
-    for (a, b) in g.iter().zip(&w).skip(1) {
-        for (x, y) in a.split(',').zip(b.split(',')) {
-            match (x.parse::<f64>(), y.parse::<f64>()) {
-                (Ok(x), Ok(y)) => assert!(
-                    (x - y).abs() <= rel * y.abs().max(1e-300),
-                    "{x} vs {y} in\n{a}\n{b}"
-                ),
-                _ => assert_eq!(x, y),
+/// The largest relative difference between two curve.csv texts (same header and shape)
+/// of every column but `stiffness`, and of the stiffness.
+fn distributed_differences(a: &str, b: &str) -> (f64, f64) {
+    let (ha, hb) = (a.lines().next(), b.lines().next());
+    assert_eq!(ha, hb, "header");
+    let stiffness = ha
+        .unwrap()
+        .split(',')
+        .position(|c| c == "stiffness")
+        .unwrap();
+    let (ra, rb) = (crate::support::csv_rows(a), crate::support::csv_rows(b));
+    assert_eq!(ra.len(), rb.len(), "rows");
+    let (mut w, mut ws) = (0.0f64, 0.0f64);
+    for (x, y) in ra.iter().zip(&rb) {
+        assert_eq!(x.len(), y.len());
+        for (k, (u, v)) in x.iter().zip(y).enumerate() {
+            let d = (u - v).abs() / u.abs().max(1e-300);
+            if k == stiffness {
+                ws = ws.max(d);
+            } else {
+                w = w.max(d);
             }
         }
     }
+    (w, ws)
 }
 
 /// docs/cluster/submit-sweep.sh submits docs/cluster/sweep.sbatch as an array of 3
@@ -291,6 +300,8 @@ rms = 3.4e-6
 seed = 7
 [model]
 kind = "bem"
+[solver]
+bem_tolerance = 1e-13
 [load]
 separations = [6e-6, 4.5e-6, 3e-6]
 "#,
@@ -328,9 +339,256 @@ separations = [6e-6, 4.5e-6, 3e-6]
     assert_eq!(got.lines().count(), 4, "{got}");
     if cluster.mpi {
         assert!(log.contains("srun: mpirun -np 2"), "{log}");
-        assert_csv_close(&got, &want, 1e-12);
+        // The distributed and the serial iterations agree to round-off at this
+        // tolerance; the stiffness, a difference quotient over 1e-4 δ, to ~1e4 times it.
+        let (d, ds) = distributed_differences(&want, &got);
+        assert!(d <= 1e-12 && ds <= 1e-7, "{d:e} {ds:e}\n{got}\n{want}");
     } else {
         assert!(log.contains("srun: strata solve"), "{log}");
         assert_eq!(got, want);
+    }
+}
+
+/// `strata solve` (the binary under test, without mpirun: one process, the serial
+/// solver) and `mpirun -np 2` / `-np 4` of the same binary (the `mpi` build: the BEM
+/// distributed in slabs of rows) write the same curve.csv to 1e-12 relative, every
+/// number but the stiffness: a 512² periodic cell on the paper's two-layer stack and a
+/// 256 × 384 isolated sample on a coated half-space, both under approach control. Both
+/// scenes ask `solver.bem_tolerance = 1e-13`: the serial (accelerated) and the
+/// distributed (reference) iterations are different iterations of the same problem and
+/// agree to about the tolerance they stop at; at 1e-13 their curves agree to round-off
+/// (measured 3.2e-14 periodic, 1.9e-14 isolated on 2 ranks; asserted 1e-12). The
+/// stiffness is a difference quotient over dδ = 1e-4 δ, which magnifies the two loads'
+/// round-off ~1e4 times (measured 3.3e-10 and 6.3e-11; asserted 1e-7). (Under
+/// mean-pressure control the distributed iteration on the isolated sample stalls near
+/// ε = 1e-12: 1.04e-12 after 400 iterations.)
+#[cfg(feature = "mpi")]
+mod distributed {
+    use std::path::Path;
+    use std::process::Command;
+
+    use strata_runtime::surface::{GenerateParams, Surface};
+
+    use crate::support::{csv_rows, fresh_dir, repo};
+    use crate::tools::optional_tool;
+
+    /// `strata solve SCENE` in one process, or under `mpirun -np NP`; its curve.csv.
+    fn solve(scene: &Path, out: &Path, np: Option<usize>) -> String {
+        let strata = env!("CARGO_BIN_EXE_strata");
+        let mut c = match np {
+            None => Command::new(strata),
+            Some(np) => {
+                let mut c = Command::new("mpirun");
+                c.args(["--allow-run-as-root", "--oversubscribe", "-np"])
+                    .arg(np.to_string())
+                    .arg(strata);
+                c
+            }
+        };
+        let o = c
+            .args([
+                "solve",
+                scene.to_str().unwrap(),
+                "--no-plots",
+                "--force",
+                "--out",
+            ])
+            .arg(out)
+            // One thread per rank: the ranks share the cores.
+            .env("RAYON_NUM_THREADS", "1")
+            .output()
+            .expect("strata runs");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "np {np:?}: {err}");
+        if let Some(np) = np {
+            assert!(
+                err.contains(&format!("distributed over {np} MPI ranks")),
+                "{err}"
+            );
+        }
+        std::fs::read_to_string(out.join("curve.csv")).expect("curve.csv")
+    }
+
+    fn agree(dir: &Path, scene: &Path, what: &str) {
+        let serial = solve(scene, &dir.join("serial"), None);
+        assert!(
+            csv_rows(&serial).iter().all(|r| r[2] > 0.0 && r[5] > 0.0),
+            "{serial}"
+        );
+        for np in [2, 4] {
+            let got = solve(scene, &dir.join(format!("np{np}")), Some(np));
+            let (d, ds) = super::distributed_differences(&serial, &got);
+            println!(
+                "{what}: mpirun -np {np} against serial: {d:.2e} relative (stiffness {ds:.2e})"
+            );
+            assert!(
+                d <= 1e-12,
+                "{what}: np {np} differs by {d:e}\n{serial}\n{got}"
+            );
+            assert!(
+                ds <= 1e-7,
+                "{what}: np {np} stiffness differs by {ds:e}\n{serial}\n{got}"
+            );
+        }
+    }
+
+    fn mpirun() -> bool {
+        optional_tool("mpirun", "--version", "apt-get install openmpi-bin").is_some()
+    }
+
+    #[test]
+    fn periodic_layered_512_same_curve_serial_and_2_4_ranks() {
+        if !mpirun() {
+            return;
+        }
+        let dir = fresh_dir("cluster", "mpi-periodic");
+        let stack = repo().join("tables/stacks/paper-two-layer-E2E1-1.toml");
+        let scene = dir.join("scene.toml");
+        std::fs::write(
+            &scene,
+            format!(
+                r#"
+[stack]
+file = "{}"
+[surface]
+periodic = true
+[surface.generate]
+size = 1e-3
+grid = 512
+fractal_dimension = 2.4
+k_min = 2
+k_max = 10
+rms = 3.4e-6
+seed = 20240611
+[model]
+kind = "bem"
+[solver]
+bem_tolerance = 1e-13
+[load]
+approach = {{ from = 4e-6, to = 6e-6, steps = 3 }}
+"#,
+                stack.display()
+            ),
+        )
+        .unwrap();
+        agree(&dir, &scene, "512² periodic layered");
+    }
+
+    #[test]
+    fn non_periodic_256_by_384_same_curve_serial_and_2_4_ranks() {
+        if !mpirun() {
+            return;
+        }
+        let dir = fresh_dir("cluster", "mpi-free");
+        // The corner of a generated periodic surface: not periodic itself.
+        let dx = 1e-3 / 512.0;
+        let s = Surface::generate(&GenerateParams {
+            size: 1e-3,
+            grid: 512,
+            fractal_dimension: 2.3,
+            k_min: 2.0,
+            k_max: 16.0,
+            rms: 1e-6,
+            seed: 5,
+        })
+        .expect("surface");
+        let (n0, n1) = (256usize, 384usize);
+        let z: Vec<f64> = (0..n0 * n1).map(|k| s.z(k / n1, k % n1)).collect();
+        Surface::with_spacing(
+            z,
+            n0,
+            n1,
+            strata_runtime::surface::Spacing::Pixel(dx, dx),
+            false,
+        )
+        .expect("surface")
+        .write_npy(&dir.join("z.npy"))
+        .expect("npy");
+        let stack = repo().join("tables/stacks/coating-on-steel.toml");
+        let scene = dir.join("scene.toml");
+        std::fs::write(
+            &scene,
+            format!(
+                r#"
+[stack]
+file = "{}"
+[surface]
+file = "z.npy"
+pixel_size = [{dx:e}, {dx:e}]
+detrend = "none"
+[model]
+kind = "bem"
+[solver]
+bem_tolerance = 1e-13
+[load]
+approach = {{ from = 1.6e-6, to = 3.6e-6, steps = 3 }}
+"#,
+                stack.display()
+            ),
+        )
+        .unwrap();
+        agree(&dir, &scene, "256×384 non-periodic");
+    }
+
+    /// `mpirun -np 2 strata solve`, its status and stderr (out DIR).
+    fn mpirun2(scene: &Path, out: &Path) -> (bool, String) {
+        let o = Command::new("mpirun")
+            .args(["--allow-run-as-root", "--oversubscribe", "-np", "2"])
+            .arg(env!("CARGO_BIN_EXE_strata"))
+            .args(["solve", scene.to_str().unwrap(), "--no-plots", "--out"])
+            .arg(out)
+            .env("RAYON_NUM_THREADS", "1")
+            .output()
+            .expect("mpirun runs");
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    }
+
+    /// Under mpirun a non-BEM scene runs on rank 0 alone and says so, writing the serial
+    /// curve byte for byte; a BEM scene with an effect that is not distributed is refused
+    /// naming the scene field, nothing written.
+    #[test]
+    fn other_models_run_on_rank_0_and_undistributed_effects_are_refused() {
+        if !mpirun() {
+            return;
+        }
+        let dir = fresh_dir("cluster", "mpi-others");
+        let surface = "periodic = true\n[surface.generate]\nsize = 1e-3\ngrid = 64\n\
+                       fractal_dimension = 2.4\nk_min = 2\nk_max = 8\nrms = 3e-6\nseed = 3";
+        let scene = dir.join("independent.toml");
+        std::fs::write(
+            &scene,
+            crate::support::homogeneous_scene(
+                surface,
+                "\"independent\"",
+                "separations = [6e-6, 4e-6]",
+            ),
+        )
+        .unwrap();
+        let (ok, err) = mpirun2(&scene, &dir.join("np2"));
+        assert!(ok, "{err}");
+        assert!(
+            err.contains("only the BEM is distributed") && err.contains("rank 0 alone"),
+            "{err}"
+        );
+        let serial = solve(&scene, &dir.join("serial"), None);
+        let got = std::fs::read_to_string(dir.join("np2/curve.csv")).unwrap();
+        assert_eq!(got, serial);
+        let scene = dir.join("maps.toml");
+        std::fs::write(
+            &scene,
+            crate::support::homogeneous_scene(surface, "\"bem\"", "separations = [6e-6]")
+                + "[output]\nmaps = \"last\"\n",
+        )
+        .unwrap();
+        let (ok, err) = mpirun2(&scene, &dir.join("maps"));
+        assert!(!ok, "{err}");
+        assert!(
+            err.contains("output.maps") && err.contains("maps.toml"),
+            "{err}"
+        );
+        assert!(!dir.join("maps/curve.csv").exists());
     }
 }

@@ -85,46 +85,7 @@ pub fn solve(
         )
     };
     log!(obs, "simulating: {described}; {solid}");
-    let loads: Vec<(String, BemLoad)> = match scene
-        .load
-        // Any approach δ ≥ 0: beyond the peak-to-valley height z_M − z_min the layers
-        // (or the unbounded solid) still compress as a whole with partial contact; the
-        // solver refuses only what its convention cannot hold (periodic, elastic base:
-        // δ < z_M − z̄).
-        .approaches(top_to_mean, f64::INFINITY)
-        .context("load")?
-    {
-        Some(d) => d
-            .into_iter()
-            .enumerate()
-            .map(|(i, d)| (format!("load step {i}"), BemLoad::Approach(d)))
-            .collect(),
-        None => {
-            let LoadSpec::MeanPressures(ps) = &scene.load else {
-                return Err(EngineError::Internal("load"));
-            };
-            ps.iter()
-                .enumerate()
-                .map(|(i, &p)| {
-                    (
-                        format!("load.mean_pressures[{i}]"),
-                        BemLoad::MeanPressure(p),
-                    )
-                })
-                .collect()
-        }
-    };
-    let mut loads = loads;
-    if scene.unload {
-        // the return path: the loading steps back, the last one not repeated
-        let back: Vec<(String, BemLoad)> = loads
-            .iter()
-            .rev()
-            .skip(1)
-            .map(|(name, l)| (format!("{name} (unloading)"), *l))
-            .collect();
-        loads.extend(back);
-    }
+    let loads = loads(scene, top_to_mean)?;
     let area = solver.area();
     let total = loads.len();
     let bar =
@@ -265,6 +226,53 @@ pub fn solve(
     Ok(solution)
 }
 
+/// The load steps of a BEM scene, named as its errors name them: the approaches (any
+/// δ ≥ 0) or the mean pressures of `[load]`, and with `[load] unload` the return path.
+/// `top_to_mean` is z_M − z̄ of the surface (m).
+pub(super) fn loads(scene: &Scene, top_to_mean: f64) -> Result<Vec<(String, BemLoad)>> {
+    let loads: Vec<(String, BemLoad)> = match scene
+        .load
+        // Any approach δ ≥ 0: beyond the peak-to-valley height z_M − z_min the layers
+        // (or the unbounded solid) still compress as a whole with partial contact; the
+        // solver refuses only what its convention cannot hold (periodic, elastic base:
+        // δ < z_M − z̄).
+        .approaches(top_to_mean, f64::INFINITY)
+        .context("load")?
+    {
+        Some(d) => d
+            .into_iter()
+            .enumerate()
+            .map(|(i, d)| (format!("load step {i}"), BemLoad::Approach(d)))
+            .collect(),
+        None => {
+            let LoadSpec::MeanPressures(ps) = &scene.load else {
+                return Err(EngineError::Internal("load"));
+            };
+            ps.iter()
+                .enumerate()
+                .map(|(i, &p)| {
+                    (
+                        format!("load.mean_pressures[{i}]"),
+                        BemLoad::MeanPressure(p),
+                    )
+                })
+                .collect()
+        }
+    };
+    let mut loads = loads;
+    if scene.unload {
+        // the return path: the loading steps back, the last one not repeated
+        let back: Vec<(String, BemLoad)> = loads
+            .iter()
+            .rev()
+            .skip(1)
+            .map(|(name, l)| (format!("{name} (unloading)"), *l))
+            .collect();
+        loads.extend(back);
+    }
+    Ok(loads)
+}
+
 /// Below this median contact-patch size (pixels) a BEM step is flagged as under-resolved.
 /// A Hertzian patch of N pixels against Hertz's solution (`strata_bem` test
 /// `hertz_patch_error_by_pixels_per_patch`): 4 pixels have their area 33 % and peak
@@ -281,13 +289,13 @@ pub const PEAK_PRESSURE_MAX_OVER_E_STAR: f64 = 0.1;
 
 /// One BEM step's resolution diagnostics: its contact patches' sizes and peak pressure.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct StepResolution {
+pub(super) struct StepResolution {
     /// Median patch size (pixels); `None` without contact.
-    median_patch_pixels: Option<f64>,
+    pub(super) median_patch_pixels: Option<f64>,
     /// Largest patch (pixels).
-    largest_patch_pixels: usize,
+    pub(super) largest_patch_pixels: usize,
     /// Peak pressure (Pa).
-    peak_pressure: f64,
+    pub(super) peak_pressure: f64,
 }
 
 impl StepResolution {
@@ -305,7 +313,7 @@ impl StepResolution {
 
 /// curve.json's `resolution`: per step, the median and largest patch (pixels) and the
 /// peak pressure (Pa and /E*), with the thresholds of the warnings.
-fn resolution_summary(steps: &[StepResolution], e_star: f64) -> ResolutionSummary {
+pub(super) fn resolution_summary(steps: &[StepResolution], e_star: f64) -> ResolutionSummary {
     ResolutionSummary {
         patch_pixels_min: PATCH_PIXELS_MIN,
         peak_pressure_max_over_e_star: PEAK_PRESSURE_MAX_OVER_E_STAR,
@@ -352,7 +360,11 @@ fn step_list(ks: &[usize]) -> String {
 /// The BEM's resolution warnings: steps whose median contact patch is below
 /// [`PATCH_PIXELS_MIN`] pixels, and (elastic solves) steps whose peak pressure exceeds
 /// [`PEAK_PRESSURE_MAX_OVER_E_STAR`] × E*, with what to do.
-fn resolution_warnings(steps: &[StepResolution], e_star: f64, plastic: bool) -> Vec<String> {
+pub(super) fn resolution_warnings(
+    steps: &[StepResolution],
+    e_star: f64,
+    plastic: bool,
+) -> Vec<String> {
     let mut out = Vec::new();
     let coarse: Vec<usize> = (0..steps.len())
         .filter(|&k| {

@@ -19,6 +19,7 @@
 
 pub mod asperity;
 pub mod bem;
+pub mod distributed;
 pub mod elastic;
 
 use crate::error::Result;
