@@ -330,9 +330,8 @@ impl Capped<'_> {
     /// steps far from the solution. From `p` (projected first); returns the outcome and
     /// c. Not `converged` when it stalled (p, g then hold its last exact state, at the
     /// load, a start for another method). Measured (128², three stacks, six loads,
-    /// `tests::perf5_force_controlled_capped_step_products`): 53–72 products on a
-    /// flattened surface (0.95–1.04× the elastic step), 129–133 on a fresh one with the
-    /// elastic solve before it (1.6–1.9×).
+    /// `tests::perf5_force_controlled_capped_step_products`): 48–72 products, 0.69–1.04×
+    /// the elastic step's at the same mean pressure.
     pub fn solve_load(
         &self,
         mean: f64,

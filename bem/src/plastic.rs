@@ -25,8 +25,7 @@
 //! spectrum. Stopping: the largest violation of the KKT conditions (m) below
 //! `tolerance × σ_z` on the exact gap. Force control: the same capped iteration with
 //! the mean pressure held in it, the offset c its Lagrange multiplier
-//! (`Capped::solve_load`: one iteration, 0.95–1.04× the elastic step's products on a
-//! flattened surface; a fresh one adds the elastic solve that gives its start); where
+//! (`Capped::solve_load`: one iteration, 0.7–1.04× the elastic step's products); where
 //! that stalls, primal–dual active-set steps on the elastic iteration, checked by
 //! MPRGP, and if the sets do not settle the offset c found by a safeguarded secant
 //! (Illinois) on the mean pressure, monotone in c, each evaluation warm-started from
@@ -237,51 +236,26 @@ impl<'s> PlasticPath<'s> {
         let parts = parts(self.solver);
         let control = self.solver.control_of(load)?;
         let n = parts.ny * parts.nx;
-        // Before any flattening the surface is the elastic solver's: its solution (the
-        // preconditioned iteration, fast) is the capped one when no pressure exceeds H —
-        // every KKT condition of the box problem then holds with the cap inactive — and
-        // otherwise, clipped at H, the bounded solve's start.
-        // Before any flattening, under force control or without a cap, the surface is
-        // the elastic solver's: its solution (the preconditioned iteration, fast) is the
-        // capped one when no pressure exceeds H — every KKT condition of the box problem
-        // then holds with the cap inactive — and otherwise, clipped at H, the start.
-        let fresh = self.depth.iter().all(|&d| d == 0.0);
-        let elastic_first =
-            fresh && (!self.hardness.is_finite() || matches!(control, Control::Pressure(_)));
-        let mut start = None;
-        // (iterations, products) of that elastic solve, counted in the step's
-        let mut elastic_work = (0, 0);
-        if elastic_first {
-            let warm = self
-                .p
-                .iter()
-                .all(|&v| v <= self.hardness)
-                .then_some(&self.p[..]);
-            let e = self.solver.solve_from(load, warm)?;
-            let top = e.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
-            if top <= self.hardness {
-                self.p = e.pressure.iter().copied().collect();
-                self.c = None;
-                let info = PlasticInfo {
-                    plastic_area_fraction: 0.0,
-                    plastic_points: 0,
-                    plastic_depth_max: 0.0,
-                    plastic_depth_mean: 0.0,
-                    offset_iterations: 0,
-                    active_set_steps: 0,
-                    bounded_fallback: false,
-                };
-                let mut e = e;
-                e.plastic_depth = Some(ndarray::Array2::zeros((parts.ny, parts.nx)));
-                return Ok((e, info));
-            }
-            elastic_work = (e.iterations, e.products);
-            start = Some(
-                e.pressure
-                    .iter()
-                    .map(|v| v.min(self.hardness))
-                    .collect::<Vec<f64>>(),
-            );
+        // Without a cap the problem is the elastic solver's: its solution (the
+        // preconditioned iteration). (Under force control a capped step needs no
+        // elastic solve first: the load-held capped iteration is that iteration where
+        // no pressure reaches H.)
+        if !self.hardness.is_finite() {
+            let e = self.solver.solve_from(load, Some(&self.p[..]))?;
+            self.p = e.pressure.iter().copied().collect();
+            self.c = None;
+            let info = PlasticInfo {
+                plastic_area_fraction: 0.0,
+                plastic_points: 0,
+                plastic_depth_max: 0.0,
+                plastic_depth_mean: 0.0,
+                offset_iterations: 0,
+                active_set_steps: 0,
+                bounded_fallback: false,
+            };
+            let mut e = e;
+            e.plastic_depth = Some(ndarray::Array2::zeros((parts.ny, parts.nx)));
+            return Ok((e, info));
         }
         let z_e: Vec<f64> = parts
             .z
@@ -310,7 +284,7 @@ impl<'s> PlasticPath<'s> {
             cancel: self.solver.cancel_token(),
         };
         let mut g = vec![0.0; n];
-        let mut p = start.unwrap_or_else(|| self.p.clone());
+        let mut p = self.p.clone();
         let fallback;
         let (c, out, offset_iterations, set_steps) = match control {
             Control::Offset { c, uniform } => {
@@ -338,7 +312,7 @@ impl<'s> PlasticPath<'s> {
                 }
                 // The capped preconditioned iteration with the load held in it (the
                 // offset its Lagrange multiplier, `Capped::solve_load`), from the last
-                // step's pressure, the clipped elastic solution or the cold start.
+                // step's pressure or the elastic solver's cold start.
                 if p.iter().all(|&v| v == 0.0) {
                     self.solver.start_guess(control, &mut p);
                 }
@@ -355,8 +329,8 @@ impl<'s> PlasticPath<'s> {
                 };
                 if o.converged {
                     let out = Outcome {
-                        iterations: o.iterations + elastic_work.0,
-                        products: o.products + elastic_work.1,
+                        iterations: o.iterations,
+                        products: o.products,
                         violation: o.violation,
                     };
                     fallback = false;
@@ -379,8 +353,8 @@ impl<'s> PlasticPath<'s> {
                         }
                         None => self.force_control(&bounded, &capped, target, &mut p, &mut g)?,
                     };
-                    out.iterations += set_steps + o.iterations + elastic_work.0;
-                    out.products += set_products + o.products + elastic_work.1;
+                    out.iterations += set_steps + o.iterations;
+                    out.products += set_products + o.products;
                     fallback = ran_bounded;
                     (c, out, offset_iterations, set_steps)
                 }
