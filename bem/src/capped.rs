@@ -440,7 +440,7 @@ impl Capped<'_> {
                 }
                 delta = in_plane(&mut y);
                 conjugate = false;
-                if !(delta > 0.0) {
+                if delta.is_nan() || delta <= 0.0 {
                     if !exact {
                         c = self.exact_load(p, &mut u, g, &mut work)?;
                         products += 1;
@@ -641,7 +641,7 @@ fn project_plane(q: &mut [f64], h: f64, total: f64) {
         } else {
             0.5 * (lo + hi)
         };
-        if next == lambda || !(hi > lo) {
+        if next == lambda || hi <= lo || hi.is_nan() || lo.is_nan() {
             break;
         }
         lambda = next;
