@@ -25,7 +25,7 @@
 //! spectrum. Stopping: the largest violation of the KKT conditions (m) below
 //! `tolerance × σ_z` on the exact gap. Force control: the same capped iteration with
 //! the mean pressure held in it, the offset c its Lagrange multiplier
-//! (`Capped::solve_load`: one iteration, 0.7–1.04× the elastic step's products); where
+//! (`Capped::solve_load`: one iteration, 0.7–1.8× the elastic step's products); where
 //! that stalls, primal–dual active-set steps on the elastic iteration, checked by
 //! MPRGP, and if the sets do not settle the offset c found by a safeguarded secant
 //! (Illinois) on the mean pressure, monotone in c, each evaluation warm-started from
