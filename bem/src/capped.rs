@@ -38,6 +38,19 @@ const REFRESH: usize = 50;
 /// Iterations without the violation halving after which the iteration counts as stalled.
 const STALL: usize = 40;
 
+/// Most halvings of a load-held step whose projection raises the energy.
+const MAX_HALVINGS: usize = 6;
+
+/// The energy f = ½ pᵀ u − pᵀ z_e (u = K p) of the load-held problem (J/m² · m²: its
+/// differences are what count).
+fn energy(p: &[f64], u: &[f64], z: &[f64]) -> f64 {
+    p.iter()
+        .zip(u)
+        .zip(z)
+        .map(|((p, u), z)| p * (0.5 * u - z))
+        .sum()
+}
+
 /// The capped problem on one operator at a known offset.
 pub(crate) struct Capped<'a> {
     pub op: &'a Operator,
@@ -255,6 +268,261 @@ impl Capped<'_> {
         )
     }
 
+    /// The Lagrange offset c of the load-controlled problem for the field u = K p:
+    /// c = −mean_F(u − z_e) over the free points F = {0 < p < H} (so Σ_F g = 0, as the
+    /// elastic iteration's mean over its contact set); without free points the middle
+    /// of the offsets that keep g ≥ 0 at p = 0 and g ≤ 0 at p = H.
+    fn load_offset(&self, p: &[f64], u: &[f64]) -> f64 {
+        let h = self.hardness;
+        let (mut sum, mut m) = (0.0, 0usize);
+        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
+        for ((&p, &u), &z) in p.iter().zip(u).zip(self.z) {
+            if p > 0.0 && p < h {
+                sum += u - z;
+                m += 1;
+            } else if p <= 0.0 {
+                lo = lo.max(z - u);
+            } else {
+                hi = hi.min(z - u);
+            }
+        }
+        if m > 0 {
+            -sum / m as f64
+        } else if lo.is_finite() && hi.is_finite() {
+            0.5 * (lo + hi)
+        } else if lo.is_finite() {
+            lo
+        } else {
+            hi
+        }
+    }
+
+    /// g = K p − z_e + c with c the load's offset ([`Self::load_offset`]; one product).
+    fn exact_load(
+        &self,
+        p: &[f64],
+        u: &mut [f64],
+        g: &mut [f64],
+        work: &mut Fft2Work,
+    ) -> Result<f64, BemError> {
+        self.op.apply(p, u, self.uniform, work)?;
+        let c = self.load_offset(p, u);
+        for ((g, u), z) in g.iter_mut().zip(u.iter()).zip(self.z) {
+            *g = u - z + c;
+        }
+        Ok(c)
+    }
+
+    /// The capped problem under load control: mean p = `mean` (Pa, 0 < mean < H) held
+    /// in the same iteration, the offset c its Lagrange multiplier,
+    ///
+    /// ```text
+    ///   min ½ pᵀ K p − pᵀ z_e   over 0 ≤ p ≤ H, Σ p = N p̄,   g = K p − z_e + c,
+    /// ```
+    ///
+    /// c = −mean_F(K p − z_e) over the free points F = {0 < p < H}. The iteration of
+    /// [`Self::solve`] with the direction kept in the load's plane (y ← y − mean_W y on
+    /// the working set W, so Σ t = 0) and, where a step leaves the box, p clamped into
+    /// it and the load restored by shifting the free points alike ([`project_load`]) —
+    /// instead of Polonsky–Keer's rescaling of p, which stalls with the contact just
+    /// below H; a projected step that raises the energy ½ pᵀK p − pᵀz_e is halved
+    /// (at most [`MAX_HALVINGS`] times), which stops the cycling of large projected
+    /// steps far from the solution. From `p` (projected first); returns the outcome and
+    /// c. Not `converged` when it stalled (p, g then hold its last exact state, at the
+    /// load, a start for another method). Measured (128², three stacks, six loads,
+    /// `tests::force_controlled_capped_step_products`): 48–72 products, 0.69–1.04×
+    /// the elastic step's at the same mean pressure.
+    pub fn solve_load(
+        &self,
+        mean: f64,
+        p: &mut [f64],
+        g: &mut [f64],
+    ) -> Result<(CappedOutcome, f64), BemError> {
+        let n = p.len();
+        let h = self.hardness;
+        let total = mean * n as f64;
+        if !(mean > 0.0 && total < h * n as f64) {
+            return Err(BemError::NonFinite(0));
+        }
+        project_load(p, h, total);
+        let mut u = vec![0.0; n];
+        let (mut t, mut r, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        let mut set = vec![false; n];
+        let (mut p_prev, mut u_prev) = (vec![0.0; n], vec![0.0; n]);
+        let mut work = self.op.work();
+        let mut products = 1;
+        let mut c = self.exact_load(p, &mut u, g, &mut work)?;
+        let mut exact = true;
+        let mut since_exact = 0;
+        let (mut best, mut since_best) = (f64::INFINITY, 0);
+        let mut d_old = 0.0;
+        let mut conjugate = false;
+        let end = |p: &[f64], g: &[f64], it, products| {
+            let v = kkt_violation(p, g, h);
+            CappedOutcome {
+                converged: v <= self.tol,
+                iterations: it,
+                products,
+                violation: v,
+            }
+        };
+        for it in 0..=self.max_iterations {
+            self.cancel.check()?;
+            let v = kkt_violation(p, g, h);
+            if !v.is_finite() {
+                return Err(BemError::NonFinite(it));
+            }
+            if v <= self.tol || it == self.max_iterations {
+                if !exact {
+                    c = self.exact_load(p, &mut u, g, &mut work)?;
+                    products += 1;
+                    exact = true;
+                    since_exact = 0;
+                    if kkt_violation(p, g, h) > self.tol {
+                        conjugate = false;
+                        if it < self.max_iterations {
+                            continue;
+                        }
+                    }
+                }
+                return Ok((end(p, g, it, products), c));
+            }
+            if v < 0.5 * best {
+                (best, since_best) = (v, 0);
+            } else {
+                since_best += 1;
+                if since_best >= STALL {
+                    if !exact {
+                        c = self.exact_load(p, &mut u, g, &mut work)?;
+                        products += 1;
+                    }
+                    return Ok((end(p, g, it, products), c));
+                }
+            }
+            // The working set; conjugacy only while it stays put.
+            let mut same = true;
+            let mut m = 0usize;
+            for i in 0..n {
+                let w = working(p[i], g[i], h);
+                same &= w == set[i];
+                set[i] = w;
+                m += usize::from(w);
+                y[i] = if w { g[i] } else { 0.0 };
+            }
+            conjugate &= same;
+            if m == 0 {
+                return Ok((end(p, g, it, products), c));
+            }
+            // y = P_W M⁻¹ P_W g, then its mean over W removed (the load's plane).
+            if let Some(minv) = self.minv {
+                let gw = y.clone();
+                minv.apply(&gw, &mut y, false, &mut work)?;
+                products += 1;
+            }
+            let in_plane = |y: &mut [f64]| {
+                let ybar = (0..n).filter(|&i| set[i]).map(|i| y[i]).sum::<f64>() / m as f64;
+                let mut delta = 0.0;
+                for i in 0..n {
+                    if set[i] {
+                        y[i] -= ybar;
+                        delta += g[i] * y[i];
+                    } else {
+                        y[i] = 0.0;
+                    }
+                }
+                delta
+            };
+            let mut delta = in_plane(&mut y);
+            if self.minv.is_none() || delta.is_nan() || delta <= 0.0 {
+                // no preconditioner, or it is not positive on W: the gap itself
+                for i in 0..n {
+                    y[i] = if set[i] { g[i] } else { 0.0 };
+                }
+                delta = in_plane(&mut y);
+                conjugate = false;
+                if delta.is_nan() || delta <= 0.0 {
+                    if !exact {
+                        c = self.exact_load(p, &mut u, g, &mut work)?;
+                        products += 1;
+                    }
+                    return Ok((end(p, g, it, products), c));
+                }
+            }
+            let beta = if conjugate && d_old > 0.0 {
+                delta / d_old
+            } else {
+                0.0
+            };
+            d_old = delta;
+            for i in 0..n {
+                t[i] = if set[i] { y[i] + beta * t[i] } else { 0.0 };
+            }
+            self.op.apply(&t, &mut r, self.uniform, &mut work)?;
+            products += 1;
+            let (gt, rt) = (0..n).fold((0.0, 0.0), |(a, b), i| (a + g[i] * t[i], b + r[i] * t[i]));
+            if !(rt > 0.0 && gt.is_finite()) {
+                if !exact {
+                    c = self.exact_load(p, &mut u, g, &mut work)?;
+                    products += 1;
+                }
+                return Ok((end(p, g, it, products), c));
+            }
+            // The step, halved while a projected one raises the energy
+            // f = ½ pᵀK p − pᵀz_e (one product per trial: a projection changes u).
+            let mut tau = gt / rt;
+            let f_now = energy(p, &u, self.z);
+            p_prev.copy_from_slice(p);
+            let mut halvings = 0;
+            let inside = loop {
+                let mut inside = true;
+                for i in 0..n {
+                    let q = p_prev[i] - tau * t[i];
+                    inside &= (0.0..=h).contains(&q);
+                    p[i] = q;
+                }
+                if inside {
+                    break true;
+                }
+                project_load(p, h, total);
+                if halvings == 0 {
+                    u_prev.copy_from_slice(&u);
+                }
+                c = self.exact_load(p, &mut u, g, &mut work)?;
+                products += 1;
+                if energy(p, &u, self.z) <= f_now || halvings >= MAX_HALVINGS {
+                    break false;
+                }
+                halvings += 1;
+                tau *= 0.5;
+                u.copy_from_slice(&u_prev);
+            };
+            since_exact += 1;
+            if !inside {
+                exact = true;
+                since_exact = 0;
+                conjugate = false;
+            } else if since_exact >= REFRESH {
+                c = self.exact_load(p, &mut u, g, &mut work)?;
+                products += 1;
+                exact = true;
+                since_exact = 0;
+                conjugate = true;
+            } else {
+                for i in 0..n {
+                    u[i] -= tau * r[i];
+                }
+                c = self.load_offset(p, &u);
+                for i in 0..n {
+                    g[i] = u[i] - self.z[i] + c;
+                }
+                exact = false;
+                conjugate = true;
+            }
+        }
+        // (the loop returns at it == max_iterations)
+        Ok((end(p, g, self.max_iterations, products), c))
+    }
+
     /// An unconverged end: the exact gap of the last state.
     #[allow(clippy::too_many_arguments)]
     fn stop(
@@ -278,5 +546,112 @@ impl Capped<'_> {
             products,
             violation: kkt_violation(p, g, self.hardness),
         })
+    }
+}
+
+/// Puts `q` into the box 0 ≤ p ≤ `h` and onto the plane Σ p = `total` (0 < total <
+/// N h) the way Polonsky–Keer's rescaling does, but by a shift: q clamped into the box,
+/// then the free points (0 < p < h) shifted alike by the excess over their number,
+/// clamped again, until |Σ p − total| ≤ 1e−14 total — the points at a bound stay there
+/// (they enter and leave it through the working set, not here). Where the free points
+/// cannot take the excess, the exact projection ([`project_plane`]).
+pub(crate) fn project_load(q: &mut [f64], h: f64, total: f64) {
+    let tol = 1e-14 * total;
+    q.iter_mut().for_each(|v| *v = v.clamp(0.0, h));
+    for _ in 0..100 {
+        let (mut sum, mut m) = (0.0, 0usize);
+        for &v in q.iter() {
+            sum += v;
+            m += usize::from(v > 0.0 && v < h);
+        }
+        let excess = sum - total;
+        if excess.abs() <= tol {
+            return;
+        }
+        if m == 0 {
+            break;
+        }
+        let lambda = excess / m as f64;
+        for v in q.iter_mut() {
+            if *v > 0.0 && *v < h {
+                *v = (*v - lambda).clamp(0.0, h);
+            }
+        }
+    }
+    project_plane(q, h, total);
+}
+
+/// The projection of `q` onto the box 0 ≤ p ≤ `h` intersected with the plane Σ p =
+/// `total` (0 < total < N h), the points at q ≤ 0 kept out of contact (p = 0) when the
+/// others can carry the load: p = clamp(q − λ, 0, h) on the points q > 0, λ the root
+/// of the nonincreasing, piecewise linear φ(λ) = Σ clamp(q − λ, 0, h) − total, found
+/// by Newton steps on it (slope −#{0 < q − λ < h}) safeguarded by bisection of its
+/// bracket, to |φ| ≤ 1e−14 total.
+fn project_plane(q: &mut [f64], h: f64, total: f64) {
+    let tol = 1e-14 * total;
+    let inside = q.iter().all(|v| (0.0..=h).contains(v));
+    let carried = q.iter().filter(|&&v| v > 0.0).count() as f64 * h;
+    // the support: the points in contact, or all of them if those cannot carry it
+    let floor = if carried > total {
+        0.0
+    } else {
+        f64::NEG_INFINITY
+    };
+    let phi = |lambda: f64| {
+        let (mut s, mut m) = (0.0, 0usize);
+        for &v in q.iter() {
+            if v <= floor {
+                continue;
+            }
+            let x = v - lambda;
+            if x >= h {
+                s += h;
+            } else if x > 0.0 {
+                s += x;
+                m += 1;
+            }
+        }
+        (s - total, m)
+    };
+    let (f0, m0) = phi(0.0);
+    if inside && f0.abs() <= tol {
+        return;
+    }
+    let (qmin, qmax) = q
+        .iter()
+        .filter(|&&v| v > floor)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        });
+    // φ(qmin − h) = (points) h − total > 0, φ(qmax) = −total < 0
+    let (mut lo, mut hi) = (qmin - h, qmax);
+    let (mut lambda, mut f, mut m) = (0.0, f0, m0);
+    for _ in 0..200 {
+        if f.abs() <= tol {
+            break;
+        }
+        if f > 0.0 {
+            lo = lo.max(lambda);
+        } else {
+            hi = hi.min(lambda);
+        }
+        let newton = lambda + f / m as f64;
+        let next = if m > 0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if next == lambda || hi <= lo || hi.is_nan() || lo.is_nan() {
+            break;
+        }
+        lambda = next;
+        (f, m) = phi(lambda);
+    }
+    for v in q.iter_mut() {
+        *v = if *v <= floor {
+            0.0
+        } else {
+            (*v - lambda).clamp(0.0, h)
+        };
     }
 }

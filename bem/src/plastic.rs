@@ -23,10 +23,13 @@
 //! not stall with the whole set just below H (the failure of a projected Polonsky–Keer
 //! rescaling under force control, physics.md §9). ‖K‖ is bounded by the operator's
 //! spectrum. Stopping: the largest violation of the KKT conditions (m) below
-//! `tolerance × σ_z` on the exact gap. Force control: primal–dual active-set steps on
-//! the elastic iteration, checked by MPRGP; if the sets do not settle, the offset c is
-//! found by a safeguarded secant (Illinois) on the mean pressure, monotone in c, each
-//! evaluation warm-started from the last.
+//! `tolerance × σ_z` on the exact gap. Force control: the same capped iteration with
+//! the mean pressure held in it, the offset c its Lagrange multiplier
+//! (`Capped::solve_load`: one iteration, 0.7–1.8× the elastic step's products); where
+//! that stalls, primal–dual active-set steps on the elastic iteration, checked by
+//! MPRGP, and if the sets do not settle the offset c found by a safeguarded secant
+//! (Illinois) on the mean pressure, monotone in c, each evaluation warm-started from
+//! the last (3–5.5× the elastic step).
 
 use strata_runtime::bounded::{BoundedError, Mprgp, Outcome};
 use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
@@ -184,6 +187,9 @@ pub struct PlasticPath<'s> {
     p: Vec<f64>,
     /// The last offset c (force control's first guess).
     c: Option<f64>,
+    /// Force control by the load-held capped iteration first (`Capped::solve_load`);
+    /// off, the active-set steps and the offset search alone (tests compare the two).
+    pub(crate) load_iteration: bool,
 }
 
 impl<'s> PlasticPath<'s> {
@@ -212,6 +218,7 @@ impl<'s> PlasticPath<'s> {
             depth: vec![0.0; n],
             p: vec![0.0; n],
             c: None,
+            load_iteration: true,
         })
     }
 
@@ -229,48 +236,26 @@ impl<'s> PlasticPath<'s> {
         let parts = parts(self.solver);
         let control = self.solver.control_of(load)?;
         let n = parts.ny * parts.nx;
-        // Before any flattening the surface is the elastic solver's: its solution (the
-        // preconditioned iteration, fast) is the capped one when no pressure exceeds H —
-        // every KKT condition of the box problem then holds with the cap inactive — and
-        // otherwise, clipped at H, the bounded solve's start.
-        // Before any flattening, under force control or without a cap, the surface is
-        // the elastic solver's: its solution (the preconditioned iteration, fast) is the
-        // capped one when no pressure exceeds H — every KKT condition of the box problem
-        // then holds with the cap inactive — and otherwise, clipped at H, the start.
-        let fresh = self.depth.iter().all(|&d| d == 0.0);
-        let elastic_first =
-            fresh && (!self.hardness.is_finite() || matches!(control, Control::Pressure(_)));
-        let mut start = None;
-        if elastic_first {
-            let warm = self
-                .p
-                .iter()
-                .all(|&v| v <= self.hardness)
-                .then_some(&self.p[..]);
-            let e = self.solver.solve_from(load, warm)?;
-            let top = e.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
-            if top <= self.hardness {
-                self.p = e.pressure.iter().copied().collect();
-                self.c = None;
-                let info = PlasticInfo {
-                    plastic_area_fraction: 0.0,
-                    plastic_points: 0,
-                    plastic_depth_max: 0.0,
-                    plastic_depth_mean: 0.0,
-                    offset_iterations: 0,
-                    active_set_steps: 0,
-                    bounded_fallback: false,
-                };
-                let mut e = e;
-                e.plastic_depth = Some(ndarray::Array2::zeros((parts.ny, parts.nx)));
-                return Ok((e, info));
-            }
-            start = Some(
-                e.pressure
-                    .iter()
-                    .map(|v| v.min(self.hardness))
-                    .collect::<Vec<f64>>(),
-            );
+        // Without a cap the problem is the elastic solver's: its solution (the
+        // preconditioned iteration). (Under force control a capped step needs no
+        // elastic solve first: the load-held capped iteration is that iteration where
+        // no pressure reaches H.)
+        if !self.hardness.is_finite() {
+            let e = self.solver.solve_from(load, Some(&self.p[..]))?;
+            self.p = e.pressure.iter().copied().collect();
+            self.c = None;
+            let info = PlasticInfo {
+                plastic_area_fraction: 0.0,
+                plastic_points: 0,
+                plastic_depth_max: 0.0,
+                plastic_depth_mean: 0.0,
+                offset_iterations: 0,
+                active_set_steps: 0,
+                bounded_fallback: false,
+            };
+            let mut e = e;
+            e.plastic_depth = Some(ndarray::Array2::zeros((parts.ny, parts.nx)));
+            return Ok((e, info));
         }
         let z_e: Vec<f64> = parts
             .z
@@ -299,7 +284,7 @@ impl<'s> PlasticPath<'s> {
             cancel: self.solver.cancel_token(),
         };
         let mut g = vec![0.0; n];
-        let mut p = start.unwrap_or_else(|| self.p.clone());
+        let mut p = self.p.clone();
         let fallback;
         let (c, out, offset_iterations, set_steps) = match control {
             Control::Offset { c, uniform } => {
@@ -315,39 +300,64 @@ impl<'s> PlasticPath<'s> {
                 (c, out, 0, 0)
             }
             Control::Pressure(target) => {
-                // Active-set steps on the elastic iteration first (fast); the bounded
-                // solve then checks (and, if the sets did not settle, finishes) the
-                // result.
-                let (settled, set_steps, set_products) =
-                    self.active_set(&parts, &z_e, control, &mut p)?;
-                let mut ran_bounded = true;
-                let (c, mut out, offset_iterations) = match settled {
-                    Some(c) => {
-                        // the check at the settled offset: the capped preconditioned
-                        // iteration from the active-set pressure (MPRGP only if it stalls;
-                        // force control leaves the uniform mode out, as both start)
-                        let (o, ran) = solve_at(&bounded, &capped, c, &mut p, &mut g)?;
-                        ran_bounded = ran;
-                        (c, o, 0)
-                    }
-                    None => {
-                        if target >= self.hardness {
-                            return Err(BemError::Load {
-                                what: "mean pressure",
-                                value: target,
-                                reason: format!(
-                                    "is at or above the hardness {:e} Pa: a capped pressure cannot carry it",
-                                    self.hardness
-                                ),
-                            });
-                        }
-                        self.force_control(&bounded, &capped, target, &mut p, &mut g)?
-                    }
+                if target >= self.hardness {
+                    return Err(BemError::Load {
+                        what: "mean pressure",
+                        value: target,
+                        reason: format!(
+                            "is at or above the hardness {:e} Pa: a capped pressure cannot carry it",
+                            self.hardness
+                        ),
+                    });
+                }
+                // The capped preconditioned iteration with the load held in it (the
+                // offset its Lagrange multiplier, `Capped::solve_load`), from the last
+                // step's pressure or the elastic solver's cold start.
+                if p.iter().all(|&v| v == 0.0) {
+                    self.solver.start_guess(control, &mut p);
+                }
+                let (o, c_load) = if self.load_iteration {
+                    capped.solve_load(target, &mut p, &mut g)?
+                } else {
+                    let none = crate::capped::CappedOutcome {
+                        converged: false,
+                        iterations: 0,
+                        products: 0,
+                        violation: f64::INFINITY,
+                    };
+                    (none, f64::NAN)
                 };
-                out.iterations += set_steps;
-                out.products += set_products;
-                fallback = ran_bounded;
-                (c, out, offset_iterations, set_steps)
+                if o.converged {
+                    let out = Outcome {
+                        iterations: o.iterations,
+                        products: o.products,
+                        violation: o.violation,
+                    };
+                    fallback = false;
+                    (c_load, out, 0, 0)
+                } else {
+                    // Where it stalls: active-set steps on the elastic iteration (fast); the
+                    // bounded solve then checks (and, if the sets did not settle, finishes)
+                    // the result.
+                    let (settled, set_steps, set_products) =
+                        self.active_set(&parts, &z_e, control, &mut p)?;
+                    let mut ran_bounded = true;
+                    let (c, mut out, offset_iterations) = match settled {
+                        Some(c) => {
+                            // the check at the settled offset: the capped preconditioned
+                            // iteration from the active-set pressure (MPRGP only if it stalls;
+                            // force control leaves the uniform mode out, as both start)
+                            let (o, ran) = solve_at(&bounded, &capped, c, &mut p, &mut g)?;
+                            ran_bounded = ran;
+                            (c, o, 0)
+                        }
+                        None => self.force_control(&bounded, &capped, target, &mut p, &mut g)?,
+                    };
+                    out.iterations += set_steps + o.iterations;
+                    out.products += set_products + o.products;
+                    fallback = ran_bounded;
+                    (c, out, offset_iterations, set_steps)
+                }
             }
         };
         // at the cap within the solve's tolerance: reloading to a state reached before

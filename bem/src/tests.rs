@@ -1091,3 +1091,77 @@ fn lent_start_in_full_contact_is_copied() {
     assert_eq!(got.pressure, want.pressure);
     assert_eq!(step.pressure, before);
 }
+
+/// Force-controlled capped steps: the load held in the capped iteration
+/// (`Capped::solve_load`) against the active-set steps and offset search it replaces
+/// (still the fallback), on a rough surface: a fresh path's step, then a heavier load on
+/// the flattened surface. Both meet the same KKT tolerance at the same mean pressure:
+/// the pressure fields and the offsets agree to the solver's tolerance; the load-held
+/// step costs ≤ 2× the elastic step's operator products (counted, the elastic step at
+/// the same mean pressure; measured 0.69–1.04×, the old route 3.1–5.5×).
+#[test]
+fn force_controlled_capped_step_products() {
+    let n = 128;
+    let z = strata_runtime::surface::Surface::generate(&strata_runtime::surface::GenerateParams {
+        size: 1e-3,
+        grid: n,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed: 9,
+    })
+    .unwrap();
+    let z = Array2::from_shape_vec((n, n), z.heights().to_vec()).unwrap();
+    for (stack, hardness, loads) in [
+        (Stack::paper_two_layer(1.0).unwrap(), 0.1e9, [2e7, 3e7]),
+        (Stack::paper_two_layer(5.0).unwrap(), 0.2e9, [1e7, 4e7]),
+        (Stack::half_space(4e9, 0.3).unwrap(), 0.05e9, [5e6, 1e7]),
+    ] {
+        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).unwrap();
+        let mut new = crate::PlasticPath::new(&solver, hardness).unwrap();
+        let mut old = new.clone();
+        old.load_iteration = false;
+        for target in loads {
+            let e = solver.solve(BemLoad::MeanPressure(target)).unwrap();
+            let (a, ai) = new.step(BemLoad::MeanPressure(target)).unwrap();
+            let (b, bi) = old.step(BemLoad::MeanPressure(target)).unwrap();
+            let scale = b.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
+            let dp = a
+                .pressure
+                .iter()
+                .zip(&b.pressure)
+                .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+            let zrms = solver.heights_and_stats().1[2];
+            eprintln!(
+                "H {hardness:e}, p̄ {target:e}: elastic {} products; load-held {} ({:.2}×, {} plastic points, fallback {}); \
+                 active-set/secant {} ({:.2}×, {} set steps, {} secant steps); |Δp|/p_max {:.1e}, Δc/σ {:.1e}, KKT {:.1e} / {:.1e}",
+                e.products,
+                a.products,
+                a.products as f64 / e.products as f64,
+                ai.plastic_points,
+                ai.bounded_fallback,
+                b.products,
+                b.products as f64 / e.products as f64,
+                bi.active_set_steps,
+                bi.offset_iterations,
+                dp / scale,
+                (a.offset - b.offset).abs() / zrms,
+                a.error,
+                b.error
+            );
+            assert!(ai.plastic_points > 0 && !ai.bounded_fallback);
+            assert!((a.mean_pressure / target - 1.0).abs() < 1e-12);
+            assert!(a.error <= 1e-10 && b.error <= 1e-10);
+            // measured ≤ 2.1e-9 and ≤ 1.7e-12 (both meet the KKT tolerance 1e-10 σ_z)
+            assert!(dp <= 2e-8 * scale, "{dp:e} vs {scale:e}");
+            assert!((a.offset - b.offset).abs() <= 2e-11 * zrms);
+            assert!(
+                a.products <= 2 * e.products,
+                "{} vs {}",
+                a.products,
+                e.products
+            );
+        }
+    }
+}

@@ -15,7 +15,8 @@
 //! models' conductance, physics.md §6.2).
 //!
 //! # Grid
-//! Pieces of log₁₀(a/h₁) on one fixed partition: whole decades up to a/h₁ = 10 and half
+//! A [`crate::table::lobatto`] table (shared with the disc's punch factors): pieces of
+//! log₁₀(a/h₁) on one fixed partition: whole decades up to a/h₁ = 10 and half
 //! decades above ([`piece_start`]: piece k spans [k, k + 1] for k ≤ 0 and [1 + (k − 1)/2,
 //! 1 + k/2] for k ≥ 1), each holding [`PIECE_NODES`] Chebyshev–Lobatto nodes in
 //! log₁₀(a/h₁) (neighbouring pieces share their end node), interpolated in barycentric
@@ -37,6 +38,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 use crate::table::codec::{FrameError, frame, from_payload, to_payload, unframe};
+use crate::table::lobatto::{Grid, LobattoTable};
 
 /// Chebyshev–Lobatto nodes per piece (the end nodes shared with the neighbours: 8 solves
 /// per piece).
@@ -68,46 +70,24 @@ pub enum PsiTableError {
     Invalid(String),
 }
 
-/// The Lobatto points of [−1, 1] of a piece, x_j = −cos(πj/8) (x₀ = −1, x₈ = 1 exactly).
-pub(crate) fn lobatto() -> [f64; PIECE_NODES] {
-    std::array::from_fn(|j| -(std::f64::consts::PI * j as f64 / (PIECE_NODES - 1) as f64).cos())
-}
+/// The partition and nodes of a ψ table (module docs; [`crate::table::lobatto`]).
+pub const GRID: Grid = Grid {
+    nodes: PIECE_NODES,
+    half_decades_from: Some(1),
+    max_pieces: MAX_PIECES,
+};
 
 /// log₁₀(a/h₁) at the start of piece k: k for k ≤ 1 (whole decades), 1 + (k − 1)/2
 /// above (half decades); exact in floating point.
 pub fn piece_start(k: i32) -> f64 {
-    if k <= 1 {
-        f64::from(k)
-    } else {
-        1.0 + f64::from(k - 1) / 2.0
-    }
-}
-
-/// The piece holding u = log₁₀(a/h₁) (its start ≤ u), as a float (callers range-check).
-fn piece_of(u: f64) -> f64 {
-    if u < 1.0 {
-        u.floor()
-    } else {
-        1.0 + (2.0 * (u - 1.0)).floor()
-    }
-}
-
-/// The first piece whose start is ≥ u: the end of a range reaching u.
-fn piece_end(u: f64) -> f64 {
-    if u <= 1.0 {
-        u.ceil()
-    } else {
-        1.0 + (2.0 * (u - 1.0)).ceil()
-    }
+    GRID.piece_start(k)
 }
 
 /// The radius (m) of node j ∈ 0..[`PIECE_NODES`] of piece k of a stack whose top layer
 /// is `h1` thick: a = h₁·10^(s + (e − s)(x_j + 1)/2), s and e the piece's ends
 /// ([`piece_start`]). Node 8 of piece k and node 0 of piece k + 1 are the same bits.
 pub fn node_radius(h1: f64, piece: i32, j: usize) -> f64 {
-    let x = lobatto()[j.min(PIECE_NODES - 1)];
-    let (s, e) = (piece_start(piece), piece_start(piece + 1));
-    h1 * 10f64.powf(s + (e - s) * 0.5 * (x + 1.0))
+    GRID.node_radius(h1, piece, j)
 }
 
 /// The pieces [k₀, k₁) that cover radii `lo` ≤ `hi` (m) on a top layer `h1` thick, at
@@ -117,7 +97,10 @@ pub fn pieces(h1: f64, lo: f64, hi: f64) -> Option<(i32, i32)> {
     if !(h1 > 0.0 && h1.is_finite() && lo > 0.0 && hi >= lo && hi.is_finite()) {
         return None;
     }
-    let (l, h) = (piece_of((lo / h1).log10()), piece_end((hi / h1).log10()));
+    let (l, h) = (
+        GRID.piece_of((lo / h1).log10()),
+        GRID.piece_end((hi / h1).log10()),
+    );
     if !(l.is_finite() && h.is_finite()) || l < -1e3 || h > 1e3 {
         return None;
     }
@@ -126,108 +109,60 @@ pub fn pieces(h1: f64, lo: f64, hi: f64) -> Option<(i32, i32)> {
 }
 
 /// ψ of one layered conductor against a/h₁ over a range of pieces (module docs): read with
-/// [`PsiTable::at`], filled by `strata-tablegen`'s `psi_table`.
+/// [`PsiTable::at`], filled by `strata-tablegen`'s `psi_table`. The values and their
+/// interpolation are a [`LobattoTable`] of [`GRID`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct PsiTable {
-    key: u64,
-    h1: f64,
-    first: i32,
-    /// Node values, piece p (piece first + p) at 8p … 8p + 8.
-    psi: Vec<f64>,
-}
+pub struct PsiTable(LobattoTable<f64>);
 
 impl PsiTable {
     /// A table of the stack with fingerprint `key` and top layer `h1` (m) from its node
     /// values over pieces first, first + 1, …: 8·pieces + 1 values, each finite and
     /// positive.
     pub fn from_nodes(key: u64, h1: f64, first: i32, psi: Vec<f64>) -> Result<Self, PsiTableError> {
-        let bad = |m: String| Err(PsiTableError::Invalid(m));
-        let n = psi.len();
-        if n < PIECE_NODES || !(n - 1).is_multiple_of(PIECE_NODES - 1) {
-            return bad(format!("{n} nodes (need 8·pieces + 1, at least one piece)"));
-        }
-        if (n / (PIECE_NODES - 1)) as i64 > i64::from(MAX_PIECES) {
-            return bad(format!(
-                "{} pieces (at most {MAX_PIECES})",
-                n / (PIECE_NODES - 1)
-            ));
-        }
-        if !(h1 > 0.0 && h1.is_finite()) {
-            return bad(format!("top layer thickness {h1:e} m"));
-        }
-        if first.unsigned_abs() > 1000 {
-            return bad(format!("first piece {first}"));
-        }
-        if let Some(v) = psi.iter().find(|v| !(v.is_finite() && **v > 0.0)) {
-            return bad(format!("node value {v:e} (ψ must be finite and positive)"));
-        }
-        Ok(PsiTable {
-            key,
-            h1,
-            first,
-            psi,
-        })
+        LobattoTable::from_nodes(GRID, key, h1, first, psi)
+            .map(PsiTable)
+            .map_err(PsiTableError::Invalid)
     }
 
     /// The stack's fingerprint the table was built for.
     pub fn key(&self) -> u64 {
-        self.key
+        self.0.key()
     }
 
     /// h₁ (m).
     pub fn top_thickness(&self) -> f64 {
-        self.h1
+        self.0.top_thickness()
     }
 
     /// The pieces [k₀, k₁) held.
     pub fn pieces(&self) -> (i32, i32) {
-        let pieces = ((self.psi.len() - 1) / (PIECE_NODES - 1)) as i32;
-        (self.first, self.first + pieces)
+        self.0.pieces()
     }
 
     /// The node values, piece by piece (shared ends once).
     pub fn nodes(&self) -> &[f64] {
-        &self.psi
+        self.0.nodes()
     }
 
     /// True when the table holds every piece of [k₀, k₁).
-    pub fn covers(&self, (k0, k1): (i32, i32)) -> bool {
-        let (f, e) = self.pieces();
-        f <= k0 && k1 <= e
+    pub fn covers(&self, range: (i32, i32)) -> bool {
+        self.0.covers(range)
     }
 
     /// ψ(a) at radius `a` (m) by the barycentric Lobatto interpolant of the piece
     /// holding a/h₁ (the end pieces extended for radii just outside; a table built for a
     /// load path covers all of its radii).
     pub fn at(&self, a: f64) -> f64 {
-        let (f, e) = self.pieces();
-        let u = (a / self.h1).log10();
-        let k = piece_of(u).clamp(f64::from(f), f64::from(e - 1)) as i32;
-        let (s, end) = (piece_start(k), piece_start(k + 1));
-        let x = 2.0 * (u - s) / (end - s) - 1.0;
-        let p = (k - f) as usize;
-        let n = PIECE_NODES;
-        let v = &self.psi[p * (n - 1)..p * (n - 1) + n];
-        let (mut num, mut den) = (0.0, 0.0);
-        for (j, xj) in lobatto().into_iter().enumerate() {
-            let d = x - xj;
-            if d == 0.0 {
-                return v[j];
-            }
-            // weights (−1)^j, halved at the ends
-            let w =
-                if j % 2 == 0 { 1.0 } else { -1.0 } * if j == 0 || j == n - 1 { 0.5 } else { 1.0 };
-            num += w / d * v[j];
-            den += w / d;
-        }
-        num / den
+        self.0.at(a)
     }
 
     /// The file form (module docs).
     pub fn to_bytes(&self) -> Vec<u8> {
+        let t = &self.0;
         // bincode cannot fail on these plain values; were it to, the empty payload
         // would read back as damaged and the table be solved again
-        let payload = to_payload(&(self.key, self.h1, self.first, &self.psi)).unwrap_or_default();
+        let payload =
+            to_payload(&(t.key(), t.top_thickness(), t.first(), t.nodes())).unwrap_or_default();
         frame(MAGIC, FORMAT_VERSION, &payload)
     }
 

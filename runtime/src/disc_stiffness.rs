@@ -15,7 +15,8 @@
 //! (the engine's `[friction]` effect).
 //!
 //! # Grid
-//! Whole decades of log₁₀(a/h₁), each with [`NODES`] Chebyshev–Lobatto nodes
+//! A [`crate::table::lobatto`] table (shared with conduction's ψ): whole decades of
+//! log₁₀(a/h₁), each with [`NODES`] Chebyshev–Lobatto nodes
 //! (neighbouring decades share their end node), interpolated in barycentric form. A
 //! node's radius depends on (h₁, decade, node) alone ([`node_radius`]), so two tables
 //! of one stack agree bit for bit where they overlap: a table read from a file, one
@@ -36,6 +37,7 @@ use thiserror::Error;
 use crate::Solid;
 use crate::compliance::tangential::TangentialCompliance;
 use crate::table::codec::{FrameError, frame, from_payload, to_payload, unframe};
+use crate::table::lobatto::{Grid, LobattoTable, NodeValue};
 
 /// Chebyshev–Lobatto nodes per decade of a/h₁ (16 solves a decade; 9, the ψ table's,
 /// left ψ_zz of a ν = 0.45 layer on a rigid base 1.2e−5 off).
@@ -117,20 +119,17 @@ pub fn disc_stiffness(a: f64, psi: PunchFactors, e_star: f64, mu_star: f64) -> D
     }
 }
 
-/// The Lobatto point j of [−1, 1], x_j = −cos(πj/(NODES − 1)) (the ends exact).
-fn lobatto(j: usize) -> f64 {
-    if j == 0 {
-        -1.0
-    } else if j >= NODES - 1 {
-        1.0
-    } else {
-        -(std::f64::consts::PI * j as f64 / (NODES - 1) as f64).cos()
-    }
-}
+/// The partition and nodes of a disc-stiffness table (module docs;
+/// [`crate::table::lobatto`]): whole decades, [`NODES`] a decade.
+pub const GRID: Grid = Grid {
+    nodes: NODES,
+    half_decades_from: None,
+    max_pieces: MAX_DECADES,
+};
 
 /// The radius (m) of node j of decade k: h₁·10^(k + (x_j + 1)/2).
 pub fn node_radius(h1: f64, decade: i32, j: usize) -> f64 {
-    h1 * 10f64.powf(f64::from(decade) + 0.5 * (lobatto(j) + 1.0))
+    GRID.node_radius(h1, decade, j)
 }
 
 /// The decades [k₀, k₁) of log₁₀(a/h₁) that cover the radii `lo` ≤ `hi` (m) on a top
@@ -178,16 +177,41 @@ pub fn fingerprint<S: Solid + ?Sized>(solid: &S) -> u64 {
     h.finish()
 }
 
+impl NodeValue for PunchFactors {
+    fn zero() -> Self {
+        PunchFactors {
+            normal: 0.0,
+            along: 0.0,
+            across: 0.0,
+        }
+    }
+
+    fn add_scaled(&mut self, c: f64, v: &Self) {
+        self.normal += c * v.normal;
+        self.along += c * v.along;
+        self.across += c * v.across;
+    }
+
+    fn divided(self, d: f64) -> Self {
+        PunchFactors {
+            normal: self.normal / d,
+            along: self.along / d,
+            across: self.across / d,
+        }
+    }
+
+    fn finite_positive(&self) -> bool {
+        [self.normal, self.along, self.across]
+            .iter()
+            .all(|x| x.is_finite() && *x > 0.0)
+    }
+}
+
 /// The punch factors of one stack against a/h₁ over whole decades (module docs): read
 /// with [`StiffnessNodes::factors`], filled by `strata-tablegen`'s `stiffness_table`.
+/// The values and their interpolation are a [`LobattoTable`] of [`GRID`].
 #[derive(Debug, Clone, PartialEq)]
-pub struct StiffnessNodes {
-    key: u64,
-    h1: f64,
-    first: i32,
-    /// Node factors, decade p (decade first + p) at 16p … 16p + 16.
-    psi: Vec<PunchFactors>,
-}
+pub struct StiffnessNodes(LobattoTable<PunchFactors>);
 
 impl StiffnessNodes {
     /// A table of the stack with fingerprint `key` and top layer `h1` (m) from its node
@@ -199,109 +223,55 @@ impl StiffnessNodes {
         first: i32,
         psi: Vec<PunchFactors>,
     ) -> Result<Self, StiffnessTableError> {
-        let bad = |m: String| Err(StiffnessTableError::Invalid(m));
-        let n = psi.len();
-        let m = NODES - 1;
-        if n < NODES || !(n - 1).is_multiple_of(m) {
-            return bad(format!(
-                "{n} nodes (need {m}·decades + 1, at least one decade)"
-            ));
-        }
-        if (n / m) as i64 > i64::from(MAX_DECADES) {
-            return bad(format!("{} decades (at most {MAX_DECADES})", n / m));
-        }
-        if !(h1 > 0.0 && h1.is_finite()) {
-            return bad(format!("top layer thickness {h1:e} m"));
-        }
-        if first.unsigned_abs() > 1000 {
-            return bad(format!("first decade {first}"));
-        }
-        if let Some(v) = psi.iter().find(|v| {
-            ![v.normal, v.along, v.across]
-                .iter()
-                .all(|x| x.is_finite() && *x > 0.0)
-        }) {
-            return bad(format!(
-                "node factors {v:?} (ψ must be finite and positive)"
-            ));
-        }
-        Ok(StiffnessNodes {
-            key,
-            h1,
-            first,
-            psi,
-        })
+        LobattoTable::from_nodes(GRID, key, h1, first, psi)
+            .map(StiffnessNodes)
+            .map_err(StiffnessTableError::Invalid)
     }
 
     /// The stack's fingerprint the table was built for.
     pub fn key(&self) -> u64 {
-        self.key
+        self.0.key()
     }
 
     /// h₁ (m).
     pub fn top_thickness(&self) -> f64 {
-        self.h1
+        self.0.top_thickness()
     }
 
     /// The decades [k₀, k₁) of log₁₀(a/h₁) held.
     pub fn decades(&self) -> (i32, i32) {
-        let n = ((self.psi.len() - 1) / (NODES - 1)) as i32;
-        (self.first, self.first + n)
+        self.0.pieces()
     }
 
     /// The node factors, decade by decade (shared ends once).
     pub fn nodes(&self) -> &[PunchFactors] {
-        &self.psi
+        self.0.nodes()
     }
 
     /// True when the table holds every decade of [k₀, k₁).
-    pub fn covers(&self, (k0, k1): (i32, i32)) -> bool {
-        let (f, e) = self.decades();
-        f <= k0 && k1 <= e
+    pub fn covers(&self, range: (i32, i32)) -> bool {
+        self.0.covers(range)
     }
 
     /// The interpolated punch factors at radius `a` (m): the barycentric Lobatto
     /// interpolant of the decade holding a/h₁ (the end decades extended for radii just
     /// outside; a table built for a load path covers all of its radii).
     pub fn factors(&self, a: f64) -> PunchFactors {
-        let (f, e) = self.decades();
-        let u = (a / self.h1).log10();
-        let k = u.floor().clamp(f64::from(f), f64::from(e - 1));
-        let x = 2.0 * (u - k) - 1.0;
-        let p = (k as i32 - f) as usize;
-        let v = &self.psi[p * (NODES - 1)..p * (NODES - 1) + NODES];
-        let (mut num, mut den) = ([0.0; 3], 0.0);
-        for (j, vj) in v.iter().enumerate() {
-            let d = x - lobatto(j);
-            if d == 0.0 {
-                return *vj;
-            }
-            // weights (−1)^j, halved at the ends
-            let w = if j % 2 == 0 { 1.0 } else { -1.0 }
-                * if j == 0 || j == NODES - 1 { 0.5 } else { 1.0 };
-            let c = w / d;
-            num[0] += c * vj.normal;
-            num[1] += c * vj.along;
-            num[2] += c * vj.across;
-            den += c;
-        }
-        PunchFactors {
-            normal: num[0] / den,
-            along: num[1] / den,
-            across: num[2] / den,
-        }
+        self.0.at(a)
     }
 
     /// The file form (module docs).
     pub fn to_bytes(&self) -> Vec<u8> {
-        let flat: Vec<[f64; 3]> = self
-            .psi
+        let t = &self.0;
+        let flat: Vec<[f64; 3]> = t
+            .nodes()
             .iter()
             .map(|p| [p.normal, p.along, p.across])
             .collect();
         // bincode cannot fail on these plain values; were it to, the empty payload
         // would read back as damaged and the table be solved again
-        let payload = to_payload(&(self.key, self.h1, self.first, &flat)).unwrap_or_default();
+        let payload =
+            to_payload(&(t.key(), t.top_thickness(), t.first(), &flat)).unwrap_or_default();
         frame(MAGIC, FORMAT_VERSION, &payload)
     }
 

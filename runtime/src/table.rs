@@ -69,6 +69,7 @@ pub mod codec;
 pub mod export;
 pub mod far;
 pub mod interp;
+pub mod lobatto;
 
 use std::path::Path;
 
