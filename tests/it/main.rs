@@ -10,6 +10,7 @@ mod bem_free;
 mod bem_paths;
 mod bem_reference;
 mod calculix;
+mod calculix_friction;
 mod calculix_thermal;
 mod cluster;
 mod compare;
