@@ -6,6 +6,7 @@ pub mod compare;
 pub mod compliance;
 pub mod conductance;
 pub mod law;
+pub mod ratio_map;
 pub mod solve;
 pub mod stiffness;
 pub mod study;
@@ -65,6 +66,11 @@ pub enum Command {
     /// not listed by `strata --help` (docs/guide/study.md).
     #[command(hide = true)]
     Study(study::Args),
+    /// K_t/K_n of the shipped stacks (one asperity against a/h₁, rough surfaces against
+    /// load) between Mindlin's and the thin layer's limits: DIR/ratio_*.csv, .svg. A
+    /// developers' command (it makes docs/figures/tangential-ratio-*.svg).
+    #[command(hide = true)]
+    RatioMap(ratio_map::Args),
     /// Surfaces: `export` a scene's surface to .x3p (ISO 25178-72) or .npy; `info` on a file's sizes and statistics.
     Surface(surface::Args),
 }
@@ -82,6 +88,7 @@ pub fn run(cli: Cli, memory: MemoryLimit) -> Result<()> {
         Command::Compare(a) => compare::run(a, memory),
         Command::Sweep(a) => sweep::run(a, memory),
         Command::Study(a) => study::run(a, memory),
+        Command::RatioMap(a) => ratio_map::run(a),
         Command::Surface(a) => surface::run(a, memory),
     }
 }

@@ -40,6 +40,7 @@ mod netcdf_surface;
 mod outputs;
 mod plastic;
 mod progress;
+mod ratio_map;
 mod rectangular;
 mod rough_reference;
 mod runtime_deps;
