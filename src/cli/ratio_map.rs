@@ -12,7 +12,7 @@
 //!   along each scene of `--scenes` with `[friction]` added (μ = 0.3; μ enters no
 //!   stiffness), the N and the I model: K_t the `tangential_stiffness` and K_n the
 //!   `stiffness` (dP/dδ) of curve.csv.
-//! - The limits (dashed): Mindlin's 2(1 − ν)/(2 − ν) (= [8μa/(2 − ν)]/[2E*a], a disc
+//! - The limits (dashed): Mindlin's 2(1 − ν)/(2 − ν) (= 8μa/(2 − ν) over 2E*a, a disc
 //!   small against the layers) and the thin layer on a rigid base,
 //!   Σ(h/M)/Σ(h/μ) = (1 − 2ν)/(2(1 − ν)) for one ν (a disc wide against the layers;
 //!   M = E(1 − ν)/((1 + ν)(1 − 2ν))), for each ν the stacks have.
