@@ -91,7 +91,8 @@ pub struct Args {
     /// negative below the mean plane (`--min-gap -1e-6` or `--min-gap=-1e-6`).
     #[arg(long, allow_hyphen_values = true)]
     pub min_gap: Option<f64>,
-    /// With `[friction]`: the design pressure p_d (Pa) of the friction card — CalculiX's
+    /// With `[friction]`: the design pressure p_d (Pa) of the friction card (in the .inp
+    /// and the JSON; a CSV alone has none) — CalculiX's
     /// stick slope λ = K_t(p_d)/A₀, Abaqus' elastic slip γ = μ p_d A₀/K_t(p_d)
     /// (default: the table's largest pressure, that of the deepest sample: the scene's
     /// largest load or --min-gap's).
@@ -257,6 +258,12 @@ pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     check_min_gap(a.min_gap)?;
     let outs = outputs(&a)?;
     let scene = Scene::from_file(&a.scene)?;
+    if a.design_pressure.is_some() && scene.friction.is_none() {
+        bail!(
+            "--design-pressure: scene {} has no [friction] (coefficient = μ): no friction card to write",
+            a.scene.display()
+        );
+    }
     // beside the Abaqus block, its FE range as an amplitude that sizes a deck's load
     let range = outs
         .iter()
@@ -280,21 +287,19 @@ pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     let solved = crate::engine::load_surface(&scene, &memory)
         .and_then(|surface| sample_law(&scene, surface, &opts, &mut Console, a.samples, a.min_gap))
         .with_context(|| format!("scene {}", a.scene.display()))?;
-    // [friction]: the friction card at the design pressure (refused when λ <= 0)
+    // [friction]: the friction card at the design pressure for the .inp and the JSON
+    // (refused when λ <= 0); the CSV alone needs none
     let card = match &scene.friction {
-        Some(f) if solved.tangential_stiffness.is_some() => Some(
-            card::FrictionCard::new(&solved, f.coefficient, a.design_pressure)
-                .with_context(|| format!("scene {}", a.scene.display()))?,
-        ),
-        _ => {
-            if a.design_pressure.is_some() {
-                bail!(
-                    "--design-pressure: scene {} has no [friction] (coefficient = μ): no friction card to write",
-                    a.scene.display()
-                );
-            }
-            None
+        Some(f)
+            if solved.tangential_stiffness.is_some()
+                && outs.iter().any(|(fmt, _)| *fmt != Format::Csv) =>
+        {
+            Some(
+                card::FrictionCard::new(&solved, f.coefficient, a.design_pressure)
+                    .with_context(|| format!("scene {}", a.scene.display()))?,
+            )
         }
+        _ => None,
     };
     if let Some(c) = &card {
         progress::log(c.summary());
