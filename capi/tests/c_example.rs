@@ -1396,6 +1396,8 @@ fn strata_law_csv(
             format: Some(strata::cli::law::Format::Csv),
             samples,
             min_gap: Some(min_gap),
+            design_pressure: None,
+            friction_card: strata::cli::law::FrictionCard::Calculix,
             force: true,
             cache_dir: None,
         },

@@ -17,6 +17,7 @@ pub mod contact_law;
 pub mod effects;
 pub mod engine;
 pub mod error;
+pub mod friction_card;
 pub mod law_build;
 pub mod number;
 pub mod progress;

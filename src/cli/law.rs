@@ -22,7 +22,13 @@
 //! §6.2) and the `.inp` a `*GAP CONDUCTANCE, PRESSURE` block after the table
 //! ([`SampledLaw::gap_conductance_block`]). With `[friction]` (N and I models) the CSV
 //! gains a `tangential_stiffness` column after them and the JSON each sample's
-//! `tangential_stiffness`: the full-stick tangential stiffness K_t of the sample (N/m).
+//! `tangential_stiffness`: the full-stick tangential stiffness K_t of the sample (N/m),
+//! the JSON a `friction_card` object and the `.inp` the friction card after the table
+//! ([`strata_engine::friction_card`]): CalculiX `*FRICTION` (μ, stick slope λ =
+//! K_t(p_d)/A₀ at the design pressure p_d, `--design-pressure`, with λ's range over the
+//! path) and Abaqus `*FRICTION, ELASTIC SLIP=γ` (γ = μ p_d A₀/K_t(p_d), with its spread
+//! over the path), one active (`--friction-card`), the other commented out. A card
+//! with λ <= 0 is refused (CalculiX does not run it).
 //!
 //! Sampling: `--samples` (default 200) separations evenly from g₀ down to `--min-gap`
 //! (default: the smallest separation the scene's `[load]` reaches; for
@@ -48,6 +54,7 @@ use crate::progress;
 use crate::engine::{Console, EngineOptions};
 pub use crate::sampled_law::{SampledLaw, csv, range_path, sample_law};
 use crate::sampled_law::{check_min_gap, check_samples};
+use strata_engine::friction_card as card;
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
@@ -55,6 +62,15 @@ pub enum Format {
     Json,
     Abaqus,
     All,
+}
+
+/// The FE code whose friction card is active in the .inp.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FrictionCard {
+    /// `*FRICTION` with `μ, λ` (stick slope λ = K_t/A₀ at the design pressure).
+    Calculix,
+    /// `*FRICTION, ELASTIC SLIP=γ` with `μ` (γ = μ p_d A₀/K_t).
+    Abaqus,
 }
 
 #[derive(Debug, clap::Args)]
@@ -75,6 +91,17 @@ pub struct Args {
     /// negative below the mean plane (`--min-gap -1e-6` or `--min-gap=-1e-6`).
     #[arg(long, allow_hyphen_values = true)]
     pub min_gap: Option<f64>,
+    /// With `[friction]`: the design pressure p_d (Pa) of the friction card (in the .inp
+    /// and the JSON; a CSV alone has none) — CalculiX's
+    /// stick slope λ = K_t(p_d)/A₀, Abaqus' elastic slip γ = μ p_d A₀/K_t(p_d)
+    /// (default: the table's largest pressure, that of the deepest sample: the scene's
+    /// largest load or --min-gap's).
+    #[arg(long, value_name = "PA")]
+    pub design_pressure: Option<f64>,
+    /// With `[friction]`: which `*FRICTION` card the .inp makes active (the other is
+    /// written under it as `**` comment lines).
+    #[arg(long, value_enum, default_value_t = FrictionCard::Calculix)]
+    pub friction_card: FrictionCard,
     /// Overwrite existing output files.
     #[arg(long)]
     pub force: bool,
@@ -116,7 +143,7 @@ fn outputs(a: &Args) -> Result<Vec<(Format, PathBuf)>> {
 
 const CONVENTION: &str = "g = separation of the mean planes (P26), g0 = z_M - zbar its value at first contact (z_M: the highest summit in the N and I models, the highest grid point in the BEM; g, the flat's height above the mean plane, means the same in every model); overclosure h = g0 - g (Abaqus convention: positive when closing); mean_pressure p = P/A0 (nominal pressure); area_fraction = A/A0; dp_dg = derivative of the monotone interpolant of p(g) (<= 0), equal to -(dP/d delta)/A0 of the solver at the samples; p = 0 for g >= g0";
 
-fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
+fn json(s: &SampledLaw, scene: &Path, card: Option<&card::FrictionCard>) -> Result<String> {
     let g0 = s.law.first_contact_gap();
     let law: Vec<serde_json::Value> = s
         .law
@@ -198,7 +225,31 @@ fn json(s: &SampledLaw, scene: &Path) -> Result<String> {
         }
         v["units"]["tangential_stiffness"] = serde_json::json!("N/m (over the sample, full stick)");
     }
+    if let Some(c) = card {
+        v["friction_card"] = card_json(c);
+    }
     Ok(serde_json::to_string_pretty(&v)?)
+}
+
+/// The friction card's values (the JSON's `friction_card`).
+fn card_json(c: &card::FrictionCard) -> serde_json::Value {
+    let ((l_lo, p_lo), (l_hi, p_hi)) = c.stick_slope_range;
+    serde_json::json!({
+        "coefficient": c.coefficient,
+        "design_pressure": c.design_pressure,
+        "tangential_stiffness": c.tangential_stiffness,
+        "stick_slope": c.stick_slope,
+        "stick_slope_range": {"min": l_lo, "at_pressure_min": p_lo,
+                              "max": l_hi, "at_pressure_max": p_hi},
+        "elastic_slip": c.elastic_slip,
+        "elastic_slip_range": {"min": c.elastic_slip_range.0, "max": c.elastic_slip_range.1},
+        "elastic_slip_spread": c.elastic_slip_spread,
+        "elastic_slip_nearly_constant": c.elastic_slip_nearly_constant(),
+        "units": {"coefficient": "1", "design_pressure": "Pa", "tangential_stiffness": "N/m",
+                  "stick_slope": "Pa/m (lambda = K_t/A0 at the design pressure)",
+                  "elastic_slip": "m (gamma = mu p A0/K_t)",
+                  "elastic_slip_spread": "(max - min)/gamma at the design pressure, over p >= 1 % of p_max"},
+    })
 }
 
 pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
@@ -207,6 +258,12 @@ pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     check_min_gap(a.min_gap)?;
     let outs = outputs(&a)?;
     let scene = Scene::from_file(&a.scene)?;
+    if a.design_pressure.is_some() && scene.friction.is_none() {
+        bail!(
+            "--design-pressure: scene {} has no [friction] (coefficient = μ): no friction card to write",
+            a.scene.display()
+        );
+    }
     // beside the Abaqus block, its FE range as an amplitude that sizes a deck's load
     let range = outs
         .iter()
@@ -230,6 +287,23 @@ pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     let solved = crate::engine::load_surface(&scene, &memory)
         .and_then(|surface| sample_law(&scene, surface, &opts, &mut Console, a.samples, a.min_gap))
         .with_context(|| format!("scene {}", a.scene.display()))?;
+    // [friction]: the friction card at the design pressure for the .inp and the JSON
+    // (refused when λ <= 0); the CSV alone needs none
+    let card = match &scene.friction {
+        Some(f)
+            if solved.tangential_stiffness.is_some()
+                && outs.iter().any(|(fmt, _)| *fmt != Format::Csv) =>
+        {
+            Some(
+                card::FrictionCard::new(&solved, f.coefficient, a.design_pressure)
+                    .with_context(|| format!("scene {}", a.scene.display()))?,
+            )
+        }
+        _ => None,
+    };
+    if let Some(c) = &card {
+        progress::log(c.summary());
+    }
     if outs.iter().any(|(f, _)| *f == Format::Abaqus) {
         for w in solved.law.calculix_warnings() {
             crate::stdio::eprint_line(format_args!("warning: {w}"));
@@ -241,8 +315,15 @@ pub fn run(a: Args, memory: MemoryLimit) -> Result<()> {
     for (f, p) in &outs {
         let text = match f {
             Format::Csv => csv(&solved),
-            Format::Json => json(&solved, &a.scene)?,
-            Format::Abaqus => solved.abaqus_block(&a.scene.display().to_string()),
+            Format::Json => json(&solved, &a.scene, card.as_ref())?,
+            Format::Abaqus => {
+                let code = match a.friction_card {
+                    FrictionCard::Calculix => card::FeCode::Calculix,
+                    FrictionCard::Abaqus => card::FeCode::Abaqus,
+                };
+                solved.abaqus_block(&a.scene.display().to_string())
+                    + &card.as_ref().map(|c| c.block(code)).unwrap_or_default()
+            }
             Format::All => bail!("internal error: --format all was not expanded"),
         };
         let name = p

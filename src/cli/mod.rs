@@ -8,6 +8,7 @@ pub mod conductance;
 pub mod law;
 #[cfg(feature = "mpi")]
 pub mod ranks;
+pub mod ratio_map;
 pub mod solve;
 pub mod stiffness;
 pub mod study;
@@ -67,6 +68,11 @@ pub enum Command {
     /// not listed by `strata --help` (docs/guide/study.md).
     #[command(hide = true)]
     Study(study::Args),
+    /// K_t/K_n of the shipped stacks (one asperity against a/h₁, rough surfaces against
+    /// load) between Mindlin's and the thin layer's limits: DIR/ratio_*.csv, .svg. A
+    /// developers' command (it makes docs/figures/tangential-ratio-*.svg).
+    #[command(hide = true)]
+    RatioMap(ratio_map::Args),
     /// Surfaces: `export` a scene's surface to .x3p (ISO 25178-72) or .npy; `info` on a file's sizes and statistics.
     Surface(surface::Args),
 }
@@ -84,6 +90,7 @@ pub fn run(cli: Cli, memory: MemoryLimit) -> Result<()> {
         Command::Compare(a) => compare::run(a, memory),
         Command::Sweep(a) => sweep::run(a, memory),
         Command::Study(a) => study::run(a, memory),
+        Command::RatioMap(a) => ratio_map::run(a),
         Command::Surface(a) => surface::run(a, memory),
     }
 }

@@ -1,7 +1,7 @@
 //! The accuracy–cost study behind `strata study`: what each knob of the
 //! solvers buys in accuracy and costs in time, measured in one run on this machine.
 //!
-//! Seven stages, each a module:
+//! Eight stages, each a module:
 //! * [`fredholm`]: the full asperity solver (Nyström and product integration), force
 //!   error against node count and time per solve;
 //! * [`tables`]: surrogate tables, interpolation error against grid density and
@@ -14,7 +14,9 @@
 //! * [`plasticity`]: yielding tips, the three models capped at a hardness against the
 //!   capped BEM on the finest grid;
 //! * [`conductance`]: interface conductance, the N and I models' and the BEM's at
-//!   several grids against the BEM on the finest grid, with the conductance's own time.
+//!   several grids against the BEM on the finest grid, with the conductance's own time;
+//! * [`friction`]: the tangential stiffness, the disc-stiffness table's node count
+//!   against its error vs direct Fredholm solves and its build cost in solves.
 //!
 //! Conventions shared by every stage:
 //! * **Errors are deterministic.** Every value that enters an error is computed once
@@ -36,6 +38,7 @@ pub mod conductance;
 mod defaults;
 mod figures;
 pub mod fredholm;
+pub mod friction;
 mod harness;
 pub mod machine;
 pub mod pareto;
@@ -63,6 +66,7 @@ pub struct Study {
     pub scaling: scaling::Results,
     pub plasticity: plasticity::Results,
     pub conductance: conductance::Results,
+    pub friction: friction::Results,
     pub errors: Errors,
     pub timings: Vec<(String, String, Timing)>,
     pub machine: machine::Machine,
@@ -95,6 +99,9 @@ pub fn run(mode: Mode, inputs: &Inputs, machine: machine::Machine) -> Result<Stu
     stage("interface conductance");
     let conductance = conductance::run(&mut runner, &mut errors, inputs)
         .context("interface conductance stage")?;
+    stage("tangential stiffness");
+    let friction =
+        friction::run(&mut runner, &mut errors, inputs).context("tangential stiffness stage")?;
     let seconds = t0.elapsed().as_secs_f64();
     crate::progress::log(format!("study ({}): done in {seconds:.1} s", mode.name()));
     Ok(Study {
@@ -106,6 +113,7 @@ pub fn run(mode: Mode, inputs: &Inputs, machine: machine::Machine) -> Result<Stu
         scaling,
         plasticity,
         conductance,
+        friction,
         errors,
         timings: runner.log,
         machine,

@@ -416,6 +416,7 @@ pub fn markdown(study: &Study, prefix: &str, ext: &str, command: &str) -> String
     w.push_str(&super::scaling::markdown(&study.scaling));
     w.push_str(&super::plasticity::markdown(&study.plasticity));
     w.push_str(&super::conductance::markdown(&study.conductance));
+    w.push_str(&super::friction::markdown(&study.friction));
     let _ = writeln!(
         w,
         "## Regenerating\n\n```sh\ncargo run -p xtask -- machine target/machine.toml\ncargo run --release -- study{} --machine target/machine.toml --out docs/accuracy-cost \\\n    --report docs/accuracy-cost.md --force\n```\n\nwrites this page (`--report`), its plots, `errors.csv` and `timings.csv` \
@@ -546,6 +547,9 @@ pub fn summary(study: &Study) -> Vec<String> {
         ));
     }
     if let Some(line) = super::conductance::summary(&study.conductance) {
+        out.push(line);
+    }
+    if let Some(line) = super::friction::summary(&study.friction) {
         out.push(line);
     }
     let off = defaults(study).iter().filter(|d| d.off).count();

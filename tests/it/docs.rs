@@ -329,7 +329,9 @@ fn subcommands() -> BTreeSet<String> {
         "no command list in `strata --help`:\n{help}"
     );
     // the developers' command, hidden from the user's list, is real
-    assert!(!list.contains("study"), "`strata --help` lists `study`");
+    for dev in DEVELOPER_COMMANDS {
+        assert!(!list.contains(dev), "`strata --help` lists `{dev}`");
+    }
     let mut list = list;
     for dev in DEVELOPER_COMMANDS {
         let o = std::process::Command::new(env!("CARGO_BIN_EXE_strata"))
@@ -342,9 +344,9 @@ fn subcommands() -> BTreeSet<String> {
     list
 }
 
-/// Subcommands for the developers (the accuracy–cost study): runnable, not listed by
-/// `strata --help`.
-const DEVELOPER_COMMANDS: [&str; 1] = ["study"];
+/// Subcommands for the developers (the accuracy–cost study, the K_t/K_n figures):
+/// runnable, not listed by `strata --help`.
+const DEVELOPER_COMMANDS: [&str; 2] = ["study", "ratio-map"];
 
 /// Checks the cargo commands of one piece of code (the text after each `cargo test`,
 /// `cargo bench`, `cargo run`, up to a shell separator).
