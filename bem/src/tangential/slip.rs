@@ -359,9 +359,6 @@ impl Problem<'_> {
                 });
             }
             error /= scale;
-            if std::env::var_os("BEMTAN_DEBUG").is_some() && it % 200 == 0 {
-                eprintln!("it {it}: error {error:e} stick {ns}/{nc} s {s:?}");
-            }
             if error <= self.tol {
                 return Ok(Inner {
                     iterations: it,
