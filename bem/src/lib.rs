@@ -120,6 +120,7 @@ mod reference;
 pub mod slab;
 mod solver;
 mod state;
+pub mod tangential;
 #[cfg(test)]
 mod tests;
 mod update;

@@ -57,6 +57,7 @@ mod study;
 mod sweep;
 mod table_fuzz;
 mod tables;
+mod tangential_peer;
 mod walkthrough;
 mod x3p;
 mod zero_mean_images;

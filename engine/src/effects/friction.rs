@@ -139,3 +139,97 @@ impl StepObserver for AsperityFriction<'_> {
         solution.summary.friction = Some(self.summary);
     }
 }
+
+/// The definition of the BEM's tangential stiffness.
+const BEM_DEFINITION: &str = "full-stick tangential stiffness of the cell K_t = Q/s (N/m): the \
+     BEM's contact set at each step stuck to the flat, displaced tangentially by s along x under \
+     the total tangential force Q (strata_bem::tangential, the 3 x 3 layered kernel without the \
+     normal-tangential coupling); the periodic cell's displacements have zero mean, as in the \
+     normal BEM";
+
+/// The BEM's tangential stiffness: the full-stick linear solve on each step's contact set
+/// ([`strata_bem::tangential::full_stick_stiffness`]), periodic cells only.
+pub struct BemFriction {
+    kernel: strata_bem::tangential::TractionKernel,
+    area: f64,
+    tolerance: f64,
+    records: Vec<TangentialInfo>,
+    summary: FrictionSummary,
+}
+
+impl BemFriction {
+    /// The observer of a BEM path on a periodic cell of `grid` = (rows, columns) and
+    /// `geometry`; an isolated (non-periodic) sample is refused.
+    pub fn prepare(
+        scene: &Scene,
+        spec: FrictionSpec,
+        grid: (usize, usize),
+        geometry: strata_bem::Geometry,
+    ) -> Result<Self> {
+        if !geometry.periodic {
+            crate::error::bail_input!(
+                "friction: the BEM's tangential stiffness needs a periodic cell \
+                 (surface.periodic = true); an isolated sample is not supported"
+            );
+        }
+        let kernel = strata_bem::tangential::TractionKernel::periodic(
+            &scene.bodies,
+            grid,
+            (geometry.ly, geometry.lx),
+            strata_bem::tangential::Coupling::Uncoupled,
+        )
+        .context("[friction]")?;
+        Ok(BemFriction {
+            kernel,
+            area: geometry.lx * geometry.ly,
+            tolerance: 1e-8,
+            records: Vec::new(),
+            summary: FrictionSummary {
+                coefficient: spec.coefficient,
+                definition: BEM_DEFINITION,
+                table_decades: None,
+                seconds: 0.0,
+                units: FrictionUnits {
+                    coefficient: "1",
+                    tangential_stiffness: "N/m (over the sample, full stick)",
+                },
+            },
+        })
+    }
+}
+
+impl StepObserver for BemFriction {
+    fn after_step(
+        &mut self,
+        step: &super::observer::BemStep<'_>,
+        _obs: &dyn Observer,
+    ) -> Result<()> {
+        let t0 = Instant::now();
+        let k = if step.pressure.iter().any(|&p| p > 0.0) {
+            strata_bem::tangential::full_stick_stiffness(
+                &self.kernel,
+                step.pressure,
+                self.area,
+                self.tolerance,
+                100_000,
+            )
+            .with_context(|| format!("[friction] {}", step.name))?
+        } else {
+            0.0
+        };
+        self.records.push(TangentialInfo {
+            tangential_stiffness: k,
+        });
+        self.summary.seconds += t0.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    fn truncate(&mut self, n: usize) {
+        self.records.truncate(n);
+    }
+
+    fn finish(self: Box<Self>, solution: &mut SceneSolution) {
+        solution.tangential = Some(self.records);
+        solution.summary.friction = Some(self.summary);
+    }
+}

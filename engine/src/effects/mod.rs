@@ -43,6 +43,11 @@ pub fn for_bem<'s>(
             scene, spec, grid, geometry, opts, obs,
         )?));
     }
+    if let Some(spec) = scene.friction {
+        out.push(Box::new(friction::BemFriction::prepare(
+            scene, spec, grid, geometry,
+        )?));
+    }
     Ok(out)
 }
 

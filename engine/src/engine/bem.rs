@@ -37,13 +37,6 @@ pub fn solve(
     opts: &EngineOptions,
     obs: &mut dyn Observer,
 ) -> Result<SceneSolution> {
-    if scene.friction.is_some() {
-        crate::error::bail_input!(
-            "friction: the tangential stiffness is computed by the asperity models in this \
-             version (model.kind = \"independent\" or \"interacting\"); the BEM's tangential \
-             contact is not"
-        );
-    }
     let (surface_report, mut warnings) = surface_report(&surface, obs);
     let (n0, n1) = surface.shape();
     let periodic = surface.is_periodic();

@@ -357,14 +357,6 @@ impl SceneFile {
             None => None,
             Some(f) => {
                 let coefficient = positive(f.coefficient, "friction.coefficient")?;
-                if kind == ModelKind::Bem {
-                    return Err(invalid(
-                        "friction",
-                        "the tangential stiffness is computed by the asperity models in this \
-                         version (model.kind = \"independent\" or \"interacting\"); the BEM's \
-                         tangential contact is not",
-                    ));
-                }
                 Some(FrictionSpec { coefficient })
             }
         };
