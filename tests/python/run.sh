@@ -30,6 +30,7 @@ cd "$(dirname "$0")/../.."
 ROOT=$PWD
 export STRATA_PY_REF=${STRATA_PY_REF:-$ROOT/target/python-reference}
 VENV=${STRATA_PY_VENV:-$ROOT/target/python-venv}
+export STRATA_PY_VENV=$VENV
 PY=${PYTHON:-python3}
 CI_MODE=""
 SPEED=""
@@ -117,7 +118,8 @@ for i in "${!solvers[@]}"; do
 done
 [ -z "$failed" ] || fail "tests/python/compare.py failed for:$failed (logs above)"
 t_py=$(date +%s)
-cargo test --workspace --test it -- --ignored bem_reference::python_ --nocapture
+# and the BEM's coupled partial slip against Tamaas' PolonskyKeerTan (tests/it/tangential_peer.rs)
+cargo test --workspace --test it -- --ignored bem_reference::python_ tangential_peer:: --nocapture
 # strata's NetCDF maps (contact.engineering's results.nc) opened with xarray.
 rm -rf "$STRATA_PY_REF/netcdf"
 mkdir -p "$STRATA_PY_REF/netcdf"
