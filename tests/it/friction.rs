@@ -343,3 +343,35 @@ fn law_column_equals_solve_at_its_samples() {
         assert_eq!(*k, kt[i], "sample {i}");
     }
 }
+
+/// On a half-space with ν = 0 the full-stick tangential problem is the normal one:
+/// Cerruti's kernel u_x = Q/(πE r) (its ν x²/r³ and ν x y/r³ terms vanish) equals
+/// Boussinesq's w = (1 − ν²)P/(πE r), so the BEM's K_t of a step's contact set (a uniform
+/// tangential displacement) is the flat-punch stiffness of that set, which is the step's
+/// dP/dδ (the `stiffness` column, a probe at δ + 1e-4 δ) while the set does not grow
+/// within the probe. Measured: |K_t/K_n − 1| ≤ 2.1e-7 up to A/A₀ = 7 % at 256²
+/// (2.0e-4 at A/A₀ = 20 %, where the probe's contact set grows).
+#[test]
+fn bem_full_stick_stiffness_on_a_nu_zero_half_space_is_the_normal_one() {
+    let d = fresh_dir("friction", "bem_nu_zero");
+    let surface = SURFACE.replace("periodic = true\n", "");
+    let scene = format!(
+        "[stack]\n[stack.base]\nkind = \"elastic\"\nyoung = 4e9\npoisson = 0.0\n\
+         [surface]\nperiodic = true\n{surface}\n[model]\nkind = \"bem\"\n\
+         [load]\nmean_pressures = [1e5, 1e6, 1e7]\n[friction]\ncoefficient = 0.3\n"
+    );
+    let (o, out) = crate::support::solve_text(&d, "nu0", &scene);
+    assert!(o.status.success(), "{}", stderr_of(&o));
+    let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (kn, kt, area) = (col("stiffness"), col("tangential_stiffness"), col("area_fraction"));
+    let mut worst = 0.0f64;
+    for line in csv.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!(v[area] > 0.0 && v[area] < 0.1, "{line}");
+        worst = worst.max((v[kt] / v[kn] - 1.0).abs());
+    }
+    eprintln!("nu = 0 half-space: worst |K_t/K_n - 1| = {worst:.1e}");
+    assert!(worst < 2e-6, "{worst:e}\n{csv}");
+}

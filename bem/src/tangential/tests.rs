@@ -174,7 +174,7 @@ fn cattaneo_mindlin_stick_radius_and_displacement() {
 }
 
 #[test]
-#[ignore = "slow (minutes): the 256² grid of the Cattaneo–Mindlin check"]
+#[ignore = "does not converge yet at 256² (error 3e-9 after 20 000 iterations: the slipping points' direction update); the 128² test holds 1 %"]
 fn cattaneo_mindlin_stick_radius_256() {
     cattaneo_mindlin(256);
 }
