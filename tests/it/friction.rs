@@ -365,7 +365,11 @@ fn bem_full_stick_stiffness_on_a_nu_zero_half_space_is_the_normal_one() {
     let csv = std::fs::read_to_string(out.join("curve.csv")).unwrap();
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (kn, kt, area) = (col("stiffness"), col("tangential_stiffness"), col("area_fraction"));
+    let (kn, kt, area) = (
+        col("stiffness"),
+        col("tangential_stiffness"),
+        col("area_fraction"),
+    );
     let mut worst = 0.0f64;
     for line in csv.lines().skip(1) {
         let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
