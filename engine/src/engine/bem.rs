@@ -153,19 +153,7 @@ pub fn solve(
                     o.truncate(k);
                 }
                 resolution.truncate(k);
-                log!(
-                    obs,
-                    "{name} failed: {e:#}; the {k} steps before it are kept (a partial curve)"
-                );
-                failed = Some(StepFailure {
-                    step: k,
-                    delta: match load {
-                        BemLoad::Approach(d) => d,
-                        BemLoad::Separation(g) => top_to_mean - g,
-                        _ => f64::NAN,
-                    },
-                    error: format!("{e:#}"),
-                });
+                failed = Some(step_failure(obs, &name, k, load, top_to_mean, &e));
                 break;
             }
         };
@@ -404,4 +392,30 @@ pub(super) fn resolution_warnings(
         }
     }
     out
+}
+
+/// The failure of step `k` (`name`, under `load`) that ends a load path: logged, and kept
+/// beside the `k` steps before it (a partial curve). `top_to_mean` (m) turns a separation
+/// into the approach it stands for.
+pub(super) fn step_failure(
+    obs: &mut dyn Observer,
+    name: &str,
+    k: usize,
+    load: BemLoad,
+    top_to_mean: f64,
+    e: &dyn std::fmt::Display,
+) -> StepFailure {
+    log!(
+        obs,
+        "{name} failed: {e:#}; the {k} steps before it are kept (a partial curve)"
+    );
+    StepFailure {
+        step: k,
+        delta: match load {
+            BemLoad::Approach(d) => d,
+            BemLoad::Separation(g) => top_to_mean - g,
+            _ => f64::NAN,
+        },
+        error: format!("{e:#}"),
+    }
 }

@@ -31,13 +31,13 @@ use crate::setup::{
     EngineOptions, Observer, counterface_summary, load_surface, log, stack_description,
     surface_report,
 };
-use crate::solution::{CurveUnits, PartialSummary, SceneSolution, StepFailure, Summary};
+use crate::solution::{CurveUnits, PartialSummary, SceneSolution, Summary};
 use strata_bem::decomp::{self, Decomposition};
 use strata_bem::{BemLoad, BemOptions, Geometry, SlabSolver};
 use strata_runtime::Solid;
 use strata_runtime::rough::Step;
 
-use super::bem::{StepResolution, loads, resolution_summary, resolution_warnings};
+use super::bem::{StepResolution, loads, resolution_summary, resolution_warnings, step_failure};
 
 /// The scene fields the distributed solve does not handle, if `scene` has one: its
 /// name and why (the first of `[plasticity]`, `[conductance]`, `[friction]`,
@@ -202,19 +202,7 @@ pub fn solve(
             Err(e) => {
                 steps.truncate(k);
                 resolution.truncate(k);
-                log!(
-                    obs,
-                    "{name} failed: {e:#}; the {k} steps before it are kept (a partial curve)"
-                );
-                failed = Some(StepFailure {
-                    step: k,
-                    delta: match load {
-                        BemLoad::Approach(d) => d,
-                        BemLoad::Separation(g) => top_to_mean - g,
-                        _ => f64::NAN,
-                    },
-                    error: format!("{e:#}"),
-                });
+                failed = Some(step_failure(obs, &name, k, load, top_to_mean, &e));
                 break;
             }
         }
