@@ -27,10 +27,15 @@
 //! |g| on 0 < p < H, max(−g, 0) at p = 0, max(g, 0) at p = H — at most `tol`, on the
 //! exact gap K p − z_e + c.
 
-use strata_runtime::fft::Fft2Work;
+use std::sync::atomic::AtomicBool;
+use std::sync::atomic::Ordering::Relaxed;
+
+use rayon::prelude::*;
+use strata_runtime::fft::{Fft2Work, Merge};
 
 use crate::BemError;
 use crate::operator::Operator;
+use crate::state::CHUNK;
 
 /// Exact gap recomputations from p, at least every this many iterations.
 const REFRESH: usize = 50;
@@ -346,12 +351,16 @@ impl Capped<'_> {
         }
         project_load(p, h, total);
         let mut u = vec![0.0; n];
-        let (mut t, mut r, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        let mut set = vec![false; n];
-        let (mut p_prev, mut u_prev) = (vec![0.0; n], vec![0.0; n]);
+        // y (the preconditioned gap) and r = K t share a buffer: the direction's fill
+        // reads row i of y before its drain writes row i of r.
+        let (mut t, mut yr) = (vec![0.0; n], vec![0.0; n]);
+        let set: Vec<AtomicBool> = (0..n).map(|_| AtomicBool::new(false)).collect();
+        let (mut p_prev, mut u_prev) = (Vec::new(), Vec::new());
         let mut work = self.op.work();
         let mut products = 1;
         let mut c = self.exact_load(p, &mut u, g, &mut work)?;
+        // Whether g = u − z_e + c is still to be formed from u (it is, in the next scan).
+        let mut pending = false;
         let mut exact = true;
         let mut since_exact = 0;
         let (mut best, mut since_best) = (f64::INFINITY, 0);
@@ -366,12 +375,43 @@ impl Capped<'_> {
                 violation: v,
             }
         };
+        let nx = self.op.nx();
+        let z = self.z;
         for it in 0..=self.max_iterations {
             self.cancel.check()?;
-            let v = kkt_violation(p, g, h);
-            if !v.is_finite() {
+            // The scan (g formed where pending, the KKT violation, the working set W),
+            // fused with the forward half of y = P_W M⁻¹ P_W g; the product goes on only
+            // if the iteration does (the gate), its drain writes y and the sums of y.
+            let cp = pending.then_some(c);
+            let go = |s: &Scan| {
+                s.finite
+                    && s.viol.is_finite()
+                    && !(s.viol <= self.tol || it == self.max_iterations)
+                    && !(s.viol >= 0.5 * best && since_best + 1 >= STALL)
+                    && s.m > 0
+            };
+            let (scan, drained) = match self.minv {
+                Some(minv) => {
+                    let (scan, drained) = minv.apply_fields(
+                        [&mut *p, &mut *g, &mut u, &mut yr],
+                        false,
+                        &mut work,
+                        |i, [p, g, u, _], input| {
+                            let row = i * nx..(i + 1) * nx;
+                            scan_row(p, g, u, &z[row.clone()], &set[row], h, cp, input)
+                        },
+                        |s| go(s).then_some(()),
+                        |_, i, [_, g, _, y], q| drain_y(g, y, q, &set[i * nx..(i + 1) * nx]),
+                    )?;
+                    (scan.finish(), drained)
+                }
+                None => (scan_plain(p, g, &u, z, &set, h, cp, &mut yr), None),
+            };
+            pending = false;
+            if !scan.viol.is_finite() {
                 return Err(BemError::NonFinite(it));
             }
+            let v = scan.viol;
             if v <= self.tol || it == self.max_iterations {
                 if !exact {
                     c = self.exact_load(p, &mut u, g, &mut work)?;
@@ -399,46 +439,25 @@ impl Capped<'_> {
                     return Ok((end(p, g, it, products), c));
                 }
             }
-            // The working set; conjugacy only while it stays put.
-            let mut same = true;
-            let mut m = 0usize;
-            for i in 0..n {
-                let w = working(p[i], g[i], h);
-                same &= w == set[i];
-                set[i] = w;
-                m += usize::from(w);
-                y[i] = if w { g[i] } else { 0.0 };
-            }
-            conjugate &= same;
+            conjugate &= !scan.changed;
+            let m = scan.m;
             if m == 0 {
                 return Ok((end(p, g, it, products), c));
             }
-            // y = P_W M⁻¹ P_W g, then its mean over W removed (the load's plane).
-            if let Some(minv) = self.minv {
-                let gw = y.clone();
-                minv.apply(&gw, &mut y, false, &mut work)?;
-                products += 1;
-            }
-            let in_plane = |y: &mut [f64]| {
-                let ybar = (0..n).filter(|&i| set[i]).map(|i| y[i]).sum::<f64>() / m as f64;
-                let mut delta = 0.0;
-                for i in 0..n {
-                    if set[i] {
-                        y[i] -= ybar;
-                        delta += g[i] * y[i];
-                    } else {
-                        y[i] = 0.0;
-                    }
-                }
-                delta
+            // The direction's y in the load's plane: y − ȳ on W (ȳ its mean over W),
+            // δ = Σ_W g (y − ȳ) = Σ_W g y − ȳ Σ_W g.
+            let in_plane = |[sy, sgy, sg]: [f64; 3]| {
+                let ybar = sy / m as f64;
+                (ybar, sgy - ybar * sg)
             };
-            let mut delta = in_plane(&mut y);
-            if self.minv.is_none() || delta.is_nan() || delta <= 0.0 {
+            let (mut ybar, mut delta) = (0.0, f64::NAN);
+            if let Some(sums) = drained {
+                products += 1;
+                (ybar, delta) = in_plane(sums);
+            }
+            if delta.is_nan() || delta <= 0.0 {
                 // no preconditioner, or it is not positive on W: the gap itself
-                for i in 0..n {
-                    y[i] = if set[i] { g[i] } else { 0.0 };
-                }
-                delta = in_plane(&mut y);
+                (ybar, delta) = in_plane(plain_y(g, &mut yr, &set));
                 conjugate = false;
                 if delta.is_nan() || delta <= 0.0 {
                     if !exact {
@@ -454,12 +473,42 @@ impl Capped<'_> {
                 0.0
             };
             d_old = delta;
-            for i in 0..n {
-                t[i] = if set[i] { y[i] + beta * t[i] } else { 0.0 };
-            }
-            self.op.apply(&t, &mut r, self.uniform, &mut work)?;
+            // t = (y − ȳ) + β t on W (0 elsewhere) formed in the fill of r = K t, whose
+            // drain sums g·t and r·t.
+            let (gt, rt) = {
+                let g = &*g;
+                let (_, sums) = self.op.apply_fields(
+                    [&mut t, &mut yr],
+                    self.uniform,
+                    &mut work,
+                    |i, [t, y], input| {
+                        let w = &set[i * nx..(i + 1) * nx];
+                        for k in 0..t.len() {
+                            t[k] = if w[k].load(Relaxed) {
+                                (y[k] - ybar) + beta * t[k]
+                            } else {
+                                0.0
+                            };
+                        }
+                        input.copy_from_slice(t);
+                    },
+                    |_| Some(()),
+                    |_, i, [t, r], q| {
+                        r.copy_from_slice(q);
+                        let g = &g[i * nx..(i + 1) * nx];
+                        let (mut a, mut b) = (0.0, 0.0);
+                        for k in 0..t.len() {
+                            a += g[k] * t[k];
+                            b += q[k] * t[k];
+                        }
+                        [a, b]
+                    },
+                )?;
+                let [gt, rt] = sums.unwrap_or_default();
+                (gt, rt)
+            };
             products += 1;
-            let (gt, rt) = (0..n).fold((0.0, 0.0), |(a, b), i| (a + g[i] * t[i], b + r[i] * t[i]));
+            let r = &yr;
             if !(rt > 0.0 && gt.is_finite()) {
                 if !exact {
                     c = self.exact_load(p, &mut u, g, &mut work)?;
@@ -467,34 +516,42 @@ impl Capped<'_> {
                 }
                 return Ok((end(p, g, it, products), c));
             }
-            // The step, halved while a projected one raises the energy
-            // f = ½ pᵀK p − pᵀz_e (one product per trial: a projection changes u).
             let mut tau = gt / rt;
-            let f_now = energy(p, &u, self.z);
-            p_prev.copy_from_slice(p);
-            let mut halvings = 0;
-            let inside = loop {
-                let mut inside = true;
-                for i in 0..n {
-                    let q = p_prev[i] - tau * t[i];
-                    inside &= (0.0..=h).contains(&q);
-                    p[i] = q;
+            let inside = if step_inside(p, &t, tau, h) {
+                true
+            } else {
+                // The step, halved while a projected one raises the energy
+                // f = ½ pᵀK p − pᵀz_e (one product per trial: a projection changes u).
+                let f_now = energy(p, &u, z);
+                p_prev.clear();
+                p_prev.extend_from_slice(p);
+                u_prev.clear();
+                u_prev.extend_from_slice(&u);
+                let mut halvings = 0;
+                loop {
+                    let mut inside = true;
+                    for i in 0..n {
+                        let q = p_prev[i] - tau * t[i];
+                        inside &= (0.0..=h).contains(&q);
+                        p[i] = q;
+                    }
+                    if inside {
+                        // (after a halving: u is the step's start again)
+                        for i in 0..n {
+                            p[i] = p_prev[i];
+                        }
+                        break true;
+                    }
+                    project_load(p, h, total);
+                    c = self.exact_load(p, &mut u, g, &mut work)?;
+                    products += 1;
+                    if energy(p, &u, z) <= f_now || halvings >= MAX_HALVINGS {
+                        break false;
+                    }
+                    halvings += 1;
+                    tau *= 0.5;
+                    u.copy_from_slice(&u_prev);
                 }
-                if inside {
-                    break true;
-                }
-                project_load(p, h, total);
-                if halvings == 0 {
-                    u_prev.copy_from_slice(&u);
-                }
-                c = self.exact_load(p, &mut u, g, &mut work)?;
-                products += 1;
-                if energy(p, &u, self.z) <= f_now || halvings >= MAX_HALVINGS {
-                    break false;
-                }
-                halvings += 1;
-                tau *= 0.5;
-                u.copy_from_slice(&u_prev);
             };
             since_exact += 1;
             if !inside {
@@ -502,19 +559,15 @@ impl Capped<'_> {
                 since_exact = 0;
                 conjugate = false;
             } else if since_exact >= REFRESH {
+                advance(p, &mut u, &t, r, z, tau, h);
                 c = self.exact_load(p, &mut u, g, &mut work)?;
                 products += 1;
                 exact = true;
                 since_exact = 0;
                 conjugate = true;
             } else {
-                for i in 0..n {
-                    u[i] -= tau * r[i];
-                }
-                c = self.load_offset(p, &u);
-                for i in 0..n {
-                    g[i] = u[i] - self.z[i] + c;
-                }
+                c = advance(p, &mut u, &t, r, z, tau, h).offset();
+                pending = true;
                 exact = false;
                 conjugate = true;
             }
@@ -547,6 +600,236 @@ impl Capped<'_> {
             violation: kkt_violation(p, g, self.hardness),
         })
     }
+}
+
+/// What the scan of the load-held iteration found: the largest KKT violation (m), the
+/// size of the working set W, whether W changed, whether every violation was finite.
+#[derive(Debug, Clone, Copy)]
+struct Scan {
+    viol: f64,
+    m: usize,
+    changed: bool,
+    finite: bool,
+}
+
+impl Default for Scan {
+    fn default() -> Self {
+        Scan {
+            viol: 0.0,
+            m: 0,
+            changed: false,
+            finite: true,
+        }
+    }
+}
+
+impl Merge for Scan {
+    fn merge(self, o: Self) -> Self {
+        Scan {
+            viol: self.viol.max(o.viol),
+            m: self.m + o.m,
+            changed: self.changed || o.changed,
+            finite: self.finite && o.finite,
+        }
+    }
+}
+
+impl Scan {
+    /// The violation, NaN if one was not finite.
+    fn finish(mut self) -> Self {
+        if !self.finite {
+            self.viol = f64::NAN;
+        }
+        self
+    }
+}
+
+/// One stretch of the scan: g = u − z_e + c where `c` is given (the pending gap), the
+/// violation and the working set W (written to `set`), and P_W g into `input`.
+#[allow(clippy::too_many_arguments)]
+fn scan_row(
+    p: &[f64],
+    g: &mut [f64],
+    u: &[f64],
+    z: &[f64],
+    set: &[AtomicBool],
+    h: f64,
+    c: Option<f64>,
+    input: &mut [f64],
+) -> Scan {
+    if let Some(c) = c {
+        for k in 0..g.len() {
+            g[k] = u[k] - z[k] + c;
+        }
+    }
+    let mut s = Scan::default();
+    for k in 0..g.len() {
+        let v = violation(p[k], g[k], h);
+        s.finite &= v.is_finite();
+        s.viol = s.viol.max(v);
+        let w = working(p[k], g[k], h);
+        s.changed |= set[k].swap(w, Relaxed) != w;
+        s.m += usize::from(w);
+        input[k] = if w { g[k] } else { 0.0 };
+    }
+    s
+}
+
+/// The preconditioner's result q on one row: y = q on W, 0 elsewhere; returns
+/// [Σ_W y, Σ_W g y, Σ_W g].
+fn drain_y(g: &[f64], y: &mut [f64], q: &[f64], set: &[AtomicBool]) -> [f64; 3] {
+    let mut s = [0.0; 3];
+    for k in 0..y.len() {
+        if set[k].load(Relaxed) {
+            y[k] = q[k];
+            s[0] += q[k];
+            s[1] += g[k] * q[k];
+            s[2] += g[k];
+        } else {
+            y[k] = 0.0;
+        }
+    }
+    s
+}
+
+/// The scan without a preconditioner product (P_W g goes to `y`). Partial results per
+/// stretch of `CHUNK` points, merged in their order (the sums do not depend on how the
+/// threads share the stretches).
+#[allow(clippy::too_many_arguments)]
+fn scan_plain(
+    p: &[f64],
+    g: &mut [f64],
+    u: &[f64],
+    z: &[f64],
+    set: &[AtomicBool],
+    h: f64,
+    c: Option<f64>,
+    y: &mut [f64],
+) -> Scan {
+    let parts: Vec<Scan> = g
+        .par_chunks_mut(CHUNK)
+        .zip(y.par_chunks_mut(CHUNK))
+        .enumerate()
+        .map(|(b, (g, y))| {
+            let r = b * CHUNK..b * CHUNK + g.len();
+            scan_row(
+                &p[r.clone()],
+                g,
+                &u[r.clone()],
+                &z[r.clone()],
+                &set[r],
+                h,
+                c,
+                y,
+            )
+        })
+        .collect();
+    parts
+        .into_iter()
+        .fold(Scan::default(), Scan::merge)
+        .finish()
+}
+
+/// y = g on W (0 elsewhere); returns [Σ_W y, Σ_W g y, Σ_W g].
+fn plain_y(g: &[f64], y: &mut [f64], set: &[AtomicBool]) -> [f64; 3] {
+    let parts: Vec<[f64; 3]> = y
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(b, y)| {
+            let r = b * CHUNK..b * CHUNK + y.len();
+            let g = &g[r.clone()];
+            drain_y(g, y, g, &set[r])
+        })
+        .collect();
+    parts.into_iter().fold([0.0; 3], Merge::merge)
+}
+
+/// Whether the step p − τ t stays in the box 0 ≤ p ≤ h everywhere.
+fn step_inside(p: &[f64], t: &[f64], tau: f64, h: f64) -> bool {
+    p.par_chunks(CHUNK).zip(t.par_chunks(CHUNK)).all(|(p, t)| {
+        p.iter()
+            .zip(t)
+            .all(|(p, t)| (0.0..=h).contains(&(p - tau * t)))
+    })
+}
+
+/// The sums of the load's offset over a field ([`Capped::load_offset`]).
+#[derive(Debug, Clone, Copy)]
+struct LoadSums {
+    sum: f64,
+    m: usize,
+    lo: f64,
+    hi: f64,
+}
+
+impl LoadSums {
+    fn merge(self, o: Self) -> Self {
+        LoadSums {
+            sum: self.sum + o.sum,
+            m: self.m + o.m,
+            lo: self.lo.max(o.lo),
+            hi: self.hi.min(o.hi),
+        }
+    }
+
+    const EMPTY: LoadSums = LoadSums {
+        sum: 0.0,
+        m: 0,
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
+
+    /// c = −mean over the free points of (u − z_e); without free points the middle of
+    /// the offsets that keep the bound points' gaps signed right.
+    fn offset(self) -> f64 {
+        if self.m > 0 {
+            -self.sum / self.m as f64
+        } else if self.lo.is_finite() && self.hi.is_finite() {
+            0.5 * (self.lo + self.hi)
+        } else if self.lo.is_finite() {
+            self.lo
+        } else {
+            self.hi
+        }
+    }
+}
+
+/// The step inside the box: p ← p − τ t, u ← u − τ r, and the load offset's sums of
+/// the new state.
+fn advance(
+    p: &mut [f64],
+    u: &mut [f64],
+    t: &[f64],
+    r: &[f64],
+    z: &[f64],
+    tau: f64,
+    h: f64,
+) -> LoadSums {
+    let parts: Vec<LoadSums> = p
+        .par_chunks_mut(CHUNK)
+        .zip(u.par_chunks_mut(CHUNK))
+        .enumerate()
+        .map(|(b, (p, u))| {
+            let rg = b * CHUNK..b * CHUNK + p.len();
+            let (t, r, z) = (&t[rg.clone()], &r[rg.clone()], &z[rg]);
+            let mut s = LoadSums::EMPTY;
+            for k in 0..p.len() {
+                p[k] -= tau * t[k];
+                u[k] -= tau * r[k];
+                let (p, d) = (p[k], u[k] - z[k]);
+                if p > 0.0 && p < h {
+                    s.sum += d;
+                    s.m += 1;
+                } else if p <= 0.0 {
+                    s.lo = s.lo.max(-d);
+                } else {
+                    s.hi = s.hi.min(-d);
+                }
+            }
+            s
+        })
+        .collect();
+    parts.into_iter().fold(LoadSums::EMPTY, LoadSums::merge)
 }
 
 /// Puts `q` into the box 0 ≤ p ≤ `h` and onto the plane Σ p = `total` (0 < total <
