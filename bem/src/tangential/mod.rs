@@ -26,8 +26,9 @@
 //! along −(K_tt q − h − s) and projects onto the friction discs |q| ≤ μp, under force
 //! control onto the discs intersected with the plane Σq = N Q̄ (a two-component
 //! multiplier found by Newton steps, no FFT). Every iterate is admissible and the
-//! iteration converges for any grid, its products growing about as √n. Full stick is the
-//! linear problem on the contact set, solved by conjugate gradients.
+//! iteration converges for any grid (a sphere's partial slip: 151–214 products by K_tt at
+//! 128², 338–493 at 256², 851–1 404 at 512²). Full stick is the linear problem on the
+//! contact set, solved by conjugate gradients.
 
 pub mod coupled;
 pub mod kernel;

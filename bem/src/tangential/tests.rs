@@ -173,10 +173,10 @@ fn cattaneo_mindlin_stick_radius_and_displacement() {
     cattaneo_mindlin(128);
 }
 
-/// At 256² within a budget of 2 000 products by K_tt per solve: the projected gradient
-/// takes 338–493 (the conjugate gradient on the stick set that it replaced, its slipping
-/// points stepped with the stick set's step, took 1 907–4 771 iterations of two products
-/// each).
+/// At 256² within a budget of 2 000 products by K_tt per solve: the accelerated projected
+/// gradient takes 338–493. A conjugate gradient on the stick set alone, stepping the
+/// slipping points with the stick set's step, needs 1 907–4 771 iterations of two
+/// products each here and exceeds the budget (error 1.4e−8 after 2 000).
 #[test]
 fn cattaneo_mindlin_stick_radius_256() {
     cattaneo_mindlin(256);
