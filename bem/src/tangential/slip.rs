@@ -80,15 +80,15 @@ const MAX_NEWTON_STEPS: usize = 50;
 /// Power iterations for the largest eigenvalue of K_tt on the contact set.
 const POWER_STEPS: usize = 12;
 
+/// The most secant steps on s under force control.
+const MAX_SHIFT_STEPS: usize = 60;
+
 /// ⟨a, b⟩ over both components.
 fn dot(a: &[Vec<f64>; 2], b: &[Vec<f64>; 2]) -> f64 {
     (0..2)
         .map(|c| a[c].iter().zip(&b[c]).map(|(x, y)| x * y).sum::<f64>())
         .sum()
 }
-
-/// The most secant steps on s under force control.
-const MAX_SHIFT_STEPS: usize = 60;
 
 /// Solves one step (module docs). `mu` may be +∞ (full stick: the linear problem on the
 /// contact set); `history` is h (zero if `None`), `start` a starting traction;
