@@ -21,11 +21,14 @@
 //! ([`coupled`]) alternates normal and tangential solves until both hold.
 //!
 //! # Method
-//! A Polonsky–Keer constrained conjugate gradient on the stick set with projection onto
-//! the friction discs (the scheme of Tamaas' PolonskyKeerTan; Polonsky & Keer, Wear 231,
-//! 1999, for the normal problem): the search direction is conjugate on the stick points,
-//! slipping points take the projected gradient step, and the direction restarts when the
-//! stick set changes.
+//! With friction, an accelerated projected gradient (FISTA with gradient restart; Beck &
+//! Teboulle 2009, O'Donoghue & Candès 2015) on the complementary energy: each step moves
+//! along −(K_tt q − h − s) and projects onto the friction discs |q| ≤ μp, under force
+//! control onto the discs intersected with the plane Σq = N Q̄ (a two-component
+//! multiplier found by Newton steps, no FFT). Every iterate is admissible and the
+//! iteration converges for any grid (a sphere's partial slip: 151–214 products by K_tt at
+//! 128², 338–493 at 256², 851–1 404 at 512²). Full stick is the linear problem on the
+//! contact set, solved by conjugate gradients.
 
 pub mod coupled;
 pub mod kernel;
