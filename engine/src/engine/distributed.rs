@@ -32,7 +32,7 @@ use crate::setup::{
 };
 use crate::solution::{CurveUnits, PartialSummary, SceneSolution, Summary};
 use strata_bem::decomp::{self, Decomposition};
-use strata_bem::{BemLoad, BemOptions, Geometry, SlabSolver};
+use strata_bem::{BemOptions, Geometry, SlabSolver};
 use strata_runtime::Solid;
 use strata_runtime::rough::Step;
 
