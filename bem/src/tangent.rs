@@ -88,7 +88,7 @@ impl Set {
 
     #[inline(always)]
     fn has(&self, i: usize) -> bool {
-        self.bits[i / 64] >> (i % 64) & 1 == 1
+        (self.bits[i / 64] >> (i % 64)) & 1 == 1
     }
 
     /// Points in the set (this rank's).
@@ -123,6 +123,7 @@ pub(crate) struct Fields<'a> {
 /// uniform)` is K (or M⁻¹, `precondition`) on them, every rank calling it together;
 /// `check` runs at the head of every iteration (cancellation). On return `fields.dp`
 /// holds Δp (Pa/m).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn run(
     comm: &dyn Decomposition,
     mut product: impl FnMut(Apply, &[f64], &mut [f64], bool) -> Result<(), BemError>,
