@@ -645,10 +645,10 @@ impl BemSolver {
         out
     }
 
-    /// The tangent stiffness dP/dδ (N/m) of `solution` (a solution of this solver, or of
-    /// a [`crate::PlasticPath`] on it with hardness `hardness`, Pa): K_AA Δp = 1 on the
-    /// contact set A held fixed (the elastic contact p < H(1 − `PLASTIC_SHARE`) when
-    /// capped), dP/dδ = (Lx·Ly/(ny·nx)) Σ_A Δp, solved to the relative residual
+    /// The tangent stiffness dP/dδ (N/m) of `solution` (a solution of this solver; of a
+    /// [`crate::PlasticPath`] on it: [`crate::PlasticPath::tangent`]): K_AA Δp = 1 on
+    /// the contact set A held fixed (the points p > 0 below `below`, Pa, if given: a
+    /// capped solution's elastic contact), dP/dδ = (Lx·Ly/(ny·nx)) Σ_A Δp, solved to the relative residual
     /// [`crate::tangent::TOLERANCE`] (module [`crate::tangent`]). The iteration's four
     /// fields are Δp (returned) and three buffers, one of them `solution`'s pressure map,
     /// lent as in [`solve_lent`](Self::solve_lent) (its contact points kept meanwhile,
@@ -657,7 +657,7 @@ impl BemSolver {
     pub fn tangent(
         &self,
         solution: &mut BemSolution,
-        hardness: Option<f64>,
+        below: Option<f64>,
     ) -> Result<crate::Tangent, BemError> {
         let n2 = self.ny * self.nx;
         let shape = solution.pressure.dim();
@@ -675,7 +675,7 @@ impl BemSolver {
                 got: p.len(),
             });
         }
-        let set = crate::tangent::Set::of(p, hardness);
+        let set = crate::tangent::Set::of(p, below);
         let contact = p.iter().filter(|v| v.to_bits() != 0).count();
         let lend = 12 * contact < 8 * n2 && u32::try_from(n2).is_ok();
         let (kept, mut q) = if lend && solution.pressure.as_slice().is_some() {

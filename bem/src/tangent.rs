@@ -67,16 +67,17 @@ pub struct Tangent {
 }
 
 /// The set A of the points that take load under an increase of the approach (this
-/// rank's points): p > 0, and p < H(1 − `PLASTIC_SHARE`) when capped at H. One bit
-/// per point.
+/// rank's points): p > 0, and p below the cap's elastic bound (H(1 − `PLASTIC_SHARE`)
+/// when capped at H). One bit per point.
 pub(crate) struct Set {
     bits: Vec<u64>,
 }
 
 impl Set {
-    /// Of the pressure `p` (Pa) capped at `hardness` (Pa; `None`: elastic).
-    pub(crate) fn of(p: &[f64], hardness: Option<f64>) -> Self {
-        let cap = hardness.map_or(f64::INFINITY, |h| h * (1.0 - crate::plastic::PLASTIC_SHARE));
+    /// Of the pressure `p` (Pa), the points at or above `below` (Pa; `None`: elastic)
+    /// left out.
+    pub(crate) fn of(p: &[f64], below: Option<f64>) -> Self {
+        let cap = below.unwrap_or(f64::INFINITY);
         let mut bits = vec![0u64; p.len().div_ceil(64)];
         for (i, &v) in p.iter().enumerate() {
             if v > 0.0 && v < cap {
@@ -552,7 +553,7 @@ mod tests {
         let before = path.clone();
         let (mut s, info) = path.step(BemLoad::Approach(delta)).unwrap();
         assert!(info.plastic_points > 10, "{}", info.plastic_points);
-        let t = solver.tangent(&mut s, Some(h)).unwrap();
+        let t = path.tangent(&mut s).unwrap();
         assert_eq!(t.points + info.plastic_points, s.contact_points);
         let dd = 1e-4 * delta;
         let load = |d: f64| {

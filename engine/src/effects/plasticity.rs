@@ -110,9 +110,6 @@ impl BemResponse for Elastic<'_> {
 /// flowed kept for the rest of the path (the state advances by [`BemResponse::step`]).
 pub struct Capped<'s> {
     path: PlasticPath<'s>,
-    solver: &'s BemSolver,
-    /// H (Pa).
-    hardness: f64,
 }
 
 impl BemResponse for Capped<'_> {
@@ -139,7 +136,7 @@ impl BemResponse for Capped<'_> {
     }
 
     fn tangent(&mut self, step: &mut BemSolution) -> Result<Tangent> {
-        Ok(self.solver.tangent(step, Some(self.hardness))?)
+        Ok(self.path.tangent(step)?)
     }
 
     fn complete(&self, _solution: &mut BemSolution) -> Result<()> {
@@ -164,8 +161,6 @@ pub fn bem_response<'s>(
             );
             Box::new(Capped {
                 path: PlasticPath::new(solver, pl.hardness).context("plasticity")?,
-                solver,
-                hardness: pl.hardness,
             })
         }
         None => Box::new(Elastic(solver)),
