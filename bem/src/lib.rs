@@ -120,6 +120,7 @@ mod reference;
 pub mod slab;
 mod solver;
 mod state;
+pub mod tangent;
 pub mod tangential;
 #[cfg(test)]
 mod tests;
@@ -138,6 +139,7 @@ pub use netcdf::NETCDF_MAP_VARIABLES;
 pub use plastic::{PlasticInfo, PlasticPath};
 pub use solver::{BemSolver, Geometry, uniform_compliance};
 pub use strata_runtime::stack::Stack;
+pub use tangent::Tangent;
 
 /// Solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -227,6 +227,14 @@ impl<'s> PlasticPath<'s> {
         &self.depth
     }
 
+    /// The tangent stiffness dP/dδ (N/m) of `solution`, this path's last step: the
+    /// elastic contact (0 < p < H(1 − [`PLASTIC_SHARE`])) held fixed, the points at H
+    /// flowing ([`crate::BemSolver::tangent`]).
+    pub fn tangent(&self, solution: &mut crate::BemSolution) -> Result<crate::Tangent, BemError> {
+        self.solver
+            .tangent(solution, Some(self.hardness * (1.0 - PLASTIC_SHARE)))
+    }
+
     /// Solves one load on the current (flattened) surface and keeps its plastic depth.
     pub fn step(
         &mut self,

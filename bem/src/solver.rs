@@ -261,9 +261,10 @@ impl BemSolver {
     /// against [`BemOptions::memory`] before anything is allocated.
     pub fn memory_needed(ny: usize, nx: usize, periodic: bool) -> u64 {
         let points = (ny as u64).saturating_mul(nx as u64);
-        // The largest set alive at once: z, the iteration's p, u, t and r, and a second
-        // pressure map (a step's, beside its stiffness probe, or the warm start being
-        // moved in): six fields; the operator with its row spectra and, non-periodic,
+        // The largest set alive at once: z, the iteration's p, u, t and r (or the
+        // tangent stiffness's Δp, r, d and q), and a second pressure map (the warm start
+        // being moved in; a step's beside its tangent is kept as its contact points):
+        // six fields; the operator with its row spectra and, non-periodic,
         // its inverse (the preconditioner's kernel; periodic, it is read from the
         // operator's table). The cold start's half grid (≈ 36 B/pt with the fine z and
         // p) and the maps formed after a step (z, p, the warm start, gap, deflection and
@@ -592,7 +593,7 @@ impl BemSolver {
     /// `gap` and `displacement` are left empty (0×0), its scalars are those of
     /// `solve_from`. [`complete_maps`](Self::complete_maps) computes the two maps later
     /// from the pressure (one convolution; the same values). A load step then holds the
-    /// pressure alone (8 bytes per point) while, e.g., its stiffness probe runs.
+    /// pressure alone (8 bytes per point) while, e.g., its tangent stiffness is solved.
     pub fn solve_pressure_only(
         &self,
         load: BemLoad,
@@ -618,8 +619,8 @@ impl BemSolver {
     /// value: 12 bytes per point in contact instead of 8 per grid point; a copy where
     /// that is not smaller). `start.pressure` is given back bit for bit, also when the
     /// solve fails. The same solution as
-    /// `solve_pressure_only(load, Some(start.pressure))`: a stiffness probe after a step
-    /// holds one full pressure map, not two.
+    /// `solve_pressure_only(load, Some(start.pressure))`: a second solve after a step (a
+    /// finite-difference probe of it) holds one full pressure map, not two.
     pub fn solve_lent(
         &self,
         load: BemLoad,
@@ -642,6 +643,91 @@ impl BemSolver {
         let out = self.solve_pressure_only_in(load, lent);
         start.pressure = Array2::from_shape_vec(shape, kept.dense(n2)).unwrap_or_default();
         out
+    }
+
+    /// The tangent stiffness dP/dδ (N/m) of `solution` (a solution of this solver; of a
+    /// [`crate::PlasticPath`] on it: [`crate::PlasticPath::tangent`]): K_AA Δp = 1 on
+    /// the contact set A held fixed (the points p > 0 below `below`, Pa, if given: a
+    /// capped solution's elastic contact), dP/dδ = (Lx·Ly/(ny·nx)) Σ_A Δp, solved to the relative residual
+    /// [`crate::tangent::TOLERANCE`] (module [`crate::tangent`]). The iteration's four
+    /// fields are Δp (returned) and three buffers, one of them `solution`'s pressure map,
+    /// lent as in [`solve_lent`](Self::solve_lent) (its contact points kept meanwhile,
+    /// given back bit for bit, also when the solve fails): beside a step's pressure the
+    /// tangent holds as many grid fields as the step's iteration.
+    pub fn tangent(
+        &self,
+        solution: &mut BemSolution,
+        below: Option<f64>,
+    ) -> Result<crate::Tangent, BemError> {
+        let n2 = self.ny * self.nx;
+        let shape = solution.pressure.dim();
+        let owned: Vec<f64>;
+        let p: &[f64] = match solution.pressure.as_slice() {
+            Some(p) => p,
+            None => {
+                owned = solution.pressure.iter().copied().collect();
+                &owned
+            }
+        };
+        if p.len() != n2 {
+            return Err(BemError::Initial {
+                expected: n2,
+                got: p.len(),
+            });
+        }
+        let set = crate::tangent::Set::of(p, below);
+        let contact = p.iter().filter(|v| v.to_bits() != 0).count();
+        let lend = 12 * contact < 8 * n2 && u32::try_from(n2).is_ok();
+        let (kept, mut q) = if lend && solution.pressure.as_slice().is_some() {
+            let kept = ContactPoints::of(p, contact);
+            let lent = std::mem::take(&mut solution.pressure);
+            let (lent, _) = lent.into_raw_vec_and_offset();
+            (Some(kept), lent)
+        } else {
+            (None, vec![0.0; n2])
+        };
+        let mut dp = vec![0.0; n2];
+        let (mut r, mut d) = (vec![0.0; n2], vec![0.0; n2]);
+        let uniform = self.geometry.periodic && self.c0.is_some();
+        let mut work = self.op.work();
+        let (op, minv) = (&self.op, self.precond.as_ref());
+        let product = |which, input: &[f64], out: &mut [f64], uniform| match (which, minv) {
+            (crate::reference::Apply::Inverse, Some(m)) => m.apply(input, out, uniform, &mut work),
+            _ => op.apply(input, out, uniform, &mut work),
+        };
+        let out = crate::tangent::run(
+            &crate::decomp::Serial,
+            product,
+            &set,
+            uniform,
+            minv.is_some(),
+            self.options.max_iterations,
+            || Ok(self.cancel.check()?),
+            crate::tangent::Fields {
+                dp: &mut dp,
+                r: &mut r,
+                d: &mut d,
+                q: &mut q,
+            },
+        );
+        drop((r, d));
+        if let Some(kept) = kept {
+            // the step's pressure back in its own buffer
+            q.fill(0.0);
+            for (&k, &v) in kept.at.iter().zip(&kept.value) {
+                q[k as usize] = v;
+            }
+            solution.pressure = Array2::from_shape_vec(shape, q).unwrap_or_default();
+        }
+        let out = out?;
+        Ok(crate::Tangent {
+            stiffness: self.area() / n2 as f64 * out.sum,
+            pressure_rate: dp,
+            points: out.points,
+            iterations: out.iterations,
+            products: out.products,
+            residual: out.residual,
+        })
     }
 
     /// The gap and displacement maps of a solution from

@@ -172,7 +172,7 @@ pub struct Summary {
     pub surface: SurfaceReport,
     /// The surface's and the solve's warnings.
     pub warnings: Vec<String>,
-    /// BEM: the largest final CG error of the steps and their stiffness probes.
+    /// BEM: the largest final CG error of the steps.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bem_final_error: Option<f64>,
     /// Wall time of the solve with its effects, without table building (s).

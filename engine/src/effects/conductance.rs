@@ -157,16 +157,14 @@ impl StepObserver for BemConductance {
         // physics.md §6.2: a unit jump on this step's contact set (p > 0)
         let tc = Instant::now();
         let set: Vec<bool> = step.pressure.iter().map(|&p| p > 0.0).collect();
-        // the start: the previous step's flux and this step's pressure increment (the
+        // the start: the previous step's flux and this step's pressure rate dp/dδ (the
         // exact flux on homogeneous bodies by Barber's analogy), best combined
-        let dp: Vec<f64> = step
-            .probe
-            .pressure
-            .iter()
-            .zip(step.pressure)
-            .map(|(a, b)| a - b)
+        let guesses: Vec<&[f64]> = self
+            .flux
+            .as_deref()
+            .into_iter()
+            .chain([step.pressure_rate])
             .collect();
-        let guesses: Vec<&[f64]> = self.flux.as_deref().into_iter().chain([&dp[..]]).collect();
         let h = self
             .solver
             .solve_from_guesses(&set, &guesses)

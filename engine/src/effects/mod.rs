@@ -7,7 +7,7 @@
 //! - [`conductance`]: a [`StepObserver`] ([`observer`]) — prepared before the first step, called after
 //!   each BEM step or once after an asperity model's path, its records moved into the
 //!   solution at the end;
-//! - [`stiffness`]: the BEM's dP/dδ probe after each step;
+//! - [`stiffness`]: the BEM's dP/dδ after each step, the tangent on its contact set;
 //! - [`friction`]: a [`StepObserver`] of the N and I models' path, the full-stick
 //!   tangential stiffness of every step from the contact radii.
 //!

@@ -4,7 +4,6 @@
 //! under the drivers and the effects.
 
 use crate::error::Result;
-use strata_bem::BemSolution;
 use strata_runtime::rough::{Model, RoughContact, Step};
 
 use crate::setup::{EngineOptions, Observer};
@@ -16,9 +15,9 @@ pub struct BemStep<'a> {
     pub name: &'a str,
     /// The step's pressure map, row-major n0 × n1 (Pa).
     pub pressure: &'a [f64],
-    /// The stiffness probe's solution at δ + dδ ([`crate::effects::stiffness`]), warm-started from this
-    /// step.
-    pub probe: &'a BemSolution,
+    /// The pressure rate Δp = dp/dδ on the step's contact set (Pa/m, row-major n0 × n1,
+    /// 0 elsewhere): the tangent of [`crate::effects::stiffness`].
+    pub pressure_rate: &'a [f64],
 }
 
 /// What an observer sees of an asperity model's solved load path.

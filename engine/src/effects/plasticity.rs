@@ -15,7 +15,7 @@
 use std::time::Instant;
 
 use crate::error::{Context, EngineError, Result};
-use strata_bem::{BemLoad, BemSolution, BemSolver, PlasticPath};
+use strata_bem::{BemLoad, BemSolution, BemSolver, PlasticPath, Tangent};
 use strata_runtime::Solid;
 use strata_runtime::law::Homogeneous;
 use strata_runtime::numerics::{Falsi, Tolerance, bracketed};
@@ -68,15 +68,14 @@ pub trait BemResponse {
         load: BemLoad,
         warm: Option<Vec<f64>>,
     ) -> Result<(BemSolution, Option<PlasticInfo>)>;
-    /// The solution at approach `delta` (m) from the state the last step started from,
-    /// warm-started from `step` (the last step's solution, whose pressure the elastic
-    /// response lends to the probe's iteration and gets back bit for bit): the stiffness
-    /// probe.
-    fn probe(&mut self, delta: f64, step: &mut BemSolution) -> Result<BemSolution>;
-    /// The gap and displacement maps of a solution of [`Self::step`] or [`Self::probe`]
-    /// that left them out (the elastic response solves for the pressure alone, so that
-    /// a step and its probe hold one pressure map each; the maps are formed from it
-    /// when they are handed on, with the same values).
+    /// The tangent stiffness dP/dδ of `step` (the last step's solution, whose pressure
+    /// map the solve borrows as a buffer and gives back bit for bit) on its contact set
+    /// ([`BemSolver::tangent`]; capped: the points below the hardness).
+    fn tangent(&mut self, step: &mut BemSolution) -> Result<Tangent>;
+    /// The gap and displacement maps of a solution of [`Self::step`] that left them out
+    /// (the elastic response solves for the pressure alone, so that a step and its
+    /// tangent hold one pressure map each; the maps are formed from it when they are
+    /// handed on, with the same values).
     fn complete(&self, solution: &mut BemSolution) -> Result<()>;
 }
 
@@ -98,8 +97,8 @@ impl BemResponse for Elastic<'_> {
         Ok((sol, None))
     }
 
-    fn probe(&mut self, delta: f64, step: &mut BemSolution) -> Result<BemSolution> {
-        Ok(self.0.solve_lent(BemLoad::Approach(delta), step)?)
+    fn tangent(&mut self, step: &mut BemSolution) -> Result<Tangent> {
+        Ok(self.0.tangent(step, None)?)
     }
 
     fn complete(&self, solution: &mut BemSolution) -> Result<()> {
@@ -108,12 +107,9 @@ impl BemResponse for Elastic<'_> {
 }
 
 /// The capped response: the pressure capped at H, the plastic depth of the points that
-/// flowed kept for the rest of the path (the state advances by [`BemResponse::step`]
-/// only; the probe works on a copy of the state before the step).
+/// flowed kept for the rest of the path (the state advances by [`BemResponse::step`]).
 pub struct Capped<'s> {
     path: PlasticPath<'s>,
-    /// The state before the last step (the probe's start).
-    before: Option<PlasticPath<'s>>,
 }
 
 impl BemResponse for Capped<'_> {
@@ -122,9 +118,7 @@ impl BemResponse for Capped<'_> {
         load: BemLoad,
         _warm: Option<Vec<f64>>,
     ) -> Result<(BemSolution, Option<PlasticInfo>)> {
-        let before = self.path.clone();
         let (sol, info) = self.path.step(load)?;
-        self.before = Some(before);
         let record = PlasticInfo {
             plastic_area_fraction: info.plastic_area_fraction,
             bem: Some(BemPlasticInfo {
@@ -141,13 +135,8 @@ impl BemResponse for Capped<'_> {
         Ok((sol, Some(record)))
     }
 
-    fn probe(&mut self, delta: f64, _step: &mut BemSolution) -> Result<BemSolution> {
-        let Some(mut probe) = self.before.take() else {
-            return Err(EngineError::Internal(
-                "plasticity (a probe before any step)",
-            ));
-        };
-        Ok(probe.step(BemLoad::Approach(delta))?.0)
+    fn tangent(&mut self, step: &mut BemSolution) -> Result<Tangent> {
+        Ok(self.path.tangent(step)?)
     }
 
     fn complete(&self, _solution: &mut BemSolution) -> Result<()> {
@@ -172,7 +161,6 @@ pub fn bem_response<'s>(
             );
             Box::new(Capped {
                 path: PlasticPath::new(solver, pl.hardness).context("plasticity")?,
-                before: None,
             })
         }
         None => Box::new(Elastic(solver)),
@@ -185,7 +173,7 @@ pub fn bem_summary(hardness: f64) -> PlasticitySummary {
         hardness,
         note: "elastic–perfectly plastic surface (physics.md §6.3): 0 ≤ p ≤ H; points at p = H flow, \
                      their overlap kept as plastic depth for the rest of the path; stiffness = dP/dδ for an \
-                     increase of δ from each step's state",
+                     increase of δ from each step's state (the tangent on the elastic contact, p < H)",
         units: Some(PlasticUnits {
             plastic_area_fraction: "1",
             plastic_depth_max: "m",

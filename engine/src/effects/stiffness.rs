@@ -1,48 +1,33 @@
-//! The BEM's stiffness dP/dδ of the sample (N/m), probed after each step: one extra
-//! solve at δ + dδ, dδ = 10⁻⁴·max(|δ|, 10⁻³ R_q) (R_q the RMS height), from the state
-//! the step started from (a capped solve's plastic depth before the step) and
-//! warm-started from the step's pressure; dP/dδ = (P(δ + dδ) − P(δ))/dδ. Its error is
-//! about the solver's tolerance / 10⁻⁴ ≈ 10⁻⁶ (relative). The asperity models' stiffness
-//! is the runtime's own (dP/dδ of the summits' laws), not probed.
+//! The BEM's stiffness dP/dδ of the sample (N/m) after each step: the exact tangent of
+//! the load in the approach with the step's contact set A held fixed,
+//!
+//! ```text
+//!   K_AA Δp = 1 on A,   dP/dδ = (Lx·Ly/(ny·nx)) Σ_A Δp
+//! ```
+//!
+//! (Δp = dp/dδ in Pa/m, K the influence operator in m/Pa: the flat-punch stiffness of
+//! the contact set, Barber's theorem), solved by a preconditioned linear CG to a
+//! relative residual of 10⁻¹³ ([`strata_bem::tangent`]). A change of the set
+//! contributes at second order only (the pressure vanishes at its edge). Capped at the
+//! hardness H ([`crate::effects::plasticity`]) the points at H take no load on an increase
+//! of δ: A is the elastic contact, 0 < p < H. The pressure rate Δp goes to the step's
+//! observers (the BEM's conductance starts from it: by Barber's analogy it is the flux of
+//! a unit temperature jump on a homogeneous body). The asperity models' stiffness is the
+//! runtime's own (dP/dδ of the summits' laws).
 
 use crate::error::{Context, Result};
-use strata_bem::BemSolution;
+use strata_bem::{BemSolution, Tangent};
 
 use super::plasticity::BemResponse;
 
-/// The probe of one scene's BEM steps.
-#[derive(Debug, Clone, Copy)]
-pub struct StiffnessProbe {
-    /// 10⁻³ R_q (m): the smallest approach the increment scales with.
-    floor: f64,
-}
-
-impl StiffnessProbe {
-    /// For a surface of RMS height `rms_height` (m).
-    pub fn new(rms_height: f64) -> Self {
-        StiffnessProbe {
-            floor: 1e-3 * rms_height,
-        }
-    }
-
-    /// The increment dδ (m) at approach `delta` (m).
-    pub fn increment(&self, delta: f64) -> f64 {
-        1e-4 * delta.abs().max(self.floor)
-    }
-
-    /// After step `name` solved to `solution` (whose pressure map the probe borrows as
-    /// its start and gives back as it was): the stiffness dP/dδ (N/m) and the probe's
-    /// solution at δ + dδ.
-    pub fn after_step(
-        &self,
-        response: &mut dyn BemResponse,
-        solution: &mut BemSolution,
-        name: &str,
-    ) -> Result<(f64, BemSolution)> {
-        let dd = self.increment(solution.approach);
-        let next = response
-            .probe(solution.approach + dd, solution)
-            .with_context(|| format!("{name}: stiffness"))?;
-        Ok(((next.total_load - solution.total_load) / dd, next))
-    }
+/// The tangent of step `name` solved to `solution` (whose pressure map the solve
+/// borrows as a buffer and gives back as it was): dP/dδ (N/m) and Δp (Pa/m).
+pub fn after_step(
+    response: &mut dyn BemResponse,
+    solution: &mut BemSolution,
+    name: &str,
+) -> Result<Tangent> {
+    response
+        .tangent(solution)
+        .with_context(|| format!("{name}: stiffness"))
 }

@@ -4,7 +4,7 @@
 //! free solid, both computed from the stack (no χ, ζ, g table is needed or loaded).
 //! Same steps as the asperity models; `contacts` counts contact patches. The surface's
 //! response (elastic or capped) is chosen once ([`crate::effects::plasticity`]); after
-//! each step the stiffness probe ([`crate::effects::stiffness`]) and the effects'
+//! each step its tangent stiffness ([`crate::effects::stiffness`]) and the effects'
 //! observers ([`crate::effects`]) run; the maps go to the [`Observer`]. No effect code
 //! here.
 
@@ -19,7 +19,7 @@ use strata_runtime::surface::Surface;
 
 use crate::effects::observer::{BemStep, finish};
 use crate::effects::plasticity;
-use crate::effects::stiffness::StiffnessProbe;
+use crate::effects::stiffness;
 use crate::progress;
 use crate::scene::{LoadSpec, Scene};
 use crate::setup::{
@@ -44,7 +44,6 @@ pub fn solve(
     let (rows_side, cols_side) = surface.extent();
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
     let top_to_mean = z_max - surface.mean();
-    let probe = StiffnessProbe::new(surface.rms());
     // The heights move into the solver: one copy of the grid in the process, not two.
     let heights = ndarray::Array2::from_shape_vec((n0, n1), surface.into_heights())
         .context("surface: heights")?;
@@ -95,10 +94,10 @@ pub fn solve(
     for (k, (name, load)) in loads.into_iter().enumerate() {
         opts.cancel.check()?;
         // One step; an error here stops the path (below: a partial curve or the error).
-        // Memory: the step and its probe hold their pressure maps only (the previous
-        // step's, the warm start, becomes this step's; the step's is kept as its contact
-        // points while the probe iterates from it); the step's gap and deflection maps
-        // are formed after the probe, when they go to the observer.
+        // Memory: the step holds its pressure map only (the previous step's, the warm
+        // start, becomes this step's; it is kept as its contact points while the tangent
+        // iterates in its buffer); the step's gap and deflection maps are formed after
+        // the tangent, when they go to the observer.
         let mut one_step = || -> Result<strata_bem::BemSolution> {
             let (mut sol, record) = response
                 .step(load, warm.take())
@@ -106,13 +105,13 @@ pub fn solve(
             if let (Some(p), Some(r)) = (plastic.as_mut(), record) {
                 p.push(r);
             }
-            let (stiffness, next) = probe.after_step(response.as_mut(), &mut sol, &name)?;
+            let tangent = stiffness::after_step(response.as_mut(), &mut sol, &name)?;
             let flat: Cow<'_, [f64]> = match sol.pressure.as_slice() {
                 Some(p) => Cow::Borrowed(p),
                 None => Cow::Owned(sol.pressure.iter().copied().collect()),
             };
             resolution.push(StepResolution::of(&flat, n0, n1, periodic));
-            worst_error = worst_error.max(sol.error).max(next.error);
+            worst_error = worst_error.max(sol.error);
             let mut st = Step::default();
             st.delta = sol.approach;
             st.gap = sol.separation;
@@ -121,18 +120,18 @@ pub fn solve(
             st.pressure_ratio = sol.pressure_ratio;
             st.area_fraction = sol.area_fraction;
             st.contacts = sol.patches;
-            st.stiffness = stiffness;
+            st.stiffness = tangent.stiffness;
             st.iterations = sol.iterations;
             steps.push(st);
             let seen = BemStep {
                 name: &name,
                 pressure: &flat,
-                probe: &next,
+                pressure_rate: &tangent.pressure_rate,
             };
             for o in observers.iter_mut() {
                 o.after_step(&seen, obs)?;
             }
-            drop(next);
+            drop(tangent);
             warm = Some(flat.into_owned());
             response.complete(&mut sol).with_context(|| name.clone())?;
             Ok(sol)

@@ -7,8 +7,8 @@
 //! caller's rank 0 writes it.
 //!
 //! The curve is the serial driver's ([`super::bem`]): the same load steps, the stiffness
-//! dP/dδ probed after each step by one extra solve at δ + dδ warm-started from the
-//! step's pressure ([`crate::effects::stiffness::StiffnessProbe`]), `contacts` the
+//! dP/dδ the tangent on each step's contact set ([`crate::effects::stiffness`],
+//! [`strata_bem::SlabSolver::tangent`]: the same iteration on the slabs), `contacts` the
 //! number of contact patches (counted across the slab borders,
 //! [`strata_bem::distributed::patch_sizes`]), and curve.json's resolution record
 //! (median and largest patch, peak pressure). The iteration is Polonsky & Keer's
@@ -23,7 +23,6 @@
 
 use std::time::Instant;
 
-use crate::effects::stiffness::StiffnessProbe;
 use crate::error::{Context, EngineError, Result};
 use crate::progress;
 use crate::scene::{MapsSpec, Scene};
@@ -33,7 +32,7 @@ use crate::setup::{
 };
 use crate::solution::{CurveUnits, PartialSummary, SceneSolution, Summary};
 use strata_bem::decomp::{self, Decomposition};
-use strata_bem::{BemLoad, BemOptions, Geometry, SlabSolver};
+use strata_bem::{BemOptions, Geometry, SlabSolver};
 use strata_runtime::Solid;
 use strata_runtime::rough::Step;
 
@@ -96,7 +95,6 @@ pub fn solve(
     let (rows_side, cols_side) = surface.extent();
     let z_max = surface.heights().iter().copied().fold(f64::MIN, f64::max);
     let top_to_mean = z_max - surface.mean();
-    let probe = StiffnessProbe::new(surface.rms());
     let geometry = Geometry {
         lx: cols_side,
         ly: rows_side,
@@ -163,14 +161,13 @@ pub fn solve(
             let step = solver
                 .solve_step(load, &mut p, warm)
                 .with_context(|| name.clone())?;
-            // The stiffness probe: δ + dδ from the step's pressure.
-            let dd = probe.increment(step.approach);
-            let mut q = p.clone();
-            let next = solver
-                .solve_step(BemLoad::Approach(step.approach + dd), &mut q, true)
+            // The stiffness: the tangent on the step's contact set.
+            let tangent = solver
+                .tangent(&p)
                 .with_context(|| format!("{name}: stiffness"))?;
-            drop(q);
-            let (load_now, load_next) = (step.mean_pressure * area, next.mean_pressure * area);
+            let stiffness = tangent.stiffness;
+            drop(tangent);
+            let load_now = step.mean_pressure * area;
             let sizes = solver.patch_sizes(&p);
             let mut peak = [p.iter().copied().fold(0.0, f64::max)];
             decomp::max(comm, &mut peak);
@@ -179,7 +176,7 @@ pub fn solve(
                 largest_patch_pixels: sizes.iter().copied().max().unwrap_or(0),
                 peak_pressure: peak[0],
             });
-            worst_error = worst_error.max(step.error).max(next.error);
+            worst_error = worst_error.max(step.error);
             let mut st = Step::default();
             st.delta = step.approach;
             st.gap = step.separation;
@@ -188,7 +185,7 @@ pub fn solve(
             st.pressure_ratio = step.mean_pressure / e_star;
             st.area_fraction = step.area_fraction;
             st.contacts = sizes.len();
-            st.stiffness = (load_next - load_now) / dd;
+            st.stiffness = stiffness;
             st.iterations = step.iterations;
             steps.push(st);
             warm = step.contact_points > 0;

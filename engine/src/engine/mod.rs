@@ -7,8 +7,8 @@
 //! One entry, [`solve`], dispatches once on the model kind to a load-path driver:
 //! [`asperity`] (the N and I models) or [`bem`] (the full-field solver). The drivers
 //! hold no effect code: plasticity is a solver variant chosen when the driver is built
-//! ([`crate::effects::plasticity`]), conductance and the BEM's stiffness probe observe
-//! each step ([`crate::effects::conductance`], [`crate::effects::stiffness`]). Logging,
+//! ([`crate::effects::plasticity`]), conductance observes each step and the BEM's
+//! stiffness is its tangent ([`crate::effects::conductance`], [`crate::effects::stiffness`]). Logging,
 //! progress and the BEM maps go to an [`Observer`].
 //!
 //! Only what the scene needs is computed: a homogeneous stack loads no table
