@@ -360,3 +360,76 @@ impl<'c> SlabOperator<'c> {
         Ok(())
     }
 }
+
+/// The distributed inverse of [`RealFft2::inverse`] on a periodic ny × nx grid: this
+/// rank's kx lines of the transposed half spectrum (`lines[(kx − c0)·ny + ky]` for kx
+/// in [`slab`]`(nx/2 + 1, P, rank)`, destroyed) in, this rank's rows of the real field
+/// ([`slab`]`(ny, P, rank)`, `out`, m·nx values, unnormalised) out. Every rank calls
+/// it together:
+///
+/// ```text
+///   per owned kx line: inverse column FFT
+///   all-to-all: block (q's rows × my columns) to rank q
+///   inverse row FFTs into the rank's rows
+/// ```
+///
+/// The same 1-D transforms on the same lines with the same values as the serial
+/// [`RealFft2::inverse`]: the rows equal the serial field's bit for bit, whatever P.
+/// Memory per rank: the lines (16·|cols|·ny bytes, freed once sent) and two exchange
+/// buffers of P·⌈m⌉·⌈(nx/2 + 1)/P⌉ complex values (≈ 8 bytes per owned point each).
+pub fn inverse_to_rows(
+    comm: &dyn Decomposition,
+    plan: &RealFft2,
+    mut lines: Vec<Complex<f64>>,
+    out: &mut [f64],
+) -> Result<(), BemError> {
+    let (p, q) = (comm.size(), comm.rank());
+    let (ny, nx) = plan.data();
+    let h = plan.half();
+    let (rows, cols) = (slab(ny, p, q), slab(h, p, q));
+    let (m, cm) = (rows.len(), slab_max(h, p));
+    let blk = 2 * slab_max(ny, p) * cm;
+    for (what, got, expected) in [
+        ("spectrum lines", lines.len(), cols.len() * ny),
+        ("rows", out.len(), m * nx),
+    ] {
+        if got != expected {
+            return Err(strata_runtime::fft::FftError::Buffer {
+                what,
+                got,
+                expected,
+            }
+            .into());
+        }
+    }
+    let mut s = plan.slab_scratch();
+    let mut a = vec![0.0; p * blk];
+    for (k, line) in lines.chunks_mut(ny).enumerate() {
+        plan.column_inverse(line, &mut s)?;
+        for r in 0..p {
+            let rq = slab(ny, p, r);
+            let dst = &mut a[r * blk..];
+            for (i, v) in line[rq].iter().enumerate() {
+                let at = 2 * (i * cm + k);
+                dst[at] = v.re;
+                dst[at + 1] = v.im;
+            }
+        }
+    }
+    drop(lines);
+    let mut b = vec![0.0; p * blk];
+    comm.all_to_all(&a, &mut b);
+    drop(a);
+    let mut row = vec![Complex::default(); h];
+    for (i, o) in out.chunks_mut(nx).enumerate() {
+        for r in 0..p {
+            let cq = slab(h, p, r);
+            let src = &b[r * blk + 2 * i * cm..];
+            for (k, v) in row[cq].iter_mut().enumerate() {
+                *v = Complex::new(src[2 * k], src[2 * k + 1]);
+            }
+        }
+        plan.row_inverse(&mut row, o, &mut s)?;
+    }
+    Ok(())
+}

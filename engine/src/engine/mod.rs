@@ -20,6 +20,7 @@
 pub mod asperity;
 pub mod bem;
 pub mod distributed;
+pub mod rows;
 pub mod elastic;
 
 use crate::error::Result;
