@@ -101,13 +101,14 @@ impl SlabStep {
 
 impl<'c> SlabSolver<'c> {
     /// Bytes rank `rank` of `ranks` needs for an ny × nx grid: its rows of the
-    /// iteration's six fields (z, p, u, g, t, r) and of a seventh, the stiffness probe's
-    /// pressure beside the step's (56 bytes per owned point); its columns of the kernel
-    /// (periodic: (NX/2+1)/P columns of NY/2+1 values, the preconditioner reading the
-    /// same table; free: 2NX/2+1 … of 2NY values, twice, the inverse's own) and the two
-    /// exchange buffers of the product (P blocks of ⌈m⌉·⌈(NX/2+1)/P⌉ complex values
-    /// each). Free: plus the influence coefficients of every offset (ny·nx values), which
-    /// the operator's set-up holds whole on every rank.
+    /// iteration's six fields (z, p, u, g, t, r: 48 bytes per owned point; the engine's
+    /// stiffness probe iterates in place on the step's p); its columns of the
+    /// kernel (periodic: (NX/2+1)/P columns of NY/2+1 values, the preconditioner reading
+    /// the same table; free: 2NX/2+1 … of 2NY values, twice, the inverse's own), the
+    /// product's rows' spectra (P blocks of ⌈m⌉·⌈(NX/2+1)/P⌉ complex values) and its two
+    /// exchange chunks (an eighth of that each). Free: plus the influence coefficients
+    /// of every offset (ny·nx values), which the operator's set-up holds whole on every
+    /// rank.
     pub fn memory_needed(
         (ny, nx): (usize, usize),
         periodic: bool,
@@ -125,9 +126,12 @@ impl<'c> SlabSolver<'c> {
         } else {
             2 * cols.saturating_mul(gy as u64) + (ny as u64).saturating_mul(nx as u64)
         };
-        let block = 2 * decomp::slab_max(ny, ranks) as u64 * decomp::slab_max(half, ranks) as u64;
-        let exchange = 2 * (ranks as u64).saturating_mul(block);
-        bytes_for(owned, 8 * 7)
+        let cm = decomp::slab_max(half, ranks);
+        let rows = decomp::slab_max(ny, ranks) as u64;
+        let block = 2 * rows * cm as u64;
+        let chunk = 2 * rows * crate::slab::chunk_columns(cm) as u64;
+        let exchange = (ranks as u64).saturating_mul(block + 2 * chunk);
+        bytes_for(owned, 8 * 6)
             .saturating_add(bytes_for(kernel, 8))
             .saturating_add(bytes_for(exchange, 8))
     }

@@ -183,14 +183,6 @@ pub fn solve(
             let step = solver
                 .solve_step(load, &mut p, warm)
                 .with_context(|| name.clone())?;
-            // The stiffness probe: δ + dδ from the step's pressure.
-            let dd = probe.increment(step.approach);
-            let mut q = p.clone();
-            let next = solver
-                .solve_step(BemLoad::Approach(step.approach + dd), &mut q, true)
-                .with_context(|| format!("{name}: stiffness"))?;
-            drop(q);
-            let (load_now, load_next) = (step.mean_pressure * area, next.mean_pressure * area);
             let sizes = solver.patch_sizes(&p);
             let mut peak = [p.iter().copied().fold(0.0, f64::max)];
             decomp::max(comm, &mut peak);
@@ -199,6 +191,14 @@ pub fn solve(
                 largest_patch_pixels: sizes.iter().copied().max().unwrap_or(0),
                 peak_pressure: peak[0],
             });
+            // The stiffness probe: δ + dδ from the step's pressure, in place (no second
+            // pressure field: 8 B per owned point less at the peak); the next step starts
+            // from the probe's pressure, the step's at δ + 10⁻⁴δ.
+            let dd = probe.increment(step.approach);
+            let next = solver
+                .solve_step(BemLoad::Approach(step.approach + dd), &mut p, true)
+                .with_context(|| format!("{name}: stiffness"))?;
+            let (load_now, load_next) = (step.mean_pressure * area, next.mean_pressure * area);
             worst_error = worst_error.max(step.error).max(next.error);
             let mut st = Step::default();
             st.delta = step.approach;
