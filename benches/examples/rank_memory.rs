@@ -180,17 +180,13 @@ fn main() {
         serial as f64 / points
     );
     for &p in &ranks {
-        let prefix: Vec<String> = [
-            "mpirun",
-            "--allow-run-as-root",
-            "--oversubscribe",
-            "-np",
-            &p.to_string(),
-        ]
-        .iter()
-        .map(|s| s.to_string())
-        .chain([exe.display().to_string(), "--rank".into()])
-        .collect();
+        let mut prefix: Vec<String> = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-np"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        prefix.push(p.to_string());
+        prefix.push(exe.display().to_string());
+        prefix.push("--rank".into());
         let out = solve_command(&prefix, &strata, &scene_path, &dir.join(format!("np{p}")))
             .output()
             .expect("mpirun runs");
