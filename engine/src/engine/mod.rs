@@ -20,8 +20,8 @@
 pub mod asperity;
 pub mod bem;
 pub mod distributed;
-pub mod rows;
 pub mod elastic;
+pub mod rows;
 
 use crate::error::Result;
 use strata_runtime::rough::Model;
