@@ -245,8 +245,7 @@ pub fn row_stats(
             } else {
                 None
             };
-            for j in 0..n1 {
-                let zij = row[j];
+            for (j, &zij) in row.iter().enumerate() {
                 if let Some(b) = below {
                     let g = (b[j] - zij) / dx;
                     sx += g * g;
