@@ -102,6 +102,33 @@ fn reduce(comm: &dyn Decomposition, values: &mut [f64], op: impl Fn(f64, f64) ->
     }
 }
 
+/// `f` applied to `acc` on each rank in turn, in rank order: rank 0 applies it to the
+/// `acc` it is given, rank 1 to rank 0's result, and so on; on return every rank holds
+/// the last rank's result. A sum over the rows of a slab decomposition continued this
+/// way (each rank adding its rows in order to the running value) is the serial sum bit
+/// for bit: the same additions in the same order. P small exchanges; one rank: `f(acc)`.
+pub fn in_rank_order(comm: &dyn Decomposition, acc: &mut [f64], f: impl FnOnce(&mut [f64])) {
+    let (p, rank) = (comm.size(), comm.rank());
+    let mut f = Some(f);
+    if p == 1 {
+        if let Some(f) = f.take() {
+            f(acc);
+        }
+        return;
+    }
+    let k = acc.len();
+    let mut all = vec![0.0; k * p];
+    for q in 0..p {
+        if q == rank
+            && let Some(f) = f.take()
+        {
+            f(acc);
+        }
+        comm.all_gather(acc, &mut all);
+        acc.copy_from_slice(&all[q * k..(q + 1) * k]);
+    }
+}
+
 /// Whether `flag` holds on any rank.
 pub fn any(comm: &dyn Decomposition, flag: bool) -> bool {
     let mut v = [f64::from(u8::from(flag))];

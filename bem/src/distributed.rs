@@ -104,10 +104,11 @@ impl<'c> SlabSolver<'c> {
     /// (48 bytes per owned point: z, p and the iteration's u, g, t, r, or z, p and the
     /// tangent stiffness's Δp, r, d, q, [`Self::tangent`]); its columns of the kernel
     /// (periodic: (NX/2+1)/P columns of NY/2+1 values, the preconditioner reading the
-    /// same table; free: 2NX/2+1 … of 2NY values, twice, the inverse's own) and the two
-    /// exchange buffers of the product (P blocks of ⌈m⌉·⌈(NX/2+1)/P⌉ complex values
-    /// each). Free: plus the influence coefficients of every offset (ny·nx values), which
-    /// the operator's set-up holds whole on every rank.
+    /// same table; free: 2NX/2+1 … of 2NY values, twice, the inverse's own), the
+    /// product's rows' spectra (P blocks of ⌈m⌉·⌈(NX/2+1)/P⌉ complex values) and its two
+    /// exchange chunks (an eighth of that each). Free: plus the influence coefficients
+    /// of every offset (ny·nx values), which the operator's set-up holds whole on every
+    /// rank.
     pub fn memory_needed(
         (ny, nx): (usize, usize),
         periodic: bool,
@@ -125,8 +126,11 @@ impl<'c> SlabSolver<'c> {
         } else {
             2 * cols.saturating_mul(gy as u64) + (ny as u64).saturating_mul(nx as u64)
         };
-        let block = 2 * decomp::slab_max(ny, ranks) as u64 * decomp::slab_max(half, ranks) as u64;
-        let exchange = 2 * (ranks as u64).saturating_mul(block);
+        let cm = decomp::slab_max(half, ranks);
+        let rows = decomp::slab_max(ny, ranks) as u64;
+        let block = 2 * rows * cm as u64;
+        let chunk = 2 * rows * crate::slab::chunk_columns(cm) as u64;
+        let exchange = (ranks as u64).saturating_mul(block + 2 * chunk);
         bytes_for(owned, 8 * 6)
             .saturating_add(bytes_for(kernel, 8))
             .saturating_add(bytes_for(exchange, 8))

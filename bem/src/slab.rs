@@ -6,20 +6,23 @@
 //!
 //! ```text
 //!   row FFTs of the rank's data rows        (m·(NX/2+1) complex values)
-//!   all-to-all: block (my rows × q's columns) to rank q
-//!   per owned kx line: column FFT, × K̂(kx, ky), inverse column FFT
-//!   all-to-all back: block (q's rows × my columns) to rank q
+//!   per chunk of an eighth of the columns:
+//!     all-to-all: block (my rows × q's columns of the chunk) to rank q
+//!     per owned kx line of the chunk: column FFT, × K̂(kx, ky), inverse column FFT
+//!     all-to-all back: block (q's rows × my columns of the chunk) to rank q
 //!   inverse row FFTs into the rank's rows of u
 //! ```
 //!
 //! The 1-D transforms are [`RealFft2`]'s, on the same lines with the same values as the
 //! serial product's (the operator of [`crate::BemSolver`]): the product is the serial one
 //! bit for bit, whatever P (tested). Each exchange sends, per rank, its m data rows'
-//! spectra less the block it keeps: 16·m·(NX/2+1)·(P−1)/P bytes, twice per product.
+//! spectra less the block it keeps: 16·m·(NX/2+1)·(P−1)/P bytes, twice per product (in
+//! eight chunks each).
 //!
 //! Memory per rank: the kernel's columns (periodic: (NX/2+1)(NY/2+1)/P values; free:
-//! (NX/2+1)·NY/P) and two exchange buffers of P·⌈m⌉·⌈(NX/2+1)/P⌉ complex values (≈ 8 bytes
-//! per owned point each on a periodic grid), and one column line.
+//! (NX/2+1)·NY/P), the rows' spectra, P·⌈m⌉·⌈(NX/2+1)/P⌉ complex values (≈ 8 bytes per
+//! owned point on a periodic grid), two buffers of one exchange chunk (an eighth of that
+//! each) and one column line.
 
 use std::ops::Range;
 use std::sync::Arc;
@@ -53,10 +56,23 @@ pub struct SlabOperator<'c> {
     periodic: bool,
 }
 
+/// The column chunks each exchange is cut into: the product holds its rows' spectra
+/// whole (≈ 8 bytes per owned point) and two buffers of one chunk (≈ 1 each), not two
+/// whole exchange buffers (16 bytes per owned point).
+const EXCHANGE_CHUNKS: usize = 8;
+
+/// Columns per exchange chunk when a rank owns at most `cm` columns: ⌈cm / 8⌉.
+pub(crate) fn chunk_columns(cm: usize) -> usize {
+    cm.div_ceil(EXCHANGE_CHUNKS.min(cm).max(1)).max(1)
+}
+
 /// The buffers of a product on one rank.
 pub struct SlabWork {
+    /// The rows' spectra: P blocks (my rows × q's columns).
     a: Vec<f64>,
-    b: Vec<f64>,
+    /// One column chunk of the blocks, sent and received (two buffers).
+    send: Vec<f64>,
+    recv: Vec<f64>,
     line: Vec<Complex<f64>>,
     row: Vec<Complex<f64>>,
     scratch: SlabScratch,
@@ -219,26 +235,38 @@ impl<'c> SlabOperator<'c> {
         2 * slab_max(self.plan.data().0, p) * slab_max(self.plan.half(), p)
     }
 
+    /// Columns per exchange chunk ([`chunk_columns`]).
+    fn chunk(&self) -> usize {
+        chunk_columns(slab_max(self.plan.half(), self.comm.size()))
+    }
+
+    /// Values of one block of an exchange chunk (complex values as two reals).
+    fn chunk_block(&self) -> usize {
+        2 * slab_max(self.plan.data().0, self.comm.size()) * self.chunk()
+    }
+
     /// The buffers of a product.
     pub fn work(&self) -> SlabWork {
         let n = self.comm.size() * self.block();
+        let c = self.comm.size() * self.chunk_block();
         SlabWork {
             a: vec![0.0; n],
-            b: vec![0.0; n],
+            send: vec![0.0; c],
+            recv: vec![0.0; c],
             line: vec![Complex::default(); self.plan.grid().0],
             row: vec![Complex::default(); self.plan.half()],
             scratch: self.plan.slab_scratch(),
         }
     }
 
-    /// Bytes the operator and one work set take on one rank (kernel columns, the two
-    /// exchange buffers).
+    /// Bytes the operator and one work set take on one rank (kernel columns, the rows'
+    /// spectra and the two exchange chunks).
     pub fn bytes(&self) -> u64 {
         let kernel = match &self.kernel {
             SlabKernel::Folded { table, .. } => table.len(),
             SlabKernel::Half(k) => k.len(),
         };
-        8 * (kernel + 2 * self.comm.size() * self.block()) as u64
+        8 * (kernel + self.comm.size() * (self.block() + 2 * self.chunk_block())) as u64
     }
 
     /// The multiplier of this rank's columns and the (0, 0) entry's replacement on the
@@ -317,34 +345,58 @@ impl<'c> SlabOperator<'c> {
                 }
             }
         }
-        self.comm.all_to_all(&w.a, &mut w.b);
-        // The owned kx lines over all rows: gathered from the blocks, convolved, put back.
+        // The owned kx lines over all rows, a chunk of columns at a time: the chunk's
+        // part of every block exchanged, its lines gathered, convolved and put back,
+        // exchanged back into the blocks' places (sent already, free).
         let (kernel, dc) = self.multiplier(uniform);
-        for k in 0..self.cols.len() {
+        let (cc, cblk) = (self.chunk(), self.chunk_block());
+        let mut k0 = 0;
+        while k0 < cm {
+            let k1 = (k0 + cc).min(cm);
             for q in 0..p {
-                let rq = slab(ny, p, q);
-                let src = &w.b[q * blk..];
-                for r in 0..rq.len() {
-                    let at = 2 * (r * cm + k);
-                    w.line[rq.start + r] = Complex::new(src[at], src[at + 1]);
+                for r in 0..m {
+                    let from = q * blk + 2 * (r * cm + k0);
+                    let to = q * cblk + 2 * r * cc;
+                    w.send[to..to + 2 * (k1 - k0)]
+                        .copy_from_slice(&w.a[from..from + 2 * (k1 - k0)]);
                 }
             }
-            w.line[ny..gy].fill(Complex::default());
-            let dc = if k == 0 { dc } else { None };
-            self.plan
-                .column_convolve(&mut w.line, kernel, k, dc, &mut w.scratch)?;
-            for q in 0..p {
-                let rq = slab(ny, p, q);
-                let dst = &mut w.b[q * blk..];
-                for r in 0..rq.len() {
-                    let at = 2 * (r * cm + k);
-                    let v = w.line[rq.start + r];
-                    dst[at] = v.re;
-                    dst[at + 1] = v.im;
+            self.comm.all_to_all(&w.send, &mut w.recv);
+            for k in k0..k1.min(self.cols.len()) {
+                for q in 0..p {
+                    let rq = slab(ny, p, q);
+                    let src = &w.recv[q * cblk..];
+                    for r in 0..rq.len() {
+                        let at = 2 * (r * cc + k - k0);
+                        w.line[rq.start + r] = Complex::new(src[at], src[at + 1]);
+                    }
+                }
+                w.line[ny..gy].fill(Complex::default());
+                let dc = if k == 0 { dc } else { None };
+                self.plan
+                    .column_convolve(&mut w.line, kernel, k, dc, &mut w.scratch)?;
+                for q in 0..p {
+                    let rq = slab(ny, p, q);
+                    let dst = &mut w.recv[q * cblk..];
+                    for r in 0..rq.len() {
+                        let at = 2 * (r * cc + k - k0);
+                        let v = w.line[rq.start + r];
+                        dst[at] = v.re;
+                        dst[at + 1] = v.im;
+                    }
                 }
             }
+            self.comm.all_to_all(&w.recv, &mut w.send);
+            for q in 0..p {
+                for r in 0..m {
+                    let to = q * blk + 2 * (r * cm + k0);
+                    let from = q * cblk + 2 * r * cc;
+                    w.a[to..to + 2 * (k1 - k0)]
+                        .copy_from_slice(&w.send[from..from + 2 * (k1 - k0)]);
+                }
+            }
+            k0 = k1;
         }
-        self.comm.all_to_all(&w.b, &mut w.a);
         // Inverse row transforms of the rows' spectra gathered from the column owners.
         for r in 0..m {
             for q in 0..p {
@@ -359,4 +411,77 @@ impl<'c> SlabOperator<'c> {
         }
         Ok(())
     }
+}
+
+/// The distributed inverse of [`RealFft2::inverse`] on a periodic ny × nx grid: this
+/// rank's kx lines of the transposed half spectrum (`lines[(kx − c0)·ny + ky]` for kx
+/// in [`slab`]`(nx/2 + 1, P, rank)`, destroyed) in, this rank's rows of the real field
+/// ([`slab`]`(ny, P, rank)`, `out`, m·nx values, unnormalised) out. Every rank calls
+/// it together:
+///
+/// ```text
+///   per owned kx line: inverse column FFT
+///   all-to-all: block (q's rows × my columns) to rank q
+///   inverse row FFTs into the rank's rows
+/// ```
+///
+/// The same 1-D transforms on the same lines with the same values as the serial
+/// [`RealFft2::inverse`]: the rows equal the serial field's bit for bit, whatever P.
+/// Memory per rank: the lines (16·|cols|·ny bytes, freed once sent) and two exchange
+/// buffers of P·⌈m⌉·⌈(nx/2 + 1)/P⌉ complex values (≈ 8 bytes per owned point each).
+pub fn inverse_to_rows(
+    comm: &dyn Decomposition,
+    plan: &RealFft2,
+    mut lines: Vec<Complex<f64>>,
+    out: &mut [f64],
+) -> Result<(), BemError> {
+    let (p, q) = (comm.size(), comm.rank());
+    let (ny, nx) = plan.data();
+    let h = plan.half();
+    let (rows, cols) = (slab(ny, p, q), slab(h, p, q));
+    let (m, cm) = (rows.len(), slab_max(h, p));
+    let blk = 2 * slab_max(ny, p) * cm;
+    for (what, got, expected) in [
+        ("spectrum lines", lines.len(), cols.len() * ny),
+        ("rows", out.len(), m * nx),
+    ] {
+        if got != expected {
+            return Err(strata_runtime::fft::FftError::Buffer {
+                what,
+                got,
+                expected,
+            }
+            .into());
+        }
+    }
+    let mut s = plan.slab_scratch();
+    let mut a = vec![0.0; p * blk];
+    for (k, line) in lines.chunks_mut(ny).enumerate() {
+        plan.column_inverse(line, &mut s)?;
+        for r in 0..p {
+            let rq = slab(ny, p, r);
+            let dst = &mut a[r * blk..];
+            for (i, v) in line[rq].iter().enumerate() {
+                let at = 2 * (i * cm + k);
+                dst[at] = v.re;
+                dst[at + 1] = v.im;
+            }
+        }
+    }
+    drop(lines);
+    let mut b = vec![0.0; p * blk];
+    comm.all_to_all(&a, &mut b);
+    drop(a);
+    let mut row = vec![Complex::default(); h];
+    for (i, o) in out.chunks_mut(nx).enumerate() {
+        for r in 0..p {
+            let cq = slab(h, p, r);
+            let src = &b[r * blk + 2 * i * cm..];
+            for (k, v) in row[cq].iter_mut().enumerate() {
+                *v = Complex::new(src[2 * k], src[2 * k + 1]);
+            }
+        }
+        plan.row_inverse(&mut row, o, &mut s)?;
+    }
+    Ok(())
 }

@@ -908,6 +908,18 @@ impl RealFft2 {
         Ok(())
     }
 
+    /// The inverse column transform of one kx line (NY values, in place, unnormalised):
+    /// the column stage of [`Self::inverse`] on that line.
+    pub fn column_inverse(
+        &self,
+        line: &mut [Complex<f64>],
+        s: &mut SlabScratch,
+    ) -> Result<(), FftError> {
+        self.check("column", line.len(), self.grid.0)?;
+        self.col_inv.process_with_scratch(line, &mut s.scratch);
+        Ok(())
+    }
+
     /// Values per row spectrum, NX/2 + 1.
     pub fn half(&self) -> usize {
         self.half

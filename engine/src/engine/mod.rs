@@ -21,6 +21,7 @@ pub mod asperity;
 pub mod bem;
 pub mod distributed;
 pub mod elastic;
+pub mod rows;
 
 use crate::error::Result;
 use strata_runtime::rough::Model;

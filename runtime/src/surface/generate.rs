@@ -61,50 +61,105 @@ impl Surface {
         p: &GenerateParams,
         memory: &crate::resources::MemoryLimit,
     ) -> Result<Self, SurfaceError> {
-        if !(p.size.is_finite() && p.size > 0.0) {
-            return Err(invalid("generate.size", p.size, "must be > 0 (m)"));
-        }
-        if p.grid < 4 || p.grid > 16384 {
-            return Err(invalid(
-                "generate.grid",
-                p.grid as f64,
-                "must be in [4, 16384]",
-            ));
-        }
+        p.check_size()?;
         // before allocating: every entry point (CLI, Python, the C ABI) is bounded
         let n = p.grid as u64;
         memory.check(
             format!("generating the {0}×{0} surface (generate.grid)", p.grid),
             crate::resources::bytes_for(n.saturating_mul(n), GENERATE_BYTES_PER_POINT),
         )?;
-        if !(2.0..3.0).contains(&p.fractal_dimension) {
+        p.check()?;
+        let n = p.grid;
+        let fft_failed = || invalid("generate.grid", n as f64, "internal error of the 2-D FFT");
+        let plan = RealFft2::new(n, n).map_err(|_| fft_failed())?;
+        // The whole half spectrum, handed to the transform as its buffer (no copy).
+        let mut work = plan.convolution_work();
+        work.spec = p.half_spectrum_lines(0..plan.half())?;
+        let mut z = vec![0.0; n * n];
+        plan.inverse(&mut z, &mut work).map_err(|_| fft_failed())?;
+        drop(work);
+        let mean = z.iter().sum::<f64>() / z.len() as f64;
+        z.iter_mut().for_each(|v| *v -= mean);
+        let sq = z.iter().map(|v| v * v).sum::<f64>();
+        let s = p.scale(sq, z.len())?;
+        z.iter_mut().for_each(|v| *v *= s);
+        Surface::new(z, n, n, p.size, true)
+    }
+}
+
+impl GenerateParams {
+    /// Checks `size` and `grid` (the fields that size the allocations).
+    pub fn check_size(&self) -> Result<(), SurfaceError> {
+        if !(self.size.is_finite() && self.size > 0.0) {
+            return Err(invalid("generate.size", self.size, "must be > 0 (m)"));
+        }
+        if self.grid < 4 || self.grid > 16384 {
+            return Err(invalid(
+                "generate.grid",
+                self.grid as f64,
+                "must be in [4, 16384]",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks every field (the error names it).
+    pub fn check(&self) -> Result<(), SurfaceError> {
+        self.check_size()?;
+        if !(2.0..3.0).contains(&self.fractal_dimension) {
             return Err(invalid(
                 "generate.fractal_dimension",
-                p.fractal_dimension,
+                self.fractal_dimension,
                 "must be in [2, 3)",
             ));
         }
-        if !(p.k_min.is_finite() && p.k_min > 0.0) {
+        if !(self.k_min.is_finite() && self.k_min > 0.0) {
             return Err(invalid(
                 "generate.k_min",
-                p.k_min,
+                self.k_min,
                 "must be > 0 (units of 2π/L)",
             ));
         }
-        if !(p.k_max.is_finite() && p.k_max >= p.k_min && p.k_max <= p.grid as f64 / 2.0) {
+        if !(self.k_max.is_finite()
+            && self.k_max >= self.k_min
+            && self.k_max <= self.grid as f64 / 2.0)
+        {
             return Err(invalid(
                 "generate.k_max",
-                p.k_max,
+                self.k_max,
                 "must satisfy k_min ≤ k_max ≤ grid/2",
             ));
         }
-        if !(p.rms.is_finite() && p.rms > 0.0) {
-            return Err(invalid("generate.rms", p.rms, "must be > 0 (m)"));
+        if !(self.rms.is_finite() && self.rms > 0.0) {
+            return Err(invalid("generate.rms", self.rms, "must be > 0 (m)"));
         }
-        let n = p.grid;
-        let hurst = 3.0 - p.fractal_dimension;
-        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(p.seed);
-        let mut spec = vec![Complex::new(0.0, 0.0); n * n];
+        Ok(())
+    }
+
+    /// The kx lines `cols` (kx ∈ 0..=n/2) of the half spectrum whose real inverse 2-D
+    /// transform ([`RealFft2::inverse`], unnormalised) is the surface before its mean is
+    /// removed and its RMS set: `lines[(kx − cols.start)·n + ky]` (the layout of
+    /// [`RealFft2`]'s transposed spectrum, cut to those lines).
+    ///
+    /// The spectrum is spec(i, j) = |k|^(−(1+H)) e^{iφ_{ij}} for k_min ≤ |k| ≤ k_max, |k|
+    /// = hypot(i, j) of the signed indices, else 0, with the phases φ = 2π·u drawn from
+    /// ChaCha8 (seed `seed`) one per mode in row-major order (i the first axis, j the
+    /// second), whatever the band; z = Re Σ spec(k) e^{ik·x} is the real inverse
+    /// transform of its Hermitian part (spec(i, j) + conj spec(−i, −j))/2 at (kx = j,
+    /// ky = i). Every line is computed from the same draws with the same operations
+    /// whatever `cols`, so the lines of a cut equal those of the whole spectrum bit for
+    /// bit: a process that owns some kx columns draws the whole stream (O(n²) time) and
+    /// keeps only what its lines need (32·n·|cols| bytes at the peak, the lines and
+    /// their mirror images −kx).
+    pub fn half_spectrum_lines(
+        &self,
+        cols: std::ops::Range<usize>,
+    ) -> Result<Vec<Complex<f64>>, SurfaceError> {
+        let n = self.grid;
+        let half = n / 2 + 1;
+        let cols = cols.start.min(half)..cols.end.min(half);
+        let (c0, nc) = (cols.start, cols.len());
+        let hurst = 3.0 - self.fractal_dimension;
         let signed = |i: usize| -> f64 {
             if i <= n / 2 {
                 i as f64
@@ -112,52 +167,64 @@ impl Surface {
                 i as f64 - n as f64
             }
         };
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(self.seed);
+        // own[(kx − c0)·n + i] = spec(i, kx); mirror[(kx − c0)·n + i] = spec(i, −kx).
+        let mut own = vec![Complex::new(0.0, 0.0); nc * n];
+        let mut mirror = vec![Complex::new(0.0, 0.0); nc * n];
         let mut any = false;
         for i in 0..n {
             for j in 0..n {
                 // Draw the phase for every mode so the stream does not depend on k range.
                 let phase: f64 = rng.random::<f64>() * std::f64::consts::TAU;
+                let minus_j = (n - j) % n;
+                let (mine, mirrored) = (cols.contains(&j), cols.contains(&minus_j));
+                if !(mine || mirrored || !any) {
+                    continue;
+                }
                 let k = signed(i).hypot(signed(j));
-                if k >= p.k_min && k <= p.k_max {
-                    let amp = k.powf(-(1.0 + hurst));
-                    spec[i * n + j] = Complex::from_polar(amp, phase);
+                if k >= self.k_min && k <= self.k_max {
                     any = true;
+                    if mine || mirrored {
+                        let v = Complex::from_polar(k.powf(-(1.0 + hurst)), phase);
+                        if mine {
+                            own[(j - c0) * n + i] = v;
+                        }
+                        if mirrored {
+                            mirror[(minus_j - c0) * n + i] = v;
+                        }
+                    }
                 }
             }
         }
         if !any {
             return Err(invalid(
                 "generate.k_max",
-                p.k_max,
+                self.k_max,
                 "no wavevector lies in [k_min, k_max]",
             ));
         }
-        // z = Re(Σ_k spec(k) e^{ik·x}) is the real inverse transform of the Hermitian
-        // part H(k) = (spec(k) + conj spec(−k))/2: the same field as the real part of a
-        // complex inverse FFT (to round-off), at the cost of a real one.
-        let plan = RealFft2::new(n, n)
-            .map_err(|_| invalid("generate.grid", n as f64, "internal error of the 2-D FFT"))?;
-        let mut work = plan.work();
-        for kx in 0..=n / 2 {
-            for ky in 0..n {
-                let a = spec[ky * n + kx];
-                let b = spec[((n - ky) % n) * n + (n - kx) % n].conj();
-                work.spec[kx * n + ky] = (a + b) * 0.5;
+        // H(kx, ky) = (spec(ky, kx) + conj spec(−ky, −kx))/2, in place of `own`.
+        for (line, back) in own.chunks_mut(n).zip(mirror.chunks(n)) {
+            for (ky, h) in line.iter_mut().enumerate() {
+                let b = back[(n - ky) % n].conj();
+                *h = (*h + b) * 0.5;
             }
         }
-        drop(spec);
-        let mut z = vec![0.0; n * n];
-        plan.inverse(&mut z, &mut work)
-            .map_err(|_| invalid("generate.grid", n as f64, "internal error of the 2-D FFT"))?;
-        let mean = z.iter().sum::<f64>() / z.len() as f64;
-        z.iter_mut().for_each(|v| *v -= mean);
-        let rms = (z.iter().map(|v| v * v).sum::<f64>() / z.len() as f64).sqrt();
+        Ok(own)
+    }
+
+    /// The factor that gives the zero-mean heights whose squares sum to `squares` over
+    /// `points` points the RMS `rms`; an error if they are flat.
+    pub fn scale(&self, squares: f64, points: usize) -> Result<f64, SurfaceError> {
+        let rms = (squares / points as f64).sqrt();
         if rms.is_nan() || rms <= 0.0 {
-            return Err(invalid("generate.rms", p.rms, "generated surface is flat"));
+            return Err(invalid(
+                "generate.rms",
+                self.rms,
+                "generated surface is flat",
+            ));
         }
-        let s = p.rms / rms;
-        z.iter_mut().for_each(|v| *v *= s);
-        Surface::new(z, n, n, p.size, true)
+        Ok(self.rms / rms)
     }
 }
 
