@@ -246,6 +246,7 @@ pub fn solve(
         plastic: None,
         conductance: None,
         tangential: None,
+        tangential_path: None,
         summary,
         seconds,
         failed,
