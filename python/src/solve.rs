@@ -364,7 +364,10 @@ impl PyScene {
                 t.steps.iter().map(f).collect()
             };
             d.set_item("force_ratio", col(|p| p.force_ratio).into_pyarray(py))?;
-            d.set_item("tangential_force", col(|p| p.tangential_force).into_pyarray(py))?;
+            d.set_item(
+                "tangential_force",
+                col(|p| p.tangential_force).into_pyarray(py),
+            )?;
             d.set_item(
                 "tangential_displacement",
                 col(|p| p.tangential_displacement).into_pyarray(py),

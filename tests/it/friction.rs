@@ -296,10 +296,15 @@ fn compare_and_sweep_equal_solve() {
     assert_eq!(&col[..3], &solved[0][..]);
     assert_eq!(&col[3..], &solved[2][..]);
     // a tangential path is `strata solve`'s: refused in a sweep, naming the field
-    let with_path = nested.replace(
-        "[scene.model]\nkind = \"independent\"",
-        "[scene.model]\nkind = \"bem\"",
-    ).replace(load, &format!("{load}\ntangential = {{ from = 0.1, to = 0.5, steps = 2 }}"));
+    let with_path = nested
+        .replace(
+            "[scene.model]\nkind = \"independent\"",
+            "[scene.model]\nkind = \"bem\"",
+        )
+        .replace(
+            load,
+            &format!("{load}\ntangential = {{ from = 0.1, to = 0.5, steps = 2 }}"),
+        );
     assert!(with_path.contains("tangential ="), "{with_path}");
     std::fs::write(
         &sweep,
@@ -465,7 +470,7 @@ fn sphere_scene(dir: &std::path::Path, n: usize, tangential: &str) -> (String, f
 fn bem_tangential_path_is_cattaneo_mindlin() {
     let d = fresh_dir("friction", "tangential_path");
     let n = 128;
-    let (text, p, a, g, nu) = sphere_scene(&d, n, "{ from = 0.1, to = 0.9, steps = 5 }");
+    let (text, p, a, g, nu) = sphere_scene(&d, n, "{ from = 0.1, to = 0.8, steps = 8 }");
     let (o, out) = crate::support::solve_text(&d, "sphere", &text);
     assert!(o.status.success(), "{}", stderr_of(&o));
     let curve = columns(&std::fs::read_to_string(out.join("curve.csv")).unwrap());
@@ -498,9 +503,13 @@ fn bem_tangential_path_is_cattaneo_mindlin() {
     eprintln!(
         "tangential.csv at {n}²: stick fraction vs CM {worst_stick:.2e}, nonlinear δ_t {worst_d:.2e} of δ_CM, Q {worst_q:.1e}"
     );
-    // measured at 128²: see docs/validation.md
-    assert!(worst_q < 1e-9, "{worst_q:e}");
-    assert!(worst_stick < 0.05, "{worst_stick:e}");
+    // Measured at 128² (a ≈ 15 pixels): Q 7.7e-9 (the force control's tolerance is 1e-8);
+    // the stick fraction 3.5e-2 (0.56 against 0.54 at Q/μP = 0.6: the stick area's
+    // boundary pixels, 1.8e-2 in c/a); the nonlinear displacement 4.6e-3 of δ_CM. The
+    // stick fraction is asserted at 2× its measured error (a grid error, deterministic;
+    // 10× would pass any stick fraction), the displacement at 10×.
+    assert!(worst_q < 1.5e-8, "{worst_q:e}");
+    assert!(worst_stick < 0.07, "{worst_stick:e}");
     assert!(worst_d < 0.05, "{worst_d:e}");
     for w in t["tangential_displacement"].windows(2) {
         assert!(w[1] > w[0], "{csv}");
@@ -512,7 +521,7 @@ fn bem_tangential_path_is_cattaneo_mindlin() {
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("curve.json")).unwrap()).unwrap();
     let path = &json["tangential_path"];
-    assert_eq!(path["steps"].as_array().unwrap().len(), 5);
+    assert_eq!(path["steps"].as_array().unwrap().len(), 8);
     assert_eq!(path["units"]["tangential_displacement"], "m");
     assert!(path["dissipation"].as_f64().unwrap() >= 0.0);
 }
@@ -526,7 +535,9 @@ fn bem_tangential_unloading_dissipates() {
     let (o, out) = crate::support::solve_text(&d, "sphere", &text);
     assert!(o.status.success(), "{}", stderr_of(&o));
     let t = columns(&std::fs::read_to_string(out.join("tangential.csv")).unwrap());
-    assert_eq!(t["force_ratio"], [0.8, 0.4, 0.0, -0.4, -0.8]);
+    for (r, want) in t["force_ratio"].iter().zip([0.8, 0.4, 0.0, -0.4, -0.8]) {
+        assert!((r - want).abs() < 1e-15, "{:?}", t["force_ratio"]);
+    }
     for w in t["tangential_displacement"].windows(2) {
         assert!(w[1] < w[0], "{:?}", t["tangential_displacement"]);
     }
@@ -549,7 +560,9 @@ fn bem_tangential_unloading_dissipates() {
 #[test]
 fn tangential_path_errors_name_the_field() {
     let d = fresh_dir("friction", "tangential_errors");
-    let surface = SURFACE.replace("grid = 256", "grid = 32").replace("k_max = 10", "k_max = 8");
+    let surface = SURFACE
+        .replace("grid = 256", "grid = 32")
+        .replace("k_max = 10", "k_max = 8");
     let scene = |model: &str, tangential: &str, friction: bool| {
         homogeneous_scene(
             &surface,
@@ -563,9 +576,21 @@ fn tangential_path_errors_name_the_field() {
     };
     let good = "{ from = 0.1, to = 0.5, steps = 3 }";
     for (text, needle, also) in [
-        (scene("\"independent\"", good, true), "load.tangential", "bem"),
-        (scene("\"interacting\"", good, true), "load.tangential", "bem"),
-        (scene("\"bem\"", good, false), "load.tangential", "[friction]"),
+        (
+            scene("\"independent\"", good, true),
+            "load.tangential",
+            "bem",
+        ),
+        (
+            scene("\"interacting\"", good, true),
+            "load.tangential",
+            "bem",
+        ),
+        (
+            scene("\"bem\"", good, false),
+            "load.tangential",
+            "[friction]",
+        ),
         (
             scene("\"bem\"", "{ from = 1.5, to = 0.5, steps = 3 }", true),
             "load.tangential.from",
@@ -592,7 +617,11 @@ fn tangential_path_errors_name_the_field() {
             "missing",
         ),
         (
-            scene("\"bem\"", "{ from = 0.1, to = 0.5, steps = 3, by = 1 }", true),
+            scene(
+                "\"bem\"",
+                "{ from = 0.1, to = 0.5, steps = 3, by = 1 }",
+                true,
+            ),
             "by",
             "unknown",
         ),
@@ -600,7 +629,10 @@ fn tangential_path_errors_name_the_field() {
         let (o, out) = crate::support::solve_text(&d, "bad", &text);
         let err = stderr_of(&o);
         assert!(!o.status.success(), "{text}");
-        assert!(err.contains(needle) && err.contains(also), "{needle}: {err}");
+        assert!(
+            err.contains(needle) && err.contains(also),
+            "{needle}: {err}"
+        );
         assert!(err.contains("bad.toml"), "{err}");
         assert!(!out.join("curve.csv").exists());
         assert!(!out.join("tangential.csv").exists());
