@@ -98,6 +98,7 @@ pub fn scene_of(
         unload: false,
         conductance: effects.conductance,
         friction: effects.friction,
+        tangential: None,
     }
 }
 

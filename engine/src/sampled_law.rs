@@ -594,9 +594,20 @@ fn solve_bem(
     sampled.load = LoadSpec::Separations(sample_gaps(g0, min_gap, samples));
     // [plasticity]: the return path too (the unloading curve), the law from the loading
     sampled.unload = scene.plasticity.is_some();
+    // the law is the normal one: no tangential path
+    sampled.tangential = None;
     let ran = describe_bem(surface.is_periodic(), surface.shape());
     let sol = solve(&sampled, Some(surface), opts, obs)?;
     let conductances = sol.conductances().unwrap_or_default();
+    // [friction]: the full-stick K_t of each sample's contact set (0 at first contact:
+    // one grid point, no area)
+    let tangential_stiffness = sol.tangential_stiffnesses().map(|mut k| {
+        k.truncate(samples);
+        if let Some(first) = k.first_mut() {
+            *first = 0.0;
+        }
+        k
+    });
     let mut steps = sol.steps;
     let unloading = scene.plasticity.map(|pl| {
         let back: Vec<UnloadingSample> = steps
@@ -632,8 +643,7 @@ fn solve_bem(
         surface: sol.summary.surface.clone(),
         warnings,
         conductance,
-        // [friction] is refused with the BEM when the scene is read
-        tangential_stiffness: None,
+        tangential_stiffness,
         unloading,
     })
 }

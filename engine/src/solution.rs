@@ -33,6 +33,9 @@ pub struct SceneSolution {
     pub conductance: Option<Vec<ConductanceInfo>>,
     /// With `[friction]`: one record per step (same order as `steps`).
     pub tangential: Option<Vec<TangentialInfo>>,
+    /// With `[load] tangential` (BEM): the tangential path at the last step's pressure
+    /// (`tangential.csv`).
+    pub tangential_path: Option<TangentialCurve>,
     /// Summary for `curve.json`: model, solid, E*₁, nominal area, the effects' settings…
     pub summary: Summary,
     /// Wall time of the solve, without table building (s).
@@ -134,6 +137,73 @@ pub struct ConductanceInfo {
 pub struct TangentialInfo {
     /// K_t of the sample (N/m): the contact discs' full-stick stiffnesses in parallel.
     pub tangential_stiffness: f64,
+}
+
+/// The tangential path of `[load] tangential` (BEM, [`crate::effects::friction`]): Coulomb
+/// partial slip of the last load step's contact at its fixed pressure, the tangential
+/// force Q = (Q/μP)·μP applied along x in the path's steps (force control, the
+/// normal–tangential coupling ignored), each step from the last one's stick/slip state.
+#[derive(Debug, Clone, Serialize)]
+pub struct TangentialCurve {
+    /// The coefficient of friction μ (1).
+    pub coefficient: f64,
+    /// The normal force P of the last load step (N): Σ p times the pixel area.
+    pub normal_force: f64,
+    /// What the path is.
+    pub definition: &'static str,
+    /// One record per value of the path, in order.
+    pub steps: Vec<TangentialPoint>,
+    /// The energy dissipated by slip over the path (J, ≥ 0).
+    pub dissipation: f64,
+    /// Time of the path (s).
+    pub seconds: f64,
+    pub units: TangentialCurveUnits,
+}
+
+/// One step of a [`TangentialCurve`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct TangentialPoint {
+    /// The ratio Q/(μP) asked for (1).
+    pub force_ratio: f64,
+    /// The tangential force Q carried along x (N): the traction's sum times the pixel area.
+    pub tangential_force: f64,
+    /// The flat's rigid tangential displacement s along x (m), from the fresh contact
+    /// (the periodic cell's displacements have zero mean, as in the normal BEM).
+    pub tangential_displacement: f64,
+    /// The stick area over the contact area (1): points with |q| < μp over points with
+    /// p > 0.
+    pub stick_fraction: f64,
+    /// The energy dissipated by slip in the step (J).
+    pub dissipation: f64,
+    /// Iterations of the step's slip solve.
+    pub iterations: usize,
+    /// The step's final error (Coulomb's conditions, relative).
+    pub error: f64,
+}
+
+/// The units of [`TangentialCurve`] and its steps.
+#[derive(Debug, Clone, Serialize)]
+pub struct TangentialCurveUnits {
+    pub normal_force: &'static str,
+    pub force_ratio: &'static str,
+    pub tangential_force: &'static str,
+    pub tangential_displacement: &'static str,
+    pub stick_fraction: &'static str,
+    pub dissipation: &'static str,
+}
+
+impl TangentialCurveUnits {
+    /// SI.
+    pub fn si() -> Self {
+        TangentialCurveUnits {
+            normal_force: "N",
+            force_ratio: "1",
+            tangential_force: "N",
+            tangential_displacement: "m",
+            stick_fraction: "1 (stick area over contact area)",
+            dissipation: "J",
+        }
+    }
 }
 
 /// The BEM conduction solve's records of one step.

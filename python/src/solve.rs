@@ -285,7 +285,10 @@ impl PyScene {
     /// mean_pressure, pressure_ratio, area_fraction, contacts, stiffness) plus load,
     /// kkt_residual (NaN where none), valid, and `meta` (curve.json's summary); a scene
     /// with `[conductance]` adds `conductance` (h_c per step, W/(m²·K) or S/m²), one with
-    /// `[friction]` `tangential_stiffness` (K_t of the sample per step, N/m, full stick).
+    /// `[friction]` `tangential_stiffness` (K_t of the sample per step, N/m, full stick),
+    /// one with `[load] tangential` (BEM) `tangential` (the tangential path: arrays
+    /// force_ratio, tangential_force (N), tangential_displacement (m), stick_fraction,
+    /// dissipation (J), and normal_force (N) and coefficient).
     /// maps ("none", "last", "all"; BEM only) adds the pressure (Pa) and gap (m) maps.
     /// Runs off the GIL; progress: True shows progress and log lines (in a notebook's
     /// cell, else on stderr), False only warnings, None (default) progress when in a
@@ -353,6 +356,27 @@ impl PyScene {
         // [friction]: the full-stick tangential stiffness of the sample per step (N/m)
         if let Some(k) = sol.tangential_stiffnesses() {
             out.set_item("tangential_stiffness", k.into_pyarray(py))?;
+        }
+        // [load] tangential (BEM): the tangential path as a dict of arrays (tangential.csv)
+        if let Some(t) = &sol.tangential_path {
+            let d = PyDict::new(py);
+            let col = |f: fn(&strata_engine::solution::TangentialPoint) -> f64| -> Vec<f64> {
+                t.steps.iter().map(f).collect()
+            };
+            d.set_item("force_ratio", col(|p| p.force_ratio).into_pyarray(py))?;
+            d.set_item(
+                "tangential_force",
+                col(|p| p.tangential_force).into_pyarray(py),
+            )?;
+            d.set_item(
+                "tangential_displacement",
+                col(|p| p.tangential_displacement).into_pyarray(py),
+            )?;
+            d.set_item("stick_fraction", col(|p| p.stick_fraction).into_pyarray(py))?;
+            d.set_item("dissipation", col(|p| p.dissipation).into_pyarray(py))?;
+            d.set_item("normal_force", t.normal_force)?;
+            d.set_item("coefficient", t.coefficient)?;
+            out.set_item("tangential", d)?;
         }
         // the summary as a dict: JSON made here, at the Python boundary
         let meta = serde_json::to_value(&sol.summary)

@@ -65,3 +65,48 @@ def test_tangential_stiffness_equals_cli(model, cli, tmp_path):
         samples=4, cache_dir=cache)
     with pytest.raises(strata.LawError, match="friction"):
         plain.tangential_stiffness(g[1])
+
+
+def test_bem_tangential_stiffness_and_path_equal_cli(cli, tmp_path):
+    """The BEM's full-stick ``tangential_stiffness`` per step and, with ``[load] tangential``,
+    its tangential path equal ``strata solve``'s curve.csv column and tangential.csv, from a
+    scene file and from ``Scene(..., model="bem", friction={...})``; its law carries the
+    column at its samples."""
+    text = SCENE.format(model="bem").replace(
+        "separations = [6e-6, 4.5e-6, 3e-6]",
+        "separations = [6e-6, 4.5e-6, 3e-6]\ntangential = { from = 0.2, to = 0.6, steps = 3 }",
+    )
+    path = tmp_path / "scene.toml"
+    path.write_text(text)
+    cache = tmp_path / "cache"
+    cli("solve", path, "--out", tmp_path / "out", "--no-plots", "-q", "--cache-dir", cache)
+    want = read_last_column(tmp_path / "out" / "curve.csv")
+    assert (want > 0).all()
+    lines = (tmp_path / "out" / "tangential.csv").read_text().splitlines()
+    assert lines[0] == "force_ratio,tangential_force,tangential_displacement,stick_fraction"
+    table = np.array([[float(x) for x in line.split(",")] for line in lines[1:]])
+    from_file = strata.Scene.from_file(path)
+    for scene in (
+        from_file,
+        strata.Scene(
+            from_file.stack,
+            from_file.surface(),
+            model="bem",
+            load={"separations": [6e-6, 4.5e-6, 3e-6],
+                  "tangential": {"from": 0.2, "to": 0.6, "steps": 3}},
+            friction={"coefficient": 0.3},
+        ),
+    ):
+        curve = scene.solve(cache_dir=cache)
+        np.testing.assert_array_equal(curve.tangential_stiffness, want)
+        t = curve.tangential
+        assert t is not None and t["coefficient"] == 0.3
+        for k, name in enumerate(
+            ["force_ratio", "tangential_force", "tangential_displacement", "stick_fraction"]
+        ):
+            np.testing.assert_array_equal(t[name], table[:, k])
+    law = from_file.law(samples=6, cache_dir=cache)
+    k = law.samples["tangential_stiffness"]
+    assert k[0] == 0 and (k[1:] > 0).all()
+    with pytest.raises(strata.SceneError, match="load.tangential"):
+        strata.Scene.from_toml(text.replace("[friction]\ncoefficient = 0.3\n", ""))

@@ -25,7 +25,9 @@
 //! - `compare.md`: the wall time of each model and the max and median |differences|,
 //!   then the per-step table;
 //! - `curve_independent.csv`, `curve_interacting.csv`, `curve_bem.csv` (the
-//!   `strata solve` curve.csv of each model);
+//!   `strata solve` curve.csv of each model, with `[friction]` its
+//!   `tangential_stiffness` column too) and, with `[load] tangential`, the BEM's
+//!   `tangential_bem.csv` (`strata solve`'s tangential.csv);
 //! - plots `pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `area_pressure.svg`
 //!   (A/A₀ against p_n/E*₁), the three models (skipped with `--no-plots`);
 //! - BEM maps under `maps/` when the scene asks for them (`[output] maps`);
@@ -754,9 +756,9 @@ fn compare_scene(
     {
         let mut sc = scene.clone();
         sc.model.kind = kind;
-        if kind == ModelKind::Bem {
-            // the tangential stiffness is the asperity models' (curve_independent.csv, curve_interacting.csv)
-            sc.friction = None;
+        if kind != ModelKind::Bem {
+            // the tangential path is the BEM's alone (tangential_bem.csv)
+            sc.tangential = None;
         }
         let opts = EngineOptions {
             cache_dir: a.cache_dir.clone(),
@@ -798,6 +800,12 @@ fn compare_scene(
             &format!("{dir}curve_{key}.csv"),
             curve_csv_extra(&sol.steps, &sol.effect_columns())?.as_bytes(),
         )?;
+        if let Some(t) = &sol.tangential_path {
+            set.write(
+                &format!("{dir}tangential_{key}.csv"),
+                crate::cli::solve::tangential_csv(t)?.as_bytes(),
+            )?;
+        }
         if kind == ModelKind::Bem {
             scale = sol.summary.z_max_minus_mean;
             e_star = sol.summary.e_star_1;

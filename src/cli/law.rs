@@ -20,7 +20,7 @@
 //! With `[conductance]` in the scene (BEM, N or I model) the CSV gains a `conductance`
 //! column after `valid`, the JSON each sample's interface conductance h_c (physics.md
 //! §6.2) and the `.inp` a `*GAP CONDUCTANCE, PRESSURE` block after the table
-//! ([`SampledLaw::gap_conductance_block`]). With `[friction]` (N and I models) the CSV
+//! ([`SampledLaw::gap_conductance_block`]). With `[friction]` (every model) the CSV
 //! gains a `tangential_stiffness` column after them and the JSON each sample's
 //! `tangential_stiffness`: the full-stick tangential stiffness K_t of the sample (N/m),
 //! the JSON a `friction_card` object and the `.inp` the friction card after the table

@@ -9,7 +9,13 @@
 //!   `plastic_area_fraction` for a scene with `[plasticity]` and `conductance` (h_c,
 //!   W/(m²·K) or S/m², empty where infinite: full contact) for a scene with
 //!   `[conductance]` and `tangential_stiffness` (K_t of the sample in full stick, N/m)
-//!   for a scene with `[friction]` (N and I models), in that order;
+//!   for a scene with `[friction]`, in that order;
+//! - with `[load] tangential` (BEM): `DIR/tangential.csv`, header exactly
+//!   `force_ratio,tangential_force,tangential_displacement,stick_fraction` (Q/(μP),
+//!   Q in N, the flat's tangential displacement in m, the stick area over the contact
+//!   area), one row per step of the tangential path at the last load step, and
+//!   `DIR/tangential.svg`; curve.json's `tangential_path` holds the same with each
+//!   step's dissipation and solver record;
 //! - `DIR/curve.json`: the same per step plus the KKT residual, the validity and its
 //!   reasons, the scene summary and which effects were simulated;
 //! - `DIR/pressure_gap.svg` (p_n/E*₁ against g_n, log y) and `DIR/area_pressure.svg`
@@ -441,6 +447,61 @@ impl<'a> MapWriter<'a> {
     }
 }
 
+/// The header of tangential.csv.
+pub const TANGENTIAL_HEADER: [&str; 4] = [
+    "force_ratio",
+    "tangential_force",
+    "tangential_displacement",
+    "stick_fraction",
+];
+
+/// tangential.csv text (`[load] tangential`, BEM): one row per step of the tangential
+/// path, full precision: Q/(μP) (1), Q (N), the flat's tangential displacement (m), the
+/// stick area over the contact area (1).
+pub fn tangential_csv(t: &strata_engine::solution::TangentialCurve) -> Result<String> {
+    Ok(csv_out::text(
+        &TANGENTIAL_HEADER,
+        t.steps.iter().map(|p| {
+            vec![
+                csv_out::num(p.force_ratio),
+                csv_out::num(p.tangential_force),
+                csv_out::num(p.tangential_displacement),
+                csv_out::num(p.stick_fraction),
+            ]
+        }),
+    )?)
+}
+
+/// tangential.svg: Q/(μP) against the tangential displacement (µm), the path in order.
+fn tangential_plot(
+    path: &Path,
+    t: &strata_engine::solution::TangentialCurve,
+    stack: &str,
+) -> Result<()> {
+    crate::plot::lines(
+        path,
+        &PlotSpec {
+            title: format!(
+                "Tangential force against displacement (BEM, μ = {}): {stack}",
+                t.coefficient
+            ),
+            x_label: "tangential displacement (µm)".into(),
+            y_label: "Q / (μP)".into(),
+            log_x: false,
+            log_y: false,
+            series: vec![Series {
+                name: "BEM partial slip".into(),
+                points: t
+                    .steps
+                    .iter()
+                    .map(|p| (p.tangential_displacement * 1e6, p.force_ratio))
+                    .collect(),
+                style: Style::Line,
+            }],
+        },
+    )
+}
+
 /// The steps as JSON objects (curve.json's `steps`).
 fn steps_json(steps: &[Step]) -> serde_json::Value {
     serde_json::Value::Array(steps.iter().map(|s| serde_json::json!({
@@ -521,6 +582,13 @@ pub fn write_outputs(set: &OutputSet, no_plots: bool, sol: &SceneSolution) -> Re
             .collect();
     }
     set.write("curve.csv", csv.as_bytes())?;
+    if let Some(t) = &sol.tangential_path {
+        meta["tangential_path"] = serde_json::to_value(t)?;
+        set.write("tangential.csv", tangential_csv(t)?.as_bytes())?;
+        if !no_plots {
+            tangential_plot(&set.path("tangential.svg")?, t, &sol.summary.stack)?;
+        }
+    }
     set.write(
         "curve.json",
         serde_json::to_string_pretty(&meta)?.as_bytes(),

@@ -11,8 +11,9 @@
 //!   precision (`{:e}`), as in `strata solve`'s curve.csv; `valid` 1/0 (inside the
 //!   model's validity); then, as in curve.csv, `plastic_area_fraction` when the base
 //!   scene has `[plasticity]` and `conductance` (empty where infinite) when it has
-//!   `[conductance]` and `tangential_stiffness` (N and I models) when it has
-//!   `[friction]`, in that order;
+//!   `[conductance]` and `tangential_stiffness` (every model) when it has
+//!   `[friction]`, in that order (a base scene with `[load] tangential` is refused:
+//!   the tangential path is `strata solve`'s);
 //! - `DIR/sweep.json`: the sidecar (strata version, sweep fingerprint, case count,
 //!   shard, columns, axes, per-case wall times, the CSV's row count and FNV-1a
 //!   checksum, the input files and their checksums);

@@ -25,9 +25,12 @@ use crate::error::{Context, Result};
 use strata_runtime::rough::{Model, Step};
 
 use super::observer::{AsperityPath, StepObserver};
-use crate::scene::{FrictionSpec, Scene};
+use crate::scene::{FrictionSpec, Scene, TangentialPathSpec};
 use crate::setup::{EngineOptions, Observer, log};
-use crate::solution::{FrictionSummary, FrictionUnits, SceneSolution, TangentialInfo};
+use crate::solution::{
+    FrictionSummary, FrictionUnits, SceneSolution, TangentialCurve, TangentialCurveUnits,
+    TangentialInfo, TangentialPoint,
+};
 
 /// The definition of the asperity models' tangential stiffness.
 const DEFINITION: &str = "full-stick tangential stiffness of the sample K_t = sum_i K_t(a_i) (N/m): each \
@@ -147,15 +150,34 @@ const BEM_DEFINITION: &str = "full-stick tangential stiffness of the cell K_t = 
      normal-tangential coupling); the periodic cell's displacements have zero mean, as in the \
      normal BEM";
 
+/// The definition of the BEM's tangential path.
+const PATH_DEFINITION: &str = "Coulomb partial slip of the last load step's contact at its fixed \
+     pressure (strata_bem::tangential::TangentialPath, the 3 x 3 layered kernel without the \
+     normal-tangential coupling): the tangential force Q = (Q/muP) mu P along x applied in the \
+     path's steps (force control), the first from the fresh contact, each next from the last \
+     one's stick/slip state; tangential_displacement is the flat's rigid shift along x (the \
+     periodic cell's displacements have zero mean), stick_fraction the points with |q| < mu p \
+     over the points with p > 0";
+
 /// The BEM's tangential stiffness: the full-stick linear solve on each step's contact set
-/// ([`strata_bem::tangential::full_stick_stiffness`]), periodic cells only.
+/// ([`strata_bem::tangential::full_stick_stiffness`]), periodic cells only; with
+/// `[load] tangential`, the tangential path at the last step's pressure
+/// ([`strata_bem::tangential::TangentialPath`]) after the load path.
 pub struct BemFriction {
     kernel: strata_bem::tangential::TractionKernel,
     area: f64,
     tolerance: f64,
+    coefficient: f64,
     records: Vec<TangentialInfo>,
     summary: FrictionSummary,
+    /// `[load] tangential`, and the last step's pressure map it starts from.
+    path: Option<TangentialPathSpec>,
+    last_pressure: Option<Vec<f64>>,
+    curve: Option<TangentialCurve>,
 }
+
+/// The most iterations of one full-stick or partial-slip solve.
+const MAX_ITERATIONS: usize = 100_000;
 
 impl BemFriction {
     /// The observer of a BEM path on a periodic cell of `grid` = (rows, columns) and
@@ -183,6 +205,7 @@ impl BemFriction {
             kernel,
             area: geometry.lx * geometry.ly,
             tolerance: 1e-8,
+            coefficient: spec.coefficient,
             records: Vec::new(),
             summary: FrictionSummary {
                 coefficient: spec.coefficient,
@@ -194,6 +217,76 @@ impl BemFriction {
                     tangential_stiffness: "N/m (over the sample, full stick)",
                 },
             },
+            path: scene.tangential,
+            last_pressure: None,
+            curve: None,
+        })
+    }
+
+    /// The tangential path `spec` at the pressure map `pressure` (Pa).
+    fn run_path(
+        &self,
+        spec: &TangentialPathSpec,
+        pressure: Vec<f64>,
+        obs: &dyn Observer,
+    ) -> Result<TangentialCurve> {
+        let t0 = Instant::now();
+        let n = pressure.len();
+        let pixel = self.area / n as f64;
+        let mean_pressure = pressure.iter().sum::<f64>() / n as f64;
+        let normal_force = mean_pressure * self.area;
+        if !pressure.iter().any(|&p| p > 0.0) {
+            crate::error::bail_input!(
+                "load.tangential: the last load step has no contact (P = 0): no tangential \
+                 force can be carried"
+            );
+        }
+        let mu = self.coefficient;
+        let mut path = strata_bem::tangential::TangentialPath::new(
+            &self.kernel,
+            pressure,
+            mu,
+            self.area,
+            self.tolerance,
+            MAX_ITERATIONS,
+        );
+        let mut steps = Vec::with_capacity(spec.steps);
+        let mut dissipation = 0.0;
+        for ratio in spec.ratios() {
+            let step = path
+                .step(strata_bem::tangential::TangentialLoad::Force([
+                    ratio * mu * mean_pressure,
+                    0.0,
+                ]))
+                .with_context(|| format!("load.tangential: the step at Q/(μP) = {ratio}"))?;
+            let sol = &step.solution;
+            dissipation += step.dissipation;
+            steps.push(TangentialPoint {
+                force_ratio: ratio,
+                tangential_force: sol.traction[0].iter().sum::<f64>() * pixel,
+                tangential_displacement: sol.shift[0],
+                stick_fraction: sol.stick_fraction(),
+                dissipation: step.dissipation,
+                iterations: sol.iterations,
+                error: sol.error,
+            });
+        }
+        let seconds = t0.elapsed().as_secs_f64();
+        log!(
+            obs,
+            "friction: tangential path at the last step (P = {normal_force:e} N, μ = {mu}): {} steps of Q/(μP) from {} to {}, Coulomb partial slip, in {seconds:.3} s",
+            spec.steps,
+            spec.from,
+            spec.to
+        );
+        Ok(TangentialCurve {
+            coefficient: mu,
+            normal_force,
+            definition: PATH_DEFINITION,
+            steps,
+            dissipation,
+            seconds,
+            units: TangentialCurveUnits::si(),
         })
     }
 }
@@ -211,7 +304,7 @@ impl StepObserver for BemFriction {
                 step.pressure,
                 self.area,
                 self.tolerance,
-                100_000,
+                MAX_ITERATIONS,
             )
             .with_context(|| format!("[friction] {}", step.name))?
         } else {
@@ -220,7 +313,21 @@ impl StepObserver for BemFriction {
         self.records.push(TangentialInfo {
             tangential_stiffness: k,
         });
+        if self.path.is_some() {
+            // the path's start: the latest step's pressure (one map kept)
+            match &mut self.last_pressure {
+                Some(p) => p.copy_from_slice(step.pressure),
+                None => self.last_pressure = Some(step.pressure.to_vec()),
+            }
+        }
         self.summary.seconds += t0.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    fn after_bem_path(&mut self, obs: &dyn Observer) -> Result<()> {
+        if let (Some(spec), Some(p)) = (self.path, self.last_pressure.take()) {
+            self.curve = Some(self.run_path(&spec, p, obs)?);
+        }
         Ok(())
     }
 
@@ -230,6 +337,7 @@ impl StepObserver for BemFriction {
 
     fn finish(self: Box<Self>, solution: &mut SceneSolution) {
         solution.tangential = Some(self.records);
+        solution.tangential_path = self.curve;
         solution.summary.friction = Some(self.summary);
     }
 }

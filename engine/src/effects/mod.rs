@@ -8,8 +8,10 @@
 //!   each BEM step or once after an asperity model's path, its records moved into the
 //!   solution at the end;
 //! - [`stiffness`]: the BEM's dP/dδ after each step, the tangent on its contact set;
-//! - [`friction`]: a [`StepObserver`] of the N and I models' path, the full-stick
-//!   tangential stiffness of every step from the contact radii.
+//! - [`friction`]: a [`StepObserver`], the full-stick tangential stiffness of every
+//!   step (the N and I models' from the contact radii, the BEM's from each step's
+//!   contact set) and, with `[load] tangential`, the BEM's tangential path after the
+//!   last step.
 //!
 //! A new effect is a module here plus a field of the solution
 //! ([`crate::solution::SceneSolution`]).

@@ -46,6 +46,12 @@ pub trait StepObserver {
     ) -> Result<f64> {
         Ok(0.0)
     }
+    /// After a BEM path whose every step converged (not after a partial one), before
+    /// [`StepObserver::finish`]: the work on the path's last state (the tangential path
+    /// of `[load] tangential`).
+    fn after_bem_path(&mut self, _obs: &dyn Observer) -> Result<()> {
+        Ok(())
+    }
     /// The path stopped: only the first `n` steps stand.
     fn truncate(&mut self, _n: usize) {}
     /// Moves the records and the summary into the solution.

@@ -431,6 +431,7 @@ fn solve_capped(
         plastic: Some(plastic),
         conductance: None,
         tangential: None,
+        tangential_path: None,
         summary,
         seconds,
         failed: None,

@@ -162,6 +162,16 @@ pub fn solve(
         }
     }
     drop(bar);
+    if failed.is_none() {
+        for o in observers.iter_mut() {
+            o.after_bem_path(obs)?;
+        }
+    } else if scene.tangential.is_some() {
+        log!(
+            obs,
+            "load.tangential: not run, the normal path stopped before its last step"
+        );
+    }
     let seconds = t0.elapsed().as_secs_f64();
     log!(obs, "BEM: largest final CG error {worst_error:.2e}");
     let e_star = stack.contact_modulus();
@@ -198,6 +208,7 @@ pub fn solve(
         plastic,
         conductance: None,
         tangential: None,
+        tangential_path: None,
         summary,
         seconds,
         failed,

@@ -263,6 +263,7 @@ pub fn solve(
         plastic: None,
         conductance: None,
         tangential: None,
+        tangential_path: None,
         summary,
         seconds,
         failed,

@@ -218,6 +218,7 @@ pub(crate) fn solve_elastic(
         plastic: None,
         conductance: None,
         tangential: None,
+        tangential_path: None,
         summary,
         seconds,
         failed,

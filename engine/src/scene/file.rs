@@ -205,7 +205,8 @@ pub struct ModelFile {
     pub image_cells: Option<i64>,
 }
 
-/// `[load]`: exactly one of `separations`, `approach`, `mean_pressures`; `unload`.
+/// `[load]`: exactly one of `separations`, `approach`, `mean_pressures`; `unload`;
+/// `tangential`.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub struct LoadFile {
@@ -217,9 +218,11 @@ pub struct LoadFile {
     pub mean_pressures: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unload: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tangential: Option<ApproachFile>,
 }
 
-/// `load.approach = { from, to, steps }`.
+/// `load.approach = { from, to, steps }` (and `load.tangential`, the same shape).
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, expecting = "a table")]
 pub struct ApproachFile {

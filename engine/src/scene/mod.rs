@@ -52,9 +52,15 @@
 //!                              # counterface's: [counterface] thermal_conductivity = 50
 //!                              # (a rigid flat as a conducting half-space), conduction =
 //!                              # "perfect", or an elastic counterface's own stack
-//! [friction]                   # optional (model.kind = "independent" or "interacting"):
+//! [friction]                   # optional (every model):
 //! coefficient = 0.3            # μ > 0; curve.csv gains tangential_stiffness (N/m over the
-//!                              # sample, full stick: Σ K_t(a_i) of the contact discs)
+//!                              # sample, full stick: Σ K_t(a_i) of the contact discs, or
+//!                              # the BEM's contact set stuck to the flat)
+//! # [load] tangential = { from = 0.1, to = 0.9, steps = 9 }
+//! #                            # optional (model.kind = "bem" with [friction]): a
+//! #                            # tangential path at the last normal step, Q/(μP) from
+//! #                            # `from` to `to` (each in (−1, 1); from > to unloads):
+//! #                            # Coulomb partial slip, written to tangential.csv
 //! ```
 //!
 //! Every error names the offending field (`surface.size`, `load.approach.steps`, …).
@@ -245,6 +251,41 @@ pub struct Scene {
     /// step gets the full-stick tangential stiffness of the sample (the engine's
     /// `effects::friction`). Absent: nothing tangential is computed.
     pub friction: Option<FrictionSpec>,
+    /// `[load] tangential = { from, to, steps }` (BEM with `[friction]` only): the
+    /// tangential path run at the last normal step. Absent: no path.
+    pub tangential: Option<TangentialPathSpec>,
+}
+
+/// `[load] tangential`: a tangential load path at the fixed pressure of the load path's
+/// last step, in ratios Q/(μP) of the tangential force Q (N, along x) to the friction
+/// limit μP (P the normal force of that step, N): `steps` values evenly from `from` to
+/// `to`, each in (−1, 1) (a negative ratio pulls along −x; `from > to` unloads). The
+/// first value is reached from the fresh contact (q = 0) in one step, each next one from
+/// the last (Coulomb's law with history).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TangentialPathSpec {
+    /// The first ratio Q/(μP) (1).
+    pub from: f64,
+    /// The last ratio Q/(μP) (1).
+    pub to: f64,
+    /// The number of values (≥ 1).
+    pub steps: usize,
+}
+
+impl TangentialPathSpec {
+    /// The ratios Q/(μP) of the path, in order.
+    pub fn ratios(&self) -> Vec<f64> {
+        let n = self.steps;
+        (0..n)
+            .map(|i| {
+                if n == 1 {
+                    self.from
+                } else {
+                    self.from + (self.to - self.from) * i as f64 / (n - 1) as f64
+                }
+            })
+            .collect()
+    }
 }
 
 /// `[friction]`: Coulomb friction at the interface.

@@ -23,7 +23,7 @@ use super::file::{
 use super::{
     ConductanceSpec, CounterfaceConduction, FrictionSpec, LoadSpec, MapFormats, MapsSpec,
     ModelKind, ModelSpec, OutputSpec, PlasticitySpec, Scene, SceneError, SolverSpec, SurfaceSource,
-    SurfaceSpec,
+    SurfaceSpec, TangentialPathSpec,
 };
 
 fn invalid(field: impl Into<String>, reason: impl Into<String>) -> SceneError {
@@ -304,6 +304,7 @@ impl SceneFile {
         let ld = self
             .load
             .ok_or_else(|| SceneError::Missing("load".into()))?;
+        let tangential_file = ld.tangential.clone();
         let (load, unload) = load(ld)?;
         // [output] (optional)
         let output = match self.output {
@@ -360,6 +361,10 @@ impl SceneFile {
                 Some(FrictionSpec { coefficient })
             }
         };
+        let tangential = match tangential_file {
+            None => None,
+            Some(t) => Some(tangential_path(t, kind, friction.is_some())?),
+        };
         let solver = match self.solver {
             None => SolverSpec::default(),
             Some(s) => solver(s)?,
@@ -367,6 +372,7 @@ impl SceneFile {
         Ok(Scene {
             conductance,
             friction,
+            tangential,
             plasticity,
             unload,
             bodies,
@@ -443,6 +449,58 @@ fn load(ld: LoadFile) -> Result<(LoadSpec, bool), SceneError> {
         }
     };
     Ok((load, unload))
+}
+
+/// `load.tangential = { from, to, steps }`: ratios Q/(μP) in (−1, 1), 1 to 10 000
+/// values; only for the BEM (`kind`) with `[friction]` (`friction`).
+fn tangential_path(
+    t: super::file::ApproachFile,
+    kind: ModelKind,
+    friction: bool,
+) -> Result<TangentialPathSpec, SceneError> {
+    let ratio = |x: Option<f64>, field: &str| -> Result<f64, SceneError> {
+        let x = finite(x.ok_or_else(|| SceneError::Missing(field.into()))?, field)?;
+        if x.abs() >= 1.0 {
+            return Err(invalid(
+                field,
+                format!(
+                    "{x} must be in (-1, 1): a ratio Q/(μP) of the tangential force to the \
+                     friction limit μP (at |Q| = μP the whole contact slips: gross sliding, \
+                     which no tangential force controls)"
+                ),
+            ));
+        }
+        Ok(x)
+    };
+    let from = ratio(t.from, "load.tangential.from")?;
+    let to = ratio(t.to, "load.tangential.to")?;
+    let steps = t
+        .steps
+        .ok_or_else(|| SceneError::Missing("load.tangential.steps".into()))?;
+    if !(1..=10_000).contains(&steps) {
+        return Err(invalid(
+            "load.tangential.steps",
+            format!("{steps} must be in [1, 10000]"),
+        ));
+    }
+    if kind != ModelKind::Bem {
+        return Err(invalid(
+            "load.tangential",
+            "a tangential path (Coulomb partial slip) is solved by the BEM (model.kind = \"bem\"); \
+             the N and I models give the full-stick tangential stiffness only ([friction])",
+        ));
+    }
+    if !friction {
+        return Err(invalid(
+            "load.tangential",
+            "a tangential path needs the coefficient of friction: add [friction] coefficient = μ",
+        ));
+    }
+    Ok(TangentialPathSpec {
+        from,
+        to,
+        steps: steps as usize,
+    })
 }
 
 /// `[output]`.

@@ -67,7 +67,11 @@ class Curve:
     and ``maps`` (BEM pressure/gap maps when asked); ``conductance``: the interface conductance
     h_c per step (W/(m²·K) or S/m²) of a scene with ``[conductance]``, else None;
     ``tangential_stiffness``: the full-stick tangential stiffness K_t of the sample per step
-    (N/m) of a scene with ``[friction]`` (N and I models), else None.
+    (N/m) of a scene with ``[friction]``, else None; ``tangential``: the BEM's tangential path
+    of a scene with ``[load] tangential`` (the columns of ``tangential.csv`` as arrays:
+    ``force_ratio`` Q/(muP), ``tangential_force`` (N), ``tangential_displacement`` (m),
+    ``stick_fraction``; and ``dissipation`` (J) per step, ``normal_force`` P (N),
+    ``coefficient`` mu), else None.
     """
 
     delta: np.ndarray
@@ -84,6 +88,7 @@ class Curve:
     maps: List[Dict[str, Any]] = field(default_factory=list)
     conductance: Optional[np.ndarray] = None
     tangential_stiffness: Optional[np.ndarray] = None
+    tangential: Optional[Dict[str, Any]] = None
 
     def __len__(self) -> int:
         return len(self.delta)
@@ -161,7 +166,9 @@ class Scene:
     ``[plasticity]`` table as a dict (``{"hardness": 0.4e9}``: the contact pressure capped at
     H, BEM and N model), ``conductance`` its ``[conductance]`` table
     (``{"kind": "thermal"}``) and ``friction`` its ``[friction]`` table (``{"coefficient": 0.3}``:
-    the full-stick tangential stiffness of every step, N and I models).
+    the full-stick tangential stiffness of every step, every model); with it a BEM scene's
+    ``load`` may hold ``"tangential": {"from": .., "to": .., "steps": ..}`` (ratios Q/(muP) of a
+    tangential path at the last step: ``Curve.tangential``).
     """
 
     def __init__(self, stack, surface, model: str = "interacting", load=None, images: Optional[str] = None,

@@ -778,11 +778,11 @@ impl Sweep {
                 );
             }
         }
-        if scene.friction.is_some() && scene.model.kind == ModelKind::Bem {
+        if scene.tangential.is_some() {
             bail!(
-                "friction: the tangential stiffness is computed by the asperity models in this \
-                 version (model.kind = \"independent\" or \"interacting\"); the BEM's tangential \
-                 contact is not (sweep.model.kind)"
+                "load.tangential: a sweep writes the load curves only (sweep.csv), not a \
+                 tangential path; remove [load] tangential from the base scene or solve the \
+                 scene with `strata solve`"
             );
         }
         if scene.plasticity.is_some()
