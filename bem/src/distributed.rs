@@ -106,7 +106,7 @@ impl<'c> SlabSolver<'c> {
     /// (periodic: (NX/2+1)/P columns of NY/2+1 values, the preconditioner reading the
     /// same table; free: 2NX/2+1 … of 2NY values, twice, the inverse's own), the
     /// product's rows' spectra (P blocks of ⌈m⌉·⌈(NX/2+1)/P⌉ complex values) and its two
-    /// exchange chunks (an eighth of that each). Free: plus the influence coefficients
+    /// exchange chunks (a sixteenth of that each). Free: plus the influence coefficients
     /// of every offset (ny·nx values), which the operator's set-up holds whole on every
     /// rank.
     pub fn memory_needed(

@@ -6,7 +6,7 @@
 //!
 //! ```text
 //!   row FFTs of the rank's data rows        (m·(NX/2+1) complex values)
-//!   per chunk of an eighth of the columns:
+//!   per chunk of a sixteenth of the columns:
 //!     all-to-all: block (my rows × q's columns of the chunk) to rank q
 //!     per owned kx line of the chunk: column FFT, × K̂(kx, ky), inverse column FFT
 //!     all-to-all back: block (q's rows × my columns of the chunk) to rank q
@@ -17,11 +17,11 @@
 //! serial product's (the operator of [`crate::BemSolver`]): the product is the serial one
 //! bit for bit, whatever P (tested). Each exchange sends, per rank, its m data rows'
 //! spectra less the block it keeps: 16·m·(NX/2+1)·(P−1)/P bytes, twice per product (in
-//! eight chunks each).
+//! sixteen chunks each).
 //!
 //! Memory per rank: the kernel's columns (periodic: (NX/2+1)(NY/2+1)/P values; free:
 //! (NX/2+1)·NY/P), the rows' spectra, P·⌈m⌉·⌈(NX/2+1)/P⌉ complex values (≈ 8 bytes per
-//! owned point on a periodic grid), two buffers of one exchange chunk (an eighth of that
+//! owned point on a periodic grid), two buffers of one exchange chunk (a sixteenth of that
 //! each) and one column line.
 
 use std::ops::Range;
@@ -57,11 +57,11 @@ pub struct SlabOperator<'c> {
 }
 
 /// The column chunks each exchange is cut into: the product holds its rows' spectra
-/// whole (≈ 8 bytes per owned point) and two buffers of one chunk (≈ 1 each), not two
+/// whole (≈ 8 bytes per owned point) and two buffers of one chunk (≈ 0.5 each), not two
 /// whole exchange buffers (16 bytes per owned point).
-const EXCHANGE_CHUNKS: usize = 8;
+const EXCHANGE_CHUNKS: usize = 16;
 
-/// Columns per exchange chunk when a rank owns at most `cm` columns: ⌈cm / 8⌉.
+/// Columns per exchange chunk when a rank owns at most `cm` columns: ⌈cm / 16⌉.
 pub(crate) fn chunk_columns(cm: usize) -> usize {
     cm.div_ceil(EXCHANGE_CHUNKS.min(cm).max(1)).max(1)
 }

@@ -53,8 +53,9 @@ pub fn not_distributed(scene: &Scene) -> Option<&'static str> {
         )
     } else if scene.friction.is_some() {
         Some(
-            "friction: [friction] is computed by the asperity models only; the distributed \
-             BEM has no tangential contact",
+            "friction: the BEM's tangential contact ([friction], [load] tangential) is not \
+             distributed in this version; solve the scene on one process (strata solve \
+             without mpirun, or mpirun -np 1)",
         )
     } else if scene.output.maps != MapsSpec::None {
         Some(
