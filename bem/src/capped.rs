@@ -537,9 +537,7 @@ impl Capped<'_> {
                     }
                     if inside {
                         // (after a halving: u is the step's start again)
-                        for i in 0..n {
-                            p[i] = p_prev[i];
-                        }
+                        p.copy_from_slice(&p_prev);
                         break true;
                     }
                     project_load(p, h, total);

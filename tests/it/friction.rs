@@ -487,8 +487,7 @@ fn bem_tangential_path_is_cattaneo_mindlin() {
     let p_bem = curve["mean_pressure"][0] * 1e-6;
     assert!((p_bem / p - 1.0).abs() < 1e-9, "{p_bem} {p}");
     let (mut worst_stick, mut worst_d, mut worst_q) = (0.0f64, 0.0f64, 0.0f64);
-    for k in 0..t["force_ratio"].len() {
-        let ratio = t["force_ratio"][k];
+    for (k, &ratio) in t["force_ratio"].iter().enumerate() {
         let q = ratio * mu * p;
         worst_q = worst_q.max((t["tangential_force"][k] / q - 1.0).abs());
         let cm = (1.0 - ratio).powf(2.0 / 3.0);
