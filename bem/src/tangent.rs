@@ -405,6 +405,70 @@ mod tests {
         assert!(secant.abs() < SECANT, "{secant}");
     }
 
+    /// Hard stacks under the same punch (its load linear in δ, so the tangent is the
+    /// secant P/δ of a solve to 1e-13, a second method): ν = 0.4999 half-space, a
+    /// 1e4× stiffer and a 1e4× softer 10 µm coating on a 20 GPa base, a ν = 0.5 layer on a
+    /// rigid base, 200 alternating layers. Finite, positive, and the secant within
+    /// [`SECANT_HARD`].
+    #[test]
+    fn flat_punch_tangent_on_hard_stacks() {
+        let layer = |thickness, young, poisson| Layer {
+            thickness,
+            young,
+            poisson,
+        };
+        let steel = Base::Elastic {
+            young: 2e10,
+            poisson: 0.3,
+        };
+        let many: Vec<Layer> = (0..200)
+            .map(|i| layer(1e-6, if i % 2 == 0 { 2e11 } else { 2e9 }, 0.3))
+            .collect();
+        let stacks = [
+            (
+                "nu 0.4999 half-space",
+                Stack::half_space(2e11, 0.4999).unwrap(),
+            ),
+            (
+                "stiff skin 1e4",
+                Stack::new(vec![layer(1e-5, 2e14, 0.3)], steel).unwrap(),
+            ),
+            (
+                "soft skin 1e-4",
+                Stack::new(vec![layer(1e-5, 2e6, 0.3)], steel).unwrap(),
+            ),
+            (
+                "nu 0.5 layer on rigid",
+                Stack::new(vec![layer(1e-4, 2e9, 0.5)], Base::Rigid).unwrap(),
+            ),
+            ("200 layers", Stack::new(many, steel).unwrap()),
+        ];
+        let (n, l) = (48, 1e-3);
+        let dx = l / n as f64;
+        let c = (n as f64 - 1.0) / 2.0;
+        let heights = Array2::from_shape_fn((n, n), |(i, j)| {
+            let (x, y) = ((j as f64 - c) * dx, (i as f64 - c) * dx);
+            if x.hypot(y) < 12.0 * dx { 0.0 } else { -1e-6 }
+        });
+        let options = BemOptions {
+            tolerance: 1e-13,
+            ..BemOptions::default()
+        };
+        for (name, stack) in stacks {
+            let solver = BemSolver::with_geometry(&heights, free(l), &stack, options).unwrap();
+            let mut s = solver.solve(BemLoad::Approach(1e-8)).unwrap();
+            let t = solver.tangent(&mut s, None).unwrap();
+            let secant = t.stiffness / (s.total_load / 1e-8) - 1.0;
+            println!("{name}: dP/dδ {:.6e}, vs P/δ {secant:+.3e}", t.stiffness);
+            assert!(t.stiffness.is_finite() && t.stiffness > 0.0, "{name}");
+            assert!(secant.abs() < SECANT_HARD, "{name}: {secant}");
+        }
+    }
+
+    /// The hard stacks' secant against the tangent: measured 4.2e-14 (ν = 0.4999),
+    /// 1.6e-14, 3.3e-15, 1.8e-15, 4.1e-15.
+    const SECANT_HARD: f64 = 5e-13;
+
     /// The punch's secant P/δ against its tangent: measured 1.6e-14.
     const SECANT: f64 = 2e-13;
 
