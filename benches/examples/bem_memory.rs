@@ -20,37 +20,13 @@ use std::process::Command;
 
 use strata::engine::{EngineOptions, Quiet, solve};
 use strata::scene::Scene;
-use strata_benches::paper_surface_params;
+use strata_benches::{paper_surface_params, peak_of};
 use strata_runtime::surface::Surface;
 
 /// Mean pressure of the step as a fraction of E* (the Tamaas comparison's load).
 const PRESSURE_OVER_E_STAR: f64 = 0.005;
 const YOUNG: f64 = 4e9;
 const POISSON: f64 = 0.15;
-
-/// Peak RSS (bytes) and exit status of `cmd` run as a child of this process.
-// The child is reaped by `wait4` (for its rusage), not by `Child::wait`.
-#[allow(clippy::zombie_processes)]
-fn peak_of(cmd: &mut Command) -> (u64, bool) {
-    let child = cmd.spawn().unwrap_or_else(|e| {
-        eprintln!("cannot start {cmd:?}: {e}");
-        std::process::exit(2)
-    });
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: a zeroed rusage is a valid value; wait4 fills it for our own child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: `pid` is a child of this process not yet waited for (`child` is never
-    // waited on by std); the pointers are valid for the call.
-    let rc = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    if rc != pid {
-        eprintln!("wait4 failed for {cmd:?}");
-        std::process::exit(2)
-    }
-    // Linux: ru_maxrss in KiB.
-    let ok = libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0;
-    (usage.ru_maxrss as u64 * 1024, ok)
-}
 
 /// The surface file of grid `n`, written by a child of its own when missing (this
 /// process stays small: a child started by `posix_spawn` shares its parent's memory

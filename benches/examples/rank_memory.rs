@@ -22,35 +22,11 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use strata_benches::paper_surface_params;
+use strata_benches::{paper_surface_params, peak_of};
 
 const PRESSURE_OVER_E_STAR: f64 = 0.005;
 const YOUNG: f64 = 4e9;
 const POISSON: f64 = 0.15;
-
-/// Peak RSS (bytes) and exit status of `cmd` run as a child of this process.
-// The child is reaped by `wait4` (for its rusage), not by `Child::wait`.
-#[allow(clippy::zombie_processes)]
-fn peak_of(cmd: &mut Command) -> (u64, bool) {
-    let child = cmd.spawn().unwrap_or_else(|e| {
-        eprintln!("cannot start {cmd:?}: {e}");
-        std::process::exit(2)
-    });
-    let pid = child.id() as libc::pid_t;
-    let mut status = 0;
-    // SAFETY: a zeroed rusage is a valid value; wait4 fills it for our own child.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: `pid` is a child of this process not yet waited for (`child` is never
-    // waited on by std); the pointers are valid for the call.
-    let rc = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
-    if rc != pid {
-        eprintln!("wait4 failed for {cmd:?}");
-        std::process::exit(2)
-    }
-    // Linux: ru_maxrss in KiB.
-    let ok = libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0;
-    (usage.ru_maxrss as u64 * 1024, ok)
-}
 
 /// The scene of the step on an n × n generated periodic surface.
 fn scene(n: usize) -> String {

@@ -55,3 +55,27 @@ pub fn cpu_seconds() -> f64 {
     // fields 14 and 15 (utime, stime) are at 11 and 12 after the command name
     (v(11) + v(12)) / tick
 }
+
+/// Peak RSS (bytes) and exit status of `cmd` run as a child of this process.
+// The child is reaped by `wait4` (for its rusage), not by `Child::wait`.
+#[allow(clippy::zombie_processes)]
+pub fn peak_of(cmd: &mut std::process::Command) -> (u64, bool) {
+    let child = cmd.spawn().unwrap_or_else(|e| {
+        eprintln!("cannot start {cmd:?}: {e}");
+        std::process::exit(2)
+    });
+    let pid = child.id() as libc::pid_t;
+    let mut status = 0;
+    // SAFETY: a zeroed rusage is a valid value; wait4 fills it for our own child.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: `pid` is a child of this process not yet waited for (`child` is never
+    // waited on by std); the pointers are valid for the call.
+    let rc = unsafe { libc::wait4(pid, &mut status, 0, &mut usage) };
+    if rc != pid {
+        eprintln!("wait4 failed for {cmd:?}");
+        std::process::exit(2)
+    }
+    // Linux: ru_maxrss in KiB.
+    let ok = libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0;
+    (usage.ru_maxrss as u64 * 1024, ok)
+}
