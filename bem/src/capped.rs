@@ -46,16 +46,6 @@ const STALL: usize = 40;
 /// Most halvings of a load-held step whose projection raises the energy.
 const MAX_HALVINGS: usize = 6;
 
-/// The energy f = ½ pᵀ u − pᵀ z_e (u = K p) of the load-held problem (J/m² · m²: its
-/// differences are what count).
-fn energy(p: &[f64], u: &[f64], z: &[f64]) -> f64 {
-    p.iter()
-        .zip(u)
-        .zip(z)
-        .map(|((p, u), z)| p * (0.5 * u - z))
-        .sum()
-}
-
 /// The capped problem on one operator at a known offset.
 pub(crate) struct Capped<'a> {
     pub op: &'a Operator,
@@ -273,49 +263,50 @@ impl Capped<'_> {
         )
     }
 
-    /// The Lagrange offset c of the load-controlled problem for the field u = K p:
-    /// c = −mean_F(u − z_e) over the free points F = {0 < p < H} (so Σ_F g = 0, as the
-    /// elastic iteration's mean over its contact set); without free points the middle
-    /// of the offsets that keep g ≥ 0 at p = 0 and g ≤ 0 at p = H.
-    fn load_offset(&self, p: &[f64], u: &[f64]) -> f64 {
-        let h = self.hardness;
-        let (mut sum, mut m) = (0.0, 0usize);
-        let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
-        for ((&p, &u), &z) in p.iter().zip(u).zip(self.z) {
-            if p > 0.0 && p < h {
-                sum += u - z;
-                m += 1;
-            } else if p <= 0.0 {
-                lo = lo.max(z - u);
-            } else {
-                hi = hi.min(z - u);
-            }
-        }
-        if m > 0 {
-            -sum / m as f64
-        } else if lo.is_finite() && hi.is_finite() {
-            0.5 * (lo + hi)
-        } else if lo.is_finite() {
-            lo
-        } else {
-            hi
-        }
+    /// u = K p with the load offset's sums and the energy formed in the product's drain
+    /// (one product, no pass of its own): returns c ([`LoadSums::offset`]) and the
+    /// energy f = ½ pᵀ u − pᵀ z_e. The gap g = u − z_e + c is left to the next scan.
+    fn exact_sums(
+        &self,
+        p: &mut [f64],
+        u: &mut [f64],
+        work: &mut Fft2Work,
+    ) -> Result<(f64, f64), BemError> {
+        let (h, z, nx) = (self.hardness, self.z, self.op.nx());
+        let (_, sums) = self.op.apply_fields(
+            [p, u],
+            self.uniform,
+            work,
+            |_, [p, _], input| input.copy_from_slice(p),
+            |_| Some(()),
+            |_, i, [p, u], q| {
+                u.copy_from_slice(q);
+                LoadSums::of(p, u, &z[i * nx..(i + 1) * nx], h)
+            },
+        )?;
+        let s = sums.unwrap_or_default();
+        Ok((s.offset(), s.energy))
     }
 
-    /// g = K p − z_e + c with c the load's offset ([`Self::load_offset`]; one product).
+    /// g = K p − z_e + c with c the load's offset ([`LoadSums::offset`]; one product);
+    /// returns c and the energy ([`Self::exact_sums`]).
     fn exact_load(
         &self,
-        p: &[f64],
+        p: &mut [f64],
         u: &mut [f64],
         g: &mut [f64],
         work: &mut Fft2Work,
-    ) -> Result<f64, BemError> {
-        self.op.apply(p, u, self.uniform, work)?;
-        let c = self.load_offset(p, u);
-        for ((g, u), z) in g.iter_mut().zip(u.iter()).zip(self.z) {
-            *g = u - z + c;
-        }
-        Ok(c)
+    ) -> Result<(f64, f64), BemError> {
+        let (c, f) = self.exact_sums(p, u, work)?;
+        g.par_chunks_mut(CHUNK)
+            .zip(u.par_chunks(CHUNK))
+            .zip(self.z.par_chunks(CHUNK))
+            .for_each(|((g, u), z)| {
+                for k in 0..g.len() {
+                    g[k] = u[k] - z[k] + c;
+                }
+            });
+        Ok((c, f))
     }
 
     /// The capped problem under load control: mean p = `mean` (Pa, 0 < mean < H) held
@@ -351,14 +342,16 @@ impl Capped<'_> {
         }
         project_load(p, h, total);
         let mut u = vec![0.0; n];
+        // the start of a step that leaves the box (u's: by a swap, not a copy)
+        let (mut p_prev, mut u_prev): (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
         // y (the preconditioned gap) and r = K t share a buffer: the direction's fill
         // reads row i of y before its drain writes row i of r.
         let (mut t, mut yr) = (vec![0.0; n], vec![0.0; n]);
         let set: Vec<AtomicBool> = (0..n).map(|_| AtomicBool::new(false)).collect();
-        let (mut p_prev, mut u_prev) = (Vec::new(), Vec::new());
         let mut work = self.op.work();
         let mut products = 1;
-        let mut c = self.exact_load(p, &mut u, g, &mut work)?;
+        // the energy ½ pᵀ u − pᵀ z_e of the current state, kept by every update of p and u
+        let (mut c, mut f_cur) = self.exact_load(p, &mut u, g, &mut work)?;
         // Whether g = u − z_e + c is still to be formed from u (it is, in the next scan).
         let mut pending = false;
         let mut exact = true;
@@ -414,7 +407,7 @@ impl Capped<'_> {
             let v = scan.viol;
             if v <= self.tol || it == self.max_iterations {
                 if !exact {
-                    c = self.exact_load(p, &mut u, g, &mut work)?;
+                    (c, f_cur) = self.exact_load(p, &mut u, g, &mut work)?;
                     products += 1;
                     exact = true;
                     since_exact = 0;
@@ -433,7 +426,7 @@ impl Capped<'_> {
                 since_best += 1;
                 if since_best >= STALL {
                     if !exact {
-                        c = self.exact_load(p, &mut u, g, &mut work)?;
+                        (c, _) = self.exact_load(p, &mut u, g, &mut work)?;
                         products += 1;
                     }
                     return Ok((end(p, g, it, products), c));
@@ -461,7 +454,7 @@ impl Capped<'_> {
                 conjugate = false;
                 if delta.is_nan() || delta <= 0.0 {
                     if !exact {
-                        c = self.exact_load(p, &mut u, g, &mut work)?;
+                        (c, _) = self.exact_load(p, &mut u, g, &mut work)?;
                         products += 1;
                     }
                     return Ok((end(p, g, it, products), c));
@@ -511,7 +504,7 @@ impl Capped<'_> {
             let r = &yr;
             if !(rt > 0.0 && gt.is_finite()) {
                 if !exact {
-                    c = self.exact_load(p, &mut u, g, &mut work)?;
+                    (c, _) = self.exact_load(p, &mut u, g, &mut work)?;
                     products += 1;
                 }
                 return Ok((end(p, g, it, products), c));
@@ -521,50 +514,51 @@ impl Capped<'_> {
                 true
             } else {
                 // The step, halved while a projected one raises the energy
-                // f = ½ pᵀK p − pᵀz_e (one product per trial: a projection changes u).
-                let f_now = energy(p, &u, z);
+                // f = ½ pᵀK p − pᵀz_e (one product per trial: a projection changes u,
+                // formed into u's spare buffer; the start's u stays in u_prev).
+                let f_now = f_cur;
                 p_prev.clear();
                 p_prev.extend_from_slice(p);
-                u_prev.clear();
-                u_prev.extend_from_slice(&u);
+                if u_prev.len() != n {
+                    u_prev = vec![0.0; n];
+                }
+                std::mem::swap(&mut u, &mut u_prev);
                 let mut halvings = 0;
                 loop {
-                    let mut inside = true;
-                    for i in 0..n {
-                        let q = p_prev[i] - tau * t[i];
-                        inside &= (0.0..=h).contains(&q);
-                        p[i] = q;
-                    }
+                    let (inside, sums) = trial_step(p, &p_prev, &t, tau, h);
                     if inside {
-                        // (after a halving: u is the step's start again)
+                        // (after a halving: p and u are the step's start again)
                         p.copy_from_slice(&p_prev);
+                        std::mem::swap(&mut u, &mut u_prev);
                         break true;
                     }
-                    project_load(p, h, total);
-                    c = self.exact_load(p, &mut u, g, &mut work)?;
+                    shift_to_load(p, h, total, sums);
+                    (c, f_cur) = self.exact_sums(p, &mut u, &mut work)?;
                     products += 1;
-                    if energy(p, &u, z) <= f_now || halvings >= MAX_HALVINGS {
+                    if f_cur <= f_now || halvings >= MAX_HALVINGS {
                         break false;
                     }
                     halvings += 1;
                     tau *= 0.5;
-                    u.copy_from_slice(&u_prev);
                 }
             };
             since_exact += 1;
             if !inside {
+                // u = K p exactly; g formed from it in the next scan
+                pending = true;
                 exact = true;
                 since_exact = 0;
                 conjugate = false;
             } else if since_exact >= REFRESH {
                 advance(p, &mut u, &t, r, z, tau, h);
-                c = self.exact_load(p, &mut u, g, &mut work)?;
+                (c, f_cur) = self.exact_load(p, &mut u, g, &mut work)?;
                 products += 1;
                 exact = true;
                 since_exact = 0;
                 conjugate = true;
             } else {
-                c = advance(p, &mut u, &t, r, z, tau, h).offset();
+                let sums = advance(p, &mut u, &t, r, z, tau, h);
+                (c, f_cur) = (sums.offset(), sums.energy);
                 pending = true;
                 exact = false;
                 conjugate = true;
@@ -751,34 +745,70 @@ fn step_inside(p: &[f64], t: &[f64], tau: f64, h: f64) -> bool {
     })
 }
 
-/// The sums of the load's offset over a field ([`Capped::load_offset`]).
+/// The sums of the load's offset over a field ([`LoadSums::offset`]) and the energy
+/// f = ½ pᵀ u − pᵀ z_e of the load-held problem (m · Pa · points: its differences are
+/// what count).
 #[derive(Debug, Clone, Copy)]
 struct LoadSums {
     sum: f64,
     m: usize,
     lo: f64,
     hi: f64,
+    energy: f64,
 }
 
-impl LoadSums {
+impl Default for LoadSums {
+    fn default() -> Self {
+        LoadSums {
+            sum: 0.0,
+            m: 0,
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+            energy: 0.0,
+        }
+    }
+}
+
+impl Merge for LoadSums {
     fn merge(self, o: Self) -> Self {
         LoadSums {
             sum: self.sum + o.sum,
             m: self.m + o.m,
             lo: self.lo.max(o.lo),
             hi: self.hi.min(o.hi),
+            energy: self.energy + o.energy,
         }
     }
+}
 
-    const EMPTY: LoadSums = LoadSums {
-        sum: 0.0,
-        m: 0,
-        lo: f64::NEG_INFINITY,
-        hi: f64::INFINITY,
-    };
+impl LoadSums {
+    /// Adds point (p, d = u − z_e, z_e).
+    #[inline]
+    fn add(&mut self, p: f64, d: f64, z: f64, h: f64) {
+        if p > 0.0 && p < h {
+            self.sum += d;
+            self.m += 1;
+        } else if p <= 0.0 {
+            self.lo = self.lo.max(-d);
+        } else {
+            self.hi = self.hi.min(-d);
+        }
+        // ½ p u − p z_e = p (½ d − ½ z_e)
+        self.energy += 0.5 * p * (d - z);
+    }
 
-    /// c = −mean over the free points of (u − z_e); without free points the middle of
-    /// the offsets that keep the bound points' gaps signed right.
+    /// The sums of one stretch.
+    fn of(p: &[f64], u: &[f64], z: &[f64], h: f64) -> Self {
+        let mut s = LoadSums::default();
+        for k in 0..p.len() {
+            s.add(p[k], u[k] - z[k], z[k], h);
+        }
+        s
+    }
+
+    /// c = −mean over the free points F = {0 < p < H} of (u − z_e), the Lagrange
+    /// multiplier of the load; without free points the middle of the offsets that keep
+    /// the bound points' gaps signed right.
     fn offset(self) -> f64 {
         if self.m > 0 {
             -self.sum / self.m as f64
@@ -810,24 +840,76 @@ fn advance(
         .map(|(b, (p, u))| {
             let rg = b * CHUNK..b * CHUNK + p.len();
             let (t, r, z) = (&t[rg.clone()], &r[rg.clone()], &z[rg]);
-            let mut s = LoadSums::EMPTY;
+            let mut s = LoadSums::default();
             for k in 0..p.len() {
                 p[k] -= tau * t[k];
                 u[k] -= tau * r[k];
-                let (p, d) = (p[k], u[k] - z[k]);
-                if p > 0.0 && p < h {
-                    s.sum += d;
-                    s.m += 1;
-                } else if p <= 0.0 {
-                    s.lo = s.lo.max(-d);
-                } else {
-                    s.hi = s.hi.min(-d);
-                }
+                s.add(p[k], u[k] - z[k], z[k], h);
             }
             s
         })
         .collect();
-    parts.into_iter().fold(LoadSums::EMPTY, LoadSums::merge)
+    parts.into_iter().fold(LoadSums::default(), Merge::merge)
+}
+
+/// The sum and the number of free points (0 < p < h) of a field, per stretch of
+/// `CHUNK` points merged in their order.
+#[derive(Debug, Clone, Copy, Default)]
+struct PlaneSums {
+    sum: f64,
+    free: usize,
+}
+
+impl Merge for PlaneSums {
+    fn merge(self, o: Self) -> Self {
+        PlaneSums {
+            sum: self.sum + o.sum,
+            free: self.free + o.free,
+        }
+    }
+}
+
+impl PlaneSums {
+    #[inline]
+    fn add(&mut self, v: f64, h: f64) {
+        self.sum += v;
+        self.free += usize::from(v > 0.0 && v < h);
+    }
+}
+
+/// `f` over stretches of `CHUNK` points of `q` (the offset of the stretch and the
+/// stretch), the partial sums merged in their order: the result does not depend on how
+/// the threads share the stretches.
+fn fold_chunks(q: &mut [f64], f: impl Fn(usize, &mut [f64]) -> PlaneSums + Sync) -> PlaneSums {
+    let parts: Vec<PlaneSums> = q
+        .par_chunks_mut(CHUNK)
+        .enumerate()
+        .map(|(b, q)| f(b * CHUNK, q))
+        .collect();
+    parts.into_iter().fold(PlaneSums::default(), Merge::merge)
+}
+
+/// The trial step of a step that leaves the box: p = clamp(p₀ − τ t, 0, h); returns
+/// whether p₀ − τ t was inside the box everywhere (p is then that step) and the sums
+/// of the clamped p.
+fn trial_step(p: &mut [f64], p0: &[f64], t: &[f64], tau: f64, h: f64) -> (bool, PlaneSums) {
+    let inside = std::sync::atomic::AtomicBool::new(true);
+    let sums = fold_chunks(p, |at, p| {
+        let (p0, t) = (&p0[at..at + p.len()], &t[at..at + p.len()]);
+        let mut s = PlaneSums::default();
+        let mut all = true;
+        for k in 0..p.len() {
+            let q = p0[k] - tau * t[k];
+            all &= (0.0..=h).contains(&q);
+            p[k] = q.clamp(0.0, h);
+            s.add(p[k], h);
+        }
+        if !all {
+            inside.store(false, Relaxed);
+        }
+        s
+    });
+    (inside.load(Relaxed), sums)
 }
 
 /// Puts `q` into the box 0 ≤ p ≤ `h` and onto the plane Σ p = `total` (0 < total <
@@ -837,29 +919,75 @@ fn advance(
 /// (they enter and leave it through the working set, not here). Where the free points
 /// cannot take the excess, the exact projection ([`project_plane`]).
 pub(crate) fn project_load(q: &mut [f64], h: f64, total: f64) {
+    let sums = fold_chunks(q, |_, q| {
+        let mut s = PlaneSums::default();
+        for v in q.iter_mut() {
+            *v = v.clamp(0.0, h);
+            s.add(*v, h);
+        }
+        s
+    });
+    shift_to_load(q, h, total, sums);
+}
+
+/// [`project_load`] of a `q` inside the box whose sums are `sums`. The shifts move the
+/// free points only, so they run on a compact copy of those (one pass over the field
+/// to gather them, one to put them back; few where most of the contact is at H).
+fn shift_to_load(q: &mut [f64], h: f64, total: f64, sums: PlaneSums) {
     let tol = 1e-14 * total;
-    q.iter_mut().for_each(|v| *v = v.clamp(0.0, h));
+    if (sums.sum - total).abs() <= tol {
+        return;
+    }
+    if sums.free == 0 {
+        return project_plane(q, h, total);
+    }
+    // the free points (index, value) per stretch in their order, and the bound points' sum
+    let parts: Vec<(Vec<(usize, f64)>, f64)> = q
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(b, q)| {
+            let mut free = Vec::new();
+            let mut bound = 0.0;
+            for (k, &v) in q.iter().enumerate() {
+                if v > 0.0 && v < h {
+                    free.push((b * CHUNK + k, v));
+                } else {
+                    bound += v;
+                }
+            }
+            (free, bound)
+        })
+        .collect();
+    let bound: f64 = parts.iter().map(|(_, s)| s).sum();
+    let mut free: Vec<(usize, f64)> = parts.into_iter().flat_map(|(f, _)| f).collect();
+    let mut settled = false;
     for _ in 0..100 {
-        let (mut sum, mut m) = (0.0, 0usize);
-        for &v in q.iter() {
+        let (mut sum, mut m) = (bound, 0usize);
+        for &(_, v) in &free {
             sum += v;
             m += usize::from(v > 0.0 && v < h);
         }
         let excess = sum - total;
         if excess.abs() <= tol {
-            return;
+            settled = true;
+            break;
         }
         if m == 0 {
             break;
         }
         let lambda = excess / m as f64;
-        for v in q.iter_mut() {
+        for (_, v) in free.iter_mut() {
             if *v > 0.0 && *v < h {
                 *v = (*v - lambda).clamp(0.0, h);
             }
         }
     }
-    project_plane(q, h, total);
+    for &(i, v) in &free {
+        q[i] = v;
+    }
+    if !settled {
+        project_plane(q, h, total);
+    }
 }
 
 /// The projection of `q` onto the box 0 ≤ p ≤ `h` intersected with the plane Σ p =
@@ -870,20 +998,25 @@ pub(crate) fn project_load(q: &mut [f64], h: f64, total: f64) {
 /// bracket, to |φ| ≤ 1e−14 total.
 fn project_plane(q: &mut [f64], h: f64, total: f64) {
     let tol = 1e-14 * total;
-    let inside = q.iter().all(|v| (0.0..=h).contains(v));
-    let carried = q.iter().filter(|&&v| v > 0.0).count() as f64 * h;
+    let (inside, positive) = q
+        .par_chunks(CHUNK)
+        .map(|q| {
+            let inside = q.iter().all(|v| (0.0..=h).contains(v));
+            (inside, q.iter().filter(|&&v| v > 0.0).count())
+        })
+        .reduce(|| (true, 0), |a, b| (a.0 && b.0, a.1 + b.1));
     // the support: the points in contact, or all of them if those cannot carry it
-    let floor = if carried > total {
+    let floor = if positive as f64 * h > total {
         0.0
     } else {
         f64::NEG_INFINITY
     };
+    // φ runs on a compact copy of the support (in the field's order: the sums do not
+    // depend on the threads), the contact alone where it carries the load
+    let support: Vec<f64> = q.par_iter().copied().filter(|&v| v > floor).collect();
     let phi = |lambda: f64| {
         let (mut s, mut m) = (0.0, 0usize);
-        for &v in q.iter() {
-            if v <= floor {
-                continue;
-            }
+        for &v in &support {
             let x = v - lambda;
             if x >= h {
                 s += h;
@@ -898,9 +1031,8 @@ fn project_plane(q: &mut [f64], h: f64, total: f64) {
     if inside && f0.abs() <= tol {
         return;
     }
-    let (qmin, qmax) = q
+    let (qmin, qmax) = support
         .iter()
-        .filter(|&&v| v > floor)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
             (a.min(v), b.max(v))
         });
@@ -928,11 +1060,13 @@ fn project_plane(q: &mut [f64], h: f64, total: f64) {
         lambda = next;
         (f, m) = phi(lambda);
     }
-    for v in q.iter_mut() {
-        *v = if *v <= floor {
-            0.0
-        } else {
-            (*v - lambda).clamp(0.0, h)
-        };
-    }
+    q.par_chunks_mut(CHUNK).for_each(|q| {
+        for v in q.iter_mut() {
+            *v = if *v <= floor {
+                0.0
+            } else {
+                (*v - lambda).clamp(0.0, h)
+            };
+        }
+    });
 }
