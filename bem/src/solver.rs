@@ -906,6 +906,40 @@ impl BemSolver {
         self.control(load)
     }
 
+    /// The half grid's solver (the same cell and solid, the heights on 2×2 blocks), its
+    /// tolerance this one's or 1e−6 if looser, and this one's cancellation: the start of
+    /// a capped step ([`crate::PlasticPath`]). `None` below 256² or on grids not
+    /// divisible by 4.
+    pub(crate) fn half_grid(&self) -> Option<Box<BemSolver>> {
+        let mut coarse = self.build_coarse()?;
+        coarse.options.tolerance = coarse.options.tolerance.max(1e-6);
+        coarse.cancel = self.cancel.clone();
+        Some(coarse)
+    }
+
+    /// `p` on [`Self::half_grid`]: the means of its 2×2 blocks.
+    pub(crate) fn restrict_half(&self, p: &[f64]) -> Vec<f64> {
+        let (my, mx, nx) = (self.ny / 2, self.nx / 2, self.nx);
+        let mut pc = Vec::with_capacity(my * mx);
+        for i in 0..my {
+            for j in 0..mx {
+                let (a, b) = (2 * i * nx + 2 * j, (2 * i + 1) * nx + 2 * j);
+                pc.push(0.25 * (p[a] + p[a + 1] + p[b] + p[b + 1]));
+            }
+        }
+        pc
+    }
+
+    /// `pc`, a field of [`Self::half_grid`], injected into `p` on 2×2 blocks.
+    pub(crate) fn inject_half(&self, pc: &[f64], p: &mut [f64]) {
+        let mx = self.nx / 2;
+        for i in 0..self.ny {
+            for j in 0..self.nx {
+                p[i * self.nx + j] = pc[(i / 2) * mx + j / 2];
+            }
+        }
+    }
+
     /// Coarse-to-fine start: the same load solved on the half grid (loosely), its
     /// pressure injected on 2×2 blocks. Only on large even grids.
     fn coarse_start(&self, control: Control, p: &mut [f64]) {
