@@ -6,6 +6,22 @@ use strata_runtime::compliance::Compliance;
 use strata_runtime::fft::Complex;
 use strata_runtime::stack::{Base, Layer};
 
+/// The paper-like fractal surface on an n × n grid (L = 1 mm, D_f = 2.4, k 2…10,
+/// σ = 3.4 µm, seed 9) of the capped steps' tests.
+fn paper_like_surface(n: usize) -> Array2<f64> {
+    let z = strata_runtime::surface::Surface::generate(&strata_runtime::surface::GenerateParams {
+        size: 1e-3,
+        grid: n,
+        fractal_dimension: 2.4,
+        k_min: 2.0,
+        k_max: 10.0,
+        rms: 3.4e-6,
+        seed: 9,
+    })
+    .unwrap();
+    Array2::from_shape_vec((n, n), z.heights().to_vec()).unwrap()
+}
+
 fn sine_surface(n: usize, l: f64, amp: f64) -> Array2<f64> {
     Array2::from_shape_fn((n, n), |(i, j)| {
         let x = j as f64 / n as f64 * l;
@@ -1101,17 +1117,7 @@ fn lent_start_in_full_contact_is_copied() {
 #[test]
 fn half_grid_start_of_capped_steps() {
     let n = 256;
-    let z = strata_runtime::surface::Surface::generate(&strata_runtime::surface::GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 9,
-    })
-    .unwrap();
-    let z = Array2::from_shape_vec((n, n), z.heights().to_vec()).unwrap();
+    let z = paper_like_surface(n);
     let stack = Stack::half_space(4e9, 0.3).unwrap();
     let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).unwrap();
     let zrms = solver.heights_and_stats().1[2];
@@ -1164,17 +1170,7 @@ fn half_grid_start_of_capped_steps() {
 #[test]
 fn force_controlled_capped_step_products() {
     let n = 128;
-    let z = strata_runtime::surface::Surface::generate(&strata_runtime::surface::GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 9,
-    })
-    .unwrap();
-    let z = Array2::from_shape_vec((n, n), z.heights().to_vec()).unwrap();
+    let z = paper_like_surface(n);
     for (stack, hardness, loads) in [
         (Stack::paper_two_layer(1.0).unwrap(), 0.1e9, [2e7, 3e7]),
         (Stack::paper_two_layer(5.0).unwrap(), 0.2e9, [1e7, 4e7]),

@@ -1,6 +1,6 @@
 //! Peak memory per grid point of one pressure-controlled BEM step with its stiffness
-//! probe (the engine's step: the solve at p̄ = 0.005 E* from a cold start, then the
-//! approach δ + dδ warm-started from it, dP/dδ by the difference), each grid size in a
+//! (the engine's step: the solve at p̄ = 0.005 E* from a cold start, then the tangent
+//! dP/dδ on its contact set), each grid size in a
 //! child process whose peak resident set (`getrusage`'s `ru_maxrss`, read by `wait4`:
 //! what `/usr/bin/time -f %M` prints) is divided by the number of grid points.
 //!
