@@ -6,6 +6,18 @@ use strata_runtime::compliance::Compliance;
 use strata_runtime::fft::Complex;
 use strata_runtime::stack::{Base, Layer};
 
+/// The largest pressure difference between two solutions (Pa) and the second's peak
+/// pressure (Pa).
+fn pressure_difference(a: &BemSolution, b: &BemSolution) -> (f64, f64) {
+    let scale = b.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
+    let dp = a
+        .pressure
+        .iter()
+        .zip(&b.pressure)
+        .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+    (dp, scale)
+}
+
 /// The paper-like fractal surface on an n × n grid (L = 1 mm, D_f = 2.4, k 2…10,
 /// σ = 3.4 µm, seed 9) of the capped steps' tests.
 fn paper_like_surface(n: usize) -> Array2<f64> {
@@ -1127,12 +1139,7 @@ fn half_grid_start_of_capped_steps() {
     for target in [5e6, 1e7] {
         let (a, ai) = with.step(BemLoad::MeanPressure(target)).unwrap();
         let (b, _) = without.step(BemLoad::MeanPressure(target)).unwrap();
-        let scale = b.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
-        let dp = a
-            .pressure
-            .iter()
-            .zip(&b.pressure)
-            .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+        let (dp, scale) = pressure_difference(&a, &b);
         let share = ai.plastic_points as f64 / a.contact_points as f64;
         eprintln!(
             "p̄ {target:e}: half-grid start {} products, last pressure {}; plastic share {share:.3}; \
@@ -1184,12 +1191,7 @@ fn force_controlled_capped_step_products() {
             let e = solver.solve(BemLoad::MeanPressure(target)).unwrap();
             let (a, ai) = new.step(BemLoad::MeanPressure(target)).unwrap();
             let (b, bi) = old.step(BemLoad::MeanPressure(target)).unwrap();
-            let scale = b.pressure.iter().fold(0.0_f64, |m, v| m.max(*v));
-            let dp = a
-                .pressure
-                .iter()
-                .zip(&b.pressure)
-                .fold(0.0_f64, |m, (x, y)| m.max((x - y).abs()));
+            let (dp, scale) = pressure_difference(&a, &b);
             let zrms = solver.heights_and_stats().1[2];
             eprintln!(
                 "H {hardness:e}, p̄ {target:e}: elastic {} products; load-held {} ({:.2}×, {} plastic points, fallback {}); \
