@@ -21,16 +21,11 @@ fn pressure_difference(a: &BemSolution, b: &BemSolution) -> (f64, f64) {
 /// The paper-like fractal surface on an n × n grid (L = 1 mm, D_f = 2.4, k 2…10,
 /// σ = 3.4 µm, seed 9) of the capped steps' tests.
 fn paper_like_surface(n: usize) -> Array2<f64> {
-    let z = strata_runtime::surface::Surface::generate(&strata_runtime::surface::GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
+    let params = strata_runtime::surface::GenerateParams {
         seed: 9,
-    })
-    .unwrap();
+        ..strata_runtime::surface::GenerateParams::paper(n, 10.0)
+    };
+    let z = strata_runtime::surface::Surface::generate(&params).unwrap();
     Array2::from_shape_vec((n, n), z.heights().to_vec()).unwrap()
 }
 

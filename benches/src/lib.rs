@@ -6,15 +6,7 @@ use strata_runtime::surface::{GenerateParams, Surface};
 /// The parameters of the BEM benches' paper-like surface at n² (L = 1 mm, D_f = 2.4,
 /// k = 2…10, RMS 3.4 µm, seed 20240611).
 pub fn paper_surface_params(n: usize) -> GenerateParams {
-    GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 20240611,
-    }
+    GenerateParams::paper(n, 10.0)
 }
 
 /// The BEM benches' paper-like surface at n² ([`paper_surface_params`]), heights in m.

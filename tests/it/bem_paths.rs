@@ -13,16 +13,7 @@ use strata_runtime::surface::{GenerateParams, Surface};
 
 /// The paper-like surface (L = 1 mm, D_f = 2.4, k = 2…10, RMS 3.4 µm) at n².
 fn surface(n: usize) -> Array2<f64> {
-    let s = Surface::generate(&GenerateParams {
-        size: 1e-3,
-        grid: n,
-        fractal_dimension: 2.4,
-        k_min: 2.0,
-        k_max: 10.0,
-        rms: 3.4e-6,
-        seed: 20240611,
-    })
-    .unwrap();
+    let s = Surface::generate(&GenerateParams::paper(n, 10.0)).unwrap();
     Array2::from_shape_vec((n, n), s.heights().to_vec()).unwrap()
 }
 
