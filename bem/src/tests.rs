@@ -1162,6 +1162,49 @@ fn half_grid_start_of_capped_steps() {
     }
 }
 
+/// The half-grid start on hard stacks (256², H = 0.05 GPa, a fresh step then 2× the load
+/// on the flattened surface): a coating 1e4× softer and 1e4× stiffer than its base (the
+/// paper's two layers) and a half-space at ν = 0.4999. The step from the half grid's is
+/// the step from the last pressure to the solver's tolerance, finite, at the load.
+#[test]
+fn half_grid_start_on_hard_stacks() {
+    let n = 256;
+    let z = paper_like_surface(n);
+    for stack in [
+        Stack::paper_two_layer(1e4).unwrap(),
+        Stack::paper_two_layer(1e-4).unwrap(),
+        Stack::half_space(4e9, 0.4999).unwrap(),
+    ] {
+        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).unwrap();
+        let zrms = solver.heights_and_stats().1[2];
+        let mut with = crate::PlasticPath::new(&solver, 0.05e9).unwrap();
+        let mut without = with.clone();
+        without.half_grid = false;
+        for target in [5e6, 1e7] {
+            let (a, ai) = with.step(BemLoad::MeanPressure(target)).unwrap();
+            let (b, _) = without.step(BemLoad::MeanPressure(target)).unwrap();
+            let (dp, scale) = pressure_difference(&a, &b);
+            eprintln!(
+                "p̄ {target:e}: half-grid start {} products, last pressure {}; plastic share {:.3}; \
+                 |Δp|/p_max {:.1e}, Δc/σ {:.1e}, KKT {:.1e} / {:.1e}",
+                a.products,
+                b.products,
+                ai.plastic_points as f64 / a.contact_points as f64,
+                dp / scale,
+                (a.offset - b.offset).abs() / zrms,
+                a.error,
+                b.error
+            );
+            assert!(a.pressure.iter().all(|v| v.is_finite()) && a.offset.is_finite());
+            assert!((a.mean_pressure / target - 1.0).abs() < 1e-12);
+            assert!(a.error <= 1e-10 && b.error <= 1e-10);
+            // measured ≤ 1.0e-8 and ≤ 4.4e-12 (both meet the KKT tolerance 1e-10 σ_z)
+            assert!(dp <= 1e-7 * scale, "{dp:e} vs {scale:e}");
+            assert!((a.offset - b.offset).abs() <= 5e-11 * zrms);
+        }
+    }
+}
+
 /// Force-controlled capped steps: the load held in the capped iteration
 /// (`Capped::solve_load`) against the active-set steps and offset search it replaces
 /// (still the fallback), on a rough surface: a fresh path's step, then a heavier load on
