@@ -32,9 +32,19 @@ def require(module, what):
         pytest.skip(f"{module} is not installed: pip install {what}")
 
 
+@pytest.fixture
+def ctrl_c():
+    """Python's own SIGINT handler (KeyboardInterrupt) for the test: a process started with
+    SIGINT ignored (a background job of a non-interactive shell, `nohup cmd &`) has none,
+    and Ctrl-C then never reaches a Python program, strata or not."""
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, before)
+
+
 @pytest.mark.skipif(threading.current_thread() is not threading.main_thread(),
                     reason="signals reach the main thread only")
-def test_sigint_stops_a_1024_bem_solve_within_one_second():
+def test_sigint_stops_a_1024_bem_solve_within_one_second(ctrl_c):
     """SIGINT from a timer thread during a 1024² BEM load curve (tens of seconds uninterrupted):
     KeyboardInterrupt is raised within 2 CPU-s of work after the signal (0.27 s wall on 2 idle
     cores), and the next solve is unaffected."""
@@ -69,7 +79,7 @@ def test_sigint_stops_a_1024_bem_solve_within_one_second():
 
 @pytest.mark.skipif(threading.current_thread() is not threading.main_thread(),
                     reason="signals reach the main thread only")
-def test_the_last_status_after_an_interrupt_says_where_it_stopped(capsys):
+def test_the_last_status_after_an_interrupt_says_where_it_stopped(capsys, ctrl_c):
     """After Ctrl-C the call's last status line is the step the solve stopped at, marked
     interrupted: it used to read `40/40 (100 %) … (interrupted)`."""
     scene = strata.Scene(STEEL, rough(1024), model="bem",
