@@ -1115,6 +1115,41 @@ fn lent_start_in_full_contact_is_copied() {
     assert_eq!(step.pressure, before);
 }
 
+/// One step of each pair of capped paths on the 256² paper-like surface (H = 0.05 GPa,
+/// p̄ = 5 MPa fresh, then 10 MPa on the flattened surface): from the half grid's step
+/// and from the last pressure. Per load: (p̄, the first's solution and info, the
+/// second's solution, σ_z), each printed.
+fn half_grid_and_last_pressure(
+    stack: &Stack,
+) -> Vec<(f64, BemSolution, PlasticInfo, BemSolution, f64)> {
+    let z = paper_like_surface(256);
+    let solver = BemSolver::new(&z, 1e-3, stack, BemOptions::default()).unwrap();
+    let zrms = solver.heights_and_stats().1[2];
+    let mut with = crate::PlasticPath::new(&solver, 0.05e9).unwrap();
+    let mut without = with.clone();
+    without.half_grid = false;
+    [5e6, 1e7]
+        .into_iter()
+        .map(|target| {
+            let (a, ai) = with.step(BemLoad::MeanPressure(target)).unwrap();
+            let (b, _) = without.step(BemLoad::MeanPressure(target)).unwrap();
+            let (dp, scale) = pressure_difference(&a, &b);
+            eprintln!(
+                "p̄ {target:e}: half-grid start {} products, last pressure {}; plastic share {:.3}; \
+                 |Δp|/p_max {:.1e}, Δc/σ {:.1e}, KKT {:.1e} / {:.1e}",
+                a.products,
+                b.products,
+                ai.plastic_points as f64 / a.contact_points as f64,
+                dp / scale,
+                (a.offset - b.offset).abs() / zrms,
+                a.error,
+                b.error
+            );
+            (target, a, ai, b, zrms)
+        })
+        .collect()
+}
+
 /// The half-grid start of force-controlled capped steps (`PlasticPath::half_grid_start`)
 /// against the last pressure (the elastic coarse start on a fresh path), on a heavily
 /// plastic 256² path (H = 0.05 GPa: most of the contact at H), a fresh step and then a
@@ -1123,29 +1158,10 @@ fn lent_start_in_full_contact_is_copied() {
 /// products on the full grid (41 against 82 and 69).
 #[test]
 fn half_grid_start_of_capped_steps() {
-    let n = 256;
-    let z = paper_like_surface(n);
     let stack = Stack::half_space(4e9, 0.3).unwrap();
-    let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).unwrap();
-    let zrms = solver.heights_and_stats().1[2];
-    let mut with = crate::PlasticPath::new(&solver, 0.05e9).unwrap();
-    let mut without = with.clone();
-    without.half_grid = false;
-    for target in [5e6, 1e7] {
-        let (a, ai) = with.step(BemLoad::MeanPressure(target)).unwrap();
-        let (b, _) = without.step(BemLoad::MeanPressure(target)).unwrap();
+    for (target, a, ai, b, zrms) in half_grid_and_last_pressure(&stack) {
         let (dp, scale) = pressure_difference(&a, &b);
         let share = ai.plastic_points as f64 / a.contact_points as f64;
-        eprintln!(
-            "p̄ {target:e}: half-grid start {} products, last pressure {}; plastic share {share:.3}; \
-             |Δp|/p_max {:.1e}, Δc/σ {:.1e}, KKT {:.1e} / {:.1e}",
-            a.products,
-            b.products,
-            dp / scale,
-            (a.offset - b.offset).abs() / zrms,
-            a.error,
-            b.error
-        );
         assert!(share > 0.5, "{share}");
         assert!((a.mean_pressure / target - 1.0).abs() < 1e-12);
         assert!(a.error <= 1e-10 && b.error <= 1e-10);
@@ -1168,33 +1184,13 @@ fn half_grid_start_of_capped_steps() {
 /// the step from the last pressure to the solver's tolerance, finite, at the load.
 #[test]
 fn half_grid_start_on_hard_stacks() {
-    let n = 256;
-    let z = paper_like_surface(n);
     for stack in [
         Stack::paper_two_layer(1e4).unwrap(),
         Stack::paper_two_layer(1e-4).unwrap(),
         Stack::half_space(4e9, 0.4999).unwrap(),
     ] {
-        let solver = BemSolver::new(&z, 1e-3, &stack, BemOptions::default()).unwrap();
-        let zrms = solver.heights_and_stats().1[2];
-        let mut with = crate::PlasticPath::new(&solver, 0.05e9).unwrap();
-        let mut without = with.clone();
-        without.half_grid = false;
-        for target in [5e6, 1e7] {
-            let (a, ai) = with.step(BemLoad::MeanPressure(target)).unwrap();
-            let (b, _) = without.step(BemLoad::MeanPressure(target)).unwrap();
+        for (target, a, _, b, zrms) in half_grid_and_last_pressure(&stack) {
             let (dp, scale) = pressure_difference(&a, &b);
-            eprintln!(
-                "p̄ {target:e}: half-grid start {} products, last pressure {}; plastic share {:.3}; \
-                 |Δp|/p_max {:.1e}, Δc/σ {:.1e}, KKT {:.1e} / {:.1e}",
-                a.products,
-                b.products,
-                ai.plastic_points as f64 / a.contact_points as f64,
-                dp / scale,
-                (a.offset - b.offset).abs() / zrms,
-                a.error,
-                b.error
-            );
             assert!(a.pressure.iter().all(|v| v.is_finite()) && a.offset.is_finite());
             assert!((a.mean_pressure / target - 1.0).abs() < 1e-12);
             assert!(a.error <= 1e-10 && b.error <= 1e-10);
